@@ -30,7 +30,7 @@ from scipy.optimize import brentq, minimize_scalar
 
 from ._validate import finite, nonnegative, positive, scalar
 
-_T_MAX = 700.0  # cosh(t) overflows beyond ~710
+_T_MAX = 350.0  # sinh(2t) overflows beyond t ≈ 355 (m = cosh t ≈ 1e152)
 
 
 # --------------------------------------------------------------------------- scales
@@ -102,12 +102,12 @@ def _solve_t(A, lam):
     """Root t > 0 of Eq. (i) with m = cosh t; the left side increases monotonically from 0."""
     hi = 1.0
     while _lhs_i(hi, A, lam) < 1.0:
-        hi *= 2.0
-        if hi > _T_MAX:
+        if hi >= _T_MAX:
             raise ValueError(
                 f"Eq. (i) has no representable root for a_bar = {A!r}, lam = {lam!r} "
                 "(cohesive zone too long relative to the contact; increase a_bar)"
             )
+        hi = min(2.0 * hi, _T_MAX)
     return brentq(lambda t: _lhs_i(t, A, lam) - 1.0, 0.0, hi, xtol=1e-300, rtol=1e-15, maxiter=500)
 
 

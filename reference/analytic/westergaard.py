@@ -53,7 +53,7 @@ def half_width(mean_pressure, h0, wavelength, e_star):
     lam = positive("wavelength", wavelength)
     ps = full_contact_pressure(h0, lam, e_star)
     P = np.minimum(pbar / ps, 1.0)
-    return scalar(lam / np.pi * np.arcsin(np.sqrt(P)))
+    return scalar(np.where(P >= 1.0, lam / 2.0, lam / np.pi * np.arcsin(np.sqrt(P))))
 
 
 def pressure(x, mean_pressure, h0, wavelength, e_star):
@@ -92,9 +92,11 @@ def gap(x, mean_pressure, h0, wavelength, e_star):
     if sa2 == 0.0:
         return scalar(2.0 * h0 * S**2)  # no load: undeformed profile
     sa = np.sqrt(sa2)
-    Sc = np.maximum(S, sa)  # inside the contact the formula gives 0
-    root = np.sqrt(np.clip(Sc**2 - sa2, 0.0, None))  # clip: round-off at S = S_a
-    return scalar(2.0 * h0 * (Sc * root - sa2 * np.log((Sc + root) / sa)))
+    outside = S > sa
+    Sc = np.where(outside, S, sa)
+    root = np.sqrt(np.clip(Sc**2 - sa2, 0.0, None))  # clip: round-off at S ≈ S_a
+    g = 2.0 * h0 * (Sc * root - sa2 * np.log((Sc + root) / sa))
+    return scalar(np.where(outside, g, 0.0))
 
 
 def mean_gap(mean_pressure, h0, wavelength, e_star):
