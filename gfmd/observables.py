@@ -1,0 +1,70 @@
+"""Observables computed from fields, in one place for every method.
+
+Units: SI (see `gfmd.conventions`). Each method (GFMD, FE, ...) produces, per load
+step, the surface fields u_z, u_x, t_z, t_x and the normal gap Δn on the same N
+nodes; `step_observables` turns them into p, a_rel, ḡ_r. No method computes
+these quantities any other way.
+
+Contact rule (seed §2): hard wall — nodes carrying compressive traction
+(−t_z > 0); cohesive — nodes with Δn ≤ Δtol, where T_n(Δtol) =
+contact_tolerance·φn/δn on the decaying branch (tension included).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .laws import contact_gap_threshold
+
+
+def local_gradient_squared(h, spacing):
+    """g_i² = ½[((h_i − h_{i+1})/l)² + ((h_i − h_{i−1})/l)²] (seed Eq. 6), periodic; 1 (dimensionless)."""
+    forward = (h - np.roll(h, -1)) / spacing
+    backward = (h - np.roll(h, 1)) / spacing
+    return 0.5 * (forward**2 + backward**2)
+
+
+def rms_gradient(h, spacing):
+    """ḡ: root-mean-square gradient over the whole profile (seed Eqs. 5–6 with n = N)."""
+    return float(np.sqrt(np.mean(local_gradient_squared(h, spacing))))
+
+
+def rms_gradient_contact(h, spacing, contact):
+    """ḡ_r: rms gradient over the contact nodes only (seed Eq. 5); NaN if no node is in contact."""
+    contact = np.asarray(contact, bool)
+    if not contact.any():
+        return float("nan")
+    return float(np.sqrt(np.mean(local_gradient_squared(h, spacing)[contact])))
+
+
+def contact_mask(interface, gap, traction_z):
+    """Boolean contact set per the seed's rule (see module docstring).
+
+    interface: a `gfmd.scene.Interface`; gap Δn (m) and traction t_z (Pa) on the nodes.
+    """
+    if interface.law == "hard-wall":
+        return -np.asarray(traction_z) > 0.0
+    threshold = contact_gap_threshold(interface.contact_tolerance, interface.length_normal)
+    return np.asarray(gap) <= threshold
+
+
+def mean_pressure(traction_z):
+    """p = −⟨t_z⟩ (Pa), positive when compressive."""
+    return float(-np.mean(traction_z))
+
+
+def step_observables(scene, h, gap, traction_z):
+    """Per-step observables dict: p (Pa), a_rel (1), g_r (1), g (1)."""
+    contact = contact_mask(scene.interface, gap, traction_z)
+    spacing = scene.surface.spacing
+    return {
+        "p": mean_pressure(traction_z),
+        "a_rel": float(np.mean(contact)),
+        "g_r": rms_gradient_contact(h, spacing, contact),
+        "g": rms_gradient(h, spacing),
+    }
+
+
+def reduced_pressure(p, g_r, contact_modulus):
+    """p_r* = p/(ḡ_r E*) (dimensionless, seed §1); NaN where ḡ_r is undefined."""
+    return np.asarray(p) / (np.asarray(g_r) * contact_modulus)

@@ -1,0 +1,46 @@
+"""One Result shape for every method (GFMD, FE, analytic): per-step curve + selected fields.
+
+Units: SI (see `gfmd.conventions`). The curve holds, per load step, the columns
+`CURVE_COLUMNS` (U, δ and the observables from `gfmd.observables`); `fields`
+maps a step index to the surface fields `FIELD_NAMES` on the N nodes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+#: per-step columns (SI; converged is 0/1, wall_s in seconds)
+CURVE_COLUMNS = ("step", "U", "delta", "p", "a_rel", "g_r", "g", "iterations", "residual", "converged", "wall_s")
+#: per-node fields saved for selected steps: u_z, u_x, gap Δn (m), t_n = t_z, t_t = t_x (Pa)
+FIELD_NAMES = ("u_z", "u_x", "gap", "t_n", "t_t")
+
+
+@dataclass
+class Result:
+    """Outcome of one method on one realization of a scene."""
+
+    scene: object  # gfmd.scene.Scene
+    method: str  # e.g. "gfmd-fire", "gfmd-verlet", "fe-p2"
+    model: str  # the model actually solved, in words
+    realization: int
+    x: np.ndarray  # node positions (m)
+    h: np.ndarray  # indenter profile (m)
+    curve: dict = field(default_factory=lambda: {c: [] for c in CURVE_COLUMNS})
+    fields: dict = field(default_factory=dict)  # step -> {name: array}
+    messages: list = field(default_factory=list)  # e.g. non-converged steps
+    reasons: tuple = ()
+
+    def append_step(self, **row):
+        for c in CURVE_COLUMNS:
+            self.curve[c].append(row[c])
+
+    def finalize(self):
+        """Convert curve lists to arrays (idempotent)."""
+        self.curve = {c: np.asarray(v) for c, v in self.curve.items()}
+        return self
+
+    @property
+    def all_converged(self):
+        return bool(np.all(np.asarray(self.curve["converged"], bool)))

@@ -1,0 +1,394 @@
+"""Scenes: what the user describes, as frozen dataclasses read from TOML.
+
+Units: SI (see `gfmd.conventions`). `load_scene(path)` reads and validates a TOML
+file; `scene_from_dict` does the same for a dict; `scene_to_toml` writes the
+fully resolved scene back. Every error names the key, the value and the
+allowed range. `EXAMPLE_SCENE` is a fully commented example
+(`gfmd scene --example`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+
+
+class SceneError(ValueError):
+    """Invalid scene input: the message names the key, the value and what is allowed."""
+
+
+@dataclass(frozen=True)
+class Surface:
+    kind: str = "self-affine"
+    length: float = 10.24e-6
+    nodes: int = 131072
+    hurst: float = 0.8
+    h_rms: float = 10e-9
+    rolloff_wavelength: float = 1.28e-6
+    rollon_wavelength: float = 2.5e-9
+    seed: int = 1
+    realizations: int = 10
+    amplitude: float = 0.0
+    radius: float = 0.0
+    path: str = ""
+
+    @property
+    def spacing(self):
+        """Node spacing l = L/N (m)."""
+        return self.length / self.nodes
+
+
+@dataclass(frozen=True)
+class Material:
+    youngs_modulus: float = 70e9
+    poisson_ratio: float = 0.45
+    thickness: float = math.inf  # "inf" in TOML = half-plane
+
+    @property
+    def contact_modulus(self):
+        """E* = E/(1 − ν²) (Pa)."""
+        return self.youngs_modulus / (1.0 - self.poisson_ratio**2)
+
+    @property
+    def half_plane(self):
+        return math.isinf(self.thickness)
+
+
+@dataclass(frozen=True)
+class Interface:
+    law: str = "cohesive"
+    phi_n_star: float = 0.15
+    length_normal: float = 1e-9
+    tangential_ratio: float = 0.0
+    length_tangential: float = 1e-9
+    contact_tolerance: float = 1e-3
+    work_normal: float = 0.0  # resolved: φn = φn* δn E (J/m²)
+
+    @property
+    def cohesive(self):
+        return self.law == "cohesive"
+
+
+@dataclass(frozen=True)
+class Loading:
+    initial_separation: float = 2e-9
+    final_penetration: float = 40e-9
+    steps: int = 200
+
+
+@dataclass(frozen=True)
+class Solver:
+    method: str = "fire"
+    tolerance: float = 1e-8
+    max_iterations: int = 200_000
+
+
+@dataclass(frozen=True)
+class Output:
+    field_steps: int = 5  # steps (evenly spaced, last included) whose fields are saved
+    workers: int = 0  # processes for realizations; 0 = number of CPU cores
+
+
+@dataclass(frozen=True)
+class Scene:
+    surface: Surface = field(default_factory=Surface)
+    material: Material = field(default_factory=Material)
+    interface: Interface = field(default_factory=Interface)
+    loading: Loading = field(default_factory=Loading)
+    solver: Solver = field(default_factory=Solver)
+    output: Output = field(default_factory=Output)
+    name: str = "scene"
+
+    @property
+    def work_normal(self):
+        """φn (J/m²)."""
+        return self.interface.work_normal
+
+    @property
+    def work_tangential(self):
+        """φt = c φn* δt E (J/m²), c = φt*/φn*."""
+        i = self.interface
+        return i.tangential_ratio * i.phi_n_star * i.length_tangential * self.material.youngs_modulus
+
+    def replace(self, **sections):
+        """Copy with whole sections or dotted keys replaced and re-validated.
+
+        Example: scene.replace(**{"surface.nodes": 1024, "interface.law": "hard-wall"}).
+        """
+        d = scene_to_dict(self)
+        for key, value in sections.items():
+            section, _, name = key.partition(".")
+            if not name:
+                raise SceneError(f"replace() takes dotted keys like 'surface.nodes', got {key!r}")
+            d.setdefault(section, {})[name] = value
+        if "interface.phi_n_star" in sections or "interface.work_normal" in sections:
+            keep = "phi_n_star" if "interface.phi_n_star" in sections else "work_normal"
+            d["interface"].pop("work_normal" if keep == "phi_n_star" else "phi_n_star", None)
+        else:
+            d["interface"].pop("work_normal", None)
+        return scene_from_dict(d, name=self.name)
+
+
+_SECTIONS = {"surface": Surface, "material": Material, "interface": Interface,
+             "loading": Loading, "solver": Solver, "output": Output}
+_KINDS = ("self-affine", "sinusoid", "cylinder", "flat", "file")
+_LAWS = ("hard-wall", "cohesive")
+_METHODS = ("fire", "verlet")
+
+
+def _fail(key, value, allowed):
+    raise SceneError(f"{key} = {value!r}: {allowed}")
+
+
+def _number(d, section, key, default, *, integer=False):
+    full = f"{section}.{key}"
+    value = d.get(key, default)
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        _fail(full, value, "must be a number" + (" (integer)" if integer else ""))
+    if integer:
+        if int(value) != value:
+            _fail(full, value, "must be an integer")
+        return int(value)
+    value = float(value)
+    if math.isnan(value):
+        _fail(full, value, "must not be NaN")
+    return value
+
+
+def _check_keys(d, section, cls):
+    valid = [f.name for f in dataclasses.fields(cls)]
+    if not isinstance(d, dict):
+        _fail(section, d, f"must be a table with keys {valid}")
+    for key in d:
+        if key not in valid:
+            raise SceneError(f"unknown key {section}.{key!r}; valid keys of [{section}]: {', '.join(valid)}")
+
+
+def _positive(key, value):
+    if not value > 0 or math.isinf(value):
+        _fail(key, value, "must be a finite number > 0")
+
+
+def _surface(d):
+    _check_keys(d, "surface", Surface)
+    s = Surface()
+    kind = d.get("kind", s.kind)
+    if kind not in _KINDS:
+        _fail("surface.kind", kind, f"must be one of {list(_KINDS)}")
+    length = _number(d, "surface", "length", s.length)
+    _positive("surface.length", length)
+    nodes = _number(d, "surface", "nodes", s.nodes, integer=True)
+    if nodes < 8:
+        _fail("surface.nodes", nodes, "must be an integer ≥ 8")
+    spacing = length / nodes
+    kw = dict(kind=kind, length=length, nodes=nodes)
+    seed = _number(d, "surface", "seed", s.seed, integer=True)
+    if seed < 0:
+        _fail("surface.seed", seed, "must be an integer ≥ 0")
+    realizations = _number(d, "surface", "realizations", 1 if kind != "self-affine" else s.realizations,
+                           integer=True)
+    if realizations < 1:
+        _fail("surface.realizations", realizations, "must be an integer ≥ 1")
+    if kind != "self-affine" and realizations != 1:
+        _fail("surface.realizations", realizations, f"must be 1 for the deterministic kind {kind!r}")
+    kw.update(seed=seed, realizations=realizations)
+    if kind == "self-affine":
+        hurst = _number(d, "surface", "hurst", s.hurst)
+        if not 0 < hurst < 1:
+            _fail("surface.hurst", hurst, "must lie in (0, 1)")
+        h_rms = _number(d, "surface", "h_rms", s.h_rms)
+        _positive("surface.h_rms", h_rms)
+        lr = _number(d, "surface", "rolloff_wavelength", s.rolloff_wavelength)
+        ls = _number(d, "surface", "rollon_wavelength", s.rollon_wavelength)
+        if not length >= lr > ls > spacing:
+            raise SceneError(
+                "wavelengths out of order: need length ≥ rolloff_wavelength > rollon_wavelength > spacing "
+                f"L/N; got L = {length:g}, surface.rolloff_wavelength = {lr:g}, "
+                f"surface.rollon_wavelength = {ls:g}, L/N = {spacing:g} (m)")
+        kw.update(hurst=hurst, h_rms=h_rms, rolloff_wavelength=lr, rollon_wavelength=ls)
+    elif kind == "sinusoid":
+        amp = _number(d, "surface", "amplitude", 0.0)
+        _positive("surface.amplitude", amp)
+        kw.update(amplitude=amp)
+    elif kind == "cylinder":
+        radius = _number(d, "surface", "radius", 0.0)
+        _positive("surface.radius", radius)
+        kw.update(radius=radius)
+    elif kind == "file":
+        path = d.get("path", "")
+        if not isinstance(path, str) or not path:
+            _fail("surface.path", path, "must name a .npy or text file of `nodes` heights (m)")
+        kw.update(path=path)
+    return Surface(**kw)
+
+
+def _material(d):
+    _check_keys(d, "material", Material)
+    m = Material()
+    e = _number(d, "material", "youngs_modulus", m.youngs_modulus)
+    _positive("material.youngs_modulus", e)
+    nu = _number(d, "material", "poisson_ratio", m.poisson_ratio)
+    if not -1 < nu <= 0.5:
+        _fail("material.poisson_ratio", nu, "must lie in (−1, 0.5]")
+    thickness = d.get("thickness", "inf")
+    if isinstance(thickness, str):
+        if thickness.strip().lower() not in ("inf", "infinite", "half-plane"):
+            _fail("material.thickness", thickness, 'must be "inf" (half-plane) or a depth > 0 (m)')
+        thickness = math.inf
+    else:
+        thickness = _number(d, "material", "thickness", thickness)
+        _positive("material.thickness", thickness)
+        if nu == 0.5:
+            _fail("material.poisson_ratio", nu,
+                  "an incompressible layer bonded to a rigid base has no uniform mode (M = ∞): use ν < 0.5 "
+                  'or thickness = "inf"')
+    return Material(youngs_modulus=e, poisson_ratio=nu, thickness=thickness)
+
+
+def _interface(d, material):
+    _check_keys(d, "interface", Interface)
+    i = Interface()
+    law = d.get("law", i.law)
+    if law not in _LAWS:
+        _fail("interface.law", law, f"must be one of {list(_LAWS)}")
+    dn = _number(d, "interface", "length_normal", i.length_normal)
+    _positive("interface.length_normal", dn)
+    if "phi_n_star" in d and "work_normal" in d:
+        raise SceneError("give either interface.phi_n_star or interface.work_normal, not both")
+    if "work_normal" in d:
+        w = _number(d, "interface", "work_normal", 0.0)
+        _positive("interface.work_normal", w)
+        phi = w / (dn * material.youngs_modulus)
+    else:
+        phi = _number(d, "interface", "phi_n_star", i.phi_n_star)
+        _positive("interface.phi_n_star", phi)
+        w = phi * dn * material.youngs_modulus
+    c = _number(d, "interface", "tangential_ratio", i.tangential_ratio)
+    if c < 0 or math.isinf(c):
+        _fail("interface.tangential_ratio", c, "must be a finite number ≥ 0 (0 = frictionless)")
+    dt = _number(d, "interface", "length_tangential", i.length_tangential)
+    _positive("interface.length_tangential", dt)
+    tol = _number(d, "interface", "contact_tolerance", i.contact_tolerance)
+    if not 0 < tol < math.exp(-1):
+        _fail("interface.contact_tolerance", tol, "must lie in (0, 1/e): a fraction of φn/δn")
+    return Interface(law=law, phi_n_star=phi, length_normal=dn, tangential_ratio=c, length_tangential=dt,
+                     contact_tolerance=tol, work_normal=w)
+
+
+def _loading(d):
+    _check_keys(d, "loading", Loading)
+    lo = Loading()
+    d0 = _number(d, "loading", "initial_separation", lo.initial_separation)
+    if d0 < 0 or math.isinf(d0):
+        _fail("loading.initial_separation", d0, "must be a finite number ≥ 0 (m)")
+    final = _number(d, "loading", "final_penetration", lo.final_penetration)
+    if math.isinf(final) or final <= -d0:
+        _fail("loading.final_penetration", final, f"must be finite and > −initial_separation = {-d0:g} (m)")
+    steps = _number(d, "loading", "steps", lo.steps, integer=True)
+    if steps < 1:
+        _fail("loading.steps", steps, "must be an integer ≥ 1")
+    return Loading(initial_separation=d0, final_penetration=final, steps=steps)
+
+
+def _solver(d):
+    _check_keys(d, "solver", Solver)
+    so = Solver()
+    method = d.get("method", so.method)
+    if method not in _METHODS:
+        _fail("solver.method", method, f"must be one of {list(_METHODS)}")
+    tol = _number(d, "solver", "tolerance", so.tolerance)
+    if not 1e-15 <= tol < 1:
+        _fail("solver.tolerance", tol, "must lie in [1e-15, 1) (relative force residual)")
+    iters = _number(d, "solver", "max_iterations", so.max_iterations, integer=True)
+    if iters < 1:
+        _fail("solver.max_iterations", iters, "must be an integer ≥ 1")
+    return Solver(method=method, tolerance=tol, max_iterations=iters)
+
+
+def _output(d):
+    _check_keys(d, "output", Output)
+    o = Output()
+    fs = _number(d, "output", "field_steps", o.field_steps, integer=True)
+    if fs < 0:
+        _fail("output.field_steps", fs, "must be an integer ≥ 0")
+    workers = _number(d, "output", "workers", o.workers, integer=True)
+    if workers < 0:
+        _fail("output.workers", workers, "must be an integer ≥ 0 (0 = all cores)")
+    return Output(field_steps=fs, workers=workers)
+
+
+def scene_from_dict(d, name="scene"):
+    """Validated `Scene` from a nested dict (TOML tables); raises SceneError."""
+    if not isinstance(d, dict):
+        raise SceneError("a scene must be a table of sections")
+    for section in d:
+        if section not in _SECTIONS:
+            raise SceneError(f"unknown section [{section}]; valid sections: {', '.join(_SECTIONS)}")
+    material = _material(d.get("material", {}))
+    return Scene(surface=_surface(d.get("surface", {})), material=material,
+                 interface=_interface(d.get("interface", {}), material), loading=_loading(d.get("loading", {})),
+                 solver=_solver(d.get("solver", {})), output=_output(d.get("output", {})), name=name)
+
+
+def load_scene(path):
+    """Read and validate a TOML scene file; a relative surface.path is taken relative to the file."""
+    path = Path(path)
+    try:
+        with open(path, "rb") as fh:
+            d = tomllib.load(fh)
+    except FileNotFoundError:
+        raise SceneError(f"scene file {str(path)!r} not found") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"scene file {str(path)!r} is not valid TOML: {exc}") from None
+    surface = d.get("surface", {})
+    if isinstance(surface, dict) and surface.get("kind") == "file" and isinstance(surface.get("path"), str):
+        p = Path(surface["path"])
+        if not p.is_absolute():
+            surface["path"] = str((path.parent / p).resolve())
+    return scene_from_dict(d, name=path.stem)
+
+
+def default_scene():
+    """The built-in default scene (a small version of the seed's Fig. 3/4 case)."""
+    text = resources.files("gfmd").joinpath("default_scene.toml").read_text()
+    return scene_from_dict(tomllib.loads(text), name="default")
+
+
+def scene_to_dict(scene):
+    """Plain nested dict of the resolved scene (thickness inf written as "inf")."""
+    d = {}
+    for section in _SECTIONS:
+        values = dataclasses.asdict(getattr(scene, section))
+        d[section] = values
+    d["material"]["thickness"] = "inf" if scene.material.half_plane else scene.material.thickness
+    return d
+
+
+def _toml_value(v):
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, float)):
+        return repr(v)
+    if isinstance(v, str):
+        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    raise TypeError(f"cannot write {v!r} to TOML")
+
+
+def scene_to_toml(scene):
+    """TOML text of the fully resolved scene; `load_scene` reads it back to an equal Scene."""
+    d = scene_to_dict(scene)
+    d["interface"].pop("work_normal")  # derived from phi_n_star
+    lines = [f"# resolved scene {scene.name!r}; SI units (m, Pa, J/m^2)"]
+    for section, values in d.items():
+        lines.append(f"\n[{section}]")
+        lines += [f"{k} = {_toml_value(v)}" for k, v in values.items()]
+    return "\n".join(lines) + "\n"
+
+
+def example_scene_text():
+    """Fully commented example scene (TOML text)."""
+    return resources.files("gfmd").joinpath("example_scene.toml").read_text()

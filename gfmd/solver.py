@@ -1,0 +1,385 @@
+"""Static equilibrium of one load step by damped dynamics in Fourier space.
+
+Units: SI (see `gfmd.conventions`). Unknowns are the rfft coefficients û of the
+surface displacement (components (x, z), or z alone). The force on mode q is
+
+    f̂ = rfft(t_interface(u)) − K(q) û          (traction units, Pa)
+
+and equilibrium is f = 0 at every node (hard wall: f ≤ 0 pushes are taken by the
+wall on nodes that touch it). Two integrators (reference-formulas §5.2):
+
+* ``fire`` (default): FIRE (Bitzek et al. 2006, with the FIRE 2.0 back-step) on
+  mass-weighted modes, M_q = K(q) + k_int·I, so that every free elastic mode has
+  the same frequency and the local interface stiffness k_int (the CZ law's
+  initial slope φn/δn², 2φt/δt² tangentially) does not destabilise long waves.
+* ``verlet``: the seed's damped Störmer–Verlet, uniform mass, every mode damped
+  critically for the discrete scheme (γΔt = ωΔt√(4 − (ωΔt)²)).
+
+Hard wall: a constraint, not a penalty. After each move the nodes that went
+through the wall are projected back onto it (u_z ≤ z_ind) and the velocity that
+carried them there is removed with the same correction.
+
+Convergence: max_j |r_j| < tolerance · p_ref, with r the nodal force residual
+(Pa) and p_ref = `Model.reference_traction`; checked every `check_every`
+iterations with one extra inverse FFT. A step that hits `max_iterations`, or
+whose law evaluation would overflow, is returned with converged = False, its
+residual and a message: it is never silently accepted.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.fft
+
+from . import laws
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Integrator parameters (dimensionless; time unit 1/ω0 with ω0 = 1)."""
+
+    method: str = "fire"
+    tolerance: float = 1e-8
+    max_iterations: int = 200_000
+    check_every: int = 10
+    # FIRE (Bitzek et al. 2006 defaults, FIRE 2.0 back-step)
+    dt_start: float = 0.3
+    dt_max: float = 1.0
+    n_min: int = 5
+    f_inc: float = 1.1
+    f_dec: float = 0.5
+    alpha_start: float = 0.1
+    f_alpha: float = 0.99
+    # Verlet: ω_max Δt
+    verlet_omega_dt: float = 1.0
+
+
+@dataclass
+class Relaxed:
+    """Equilibrium of one load step: fields on the N nodes (SI) and solver record."""
+
+    u_hat: np.ndarray  # (c, N//2+1) rfft of u
+    u_z: np.ndarray  # m
+    u_x: np.ndarray  # m (zeros when not solved)
+    gap: np.ndarray  # Δn (m)
+    t_z: np.ndarray  # traction on the body (Pa), = T_n
+    t_x: np.ndarray  # Pa, = T_t
+    iterations: int
+    residual: float  # max |r| / p_ref
+    converged: bool
+    message: str = ""
+
+
+class InterfaceLaw:
+    """Interface tractions on the body for a model and a scene's interface (SI)."""
+
+    def __init__(self, model, interface, work_tangential):
+        self.model = model
+        self.hard_wall = interface.law == "hard-wall"
+        self.phi_n = interface.work_normal
+        self.delta_n = interface.length_normal
+        self.phi_t = work_tangential
+        self.delta_t = interface.length_tangential
+        # initial slopes of the law: local interface stiffness (Pa/m)
+        self.k_int_z = 0.0 if self.hard_wall else self.phi_n / self.delta_n**2
+        self.k_int_x = 2 * self.phi_t / self.delta_t**2 if model.tangential else 0.0
+
+    def traction(self, u, z_ind):
+        """(t, Δn): tractions (c, N) on the body and the normal gap, for displacements u (c, N)."""
+        gap = z_ind - u[-1]
+        t = np.zeros_like(u)
+        if self.hard_wall:
+            return t, gap
+        if self.model.tangential:
+            t_n, t_t = laws.traction_coupled(gap, -u[0], self.phi_n, self.delta_n, self.phi_t, self.delta_t)
+            t[0], t[1] = t_t, t_n
+        else:
+            t[-1] = laws.traction_normal(gap, self.phi_n, self.delta_n)
+        return t, gap
+
+
+def _spectral_weights(nodes):
+    """w_n with Σ_j a_j b_j = (1/N) Σ_n w_n Re(conj(â_n) b̂_n) for rfft spectra."""
+    w = np.full(nodes // 2 + 1, 2.0)
+    w[0] = 1.0
+    if nodes % 2 == 0:
+        w[-1] = 1.0
+    return w
+
+
+class _Elastic:
+    """K(q) and mass operators of a model on the rfft half-spectrum."""
+
+    def __init__(self, model, k_int_x, k_int_z):
+        self.model = model
+        self.clamp = model.half_plane
+        if model.tangential:
+            a = model.k_xx + k_int_x
+            b = model.k_xz
+            d = model.k_zz + k_int_z
+            det = (a * d - np.abs(b) ** 2).real
+            if self.clamp:
+                det[0] = np.inf
+            self.mass = (a, b, d)
+            self.inv_mass = (d / det, -b / det, a / det)
+        else:
+            m = model.k_zz + k_int_z
+            inv = np.zeros_like(m)
+            nz = m > 0
+            inv[nz] = 1.0 / m[nz]
+            if self.clamp:
+                inv[0] = 0.0
+            self.mass = (m,)
+            self.inv_mass = (inv,)
+
+    @staticmethod
+    def _apply(blocks, x):
+        if len(blocks) == 1:
+            return blocks[0] * x
+        a, b, d = blocks
+        return np.stack([a * x[0] + b * x[1], np.conj(b) * x[0] + d * x[1]])
+
+    @staticmethod
+    def stiffness_of(model, x):
+        """K(q) x for spectra x of shape (c, nq) (c = model.components, or 1 for z alone)."""
+        if not model.tangential or x.shape[0] == 1:
+            return model.k_zz * x
+        return _Elastic._apply((model.k_xx, model.k_xz, model.k_zz), x)
+
+    def stiffness(self, x):
+        return self.stiffness_of(self.model, x)
+
+    def mass_times(self, x):
+        return self._apply(self.mass, x)
+
+    def inverse_mass_times(self, x):
+        return self._apply(self.inv_mass, x)
+
+
+def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
+    """Relax one load step from the initial guess `u_hat` (c, N//2+1); returns `Relaxed`.
+
+    z_ind: indenter surface z_ind(x) (m) at this step; wall_tolerance (m): gap
+    below which a hard-wall node counts as touching the wall.
+    """
+    if law.hard_wall:
+        return _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance)
+    n = model.nodes
+    elastic = _Elastic(model, law.k_int_x, law.k_int_z)
+    w = _spectral_weights(n)
+    p_tol = settings.tolerance * model.reference_traction
+    u_hat = np.array(u_hat, dtype=complex, copy=True)
+    if elastic.clamp:
+        u_hat[:, 0] = 0.0
+    v = np.zeros_like(u_hat)
+
+    def dot(a, b):
+        return float(np.sum(w * (np.conj(a) * b).real))
+
+    if settings.method == "verlet":
+        k_diag = [model.k_zz] if not model.tangential else [model.k_xx.real, model.k_zz]
+        k_int = [law.k_int_z] if not model.tangential else [law.k_int_x, law.k_int_z]
+        omega2 = np.stack([np.asarray(k, float) + ki for k, ki in zip(k_diag, k_int)])
+        rho = omega2.max() / settings.verlet_omega_dt**2  # uniform mass: ω_max Δt = verlet_omega_dt
+        dt = 1.0
+        wdt = np.sqrt(omega2 / rho) * dt
+        gdt = wdt * np.sqrt(np.clip(4 - wdt**2, 0, None))  # discrete critical damping
+    else:
+        dt, alpha, n_pos = settings.dt_start, settings.alpha_start, 0
+
+    residual = np.inf
+    message = ""
+    converged = False
+    it = 0
+    for it in range(1, settings.max_iterations + 1):
+        u = scipy.fft.irfft(u_hat, n=n, axis=-1)
+        if True:
+            try:
+                t, _ = law.traction(u, z_ind)
+            except laws.CompressionOverflowError as exc:
+                message = f"diverged: {exc}"
+                break
+            f_hat = scipy.fft.rfft(t, axis=-1) - elastic.stiffness(u_hat)
+        if elastic.clamp:
+            f_hat[:, 0] = 0.0
+        if it % settings.check_every == 0 or it == 1:
+            residual = float(np.max(np.abs(scipy.fft.irfft(f_hat, n=n, axis=-1)))) / model.reference_traction
+            if residual * model.reference_traction < p_tol:
+                converged = True
+                break
+            if not np.isfinite(residual):
+                message = "diverged: non-finite force residual"
+                break
+        if settings.method == "verlet":
+            v = ((1 - gdt / 2) * v + dt * f_hat / rho) / (1 + gdt / 2)
+        else:
+            power = dot(f_hat, v)
+            if power > 0:
+                n_pos += 1
+                if n_pos > settings.n_min:
+                    dt = min(dt * settings.f_inc, settings.dt_max)
+                    alpha *= settings.f_alpha
+            else:
+                n_pos = 0
+                dt *= settings.f_dec
+                alpha = settings.alpha_start
+                u_hat -= 0.5 * dt * v
+                v[:] = 0.0
+            acc = elastic.inverse_mass_times(f_hat)
+            v += dt * acc
+            f_norm = dot(f_hat, acc)
+            if f_norm > 0:
+                v_norm = dot(v, elastic.mass_times(v))
+                v = (1 - alpha) * v + alpha * np.sqrt(max(v_norm, 0.0) / f_norm) * acc
+        if elastic.clamp:
+            v[:, 0] = 0.0
+        u_hat += dt * v
+    else:
+        message = f"not converged after {settings.max_iterations} iterations (residual {residual:.3g} p_ref)"
+
+    return _finish(model, law, z_ind, u_hat, it, residual, converged, message, wall_tolerance)
+
+
+def _mean_shift(u_z, z_ind):
+    """Scalar c with ⟨min(u_z + c, z_ind)⟩ = 0 (m): Euclidean projection onto {u ≤ z_ind, ⟨u⟩ = 0}.
+
+    φ(c) = ⟨min(u + c, b)⟩ is concave, increasing and piecewise linear; Newton from
+    c = 0 (where φ ≤ 0 because ⟨u⟩ = 0) approaches the root monotonically from below
+    and ends in a few steps.
+    """
+    c = 0.0
+    for _ in range(100):
+        free = u_z + c < z_ind
+        phi = np.mean(np.where(free, u_z + c, z_ind))
+        slope = np.mean(free)
+        if phi >= 0.0 or slope == 0.0:
+            if slope == 0.0 and phi < 0.0:
+                raise ValueError("hard wall everywhere below the mean plane: full contact reached, "
+                                 "the clamped half-plane cannot be indented further")
+            return c
+        step = -phi / slope
+        c += step
+        if step <= 1e-15 * (abs(c) + np.max(np.abs(z_ind))):
+            return c
+    return c
+
+
+def _wall_pressure(model, u_hat, on_wall, n):
+    """Hard-wall contact pressure P_j (Pa) that holds the nodes on the wall.
+
+    Half-plane: P_j = p − (Ku)_j with p = mean of (Ku) over free nodes (the far field
+    carries the uniform load); layer: P_j = (Ku)_j. Zero off the wall.
+    """
+    ku = scipy.fft.irfft(model.k_zz * u_hat[-1], n=n)
+    free = ~on_wall
+    p = float(np.mean(ku[free])) if model.half_plane and free.any() else 0.0
+    return np.where(on_wall, p - ku, 0.0)
+
+
+def _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance):
+    """Hard-wall relaxation in real space (normal only; see module docstring).
+
+    The wall reaction enters as a force: on nodes touching the wall, a net force
+    pushing into it is cancelled (net 0), so the dynamics sees the true KKT
+    residual. The mass-weighted (preconditioned) acceleration M⁻¹f is zeroed on
+    those stuck nodes: a Euclidean projection after a non-diagonal preconditioner
+    otherwise has spurious fixed points (a wall node's pull-off force smeared
+    into push-in accelerations that the wall absorbs); restricted to the free
+    subspace, Z M⁻¹ Z is positive definite there and the fixed points are exactly
+    the KKT points. Positions are projected onto {u ≤ z_ind} (and ⟨u⟩ = 0 for the
+    half-plane), and the velocity into the wall of projected nodes is removed.
+    Each iteration costs two rfft/irfft pairs: K u and the mass-weighted acceleration.
+    """
+    n = model.nodes
+    elastic = _Elastic(model, 0.0, 0.0)
+    k = model.k_zz
+    inv_mass = elastic.inv_mass[0]
+    u = scipy.fft.irfft(u_hat[-1], n=n)
+    shift = _mean_shift(u, z_ind) if elastic.clamp else 0.0
+    u = np.minimum(u + shift, z_ind)
+    v = np.zeros(n)
+    dt, alpha, n_pos = settings.dt_start, settings.alpha_start, 0
+    residual, converged, message = np.inf, False, ""
+    it = 0
+    for it in range(1, settings.max_iterations + 1):
+        on_wall = z_ind - u <= wall_tolerance
+        force, stuck = _wall_net_force(model, k, u, on_wall, n)
+        if it % settings.check_every == 0 or it == 1:
+            residual = float(np.max(np.abs(force))) / model.reference_traction
+            if residual < settings.tolerance:
+                converged = True
+                break
+            if not np.isfinite(residual):
+                message = "diverged: non-finite force residual"
+                break
+        acc = scipy.fft.irfft(inv_mass * scipy.fft.rfft(force), n=n)
+        acc[stuck] = 0.0  # precondition on the non-stuck subspace only: fixed points = KKT points
+        power = float(force @ v)
+        if power > 0:
+            n_pos += 1
+            if n_pos > settings.n_min:
+                dt = min(dt * settings.f_inc, settings.dt_max)
+                alpha *= settings.f_alpha
+        else:
+            n_pos = 0
+            dt *= settings.f_dec
+            alpha = settings.alpha_start
+            u -= 0.5 * dt * v
+            v[:] = 0.0
+        v += dt * acc
+        a_norm = np.sqrt(acc @ acc)
+        if a_norm > 0:
+            v = (1 - alpha) * v + alpha * np.sqrt(v @ v) / a_norm * acc
+        u += dt * v
+        shift = _mean_shift(u, z_ind) if elastic.clamp else 0.0
+        projected = np.minimum(u + shift, z_ind)
+        hit = projected < u + shift
+        u = projected
+        v[hit] = np.minimum(v[hit], 0.0)
+    else:
+        message = f"not converged after {settings.max_iterations} iterations (residual {residual:.3g} p_ref)"
+    u_hat = scipy.fft.rfft(u)[None, :]
+    return _finish(model, law, z_ind, u_hat, it, residual, converged, message, wall_tolerance)
+
+
+def _wall_net_force(model, k, u, on_wall, n):
+    """(net nodal force (Pa), stuck mask) of a hard-wall configuration.
+
+    Net force = elastic + far-field load + wall reaction; "stuck" nodes are on the
+    wall and pushed into it, so the wall cancels their force.
+
+    Elastic force −(Ku)_j; half-plane: plus the uniform far-field load p that keeps ⟨u⟩ = 0,
+    p = mean of (Ku) over free nodes. The wall cancels a net force pushing into it.
+    """
+    ku = scipy.fft.irfft(k * scipy.fft.rfft(u), n=n)
+    free = ~on_wall
+    p = float(np.mean(ku[free])) if model.half_plane and free.any() else 0.0
+    force = p - ku
+    stuck = on_wall & (force > 0)
+    return np.where(stuck, 0.0, force), stuck
+
+
+def _finish(model, law, z_ind, u_hat, iterations, residual, converged, message, wall_tolerance):
+    n = model.nodes
+    u = scipy.fft.irfft(u_hat, n=n, axis=-1)
+    if law.hard_wall:
+        gap = z_ind - u[-1]
+        on_wall = gap <= wall_tolerance
+        gap = np.maximum(gap, 0.0)
+        u[-1] = z_ind - gap
+        pressure = _wall_pressure(model, u_hat, on_wall, n)
+        t = np.zeros_like(u)
+        t[-1] = -np.maximum(pressure, 0.0)
+    else:
+        try:
+            t, gap = law.traction(u, z_ind)
+        except laws.CompressionOverflowError as exc:
+            t, gap = np.full_like(u, np.nan), z_ind - u[-1]
+            message = message or f"diverged: {exc}"
+            converged = False
+    u_x = u[0] if model.tangential else np.zeros(n)
+    t_x = t[0] if model.tangential else np.zeros(n)
+    return Relaxed(u_hat=u_hat, u_z=u[-1], u_x=u_x, gap=gap, t_z=t[-1], t_x=t_x, iterations=iterations,
+                   residual=float(residual), converged=bool(converged), message=message)

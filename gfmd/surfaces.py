@@ -1,0 +1,106 @@
+"""Rigid indenter profiles h(x) on the periodic grid (m).
+
+Units: SI (see `gfmd.conventions`). Grid x_j = (j − N/2) l, l = L/N.
+Random profiles use the seed's spectral method (seed Eq. 4, reference-formulas §6):
+deterministic amplitudes √((2π/L) C(q_n)), random phases from an explicit seed,
+zero mean, and h_rms exact after a final rescaling.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import scipy.fft
+
+
+def grid(nodes, length):
+    """Node positions x_j = (j − N/2)·L/N (m); x = 0 is node N/2."""
+    return (np.arange(nodes) - nodes // 2) * (length / nodes)
+
+
+def psd_self_affine(q, hurst, rolloff_wavelength, rollon_wavelength, length):
+    """Unnormalised two-sided PSD shape C(q)/C(q_r) of seed Eq. 4 (dimensionless).
+
+    1 for λr < 2π/q ≤ L, (q/q_r)^{−(1+2H)} for λs,H < 2π/q ≤ λr, 0 for
+    2π/q < λs,H and at q = 0 (zero mean). Wavelengths in m, q in 1/m.
+    """
+    q = np.abs(np.asarray(q, dtype=float))
+    q_r = 2 * np.pi / rolloff_wavelength
+    q_s = 2 * np.pi / rollon_wavelength
+    q_l = 2 * np.pi / length
+    c = np.zeros_like(q)
+    plateau = (q >= q_l * (1 - 1e-12)) & (q < q_r)
+    power = (q >= q_r) & (q <= q_s * (1 + 1e-12))
+    c[plateau] = 1.0
+    c[power] = (q[power] / q_r) ** (-(1 + 2 * hurst))
+    return c
+
+
+def self_affine(nodes, length, hurst, h_rms, rolloff_wavelength, rollon_wavelength, seed):
+    """Random self-affine profile (m): seed Eq. 4 spectrum, random phases, exact h_rms.
+
+    The Nyquist mode (even N) and q = 0 carry no amplitude. `seed` fixes the phases
+    via numpy's default_rng, so equal arguments give identical profiles.
+    """
+    q = 2 * np.pi * np.fft.rfftfreq(nodes, d=length / nodes)
+    amplitude = np.sqrt(psd_self_affine(q, hurst, rolloff_wavelength, rollon_wavelength, length))
+    if nodes % 2 == 0:
+        amplitude[-1] = 0.0
+    rng = np.random.default_rng(seed)
+    phase = rng.uniform(0.0, 2 * np.pi, size=q.size)
+    h = scipy.fft.irfft(amplitude * np.exp(1j * phase), n=nodes)
+    rms = np.sqrt(np.mean(h**2))
+    if rms == 0.0:
+        raise ValueError("self-affine spectrum has no modes on this grid: check the wavelengths against L and N")
+    return h * (h_rms / rms)
+
+
+def sinusoid(nodes, length, amplitude):
+    """h(x) = −a cos(2πx/L) (m): one wavelength per cell, minimum (first contact) at x = 0.
+
+    `amplitude` a in m (peak-to-valley 2a); reference-formulas §0 profile up to a constant.
+    """
+    return -amplitude * np.cos(2 * np.pi * grid(nodes, length) / length)
+
+
+def cylinder(nodes, length, radius):
+    """Parabolic cylinder h(x) = x²/(2R) (m) centred at x = 0, R in m."""
+    x = grid(nodes, length)
+    return x**2 / (2 * radius)
+
+
+def flat(nodes, length):
+    """Flat indenter h = 0 (m)."""
+    return np.zeros(nodes)
+
+
+def from_file(path, nodes):
+    """Heights (m) read from a .npy or whitespace text file of exactly `nodes` values."""
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"surface.path = {str(path)!r}: no such file")
+    h = np.load(path) if path.suffix == ".npy" else np.loadtxt(path)
+    h = np.asarray(h, dtype=float).ravel()
+    if h.size != nodes:
+        raise ValueError(f"surface.path = {str(path)!r} holds {h.size} heights, but surface.nodes = {nodes}")
+    if not np.all(np.isfinite(h)):
+        raise ValueError(f"surface.path = {str(path)!r} contains non-finite heights")
+    return h
+
+
+def profile(surface, realization=0):
+    """Profile h(x) (m) for a `gfmd.scene.Surface` spec; realization i uses seed + i."""
+    n, length = surface.nodes, surface.length
+    if surface.kind == "self-affine":
+        return self_affine(n, length, surface.hurst, surface.h_rms, surface.rolloff_wavelength,
+                           surface.rollon_wavelength, surface.seed + realization)
+    if surface.kind == "sinusoid":
+        return sinusoid(n, length, surface.amplitude)
+    if surface.kind == "cylinder":
+        return cylinder(n, length, surface.radius)
+    if surface.kind == "flat":
+        return flat(n, length)
+    if surface.kind == "file":
+        return from_file(surface.path, n)
+    raise ValueError(f"surface.kind = {surface.kind!r} is not a known profile kind")
