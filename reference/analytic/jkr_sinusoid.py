@@ -154,14 +154,15 @@ def half_width(mean_pressure, h0, wavelength, e_star, work):
     psi_lo = _extremum_psi(alpha, "min")
     psi_hi = _extremum_psi(alpha, "max")
     P_lo, P_hi = _ratio(psi_lo, alpha), _ratio(psi_hi, alpha)
-    if not P_lo <= P <= P_hi:
+    tol = 1e-12  # round-off of p̄/p* at the end points is accepted as the end point
+    if not P_lo - tol <= P <= P_hi + tol:
         raise ValueError(
             f"mean_pressure/p* = {P!r} outside the stable range [{P_lo:.6g}, {P_hi:.6g}] "
             f"for alpha = {alpha:.6g} (below: pull-off; above: full contact)"
         )
-    if P == P_lo:
+    if P <= P_lo:
         return lam * psi_lo / math.pi
-    if P == P_hi:
+    if P >= P_hi:
         return lam * psi_hi / math.pi
     psi = brentq(lambda s: _ratio(s, alpha) - P, psi_lo, psi_hi, xtol=1e-15, rtol=4 * np.finfo(float).eps)
     return lam * psi / math.pi
