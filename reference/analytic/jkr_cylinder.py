@@ -52,7 +52,7 @@ def pull_off_load(radius, e_star, work):
 
 
 def half_width(load, radius, e_star, work):
-    """Contact half-width a [m] on the stable branch (a ≥ a_c) for line load F [N/m] (§4.1).
+    """Contact half-width a [m] on the stable branch (a ≥ a_c) for scalar line load F [N/m] (§4.1).
 
     Inverse of `load` restricted to the branch that is stable under load
     control. Raises ValueError for F < F_c (the cylinder has pulled off).

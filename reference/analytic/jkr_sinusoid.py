@@ -136,7 +136,7 @@ def critical_alpha():
 
 
 def half_width(mean_pressure, h0, wavelength, e_star, work):
-    """Contact half-width a [m] on the branch stable under load control for mean pressure p̄ [Pa] (§4.3).
+    """Contact half-width a [m] on the branch stable under load control for scalar mean pressure p̄ [Pa] (§4.3).
 
     The stable branch is dp̄/da > 0, between pull-off and jump to full contact;
     p̄ outside [p̄_pull-off, p̄_jump] raises ValueError (no stable partial contact).

@@ -148,6 +148,10 @@ def pull_off(lam, a_bar_min=1e-7, depth_tol=1e-9):
     point (F0, 0.0) — "the minimum lies at a → 0" of §4.2.
     """
     lm = float(positive("lam", lam))
+    a_bar_min = float(positive("a_bar_min", a_bar_min))
+    depth_tol = float(nonnegative("depth_tol", depth_tol))
+    if a_bar_min >= 0.1:
+        raise ValueError(f"a_bar_min = {a_bar_min!r} must be < 0.1 (start of the search grid)")
     f_end = _limit_small_a(lm)
     grid = np.logspace(math.log10(a_bar_min), math.log10(2.0), 141)
     F = np.array([load_dimensionless(A, lm) for A in grid])

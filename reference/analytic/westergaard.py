@@ -57,13 +57,13 @@ def half_width(mean_pressure, h0, wavelength, e_star):
 
 
 def pressure(x, mean_pressure, h0, wavelength, e_star):
-    """Contact pressure p(x) [Pa] at mean pressure p̄ ≥ 0 [Pa] (§3), any x [m] (periodic).
+    """Contact pressure p(x) [Pa] at scalar mean pressure p̄ ≥ 0 [Pa] (§3), any x [m] (periodic).
 
     Partial contact (p̄ < p*): 2p* cos ψ √(sin²ψ_a − sin²ψ) for |x| < a, else 0.
     Full contact (p̄ ≥ p*): p̄ + p* cos(2πx/λ). p > 0 is compressive.
     """
     x = finite("x", x)
-    pbar = nonnegative("mean_pressure", mean_pressure)
+    pbar = float(nonnegative("mean_pressure", mean_pressure))
     lam = positive("wavelength", wavelength)
     ps = full_contact_pressure(h0, lam, e_star)
     psi = np.pi * _wrap(x, lam) / lam
@@ -75,13 +75,13 @@ def pressure(x, mean_pressure, h0, wavelength, e_star):
 
 
 def gap(x, mean_pressure, h0, wavelength, e_star):
-    """Gap g(x) = z_ind − u_z ≥ 0 [m] at mean pressure p̄ ≥ 0 [Pa] (§3), any x [m].
+    """Gap g(x) = z_ind − u_z ≥ 0 [m] at scalar mean pressure p̄ ≥ 0 [Pa] (§3), any x [m].
 
     Zero inside the contact (and everywhere in full contact);
     2h0[S√(S² − S_a²) − S_a² ln((S + √(S² − S_a²))/S_a)] outside, S = |sin(πx/λ)|.
     """
     x = finite("x", x)
-    pbar = nonnegative("mean_pressure", mean_pressure)
+    pbar = float(nonnegative("mean_pressure", mean_pressure))
     lam = positive("wavelength", wavelength)
     h0 = positive("h0", h0)
     ps = full_contact_pressure(h0, lam, e_star)
