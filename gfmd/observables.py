@@ -68,3 +68,18 @@ def step_observables(scene, h, gap, traction_z):
 def reduced_pressure(p, g_r, contact_modulus):
     """p_r* = p/(ḡ_r E*) (dimensionless, seed §1); NaN where ḡ_r is undefined."""
     return np.asarray(p) / (np.asarray(g_r) * contact_modulus)
+
+
+def fit_kappa(reduced, a_rel, a_max=0.1):
+    """Slope κ of a_rel = κ p_r* (seed Eq. 1), least squares through the origin.
+
+    Uses the points with 0 < a_rel ≤ a_max and finite p_r* > 0; returns (κ, number of points).
+    Raises ValueError when no point qualifies.
+    """
+    reduced = np.asarray(reduced, float)
+    a_rel = np.asarray(a_rel, float)
+    use = np.isfinite(reduced) & (reduced > 0) & (a_rel > 0) & (a_rel <= a_max)
+    if not use.any():
+        raise ValueError(f"no step with 0 < a_rel ≤ {a_max} and p > 0 to fit κ")
+    x, y = reduced[use], a_rel[use]
+    return float(x @ y / (x @ x)), int(use.sum())
