@@ -132,11 +132,17 @@ def _svg(fig):
     """Inline <svg> of a matplotlib Figure (text as paths: no fonts needed, same in every browser)."""
     import matplotlib
     buf = io.StringIO()
-    with matplotlib.rc_context({"svg.fonttype": "path", "svg.hashsalt": "gfmd-report"}):
+    with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "gfmd-report",
+                                "font.family": ["DejaVu Sans", "Helvetica", "Arial", "sans-serif"]}):
         fig.savefig(buf, format="svg", bbox_inches="tight")
     text = buf.getvalue()
     start = text.find("<svg")  # drop the XML prolog and DOCTYPE: not allowed inside HTML
-    return text[start:] if start >= 0 else text
+    text = text[start:] if start >= 0 else text
+    # inline SVG in HTML5 needs no namespace declarations nor the RDF metadata block: dropping them
+    # leaves the page with no http(s) URL at all (they are names, not fetched, but checks stay simple)
+    text = re.sub(r"<metadata>.*?</metadata>\s*", "", text, flags=re.S)
+    text = re.sub(r'\s+xmlns(:\w+)?="[^"]*"', "", text, count=3)
+    return text
 
 
 def _subplots(nrows=1, figsize=(7.5, 3.8), **kw):
@@ -294,8 +300,7 @@ def render_plot(plot):
     except Exception as exc:  # noqa: BLE001 - show it in the page, keep the report
         return (f'<p class="banner fail">plot {esc(kind)} “{esc(plot.get("title", ""))}” could not be drawn: '
                 f"{esc(type(exc).__name__)}: {esc(exc)}</p>")
-    cap = f"<figcaption>{esc(plot.get('title', ''))}</figcaption>" if plot.get("title") else ""
-    return f'<figure class="plot plot-{esc(kind)}">{inner}{cap}</figure>'
+    return f'<figure class="plot plot-{esc(kind)}">{inner}</figure>'
 
 
 # --------------------------------------------------------------------------- page
@@ -375,20 +380,17 @@ def render_html(records, session=None, provenance=None):
             f'<li><a href="#{slug(c)}">{esc(c)}</a></li>' for c in cases) + "</ul></nav>")
     for name, recs in cases.items():
         out.append(f'<section class="case" id="{slug(name)}"><h2>{esc(name)}</h2>')
-        tests = sorted({r.test for r in recs if r.test})
-        if tests:
-            out.append('<p class="muted">test: ' + ", ".join(f"<code>{esc(t)}</code>" for t in tests) + "</p>")
         for r in recs:
             cls, text = verdict_of(r)
-            info = OrderedDict([("methods", ", ".join(r.methods)), ("value", r.value),
-                                ("tolerance", r.tolerance), ("verdict", text),
-                                ("tolerance source", r.tolerance_source or "—"),
-                                ("wall time (s)", r.wall_s), ("peak memory (MiB)",
-                                 None if r.peak_memory_bytes is None else r.peak_memory_bytes / 2**20),
-                                ("memory measured as", r.memory_method or "—"),
-                                ("test outcome", r.test_outcome or "—")])
-            for k, v in r.resolution.items():
-                info[f"resolution: {k}"] = v
+            mem = "—" if r.peak_memory_bytes is None else f"{r.peak_memory_bytes / 2**20:.3g} MiB"
+            info = OrderedDict([
+                ("methods", ", ".join(r.methods)),
+                ("value / tolerance", f"{fmt(r.value, 4)} / {fmt(r.tolerance, 4)} → {text}"),
+                ("tolerance source", r.tolerance_source or "—"),
+                ("resolution", "; ".join(f"{k} = {fmt(v, 4)}" for k, v in r.resolution.items()) or "—"),
+                ("cost", f"wall {fmt(r.wall_s)} s; peak memory {mem} ({r.memory_method or 'not measured'})"),
+                ("test", f"{r.test or '—'} ({r.test_outcome or 'outcome unknown'})"),
+            ])
             if r.notes:
                 info["notes"] = r.notes
             out.append(f'<div class="record r-{cls}"><h3>{esc(r.metric)} '

@@ -1,0 +1,210 @@
+"""Tests of the verification harness itself: records, JSON, HTML report, pytest glue (fast)."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+import textwrap
+from html.parser import HTMLParser
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from verification import harness, report
+
+VOID = {"area", "base", "br", "col", "embed", "hr", "img", "input", "link", "meta", "source", "track", "wbr"}
+
+
+class Checker(HTMLParser):
+    """Tag balance (non-void HTML and all SVG elements), summary rows/verdicts, svg count, URLs."""
+
+    def __init__(self):
+        super().__init__(convert_charrefs=True)
+        self.stack, self.errors, self.svg_roots, self.urls = [], [], 0, []
+        self.doctype = None
+        self.summary_cells, self._in_summary, self._row = [], False, None
+
+    def handle_decl(self, decl):
+        self.doctype = decl
+
+    def handle_starttag(self, tag, attrs):
+        for name, value in attrs:
+            if name in ("src", "href", "xlink:href") and value and not value.startswith(("#", "data:")):
+                self.urls.append(value)
+        if tag == "svg" and "svg" not in self.stack:
+            self.svg_roots += 1
+        if tag == "table" and ("id", "summary-table") in attrs:
+            self._in_summary = True
+        if self._in_summary and tag == "tr":
+            self._row = []
+        if self._in_summary and tag == "td" and self._row is not None:
+            self._row.append(dict(attrs).get("class", ""))
+        if tag not in VOID:
+            self.stack.append(tag)
+
+    def handle_startendtag(self, tag, attrs):
+        self.handle_starttag(tag, attrs)
+        if tag not in VOID:
+            self.handle_endtag(tag)
+
+    def handle_endtag(self, tag):
+        if tag in VOID:
+            return
+        if not self.stack or self.stack[-1] != tag:
+            self.errors.append(f"</{tag}> closes {self.stack[-1:]} at {self.getpos()}")
+            if tag in self.stack:
+                while self.stack and self.stack.pop() != tag:
+                    pass
+            return
+        self.stack.pop()
+        if tag == "tr" and self._in_summary and self._row:
+            self.summary_cells.append(self._row)
+            self._row = None
+        if tag == "table" and self._in_summary:
+            self._in_summary = False
+
+
+def parse(text):
+    c = Checker()
+    c.feed(text)
+    c.close()
+    return c
+
+
+def _records():
+    x = np.linspace(-0.5, 0.5, 64)
+    plots = [
+        harness.profile_plot(x, {"a": np.sin(x), "b": np.sin(x) + 1e-3}, xlabel="x", ylabel="y", title="profile"),
+        harness.curve_plot(np.arange(5.0), {"a": np.arange(5.0) ** 2}, xlabel="δ", ylabel="p", title="curve"),
+        harness.convergence_plot([1 / 8, 1 / 16, 1 / 32], [1e-2, 2.5e-3, 6.25e-4], title="conv"),
+        harness.table_plot(["k", "v"], [[1, 0.5], [2, np.float64(0.25)]], title="tab"),
+        harness.pareto_plot([{"label": "N=256", "method": "gfmd-fire", "time": 0.1, "error": 1e-2},
+                             {"label": "N=512", "method": "gfmd-fire", "time": 0.3, "error": 3e-3},
+                             {"label": "P2", "method": "fe-p2", "time": 2.0, "error": 1e-3}], title="pareto"),
+        harness.grid_plot(["case", "N=64", "N=1e6"], [["φn* = 1e-4", {"status": "ok", "message": ""},
+                                                        {"status": "fail", "message": "did not converge"}]],
+                          title="extremes"),
+    ]
+    good = harness.Measurement(case="demo/good", metric="rel. L2", value=np.float64(1e-4), tolerance=1e-3,
+                               methods=("gfmd-fire", "fe-p2"), tolerance_source="study X",
+                               resolution={"N": 1024, "mesh": "P2, 5 rows/level"}, wall_s=0.5, plots=plots)
+    bad = harness.Measurement(case="demo/bad", metric="max error", value=0.2, tolerance=0.01,
+                              methods=("analytic-westergaard",), wall_s=1.0)
+    nan = harness.Measurement(case="demo/nan", metric="p", value=float("nan"), tolerance=1.0)
+    info = harness.Measurement(case="demo/info", metric="order", value=2.01)
+    return [good, bad, nan, info]
+
+
+def test_default_verdicts():
+    good, bad, nan, info = _records()
+    assert good.passed is True and bad.passed is False
+    assert nan.passed is False  # NaN never passes
+    assert info.passed is None  # no tolerance, no verdict
+    assert harness.Measurement(case="c", metric="m", value=5.0, tolerance=1.0, passed=True).passed is True
+
+
+def test_json_round_trip(tmp_path):
+    records = _records()
+    path = tmp_path / "results.json"
+    harness.write_results(path, records, {"subset": "default", "exitstatus": 0})
+    text = path.read_text()
+    doc = json.loads(text)  # strict JSON: NaN was written as null
+    assert "NaN" not in text and doc["schema"] == harness.SCHEMA_VERSION
+    assert {"code_version", "platform", "python", "date", "command"} <= set(doc["provenance"])
+    doc2, back = harness.load_results(path)
+    assert [r.case for r in back] == [r.case for r in records]
+    assert back[0].methods == ("gfmd-fire", "fe-p2") and back[0].resolution["mesh"] == "P2, 5 rows/level"
+    assert back[0].value == pytest.approx(1e-4) and back[1].passed is False
+    assert back[2].value is None and back[2].passed is False
+    assert back[0].plots[0]["series"]["b"][3] == pytest.approx(np.sin(np.linspace(-0.5, 0.5, 64))[3] + 1e-3)
+    # and once more: the JSON of the loaded records is the same document
+    assert harness.results_document(back, doc["session"])["records"] == doc["records"]
+
+
+def test_to_jsonable():
+    out = harness.to_jsonable({"a": np.arange(3), 1: (np.int64(2), np.float32(0.5)), "inf": -math.inf,
+                               "b": np.bool_(True), "p": Path("x/y")})
+    assert out == {"a": [0, 1, 2], "1": [2, 0.5], "inf": None, "b": True, "p": "x/y"}
+    json.dumps(out, allow_nan=False)
+
+
+def test_html_well_formed_self_contained():
+    records = _records()
+    records[1].test_outcome = "failed"
+    text = report.render_html(records, {"subset": "full", "exitstatus": 1, "exitstatus_name": "TESTS_FAILED",
+                                        "counts": {"passed": 3, "failed": 1}})
+    c = parse(text)
+    assert c.doctype and c.doctype.lower() == "doctype html"
+    assert not c.errors, c.errors[:5]
+    assert not c.stack, f"unclosed: {c.stack}"
+    assert len(c.summary_cells) == len(records)
+    verdicts = [row[5] for row in c.summary_cells]
+    assert verdicts == ["pass", "fail", "fail", "info"]
+    assert c.svg_roots == 4  # profile, curve, convergence, pareto (table and grid are HTML)
+    assert c.urls == [], c.urls  # no external references of any kind
+    assert "http://" not in text and "https://" not in text
+    assert "<script" not in text and "<link" not in text
+    assert "@media print" in text and "subset <strong>full</strong>" in text
+    assert "did not converge" in text and 'class="fail"' in text  # grid cell
+    assert "TESTS_FAILED" in text
+
+
+def test_plot_error_is_shown_not_raised():
+    html = report.render_plot({"kind": "profile", "x": [0, 1], "series": {"a": "not numbers"}})
+    assert "could not be drawn" in html
+    with pytest.raises(ValueError):
+        harness.validate_plot({"kind": "pie"})
+
+
+def test_helpers():
+    assert harness.fitted_order([1, 0.5, 0.25], [1, 0.25, 0.0625]) == pytest.approx(2.0)
+    pts = [{"time": 1, "error": 1}, {"time": 2, "error": 2}, {"time": 3, "error": 0.1}]
+    assert report.pareto_front(pts) == [0, 2]
+    assert harness.relative_l2([1.0, 0.0], [1.0, 0.0]) == 0.0
+    assert harness.relative_l2([3.0, 4.0], [3.0, 4.5]) == pytest.approx(0.1)
+
+
+PLUGIN_TEST = textwrap.dedent("""
+    def test_one(verification_record):
+        rec = verification_record(case="tmp/case", metric="err", value=0.5, tolerance=0.1,
+                                  methods=("gfmd-fire",), plots=[{"kind": "curve", "x": [0, 1],
+                                  "series": {"a": [0, 1]}, "title": "t"}])
+        assert rec.passed is False and rec.wall_s >= 0 and rec.peak_memory_bytes >= 0
+
+    def test_two():
+        assert False
+""")
+
+
+def _run_pytest(tmp_path, *args):
+    (tmp_path / "test_tmp_case.py").write_text(PLUGIN_TEST)
+    root = Path(__file__).resolve().parent.parent
+    cmd = [sys.executable, "-m", "pytest", "-p", "verification.conftest", "-q", "-p", "no:cacheprovider",
+           "--rootdir", str(tmp_path), str(tmp_path / "test_tmp_case.py"), *args]
+    env = {"PYTHONPATH": str(root), "PATH": "/usr/bin:/bin", "MPLBACKEND": "Agg"}
+    return subprocess.run(cmd, capture_output=True, text=True, cwd=tmp_path, timeout=120, env=env)
+
+
+def test_fixture_and_session_report(tmp_path):
+    out = tmp_path / "rep"
+    proc = _run_pytest(tmp_path, "--report-dir", str(out))
+    assert proc.returncode == 1, proc.stdout + proc.stderr  # test_two fails: outcome unchanged by the report
+    doc, records = harness.load_results(out / "results.json")
+    assert doc["session"]["exitstatus"] == 1 and doc["session"]["counts"]["failed"] == 1
+    assert doc["session"]["counts"]["passed"] == 1 and doc["session"]["subset"] == "default"
+    assert len(records) == 1 and records[0].passed is False and records[0].test_outcome == "passed"
+    assert records[0].test.endswith("test_one")
+    assert "verification report:" in proc.stdout
+    c = parse((out / "index.html").read_text())
+    assert not c.errors and len(c.summary_cells) == 1 and c.summary_cells[0][5] == "fail"
+
+
+def test_report_failure_warns_without_crashing(tmp_path):
+    blocker = tmp_path / "not-a-dir"
+    blocker.write_text("a file where the report directory should go")
+    proc = _run_pytest(tmp_path, "--report-dir", str(blocker), "-k", "test_one")
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "verification report NOT written" in proc.stdout
