@@ -231,6 +231,15 @@ def code_version():
         return "unknown"
 
 
+def command_line():
+    """The command as typed, as far as sys.argv tells ("python -m pytest …" for a -m run)."""
+    if not sys.argv:
+        return ""
+    prog = Path(sys.argv[0])
+    head = f"python -m {prog.parent.name}" if prog.name == "__main__.py" else prog.name
+    return " ".join([head] + sys.argv[1:])
+
+
 def provenance(refresh=False):
     """Where and how the numbers were made (cached per process)."""
     global _PROVENANCE
@@ -245,7 +254,7 @@ def provenance(refresh=False):
             "numpy": np.__version__,
             "scipy": scipy.__version__,
             "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
-            "command": " ".join([Path(sys.argv[0]).name] + sys.argv[1:]) if sys.argv else "",
+            "command": command_line(),
             "cwd": os.getcwd(),
         }
     return dict(_PROVENANCE)

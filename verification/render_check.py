@@ -1,7 +1,7 @@
 """Render the verification report in headless Chromium and check it; exit ≠ 0 on a problem.
 
     python -m verification.render_check reports/index.html [--screenshot PATH] [--chromium PATH]
-                                        [--mode cdp|cli] [--timeout S]
+                                        [--mode cdp|cli] [--full-page] [--timeout S]
 
 Checks: no console errors or uncaught exceptions, no failed resource loads,
 no resource fetched over the network (the page must be self-contained), the
@@ -160,7 +160,7 @@ class CDP:
                 pass
 
 
-def check_cdp(page, screenshot, chromium, timeout):
+def check_cdp(page, screenshot, chromium, timeout, full_page=False):
     """(problems, facts) via the DevTools protocol."""
     problems = []
     with tempfile.TemporaryDirectory(prefix="render-check-") as profile:
@@ -183,7 +183,11 @@ def check_cdp(page, screenshot, chromium, timeout):
             cdp.drain(0.5)
             probe = cdp.send("Runtime.evaluate", {"expression": PAGE_PROBE, "returnByValue": True},
                              session=sid)["result"]["value"]
-            shot = cdp.send("Page.captureScreenshot", {"format": "png"}, session=sid)["data"]
+            params = {"format": "png"}
+            if full_page:
+                params.update(captureBeyondViewport=True, clip={"x": 0, "y": 0, "width": WIDTH, "scale": 1,
+                                                                "height": min(int(probe["height"]), 30000)})
+            shot = cdp.send("Page.captureScreenshot", params, session=sid)["data"]
             import base64
             Path(screenshot).write_bytes(base64.b64decode(shot))
         finally:
@@ -266,7 +270,7 @@ class _DomProbe(HTMLParser):
                 self.svgs.append({"w": 1, "h": 1, "children": self._svg_children})
 
 
-def check_cli(page, screenshot, chromium, timeout):
+def check_cli(page, screenshot, chromium, timeout, full_page=False):
     problems = []
     url = page.resolve().as_uri()
     with tempfile.TemporaryDirectory(prefix="render-check-") as profile:
@@ -296,6 +300,8 @@ def main(argv=None):
     ap.add_argument("--screenshot", type=Path, default=None, help="PNG path (default: screenshot.png beside page)")
     ap.add_argument("--chromium", default=None, help="browser executable (default /usr/bin/chromium, $CHROMIUM)")
     ap.add_argument("--mode", choices=("cdp", "cli"), default="cdp")
+    ap.add_argument("--full-page", action="store_true", help="screenshot the whole page, not the first 2000 px "
+                    "(cdp mode only)")
     ap.add_argument("--timeout", type=float, default=60.0, help="seconds per browser operation")
     args = ap.parse_args(argv)
     if not args.page.is_file():
@@ -309,14 +315,16 @@ def main(argv=None):
     screenshot = args.screenshot or args.page.with_name("screenshot.png")
     mode = args.mode
     try:
-        problems, probe = (check_cdp if mode == "cdp" else check_cli)(args.page, screenshot, chromium, args.timeout)
+        problems, probe = (check_cdp if mode == "cdp" else check_cli)(args.page, screenshot, chromium, args.timeout,
+                                                                     args.full_page)
     except (OSError, TimeoutError, ConnectionError, RuntimeError, KeyError, subprocess.SubprocessError) as exc:
         if mode != "cdp":
             raise
         print(f"render_check: DevTools pipe failed ({type(exc).__name__}: {exc}); falling back to --mode cli",
               file=sys.stderr)
         mode = "cli"
-        problems, probe = check_cli(args.page, screenshot, chromium, args.timeout)
+        problems, probe = check_cli(args.page, screenshot, chromium, args.timeout,
+                                                                     args.full_page)
     print(f"render_check ({mode}, {chromium}): {args.page}: {probe.get('summary_rows')} summary rows, "
           f"{probe.get('figures')} figures, {len(probe.get('svgs', []))} svg, {len(probe.get('imgs', []))} img; "
           f"screenshot {screenshot}")
