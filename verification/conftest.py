@@ -3,7 +3,7 @@
 Every measurement a verification test records goes to one session-wide list;
 at session end `reports/results.json` (machine-readable) and
 `reports/index.html` (self-contained page, `verification.report`) are written
-— to `--report-dir DIR` instead of `reports/` if given. They are written only
+— to `--report-dir DIR` (or $GFMD_REPORT_DIR) instead of `reports/` if given. They are written only
 if a measurement was recorded or a test under `verification/` ran. A failure
 while writing prints a clear warning and never changes the session's outcome.
 
@@ -21,6 +21,7 @@ The fixture returns the `Measurement`; the test still asserts on its own.
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 import traceback
@@ -36,9 +37,15 @@ _STATE_KEY = pytest.StashKey[dict]()
 
 
 def pytest_addoption(parser):
-    parser.addoption("--report-dir", action="store", default=None, metavar="DIR",
-                     help="where the verification report (results.json, index.html) is written "
-                          "(default: reports/ under the repository root)")
+    # pytest only sees this when verification/ is on the command line (`pytest verification …`): a
+    # conftest below the rootdir is loaded after option parsing otherwise. The root conftest may add
+    # the same option (then this one is skipped); $GFMD_REPORT_DIR works in every case.
+    try:
+        parser.addoption("--report-dir", action="store", default=None, metavar="DIR",
+                         help="where the verification report (results.json, index.html) is written "
+                              "(default: $GFMD_REPORT_DIR, else reports/ under the repository root)")
+    except ValueError:  # already added by the root conftest
+        pass
 
 
 def pytest_configure(config):
@@ -128,7 +135,7 @@ def _session_counts(config, state):
 
 
 def _report_dir(config):
-    opt = config.getoption("--report-dir", default=None)
+    opt = config.getoption("--report-dir", default=None) or os.environ.get("GFMD_REPORT_DIR")
     return Path(opt) if opt else Path(str(config.rootpath)) / "reports"
 
 
