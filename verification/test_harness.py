@@ -208,3 +208,20 @@ def test_report_failure_warns_without_crashing(tmp_path):
     proc = _run_pytest(tmp_path, "--report-dir", str(blocker), "-k", "test_one")
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert "verification report NOT written" in proc.stdout
+
+
+def test_render_check_flags_a_broken_page(tmp_path):
+    """The Chromium check fails on a console error, a missing image and an empty summary (skipped without Chromium)."""
+    from verification import render_check
+    if render_check.find_chromium() is None:
+        pytest.skip("no Chromium (apt-get install -y chromium)")
+    page = tmp_path / "index.html"
+    page.write_text('<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>t</title></head><body>'
+                    '<table id="summary-table"><tbody></tbody></table><img src="missing.png" alt="x">'
+                    '<script>console.error("boom")</script></body></html>')
+    proc = subprocess.run([sys.executable, "-m", "verification.render_check", str(page)], capture_output=True,
+                          text=True, timeout=120, cwd=Path(__file__).resolve().parent.parent)
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    for needle in ("summary table", "<img> not loaded", "boom"):
+        assert needle in proc.stderr, proc.stderr
+    assert (tmp_path / "screenshot.png").stat().st_size > 0
