@@ -101,7 +101,7 @@ def test_fire_vs_verlet(case, verification_record):
     delta_rel = fire.curve["delta"] / scene.surface.amplitude
     plots_tn = [
         harness.profile_plot(x_um, {"gfmd-fire": -tn_f / e_star, "gfmd-verlet": -tn_v / e_star},
-                             xlabel="x (µm)", ylabel="contact pressure −t_n / E*",
+                             xlabel="x (µm)", ylabel="−t_n / E* (> 0 compressive)",
                              title=f"normal traction at the last step (δ = {fire.curve['delta'][-1] * 1e9:.3g} nm)"),
     ]
     plots_p = [
