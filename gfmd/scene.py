@@ -115,7 +115,7 @@ class Scene:
         return i.tangential_ratio * i.phi_n_star * i.length_tangential * self.material.youngs_modulus
 
     def replace(self, **sections):
-        """Copy with whole sections or dotted keys replaced and re-validated.
+        """Copy with dotted keys ("section.key") replaced and re-validated.
 
         Example: scene.replace(**{"surface.nodes": 1024, "interface.law": "hard-wall"}).
         """
@@ -150,7 +150,7 @@ def _number(d, section, key, default, *, integer=False):
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         _fail(full, value, "must be a number" + (" (integer)" if integer else ""))
     if integer:
-        if int(value) != value:
+        if not math.isfinite(value) or int(value) != value:
             _fail(full, value, "must be an integer")
         return int(value)
     value = float(value)
@@ -222,6 +222,11 @@ def _surface(d):
         path = d.get("path", "")
         if not isinstance(path, str) or not path:
             _fail("surface.path", path, "must name a .npy or text file of `nodes` heights (m)")
+        from .surfaces import from_file  # the file is part of the input: check it now
+        try:
+            from_file(path, nodes)
+        except ValueError as exc:
+            raise SceneError(str(exc)) from None
         kw.update(path=path)
     return Surface(**kw)
 
@@ -241,11 +246,12 @@ def _material(d):
         thickness = math.inf
     else:
         thickness = _number(d, "material", "thickness", thickness)
-        _positive("material.thickness", thickness)
-        if nu == 0.5:
+        if thickness != math.inf:  # TOML's inf is the half-plane too
+            _positive("material.thickness", thickness)
+        if nu == 0.5 and thickness != math.inf:
             _fail("material.poisson_ratio", nu,
-                  "an incompressible layer bonded to a rigid base has no uniform mode (M = ∞): use ν < 0.5 "
-                  'or thickness = "inf"')
+                  f"an incompressible layer (material.thickness = {thickness!r}) bonded to a rigid base has "
+                  'no uniform mode (M = ∞): use ν < 0.5 or thickness = "inf"')
     return Material(youngs_modulus=e, poisson_ratio=nu, thickness=thickness)
 
 
@@ -258,7 +264,8 @@ def _interface(d, material):
     dn = _number(d, "interface", "length_normal", i.length_normal)
     _positive("interface.length_normal", dn)
     if "phi_n_star" in d and "work_normal" in d:
-        raise SceneError("give either interface.phi_n_star or interface.work_normal, not both")
+        raise SceneError("give either interface.phi_n_star or interface.work_normal, not both "
+                         f"(got phi_n_star = {d['phi_n_star']!r}, work_normal = {d['work_normal']!r})")
     if "work_normal" in d:
         w = _number(d, "interface", "work_normal", 0.0)
         _positive("interface.work_normal", w)
@@ -381,7 +388,10 @@ def _toml_value(v):
 def scene_to_toml(scene):
     """TOML text of the fully resolved scene; `load_scene` reads it back to an equal Scene."""
     d = scene_to_dict(scene)
-    d["interface"].pop("work_normal")  # derived from phi_n_star
+    i = scene.interface
+    # write whichever of φn*, φn the other was derived from, so that the round trip is exact
+    derived = i.phi_n_star * i.length_normal * scene.material.youngs_modulus == i.work_normal
+    d["interface"].pop("work_normal" if derived else "phi_n_star")
     lines = [f"# resolved scene {scene.name!r}; SI units (m, Pa, J/m^2)"]
     for section, values in d.items():
         lines.append(f"\n[{section}]")
