@@ -1,0 +1,19 @@
+"""Plane-strain finite-element reference for the periodic bonded-layer cell (issue #4).
+
+Units: SI (see `gfmd.conventions`). Shares scene, surfaces, laws, observables,
+result and loading's geometry helpers with GFMD, but no solver code:
+
+* `mesh`      graded triangle mesh (numpy → skfem.MeshTri), top nodes = GFMD nodes
+* `assembly`  P1/P2 elasticity (skfem.models.elasticity), periodicity by an explicit
+              projection K_r = Pᵀ K P (scikit-fem 12's MeshTri1DG.periodic breaks
+              FacetBasis and skfem.utils.mpc mis-assembles periodic constraints),
+              bonded base, dense condensation onto the top surface
+* `solver`    Newton on the condensed surface + pseudo-transient fallback; load ramp
+* `export`    VTU output (meshio)
+
+`run_realization(scene, realization=0, order=2, progress=None)` returns a
+`gfmd.result.Result` with method "fe-p2" / "fe-p1".
+"""
+
+from .solver import run_realization  # noqa: F401
+from .export import export_vtu  # noqa: F401

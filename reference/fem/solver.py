@@ -1,0 +1,298 @@
+"""Nonlinear surface solve of the FE cell and the displacement-controlled load ramp.
+
+Units: SI (see `gfmd.conventions`). The linear interior is condensed once onto
+the top surface (dense Schur complement S from `reference.fem.assembly`); each
+load step solves the surface equilibrium
+
+    R(u) = S u − W t(u) = 0,   t_z = T_n(Δn, Δt), t_x = T_t(Δn, Δt),
+    Δn = z_ind − u_z, Δt = −u_x,
+
+with W the nodal quadrature weights of a FacetBasis load vector (P1: l per
+node, as GFMD's nodal forces; P2: Simpson weights l/3 at vertices, 2l/3 at
+facet midpoints, where z_ind uses the band-limited (Fourier) interpolant of
+h). Newton with the consistent (for the coupled law non-symmetric) tangent,
+each iteration's surface-displacement increment limited to 0.5 δn (0.5 δt
+tangentially), then backtracking on ‖R‖. If Newton fails, or converges to an
+unstable equilibrium (normal law: tangent not positive definite), the step
+falls back to pseudo-transient continuation (shifted Newton, energy-decrease
+line search for the normal law, residual decrease for the coupled law); those
+steps are listed in `Result.messages`. The residual reported is
+max_i |R_i/W_i| / p_ref (a traction relative to p_ref = E* ḡ), as in GFMD.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import scipy.fft
+import scipy.linalg
+
+from gfmd import laws, surfaces
+from gfmd.loading import displacement_steps, field_step_indices, indenter_surface
+from gfmd.observables import rms_gradient, step_observables
+from gfmd.result import Result
+
+from .assembly import build_cell
+
+
+def fourier_interpolate(h, factor):
+    """Band-limited interpolant of periodic nodal values h on a grid `factor` times finer."""
+    n = h.size
+    if factor == 1:
+        return h.copy()
+    spec = scipy.fft.rfft(h)
+    if n % 2 == 0:
+        spec[-1] *= 0.5  # split the Nyquist mode between ±q
+    return scipy.fft.irfft(spec, n * factor) * factor
+
+
+class SurfaceProblem:
+    """Condensed surface system of one scene (see module docstring)."""
+
+    def __init__(self, scene, h, order=2, mesh_kw=None):
+        m, i = scene.material, scene.interface
+        if m.half_plane:
+            raise ValueError(
+                "the FE reference models a finite layer only: material.thickness = inf (half-plane) cannot be "
+                f"meshed. Use a depth, e.g. material.thickness = {2 * scene.surface.length:g} m (D = 2L: the "
+                "fundamental mode's compliance equals the half-plane's to ~1e-9), and run GFMD with the same depth.")
+        if i.law not in ("cohesive",):
+            raise NotImplementedError(f"interface.law = {i.law!r}: the FE reference solves the cohesive law only "
+                                      "(hard wall not implemented)")
+        self.scene = scene
+        self.tangential = i.tangential_ratio > 0
+        self.cell = build_cell(scene.surface.nodes, scene.surface.length, m.thickness, m.youngs_modulus,
+                               m.poisson_ratio, order=order, **(mesh_kw or {}))
+        comps = ("x", "z") if self.tangential else ("z",)
+        self.S, self.solve_interior = self.cell.schur(comps)
+        self.ns = self.cell.surface_x.size
+        self.h_surface = fourier_interpolate(h, self.ns // h.size)
+        self.w = self.cell.weights
+        self.phi_n, self.dn = scene.work_normal, i.length_normal
+        self.phi_t, self.dt = scene.work_tangential, i.length_tangential
+        g = rms_gradient(h, scene.surface.spacing)
+        self.p_ref = m.contact_modulus * g if g > 0 else self.phi_n / (math.e * self.dn)
+        self.wt = np.tile(self.w, 2 if self.tangential else 1)
+
+    # -- law -------------------------------------------------------------------------------
+    def split(self, u):
+        if self.tangential:
+            return u[:self.ns], u[self.ns:]
+        return np.zeros(self.ns), u
+
+    def tractions(self, u, z_ind):
+        """(t_x, t_z, Δn) at the surface points."""
+        ux, uz = self.split(u)
+        gap = z_ind - uz
+        if self.tangential:
+            tn, tt = laws.traction_coupled(gap, -ux, self.phi_n, self.dn, self.phi_t, self.dt)
+        else:
+            tn, tt = laws.traction_normal(gap, self.phi_n, self.dn), np.zeros(self.ns)
+        return tt, tn, gap
+
+    def residual(self, u, z_ind):
+        tt, tn, _ = self.tractions(u, z_ind)
+        f = np.concatenate([self.w * tt, self.w * tn]) if self.tangential else self.w * tn
+        return self.S @ u - f
+
+    def jacobian(self, u, z_ind):
+        ux, uz = self.split(u)
+        gap = z_ind - uz
+        J = self.S.copy()
+        ns = self.ns
+        if self.tangential:
+            nn, nt, tn_, tt_ = laws.jacobian_coupled(gap, -ux, self.phi_n, self.dn, self.phi_t, self.dt)
+            # f_x = w T_t, f_z = w T_n; dΔn/du_z = −1, dΔt/du_x = −1; J = S − df/du
+            idx = np.arange(ns)
+            J[idx, idx] += self.w * tt_
+            J[idx, ns + idx] += self.w * tn_
+            J[ns + idx, idx] += self.w * nt
+            J[ns + idx, ns + idx] += self.w * nn
+        else:
+            J[np.diag_indices(ns)] += self.w * laws.stiffness_normal(gap, self.phi_n, self.dn)
+        return J
+
+    def energy(self, u, z_ind):
+        """Π = ½uᵀSu + Σ W V(Δn) (J/m), normal law only."""
+        _, uz = self.split(u)
+        return 0.5 * u @ (self.S @ u) + self.w @ laws.potential_normal(z_ind - uz, self.phi_n, self.dn)
+
+    def measure(self, r):
+        return float(np.max(np.abs(r / self.wt)) / self.p_ref)
+
+    def limit(self, du):
+        """Scale du so that no surface increment exceeds 0.5 δn (0.5 δt for u_x)."""
+        dux, duz = self.split(du)
+        worst = max(np.max(np.abs(duz)) / (0.5 * self.dn),
+                    np.max(np.abs(dux)) / (0.5 * self.dt) if self.tangential else 0.0)
+        return du / worst if worst > 1 else du
+
+    def stable(self, u, z_ind):
+        """Normal law: tangent positive definite (Cholesky); coupled: symmetric part checked."""
+        J = self.jacobian(u, z_ind)
+        try:
+            scipy.linalg.cho_factor(0.5 * (J + J.T), check_finite=False)
+            return True
+        except scipy.linalg.LinAlgError:
+            return False
+
+    # -- solvers ---------------------------------------------------------------------------
+    def _safe_residual(self, u, z_ind):
+        try:
+            r = self.residual(u, z_ind)
+        except laws.CompressionOverflowError:
+            return None
+        return r if np.all(np.isfinite(r)) else None
+
+    def newton(self, u, z_ind, tol, max_iter=60):
+        r = self._safe_residual(u, z_ind)
+        if r is None:
+            return u, math.inf, 0, False
+        it = 0
+        for it in range(1, max_iter + 1):
+            if self.measure(r) <= tol:
+                return u, self.measure(r), it - 1, True
+            J = self.jacobian(u, z_ind)
+            try:
+                du = self.limit(scipy.linalg.solve(J, -r, check_finite=False))
+            except (scipy.linalg.LinAlgError, ValueError):
+                return u, self.measure(r), it, False
+            norm0 = np.linalg.norm(r / self.wt)
+            alpha, accepted = 1.0, False
+            for _ in range(30):
+                trial = u + alpha * du
+                rt = self._safe_residual(trial, z_ind)
+                if rt is not None and np.linalg.norm(rt / self.wt) < (1 - 1e-4 * alpha) * norm0:
+                    accepted = True
+                    break
+                alpha *= 0.5
+            if not accepted:
+                return u, self.measure(r), it, False
+            u, r = trial, rt
+        return u, self.measure(r), max_iter, self.measure(r) <= tol
+
+    def ptc(self, u, z_ind, tol, max_iter=2000):
+        """Pseudo-transient continuation: (J + σ M) du = −R, σ adapted (SER), M = W·φn/δn²."""
+        mass = self.wt * (self.phi_n / self.dn**2)
+        sigma = 10.0
+        r = self._safe_residual(u, z_ind)
+        if r is None:
+            return u, math.inf, 0, False
+        use_energy = not self.tangential
+        e = self.energy(u, z_ind) if use_energy else None
+        for it in range(1, max_iter + 1):
+            res = self.measure(r)
+            if res <= tol:
+                return u, res, it - 1, True
+            J = self.jacobian(u, z_ind)
+            J[np.diag_indices_from(J)] += sigma * mass
+            try:
+                du = self.limit(scipy.linalg.solve(J, -r, check_finite=False))
+            except (scipy.linalg.LinAlgError, ValueError):
+                sigma *= 10
+                continue
+            trial = u + du
+            rt = self._safe_residual(trial, z_ind)
+            ok = rt is not None
+            if ok and use_energy:
+                et = self.energy(trial, z_ind)
+                ok = et <= e + 1e-12 * abs(e)
+            elif ok:
+                ok = np.linalg.norm(rt / self.wt) < 1.5 * np.linalg.norm(r / self.wt)
+            if ok:
+                ratio = np.linalg.norm(rt / self.wt) / max(np.linalg.norm(r / self.wt), 1e-300)
+                sigma = max(sigma * min(max(ratio, 0.1), 2.0), 1e-12)
+                u, r = trial, rt
+                if use_energy:
+                    e = et
+            else:
+                sigma *= 4
+        return u, self.measure(r), max_iter, self.measure(r) <= tol
+
+    def solve_step(self, u0, z_ind, tol, fallback_from=None):
+        """Equilibrium from guess u0; returns (u, residual, iterations, converged, how)."""
+        u, res, it, ok = self.newton(u0.copy(), z_ind, tol)
+        how = "newton"
+        if ok and not self.stable(u, z_ind):
+            ok, how = False, "unstable"
+        if not ok and fallback_from is not None and fallback_from is not u0:
+            u2, res2, it2, ok2 = self.newton(fallback_from.copy(), z_ind, tol)
+            it += it2
+            if ok2 and self.stable(u2, z_ind):
+                return u2, res2, it, True, "newton (restart from previous step)"
+        if not ok:
+            start = fallback_from if fallback_from is not None else u0
+            u, res, it3, ok = self.ptc(start.copy(), z_ind, tol * 1e3)
+            it += it3
+            if ok:  # polish with Newton from the stable basin
+                u, res, it4, ok = self.newton(u, z_ind, tol)
+                it += it4
+            how = f"pseudo-transient continuation ({'after unstable Newton root' if how == 'unstable' else 'Newton failed'})"
+        return u, res, it, ok, how
+
+
+def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None):
+    """FE reference for one realization of `scene`; returns a `gfmd.result.Result` (method "fe-p<order>").
+
+    Same steps (`displacement_steps`), same z_ind, same observables as GFMD.
+    tolerance: max |R/W|/p_ref per step (default min(scene.solver.tolerance, 1e-10)).
+    """
+    h = surfaces.profile(scene.surface, realization)
+    t0 = time.perf_counter()
+    prob = SurfaceProblem(scene, h, order=order, mesh_kw=mesh_kw)
+    setup = time.perf_counter() - t0
+    tol = tolerance if tolerance is not None else min(scene.solver.tolerance, 1e-10)
+    cell = prob.cell
+    law = "coupled CZ (seed Eq. 2)" if prob.tangential else "normal-only CZ (seed Eq. 3), u_x free (t_x = 0)"
+    model = (f"FE P{order} plane strain, periodic cell L = {scene.surface.length:g} m, bonded layer "
+             f"D = {scene.material.thickness:g} m, {cell.basis.N} DOFs ({cell.mesh.t.shape[1]} triangles, graded), "
+             f"{law}, nodal (FacetBasis-weight) quadrature on {prob.ns} surface points"
+             + (", z_ind at facet midpoints from the Fourier interpolant of h" if order == 2 else "")
+             + f"; Newton on the condensed surface (setup {setup:.1f} s)")
+    result = Result(scene=scene, method=f"fe-p{order}", model=model, realization=realization,
+                    x=surfaces.grid(scene.surface.nodes, scene.surface.length), h=h,
+                    reasons=("finite layer, bonded base, periodic cell: same model as GFMD with material.thickness",))
+    keep = field_step_indices(scene.loading, scene.output.field_steps)
+    d0 = scene.loading.initial_separation
+    nu = prob.S.shape[0]
+    u = np.zeros(nu)
+    u_prev = u.copy()
+    vp = cell.vertex_points
+    result.fallback_steps = []
+    result.solutions = {}
+    for k, displacement in enumerate(displacement_steps(scene.loading)):
+        start = time.perf_counter()
+        z_ind = indenter_surface(prob.h_surface, d0, displacement)
+        # h_surface has the same min as h up to interpolation: use the nodal min (same z_ind at nodes)
+        z_ind = z_ind + (np.min(prob.h_surface) - np.min(h))
+        guess = 2 * u - u_prev if k >= 2 else u
+        u_new, res, its, ok, how = prob.solve_step(guess, z_ind, tol, fallback_from=u)
+        wall = time.perf_counter() - start
+        if how != "newton":
+            result.fallback_steps.append(k)
+            result.messages.append(f"realization {realization}, step {k} (δ = {displacement - d0:.4g} m): {how}")
+        if not ok:
+            result.messages.append(f"realization {realization}, step {k}: not converged, residual {res:.3g}")
+        if ok:
+            u_prev, u = u, u_new
+            sol = u_new
+        else:
+            sol = u_new if np.all(np.isfinite(u_new)) else u
+        tt, tn, gap = prob.tractions(sol, z_ind)
+        ux, uz = prob.split(sol)
+        obs = step_observables(scene, h, gap[vp], tn[vp])
+        result.append_step(step=k, U=displacement, delta=displacement - d0, iterations=its,
+                           residual=float(res) if np.isfinite(res) else 1e300, converged=int(ok), wall_s=wall, **obs)
+        if k in keep:
+            if not prob.tangential:  # u_x of the surface from the condensed interior
+                ux = prob.solve_interior(sol)[cell.surface_dofs[0]]
+            result.fields[k] = {"u_z": uz[vp].copy(), "u_x": ux[vp].copy(), "gap": gap[vp].copy(),
+                                "t_n": tn[vp].copy(), "t_t": tt[vp].copy()}
+            result.solutions[k] = sol.copy()
+        if progress is not None:
+            progress(k, scene.loading.steps)
+    result.problem = prob
+    return result.finalize()
+
