@@ -34,6 +34,7 @@ from gfmd.loading import displacement_steps, field_step_indices, indenter_surfac
 from gfmd.observables import rms_gradient, step_observables
 from gfmd.result import Result
 
+from ._blas import single_thread
 from .assembly import build_cell
 
 
@@ -234,6 +235,12 @@ class SurfaceProblem:
 
 
 def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None):
+    """FE reference for one realization (see `_run`); dense solves use single-threaded BLAS."""
+    with single_thread():
+        return _run(scene, realization, order, progress, mesh_kw, tolerance)
+
+
+def _run(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None):
     """FE reference for one realization of `scene`; returns a `gfmd.result.Result` (method "fe-p<order>").
 
     Same steps (`displacement_steps`), same z_ind, same observables as GFMD.
