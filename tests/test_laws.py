@@ -252,8 +252,8 @@ def test_compression_overflow_error(beyond):
     gap = np.array([1.0, 0.0, beyond]) * dn  # one bad node in an array is enough
     calls = [lambda: laws.traction_normal(gap, phi, dn), lambda: laws.stiffness_normal(gap, phi, dn),
              lambda: laws.potential_normal(gap, phi, dn),
-             lambda: laws.traction_coupled(gap, 0 * gap, phi, dn, phi, dn),
-             lambda: laws.jacobian_coupled(gap, 0 * gap, phi, dn, phi, dn)]
+             lambda: laws.traction_coupled(gap, np.zeros_like(gap), phi, dn, phi, dn),
+             lambda: laws.jacobian_coupled(gap, np.zeros_like(gap), phi, dn, phi, dn)]
     for call in calls:
         with pytest.raises(laws.CompressionOverflowError):
             call()
