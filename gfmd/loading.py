@@ -16,6 +16,7 @@ from . import surfaces
 from .model import build_model
 from .observables import step_observables
 from .result import Result
+from .laws import CompressionOverflowError
 from .solver import InterfaceLaw, Settings, relax
 
 
@@ -81,9 +82,12 @@ def run_realization(scene, realization=0, settings=None, progress=None, method_n
         start = time.perf_counter()
         z_ind = indenter_surface(h, d0, displacement)
         guess = 2 * u_hat - u_prev if k >= 2 else u_hat
-        relaxed = relax(model, law, z_ind, guess, settings, wall_tolerance)
-        iterations = relaxed.iterations
-        if not relaxed.converged and k >= 2:  # retry without extrapolation
+        try:
+            relaxed = relax(model, law, z_ind, guess, settings, wall_tolerance)
+            iterations = relaxed.iterations
+        except CompressionOverflowError:  # the extrapolated guess left the law's range
+            relaxed, iterations = None, 0
+        if (relaxed is None or not relaxed.converged) and k >= 2:  # retry without extrapolation
             relaxed = relax(model, law, z_ind, u_hat, settings, wall_tolerance)
             iterations += relaxed.iterations
         wall = time.perf_counter() - start
