@@ -293,12 +293,15 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
     return _finish(model, law, z_ind, u_hat, it, residual, converged, message, wall_tolerance)
 
 
-def _mean_shift(u_z, z_ind):
+def _mean_shift(u_z, z_ind, pinned=None):
     """Scalar c with ⟨min(u_z + c, z_ind)⟩ = 0 (m): Euclidean projection onto {u ≤ z_ind, ⟨u⟩ = 0}.
 
     φ(c) = ⟨min(u + c, b)⟩ is concave, increasing and piecewise linear; Newton started
     left of the root approaches it monotonically from below and ends in a few steps.
+    `pinned` nodes are held on the wall (u = z_ind) and take no shift.
     """
+    if pinned is not None and pinned.any():
+        return _pinned_shift(u_z, z_ind, pinned, u_z.size)
     # at c0 = min(b − u) every node is free, so φ(c0) = ⟨u⟩ + c0; if that is ≥ 0 the root
     # lies in the all-free range, c = −⟨u⟩; otherwise Newton from c0 (left of the root).
     mean_u = float(np.mean(u_z))
@@ -321,6 +324,16 @@ def _mean_shift(u_z, z_ind):
     return c
 
 
+def _pinned_shift(u_z, z_ind, pinned, n_total):
+    """`_mean_shift` with pinned nodes fixed at z_ind: ⟨where(pinned, b, min(u + c, b))⟩ = 0."""
+    target = -float(np.sum(z_ind[pinned])) / n_total  # required mean of the others, times their share
+    u, b = u_z[~pinned], z_ind[~pinned]
+    share = u.size / n_total
+    # ⟨min(u + c, b)⟩_others · share = target  ⇔  ⟨min(u + c − t, b − t)⟩ = 0 with t = target/share
+    t = target / share
+    return _mean_shift(u - t, b - t)
+
+
 def _wall_pressure(model, u_hat, on_wall, n):
     """Hard-wall contact pressure P_j (Pa) that holds the nodes on the wall.
 
@@ -338,12 +351,13 @@ def _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance):
 
     The wall reaction enters as a force: on nodes touching the wall, a net force
     pushing into it is cancelled (net 0), so the dynamics sees the true KKT
-    residual. The mass-weighted (preconditioned) acceleration M⁻¹f is zeroed on
-    those stuck nodes: a Euclidean projection after a non-diagonal preconditioner
-    otherwise has spurious fixed points (a wall node's pull-off force smeared
-    into push-in accelerations that the wall absorbs); restricted to the free
-    subspace, Z M⁻¹ Z is positive definite there and the fixed points are exactly
-    the KKT points. Positions are projected onto {u ≤ z_ind} (and ⟨u⟩ = 0 for the
+    residual. A Euclidean projection after a non-diagonal preconditioner has
+    spurious fixed points (a wall node's pull-off force smeared into push-in
+    accelerations that the wall absorbs), so the mass-weighted acceleration M⁻¹f
+    is zeroed on the stuck nodes (Z M⁻¹ Z, positive definite on the rest), and on
+    wall nodes that pull away it is capped at their diagonal-preconditioned value
+    f_j·diag(M⁻¹) < 0: at a fixed point no node pulls on the wall and f = 0 on the
+    free set, i.e. the fixed points are exactly the KKT points. Positions are projected onto {u ≤ z_ind} (and ⟨u⟩ = 0 for the
     half-plane), and the velocity into the wall of projected nodes is removed.
     Each iteration costs two rfft/irfft pairs: K u and the mass-weighted acceleration
     (FIRE), or the damped velocity update in Fourier space (Verlet, uniform mass).
@@ -352,6 +366,7 @@ def _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance):
     elastic = _Elastic(model, 0.0, 0.0)
     k = model.k_zz
     inv_mass = elastic.inv_mass[0]
+    inv_mass_diag = float(np.sum(_spectral_weights(n) * inv_mass)) / n  # real-space diagonal of M⁻¹
     verlet = settings.method == "verlet"
     if verlet:  # uniform mass, ω_max Δt = verlet_omega_dt, modes damped critically (discrete)
         dt = 1.0
@@ -385,7 +400,9 @@ def _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance):
             v = scipy.fft.irfft(v_hat, n=n)
         else:
             acc = scipy.fft.irfft(inv_mass * scipy.fft.rfft(force), n=n)
-            acc[stuck] = 0.0  # precondition on the non-stuck subspace only: fixed points = KKT points
+            acc[stuck] = 0.0  # precondition on the non-stuck subspace only
+            pulling = on_wall & (force < 0)  # must leave the wall: never let M⁻¹ smear it back in
+            acc[pulling] = np.minimum(acc[pulling], force[pulling] * inv_mass_diag)
             power = _dot(force, v)
             if power > 0:
                 n_pos += 1
@@ -403,8 +420,8 @@ def _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance):
             if a_norm > 0:
                 v = (1 - alpha) * v + alpha * np.sqrt(_dot(v, v)) / a_norm * acc
         u += dt * v
-        shift = _mean_shift(u, z_ind) if elastic.clamp else 0.0
-        projected = np.minimum(u + shift, z_ind)
+        shift = _mean_shift(u, z_ind, stuck) if elastic.clamp else 0.0
+        projected = np.where(stuck, z_ind, np.minimum(u + shift, z_ind))
         hit = projected < u + shift
         u = projected
         v[hit] = np.minimum(v[hit], 0.0)
