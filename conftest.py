@@ -10,6 +10,8 @@ import pytest
 def pytest_addoption(parser):
     parser.addoption("--full", action="store_true", default=False,
                      help="also run the expensive studies marked @pytest.mark.slow")
+    parser.addoption("--report-dir", default=None,
+                     help="where the verification report goes (default reports/; also $GFMD_REPORT_DIR)")
 
 
 def pytest_collection_modifyitems(config, items):
