@@ -179,3 +179,27 @@ def test_unconverged_step_is_recorded():
         assert f"step {k}" in msg and "not converged" in msg, msg
     # converged steps (if any: e.g. the first, out of contact) do satisfy the tolerance
     assert np.all(res[conv == 1] < TOL)
+
+
+def test_fire_and_verlet_agree_cohesive():
+    """Same adhesive scene, both integrators: the equilibria agree to the solver tolerance.
+
+    Each state leaves a nodal residual ≤ TOL·p_ref; their difference is the response of
+    the (linearised) surface to at most 2·TOL·p_ref, whose softest elastic mode has
+    compliance 1/k_1 = 2/(E* q_1). Bound: max|Δu_z| ≤ 2·TOL·p_ref/k_1 (measured 0.92 of
+    TOL·p_ref/k_1, i.e. margin 2.2) and |Δp| ≤ 2·TOL·p_ref (measured 0.085·TOL·p_ref).
+    Unlike the hard wall (one FIRE routine serves both methods), the cohesive steps run
+    two different integrators here (FIRE ≈ 200, Verlet ≈ 1000–2000 iterations a step).
+    """
+    sc = scene()
+    h = surfaces.profile(sc.surface)
+    p_ref = reference_traction(sc, h)
+    k1 = e_star(sc) * wavenumbers(NODES, LENGTH)[1] / 2
+    fire = run_realization(sc, settings=Settings(method="fire", tolerance=TOL))
+    verlet = run_realization(sc, settings=Settings(method="verlet", tolerance=TOL))
+    assert fire.all_converged and verlet.all_converged, (fire.messages, verlet.messages)
+    assert np.all(np.asarray(verlet.curve["iterations"]) != np.asarray(fire.curve["iterations"]))
+    for k in range(1, sc.loading.steps + 1):
+        du = np.max(np.abs(fire.fields[k]["u_z"] - verlet.fields[k]["u_z"]))
+        assert du <= 2 * TOL * p_ref / k1, (k, du * k1 / (TOL * p_ref))
+        assert abs(fire.curve["p"][k] - verlet.curve["p"][k]) <= 2 * TOL * p_ref
