@@ -137,6 +137,44 @@ def _spectral_weights(nodes):
     return w
 
 
+@dataclass
+class _Fire:
+    """FIRE step size and mixing state (Bitzek et al. 2006; FIRE 2.0 back-step on restart)."""
+
+    settings: Settings
+    dt: float = 0.0
+    alpha: float = 0.0
+    n_pos: int = 0
+
+    def __post_init__(self):
+        self.dt = self.settings.dt_start
+        self.reset()
+
+    def reset(self):
+        self.alpha, self.n_pos = self.settings.alpha_start, 0
+
+    def adapt(self, power):
+        """Update Δt and α from the power P = f·v; True means restart (caller backs up and zeroes v)."""
+        s = self.settings
+        if power > 0:
+            self.n_pos += 1
+            if self.n_pos > s.n_min:
+                self.dt = min(self.dt * s.f_inc, s.dt_max)
+                self.alpha *= s.f_alpha
+            return False
+        self.dt *= s.f_dec
+        self.reset()
+        return True
+
+
+def _verlet_coefficients(stiffness, settings):
+    """Uniform mass ρ with ω_max Δt = verlet_omega_dt (Δt = 1) and per-mode discrete
+    critical damping γΔt = ωΔt √(4 − (ωΔt)²) (reference-formulas §5.2)."""
+    rho = stiffness.max() / settings.verlet_omega_dt**2
+    wdt = np.sqrt(stiffness / rho)
+    return rho, wdt * np.sqrt(np.clip(4 - wdt**2, 0, None))
+
+
 class _Elastic:
     """K(q) and mass operators of a model on the rfft half-spectrum."""
 
@@ -169,15 +207,10 @@ class _Elastic:
         a, b, d = blocks
         return np.stack([a * x[0] + b * x[1], np.conj(b) * x[0] + d * x[1]])
 
-    @staticmethod
-    def stiffness_of(model, x):
-        """K(q) x for spectra x of shape (c, nq) (c = model.components, or 1 for z alone)."""
-        if not model.tangential or x.shape[0] == 1:
-            return model.k_zz * x
-        return _Elastic._apply((model.k_xx, model.k_xz, model.k_zz), x)
-
     def stiffness(self, x):
-        return self.stiffness_of(self.model, x)
+        """K(q) x for spectra x of shape (c, nq)."""
+        m = self.model
+        return self._apply((m.k_xx, m.k_xz, m.k_zz) if m.tangential else (m.k_zz,), x)
 
     def mass_times(self, x):
         return self._apply(self.mass, x)
@@ -196,7 +229,6 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
         return _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance)
     n = model.nodes
     w = _spectral_weights(n)
-    p_tol = settings.tolerance * model.reference_traction
     u_hat = np.array(u_hat, dtype=complex, copy=True)
     if model.half_plane:
         u_hat[:, 0] = 0.0
@@ -207,16 +239,12 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
     def dot(a, b):
         return float(np.sum(w * (np.conj(a) * b).real))
 
-    if settings.method == "verlet":
+    fire = None if settings.method == "verlet" else _Fire(settings)
+    if fire is None:  # Verlet: per-mode ω² from the diagonal stiffness plus the law's initial slope
         k_diag = [model.k_zz] if not model.tangential else [model.k_xx.real, model.k_zz]
         k_int = [law.k_int_z] if not model.tangential else [law.k_int_x, law.k_int_z]
-        omega2 = np.stack([np.asarray(k, float) + ki for k, ki in zip(k_diag, k_int)])
-        rho = omega2.max() / settings.verlet_omega_dt**2  # uniform mass: ω_max Δt = verlet_omega_dt
-        dt = 1.0
-        wdt = np.sqrt(omega2 / rho) * dt
-        gdt = wdt * np.sqrt(np.clip(4 - wdt**2, 0, None))  # discrete critical damping
-    else:
-        dt, alpha, n_pos = settings.dt_start, settings.alpha_start, 0
+        rho, gdt = _verlet_coefficients(np.stack([k + ki for k, ki in zip(k_diag, k_int)]), settings)
+    dt = fire.dt if fire else 1.0
 
     residual = np.inf
     message = ""
@@ -234,48 +262,40 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
             u_hat = u_hat_prev + scale * (u_hat - u_hat_prev)
             u = u_prev + scale * (u - u_prev)
             v *= scale
-            if settings.method != "verlet":
-                dt *= settings.f_dec
+            if fire:
+                fire.dt *= settings.f_dec
         u_hat_prev, u_prev = u_hat.copy(), u
-        if True:
-            try:
-                t, _ = law.traction(u, z_ind)
-            except laws.CompressionOverflowError as exc:
-                message = f"diverged: {exc}"
-                u_hat = _last_finite
-                break
-            _last_finite = u_hat.copy()
-            if settings.method != "verlet" and it % settings.mass_refresh == 0:
-                k_now = law.mean_stiffness(u, z_ind)
-                if any(b > 2 * a + 1e-300 or a > 2 * b + 1e-300 for a, b in zip(k_mean, k_now)):
-                    k_mean = k_now  # interface stiffness changed a lot: re-weight the modes, restart FIRE
-                    elastic = _Elastic(model, *k_mean)
-                    v[:] = 0.0
-                    alpha, n_pos = settings.alpha_start, 0
-            f_hat = scipy.fft.rfft(t, axis=-1) - elastic.stiffness(u_hat)
+        try:
+            t, _ = law.traction(u, z_ind)
+        except laws.CompressionOverflowError as exc:
+            message = f"diverged: {exc}"
+            u_hat = _last_finite
+            break
+        _last_finite = u_hat.copy()
+        if fire and it % settings.mass_refresh == 0:
+            k_now = law.mean_stiffness(u, z_ind)
+            if any(b > 2 * a + 1e-300 or a > 2 * b + 1e-300 for a, b in zip(k_mean, k_now)):
+                k_mean = k_now  # interface stiffness changed 2×: re-weight the modes, restart FIRE
+                elastic = _Elastic(model, *k_mean)
+                v[:] = 0.0
+                fire.reset()
+        f_hat = scipy.fft.rfft(t, axis=-1) - elastic.stiffness(u_hat)
         if elastic.clamp:
             f_hat[:, 0] = 0.0
         if it % settings.check_every == 0 or it == 1:
             residual = float(np.max(np.abs(scipy.fft.irfft(f_hat, n=n, axis=-1)))) / model.reference_traction
-            if residual * model.reference_traction < p_tol:
+            if residual < settings.tolerance:
                 converged = True
                 break
             if not np.isfinite(residual):
                 message = "diverged: non-finite force residual"
                 break
-        if settings.method == "verlet":
+        if fire is None:
             v = ((1 - gdt / 2) * v + dt * f_hat / rho) / (1 + gdt / 2)
         else:
-            power = dot(f_hat, v)
-            if power > 0:
-                n_pos += 1
-                if n_pos > settings.n_min:
-                    dt = min(dt * settings.f_inc, settings.dt_max)
-                    alpha *= settings.f_alpha
-            else:
-                n_pos = 0
-                dt *= settings.f_dec
-                alpha = settings.alpha_start
+            restart = fire.adapt(dot(f_hat, v))
+            dt = fire.dt
+            if restart:
                 u_hat -= 0.5 * dt * v
                 v[:] = 0.0
             acc = elastic.inverse_mass_times(f_hat)
@@ -283,7 +303,7 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
             f_norm = dot(f_hat, acc)
             if f_norm > 0:
                 v_norm = dot(v, elastic.mass_times(v))
-                v = (1 - alpha) * v + alpha * np.sqrt(max(v_norm, 0.0) / f_norm) * acc
+                v = (1 - fire.alpha) * v + fire.alpha * np.sqrt(max(v_norm, 0.0) / f_norm) * acc
         if elastic.clamp:
             v[:, 0] = 0.0
         u_hat += dt * v
@@ -334,16 +354,16 @@ def _pinned_shift(u_z, z_ind, pinned, n_total):
     return _mean_shift(u - t, b - t)
 
 
-def _wall_pressure(model, u_hat, on_wall, n):
-    """Hard-wall contact pressure P_j (Pa) that holds the nodes on the wall.
+def _wall_balance(model, ku, on_wall):
+    """Elastic plus far-field force on every node of a hard-wall configuration (Pa).
 
-    Half-plane: P_j = p − (Ku)_j with p = mean of (Ku) over free nodes (the far field
-    carries the uniform load); layer: P_j = (Ku)_j. Zero off the wall.
+    −(Ku)_j, plus on a half-plane the uniform far-field load p that keeps ⟨u⟩ = 0,
+    p = mean of (Ku) over the free nodes. On wall nodes, a positive value is the
+    contact pressure the wall must supply; on free nodes it is the residual.
     """
-    ku = scipy.fft.irfft(model.k_zz * u_hat[-1], n=n)
     free = ~on_wall
     p = float(np.mean(ku[free])) if model.half_plane and free.any() else 0.0
-    return np.where(on_wall, p - ku, 0.0)
+    return p - ku
 
 
 def _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance):
@@ -357,8 +377,9 @@ def _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance):
     is zeroed on the stuck nodes (Z M⁻¹ Z, positive definite on the rest), and on
     wall nodes that pull away it is capped at their diagonal-preconditioned value
     f_j·diag(M⁻¹) < 0: at a fixed point no node pulls on the wall and f = 0 on the
-    free set, i.e. the fixed points are exactly the KKT points. Positions are projected onto {u ≤ z_ind} (and ⟨u⟩ = 0 for the
-    half-plane), and the velocity into the wall of projected nodes is removed.
+    free set, i.e. the fixed points are exactly the KKT points. Positions are
+    projected onto {u ≤ z_ind} (and ⟨u⟩ = 0 for the half-plane, stuck nodes
+    pinned), and the velocity into the wall of projected nodes is removed.
     Each iteration costs two rfft/irfft pairs: K u and the mass-weighted acceleration
     (FIRE), or the damped velocity update in Fourier space (Verlet, uniform mass).
     """
@@ -367,18 +388,14 @@ def _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance):
     k = model.k_zz
     inv_mass = elastic.inv_mass[0]
     inv_mass_diag = float(np.sum(_spectral_weights(n) * inv_mass)) / n  # real-space diagonal of M⁻¹
-    verlet = settings.method == "verlet"
-    if verlet:  # uniform mass, ω_max Δt = verlet_omega_dt, modes damped critically (discrete)
-        dt = 1.0
-        rho = k.max() / settings.verlet_omega_dt**2
-        wdt = np.sqrt(k / rho) * dt
-        gdt = wdt * np.sqrt(np.clip(4 - wdt**2, 0, None))
+    fire = None if settings.method == "verlet" else _Fire(settings)
+    if fire is None:
+        rho, gdt = _verlet_coefficients(k, settings)
+    dt = fire.dt if fire else 1.0
     u = scipy.fft.irfft(u_hat[-1], n=n)
     shift = _mean_shift(u, z_ind) if elastic.clamp else 0.0
     u = np.minimum(u + shift, z_ind)
     v = np.zeros(n)
-    if not verlet:
-        dt, alpha, n_pos = settings.dt_start, settings.alpha_start, 0
     residual, converged, message = np.inf, False, ""
     it = 0
     for it in range(1, settings.max_iterations + 1):
@@ -392,7 +409,7 @@ def _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance):
             if not np.isfinite(residual):
                 message = "diverged: non-finite force residual"
                 break
-        if verlet:
+        if fire is None:
             v_hat = scipy.fft.rfft(v)
             v_hat = ((1 - gdt / 2) * v_hat + dt * scipy.fft.rfft(force) / rho) / (1 + gdt / 2)
             if elastic.clamp:
@@ -403,22 +420,15 @@ def _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance):
             acc[stuck] = 0.0  # precondition on the non-stuck subspace only
             pulling = on_wall & (force < 0)  # must leave the wall: never let M⁻¹ smear it back in
             acc[pulling] = np.minimum(acc[pulling], force[pulling] * inv_mass_diag)
-            power = _dot(force, v)
-            if power > 0:
-                n_pos += 1
-                if n_pos > settings.n_min:
-                    dt = min(dt * settings.f_inc, settings.dt_max)
-                    alpha *= settings.f_alpha
-            else:
-                n_pos = 0
-                dt *= settings.f_dec
-                alpha = settings.alpha_start
+            restart = fire.adapt(_dot(force, v))
+            dt = fire.dt
+            if restart:
                 u -= 0.5 * dt * v
                 v[:] = 0.0
             v += dt * acc
             a_norm = np.sqrt(_dot(acc, acc))
             if a_norm > 0:
-                v = (1 - alpha) * v + alpha * np.sqrt(_dot(v, v)) / a_norm * acc
+                v = (1 - fire.alpha) * v + fire.alpha * np.sqrt(_dot(v, v)) / a_norm * acc
         u += dt * v
         shift = _mean_shift(u, z_ind, stuck) if elastic.clamp else 0.0
         projected = np.where(stuck, z_ind, np.minimum(u + shift, z_ind))
@@ -434,16 +444,10 @@ def _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance):
 def _wall_net_force(model, k, u, on_wall, n):
     """(net nodal force (Pa), stuck mask) of a hard-wall configuration.
 
-    Net force = elastic + far-field load + wall reaction; "stuck" nodes are on the
-    wall and pushed into it, so the wall cancels their force.
-
-    Elastic force −(Ku)_j; half-plane: plus the uniform far-field load p that keeps ⟨u⟩ = 0,
-    p = mean of (Ku) over free nodes. The wall cancels a net force pushing into it.
+    Net force = `_wall_balance` + wall reaction: "stuck" nodes are on the wall and
+    pushed into it, so the wall cancels their force.
     """
-    ku = scipy.fft.irfft(k * scipy.fft.rfft(u), n=n)
-    free = ~on_wall
-    p = float(np.mean(ku[free])) if model.half_plane and free.any() else 0.0
-    force = p - ku
+    force = _wall_balance(model, scipy.fft.irfft(k * scipy.fft.rfft(u), n=n), on_wall)
     stuck = on_wall & (force > 0)
     return np.where(stuck, 0.0, force), stuck
 
@@ -456,9 +460,9 @@ def _finish(model, law, z_ind, u_hat, iterations, residual, converged, message, 
         on_wall = gap <= wall_tolerance
         gap = np.maximum(gap, 0.0)
         u[-1] = z_ind - gap
-        pressure = _wall_pressure(model, u_hat, on_wall, n)
+        force = _wall_balance(model, scipy.fft.irfft(model.k_zz * u_hat[-1], n=n), on_wall)
         t = np.zeros_like(u)
-        t[-1] = -np.maximum(pressure, 0.0)
+        t[-1] = np.where(on_wall, -np.maximum(force, 0.0), 0.0)
     else:
         try:
             t, gap = law.traction(u, z_ind)
