@@ -50,10 +50,11 @@ import sys
 import time
 from pathlib import Path
 
-# BLAS threads: the hard-wall routine uses BLAS dot products (`a @ b`) on length-N
-# vectors; with OpenBLAS's default thread pool on a loaded 2-core machine each dot
-# costs milliseconds (thread hand-off), up to 100x the arithmetic. Unless
-# --blas-default-threads is given, pin BLAS to one thread *before* numpy is imported.
+# BLAS threads: OpenBLAS's thread pool on a loaded 2-core machine made length-N dot
+# products cost milliseconds (thread hand-off), up to 100x the arithmetic; the solver
+# now avoids BLAS for them, and the benchmark pins BLAS to one thread anyway (as CI
+# does) unless --blas-default-threads is given. It must happen *before* numpy is
+# imported, hence the late imports below (E402).
 if "--blas-default-threads" not in sys.argv:
     for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
         os.environ.setdefault(_var, "1")
@@ -226,7 +227,7 @@ def run(quick, out_dir, verlet_seconds):
             prev = u
             r = case.relax(DELTA_START - D_U, u, fine)
             u = r.u_hat
-            guesses, states = [], []
+            guesses = []
             for k in range(STEPS):
                 delta = DELTA_START + k * D_U
                 guess = 2 * u - prev

@@ -57,8 +57,7 @@ def _cmd_run(args):
 def _cmd_plot(args):
     from .plots import plot_run
 
-    delta = None if args.delta is None else args.delta
-    for path in plot_run(args.dir, snapshot_delta=delta):
+    for path in plot_run(args.dir, snapshot_delta=args.delta):
         print(f"wrote {path}")
     return 0
 

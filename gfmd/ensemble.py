@@ -51,6 +51,22 @@ def run_ensemble(scene, workers=None, progress=True):
     return results
 
 
+def mean_standard_error(values):
+    """Column-wise mean and standard error of `values` (realizations × steps), ignoring NaN.
+
+    Returns (mean, se, count); mean is NaN where no realization has a value, se is 0
+    where fewer than two have one.
+    """
+    values = np.asarray(values, dtype=float)
+    valid = np.isfinite(values)
+    count = valid.sum(axis=0)
+    mean = np.divide(np.where(valid, values, 0.0).sum(axis=0), count, out=np.full(values.shape[1], np.nan),
+                     where=count > 0)
+    dev = np.where(valid, values - mean, 0.0)
+    var = np.divide((dev**2).sum(axis=0), count - 1, out=np.zeros(values.shape[1]), where=count > 1)
+    return mean, np.sqrt(var / np.maximum(count, 1)), count
+
+
 def ensemble_average(results):
     """Step-wise mean and standard error over realizations.
 
@@ -64,15 +80,9 @@ def ensemble_average(results):
             raise ValueError("realizations do not share the same load steps")
     out = {"delta": delta, "U": np.asarray(results[0].curve["U"])}
     for name in AVERAGED:
-        values = np.array([r.curve[name] for r in results], dtype=float)
-        valid = np.isfinite(values)
-        count = valid.sum(axis=0)
-        safe = np.where(valid, values, 0.0)
-        mean = np.divide(safe.sum(axis=0), count, out=np.full(delta.shape, np.nan), where=count > 0)
-        dev = np.where(valid, values - mean, 0.0)
-        var = np.divide((dev**2).sum(axis=0), count - 1, out=np.zeros(delta.shape), where=count > 1)
+        mean, se, count = mean_standard_error([r.curve[name] for r in results])
         out[name] = mean
-        out[name + "_se"] = np.sqrt(var / np.maximum(count, 1))
+        out[name + "_se"] = se
         if name == "g_r":
             out["g_r_count"] = count
     return out

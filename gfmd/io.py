@@ -13,6 +13,7 @@ leaves a half-written result.
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 import json
 import os
@@ -85,6 +86,7 @@ def write_run(out_dir, scene, results, timings=None, command=None):
     messages = [m for r in results for m in r.messages]
     meta = {
         "code_version": code_version(),
+        "scene_name": scene.name,
         "method": results[0].method,
         "model": results[0].model,
         "model_reasons": list(results[0].reasons),
@@ -131,4 +133,5 @@ def read_run(out_dir):
     curves = {r: {k: np.asarray(v) for k, v in c.items()} for r, c in curves.items()}
     fields = dict(np.load(out / "fields.npz")) if (out / "fields.npz").is_file() else {}
     meta = json.loads((out / "meta.json").read_text())
+    scene = dataclasses.replace(scene, name=meta.get("scene_name", scene.name))
     return scene, curves, fields, meta

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
+from .ensemble import mean_standard_error
 from .io import read_run
 from .observables import fit_kappa
 
@@ -22,17 +23,6 @@ def _figure(size):
 
 def _stack(curves, name):
     return np.array([c[name] for _, c in sorted(curves.items())], dtype=float)
-
-
-def _mean_se(values):
-    valid = np.isfinite(values)
-    count = valid.sum(axis=0)
-    mean = np.divide(np.where(valid, values, 0).sum(axis=0), count, out=np.full(values.shape[1], np.nan),
-                     where=count > 0)
-    dev = np.where(valid, values - mean, 0.0)
-    se = np.sqrt(np.divide((dev**2).sum(axis=0), count * np.maximum(count - 1, 1),
-                           out=np.zeros(values.shape[1]), where=count > 1))
-    return mean, se
 
 
 def plot_run(run_dir, snapshot_delta=None):
@@ -61,8 +51,8 @@ def plot_run(run_dir, snapshot_delta=None):
 
     # Fig. 3: a_rel vs p_r*
     fig, ax = _figure((5, 4))
-    mx, sx = _mean_se(p_r)
-    my, sy = _mean_se(a_rel)
+    mx, sx, _ = mean_standard_error(p_r)
+    my, sy, _ = mean_standard_error(a_rel)
     ok = np.isfinite(mx) & (mx > 0)
     ax.errorbar(mx[ok], my[ok], xerr=sx[ok], yerr=sy[ok], fmt="o", ms=3, label=f"{label} ({nreal} real.)")
     if not scene.interface.cohesive:  # seed Eq. 1 holds for non-adhesive contact only
@@ -81,7 +71,7 @@ def plot_run(run_dir, snapshot_delta=None):
                                  ("area_vs_delta.png", a_rel, "a_rel"),
                                  ("gr_over_g_vs_delta.png", g_r / g, "ḡ_r/ḡ")):
         fig, ax = _figure((5, 4))
-        m, se = _mean_se(values)
+        m, se, _ = mean_standard_error(values)
         ax.errorbar(delta * 1e9, m, yerr=se, fmt="-o", ms=2, label=label)
         ax.set(xlabel="penetration δ (nm)", ylabel=ylabel, title=f"{ylabel} vs δ (seed Fig. 4)")
         ax.axvline(0, color="0.7", lw=0.5)
@@ -95,7 +85,6 @@ def plot_run(run_dir, snapshot_delta=None):
         target = delta[steps[-1]] if snapshot_delta is None else snapshot_delta
         k = min(steps, key=lambda s: abs(delta[s] - target))
         x = fields["x"]
-        h = fields[f"h_r{r0}"]
         u_z = fields[f"r{r0}_s{k}_u_z"]
         gap = fields[f"r{r0}_s{k}_gap"]
         z_ind = u_z + gap

@@ -88,7 +88,7 @@ class InterfaceLaw:
         self.delta_n = interface.length_normal
         self.phi_t = work_tangential
         self.delta_t = interface.length_tangential
-        # initial slopes of the law: local interface stiffness (Pa/m)
+        # initial slopes of the law (Pa/m): the interface stiffness in Verlet's mode frequencies
         self.k_int_z = 0.0 if self.hard_wall else self.phi_n / self.delta_n**2
         self.k_int_x = 2 * self.phi_t / self.delta_t**2 if model.tangential else 0.0
 

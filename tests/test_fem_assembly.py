@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 import sympy as sy
-from skfem import Basis, ElementTriP1, ElementTriP2, FacetBasis, LinearForm, asm
+from skfem import FacetBasis, LinearForm, asm
 
 from gfmd import surfaces
 from gfmd.scene import Scene

@@ -30,24 +30,23 @@ from gfmd.solver import Settings
 TOL = 1e-10  # solver tolerance (× p_ref) used by every analytic case
 
 
-def sinusoid_scene(nodes, amplitude, length, law="hard-wall", steps=6, final=1e-9, initial=0.0, **extra):
-    """Sinusoid h = −a cos(2πx/L) on the default half-plane (E = 70 GPa, ν = 0.45)."""
-    d = {"surface.kind": "sinusoid", "surface.nodes": int(nodes), "surface.length": length,
-         "surface.amplitude": amplitude, "surface.realizations": 1, "interface.law": law,
-         "loading.initial_separation": initial, "loading.final_penetration": final,
-         "loading.steps": steps, "solver.tolerance": TOL, "output.field_steps": steps}
+def _indenter_scene(kind, shape, nodes, length, law, steps, final, initial, extra):
+    d = {"surface.kind": kind, "surface.nodes": int(nodes), "surface.length": length, "surface.realizations": 1,
+         "interface.law": law, "loading.initial_separation": initial, "loading.final_penetration": final,
+         "loading.steps": steps, "solver.tolerance": TOL, "output.field_steps": steps, **shape}
     d.update(extra)
     return default_scene().replace(**d)
+
+
+def sinusoid_scene(nodes, amplitude, length, law="hard-wall", steps=6, final=1e-9, initial=0.0, **extra):
+    """Sinusoid h = −a cos(2πx/L) on the default half-plane (E = 70 GPa, ν = 0.45)."""
+    return _indenter_scene("sinusoid", {"surface.amplitude": amplitude}, nodes, length, law, steps, final, initial,
+                           extra)
 
 
 def cylinder_scene(nodes, radius, length, law="hard-wall", steps=4, final=1e-9, initial=0.0, **extra):
     """Parabolic cylinder h = x²/(2R) centred in a periodic cell on the default half-plane."""
-    d = {"surface.kind": "cylinder", "surface.nodes": int(nodes), "surface.length": length,
-         "surface.radius": radius, "surface.realizations": 1, "interface.law": law,
-         "loading.initial_separation": initial, "loading.final_penetration": final,
-         "loading.steps": steps, "solver.tolerance": TOL, "output.field_steps": steps}
-    d.update(extra)
-    return default_scene().replace(**d)
+    return _indenter_scene("cylinder", {"surface.radius": radius}, nodes, length, law, steps, final, initial, extra)
 
 
 def run(scene, tolerance=TOL):
@@ -87,3 +86,27 @@ def order(h, error):
     """Least-squares slope of log(error) vs log(h)."""
     h, e = np.asarray(h, float), np.asarray(error, float)
     return float(np.polyfit(np.log(h), np.log(e), 1)[0])
+
+
+def convergence_study(measure, levels, metrics):
+    """Run `measure(level)` at every refinement level.
+
+    `measure` returns (errors {metric: float}, ...); gives (data, errors {metric: array over levels}, wall s).
+    """
+    t0 = time.perf_counter()
+    data = [measure(level) for level in levels]
+    wall = time.perf_counter() - t0
+    return data, {m: np.array([d[0][m] for d in data]) for m in metrics}, wall
+
+
+def print_orders(tag, axis, levels, errors, orders):
+    """One line per metric: refinement levels, errors and the fitted order (shown with `pytest -s`)."""
+    for m, e in errors.items():
+        print(f"{tag} {m}: {axis} {[f'{v:.3g}' for v in levels]} error {[f'{x:.2e}' for x in e]} order {orders[m]:.2f}")
+
+
+def assert_study(records, orders, min_order, errors):
+    """Every observed order ≥ its asserted minimum, and every recorded error within its bound."""
+    for m, rec in records:
+        assert orders[m] >= min_order[m], (m, orders[m], errors[m])
+        assert rec.passed, (m, errors[m])

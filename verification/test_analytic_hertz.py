@@ -30,7 +30,6 @@ values measured at N = 16384 (4e-4 and 6e-3). A wrong modulus or radius (factor
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 import pytest
@@ -77,13 +76,9 @@ def measure(nodes):
 
 
 def _study(nodes, verification_record, bound_finest, tag):
-    t0 = time.perf_counter()
-    data = [measure(n) for n in nodes]
-    wall = time.perf_counter() - t0
-    errors = {m: np.array([d[0][m] for d in data]) for m in MIN_ORDER}
+    data, errors, wall = ac.convergence_study(measure, nodes, MIN_ORDER)
     orders = {m: -ac.order(nodes, errors[m]) for m in MIN_ORDER}
-    for m in MIN_ORDER:
-        print(f"{tag} {m}: N {[int(n) for n in nodes]} error {[f'{e:.2e}' for e in errors[m]]} order {orders[m]:.2f}")
+    ac.print_orders(tag, "N", nodes, errors, orders)
     rows, fields = data[-1][1], data[-1][2]
     h = list(LENGTH / np.asarray(nodes, float))
     records = []
@@ -104,9 +99,7 @@ def _study(nodes, verification_record, bound_finest, tag):
             wall_s=wall, plots=plots,
             notes=f"R = L = 1 µm, a ≤ L/200, 4 loads; observed order {orders[m]:.2f} (asserted ≥ {MIN_ORDER[m]})")
         records.append((m, rec))
-    for m, rec in records:
-        assert orders[m] >= MIN_ORDER[m], (m, orders[m], errors[m])
-        assert rec.passed, (m, errors[m])
+    ac.assert_study(records, orders, MIN_ORDER, errors)
 
 
 def test_hertz_convergence(verification_record):

@@ -37,7 +37,6 @@ N = 8192 the FIRE cohesive solver diverges at step 6 (Δn → −4e40 δn,
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 import pytest
@@ -92,14 +91,10 @@ def measure(nodes, d_rel):
 
 
 def _study(nodes, verification_record, bound, tag):
-    t0 = time.perf_counter()
-    data = [measure(nodes, d) for d in D_REL]
-    wall = time.perf_counter() - t0
+    data, errors, wall = ac.convergence_study(lambda d: measure(nodes, d), D_REL, MIN_RATE)
     dns = np.array([d[3] for d in data])
-    errors = {m: np.array([d[0][m] for d in data]) for m in MIN_RATE}
     rates = {m: ac.order(dns, errors[m]) for m in MIN_RATE}
-    for m in MIN_RATE:
-        print(f"{tag} {m}: δn {[f'{v:.2e}' for v in dns]} error {[f'{e:.2e}' for e in errors[m]]} rate {rates[m]:.2f}")
+    ac.print_orders(tag, "δn", dns, errors, rates)
     e_star, w = _e_star(), work()
     a_fine = np.linspace(0.1, 0.3, 81)
     pj_curve = [J.mean_pressure(a * LENGTH, H0, LENGTH, e_star, w) / W.full_contact_pressure(H0, LENGTH, e_star)
@@ -126,9 +121,7 @@ def _study(nodes, verification_record, bound, tag):
             notes=(f"α = {ALPHA}, loading branch only (no pull-off: the ramp only loads); a from Δn ≤ δn; "
                    f"error rate vs δn {rates[m]:.2f} (asserted ≥ {MIN_RATE[m]})"))
         records.append((m, rec))
-    for m, rec in records:
-        assert rates[m] >= MIN_RATE[m], (m, rates[m], errors[m])
-        assert rec.passed, (m, errors[m])
+    ac.assert_study(records, rates, MIN_RATE, errors)
 
 
 def test_jkr_wavy_delta_n_convergence(verification_record):

@@ -106,8 +106,8 @@ def _case(lam, nodes_list, verification_record):
         resolution={"N": int(nodes_list[-1]), "N_study": [int(n) for n in nodes_list], "lambda": lam,
                     "delta_n_m": data[-1][2], "band": [lo, hi]},
         wall_s=wall, plots=plots, passed=bool(lo <= errors[-1] <= hi),
-        notes=(f"exponential CZ law mapped to Dugdale by w = φn, σ0 = φn/(eδn); loading branch only; "
-               f"expected law-shape offset ≈ −1% (λ = 3), −7% (λ = 1) of pull-off (reference-formulas §4.2)"))
+        notes=("exponential CZ law mapped to Dugdale by w = φn, σ0 = φn/(eδn); loading branch only; "
+               "expected law-shape offset ≈ −1% (λ = 3), −7% (λ = 1) of pull-off (reference-formulas §4.2)"))
     return errors[-1], rec
 
 

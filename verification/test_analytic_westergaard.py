@@ -34,7 +34,6 @@ Tolerances (CI subset N = 64…1024), derived from the study:
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 import pytest
@@ -91,13 +90,9 @@ def measure(nodes):
 
 
 def _study(nodes, verification_record, min_order, bound_finest, tag):
-    t0 = time.perf_counter()
-    data = [measure(n) for n in nodes]
-    wall = time.perf_counter() - t0
-    errors = {m: np.array([d[0][m] for d in data]) for m in MIN_ORDER}
+    data, errors, wall = ac.convergence_study(measure, nodes, MIN_ORDER)
     orders = {m: -ac.order(nodes, errors[m]) for m in MIN_ORDER}
-    for m in MIN_ORDER:
-        print(f"{tag} {m}: N {list(nodes)} error {[f'{e:.2e}' for e in errors[m]]} order {orders[m]:.2f}")
+    ac.print_orders(tag, "N", nodes, errors, orders)
     rows, fields = data[-1][1], data[-1][2]
     h = list(LENGTH / np.asarray(nodes, float))
     x_um = fields["x"] * 1e6
@@ -123,9 +118,7 @@ def _study(nodes, verification_record, min_order, bound_finest, tag):
             notes=(f"h0 = 10 nm, λ = 1 µm, hard wall, 6 loads to δ = 0.995 h0 (P up to "
                    f"{rows[-1][1]:.2f}); observed order {orders[m]:.2f} (asserted ≥ {min_order[m]})"))
         records.append((m, rec))
-    for m, rec in records:
-        assert orders[m] >= min_order[m], (m, orders[m], errors[m])
-        assert rec.passed, (m, errors[m])
+    ac.assert_study(records, orders, min_order, errors)
 
 
 def test_westergaard_convergence(verification_record):

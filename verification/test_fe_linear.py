@@ -22,7 +22,6 @@ Tolerance: 1e-2 for P2 at ≥ 16 nodes per wavelength (3.5× the worst measured,
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np

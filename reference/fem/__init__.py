@@ -15,5 +15,7 @@ result and loading's geometry helpers with GFMD, but no solver code:
 `gfmd.result.Result` with method "fe-p2" / "fe-p1".
 """
 
-from .solver import run_realization  # noqa: F401
-from .export import export_vtu  # noqa: F401
+from .export import export_vtu
+from .solver import run_realization
+
+__all__ = ["export_vtu", "run_realization"]
