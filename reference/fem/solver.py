@@ -60,8 +60,8 @@ class SurfaceProblem:
                 f"meshed. Use a depth, e.g. material.thickness = {2 * scene.surface.length:g} m (D = 2L: the "
                 "fundamental mode's compliance equals the half-plane's to ~1e-9), and run GFMD with the same depth.")
         if i.law not in ("cohesive",):
-            raise NotImplementedError(f"interface.law = {i.law!r}: the FE reference solves the cohesive law only "
-                                      "(hard wall not implemented)")
+            raise NotImplementedError(f"interface.law = {i.law!r}: SurfaceProblem solves the cohesive law; the hard "
+                                      "wall is reference.fem.hardwall (run_realization routes it there)")
         self.scene = scene
         self.tangential = i.tangential_ratio > 0
         self.cell = build_cell(scene.surface.nodes, scene.surface.length, m.thickness, m.youngs_modulus,
@@ -236,6 +236,9 @@ class SurfaceProblem:
 
 def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None):
     """FE reference for one realization (see `_run`); dense solves use single-threaded BLAS."""
+    if scene.interface.law == "hard-wall":  # a constraint, not a law: primal–dual active set
+        from .hardwall import run_realization as run_hard_wall
+        return run_hard_wall(scene, realization, order, progress, mesh_kw, tolerance)
     with single_thread():
         return _run(scene, realization, order, progress, mesh_kw, tolerance)
 

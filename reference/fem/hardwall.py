@@ -1,0 +1,198 @@
+"""Frictionless, non-adhesive hard wall on the condensed FE surface (issue #4 prerequisite of #5).
+
+Units: SI (see `gfmd.conventions`). The linear cell is condensed once onto the
+normal surface displacements u_z (`Cell.schur(("z",))`: u_x of the surface is
+free, t_x = 0, the interior follows linearly). Each load step is the convex QP
+
+    min ½ uᵀ S u   subject to   u_i ≤ z_ind,i   (Δn = z_ind − u_z ≥ 0)
+
+at every surface point i (P2: vertices and facet midpoints, z_ind at the
+midpoints from the band-limited interpolant of h, as `reference.fem.solver`).
+KKT: S u + μ = 0, μ ≥ 0 (wall force per unit length out of plane, N/m),
+Δn ≥ 0, μ_i Δn_i = 0. The contact traction on the body is t_z = −μ/W
+(W the FacetBasis nodal weights, m), so −t_z ≥ 0 only where Δn = 0
+(gfmd.conventions "Hard wall").
+
+Solver: primal–dual active set (Hintermüller, Ito & Kunisch 2003, a semismooth
+Newton method for the complementarity function μ − max(0, μ + c(u − z))), on
+the compliance C = S⁻¹ (factorised once per run): for an active set A,
+
+    μ_A = −C_AA⁻¹ z_A,   μ_I = 0,   u = −C μ,
+
+then A ← {i : μ_i + c_i (u_i − z_i) > 0} with c_i = S_ii (N/m² per m); stop when A
+repeats. Each iteration costs one |A|×|A| Cholesky, so partial contact is cheap.
+Each step is warm-started from the previous step's (u, μ). A repeated
+(cycling) active set, which PDAS does not exclude for a general SPD S, falls
+back to the dual bound-constrained least-squares problem (Lawson–Hanson NNLS,
+finite termination) and is listed in `Result.messages`.
+
+Residual reported per step (dimensionless, / p_ref, p_ref = E* ḡ as GFMD):
+max over the points of |S u + μ|/W, max(0, −μ)/W and max(0, u − z)·S_ii/W.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import scipy.linalg
+import scipy.optimize
+
+from gfmd import surfaces
+from gfmd.loading import displacement_steps, field_step_indices, indenter_surface
+from gfmd.observables import rms_gradient, step_observables
+from gfmd.result import Result
+
+from ._blas import single_thread
+from .assembly import build_cell
+
+
+class HardWallProblem:
+    """Condensed normal surface system of one scene for the hard wall (see module docstring).
+
+    scene: a hard-wall `gfmd.scene.Scene` with finite material.thickness; h: the
+    profile (m) on the N nodes; order: 1 (P1) or 2 (P2).
+    """
+
+    def __init__(self, scene, h, order=2, mesh_kw=None):
+        from .solver import fourier_interpolate  # shared z_ind interpolation (P2 midpoints)
+        m = scene.material
+        if m.half_plane:
+            raise ValueError("the FE reference models a finite layer only: set material.thickness (e.g. 2 L)")
+        if scene.interface.law != "hard-wall":
+            raise ValueError(f"HardWallProblem needs interface.law = 'hard-wall', got {scene.interface.law!r}")
+        self.scene = scene
+        self.cell = build_cell(scene.surface.nodes, scene.surface.length, m.thickness, m.youngs_modulus,
+                               m.poisson_ratio, order=order, **(mesh_kw or {}))
+        self.S, self.solve_interior = self.cell.schur(("z",))
+        self.ns = self.cell.surface_x.size
+        self.w = self.cell.weights
+        self.h_surface = fourier_interpolate(h, self.ns // h.size)
+        self.h_min = float(np.min(h))  # nodal min: z_ind at the vertices is exactly GFMD's
+        g = rms_gradient(h, scene.surface.spacing)
+        self.p_ref = m.contact_modulus * g if g > 0 else m.contact_modulus
+        self.c = np.diag(self.S).copy()  # PDAS complementarity scale (N/m per m)
+        try:
+            chol = scipy.linalg.cho_factor(self.S, check_finite=False)
+        except scipy.linalg.LinAlgError as exc:
+            raise RuntimeError(f"surface stiffness S is not positive definite ({exc}): mesh or material "
+                               "invalid") from exc
+        self.C = scipy.linalg.cho_solve(chol, np.eye(self.ns), check_finite=False)
+        self.C = 0.5 * (self.C + self.C.T)
+
+    def indenter(self, initial_separation, displacement):
+        """z_ind = h − min_nodes h + δ0 − U (m) at all surface points (gfmd.conventions)."""
+        shift = float(np.min(self.h_surface)) - self.h_min
+        return indenter_surface(self.h_surface, initial_separation, displacement) + shift
+
+    def state(self, active, z_ind):
+        """(u, μ) for the active set `active` (bool, surface points): μ_A = −C_AA⁻¹ z_A, u = −C μ."""
+        mu = np.zeros(self.ns)
+        if active.any():
+            idx = np.flatnonzero(active)
+            c_aa = self.C[np.ix_(idx, idx)]
+            mu[idx] = -scipy.linalg.solve(c_aa, z_ind[idx], assume_a="pos", check_finite=False)
+        return -self.C @ mu, mu
+
+    def residual(self, u, mu, z_ind):
+        """KKT residual (dimensionless, / p_ref): equilibrium, wall tension and penetration."""
+        eq = np.abs(self.S @ u + mu) / self.w
+        tension = np.maximum(-mu, 0.0) / self.w
+        penetration = np.maximum(u - z_ind, 0.0) * self.c / self.w
+        return float(max(eq.max(), tension.max(), penetration.max()) / self.p_ref)
+
+    def next_active(self, u, mu, z_ind, tie):
+        """PDAS update A = {μ + c(u − z) > tie} (tie: N/m, separates round-off from contact)."""
+        return mu + self.c * (u - z_ind) > tie
+
+    def solve_step(self, z_ind, u0, mu0, tol, max_iter=100):
+        """Equilibrium of one step from the previous (u0, μ0); returns (u, μ, iterations, converged, how)."""
+        tie = tol * self.p_ref * float(np.min(self.w))
+        active = self.next_active(u0, mu0, z_ind, tie)
+        seen = set()
+        it = 0
+        for it in range(1, max_iter + 1):
+            u, mu = self.state(active, z_ind)
+            new = self.next_active(u, mu, z_ind, tie)
+            if np.array_equal(new, active):
+                return u, mu, it, self.residual(u, mu, z_ind) <= tol, "pdas"
+            seen.add(active.tobytes())
+            if new.tobytes() in seen:
+                break
+            active = new
+        u, mu = self.dual_nnls(z_ind)
+        why = "cycled" if it < max_iter else f"not settled in {max_iter} iterations"
+        return u, mu, it + 1, self.residual(u, mu, z_ind) <= tol, f"nnls fallback (active set {why})"
+
+    def dual_nnls(self, z_ind):
+        """Dual problem min_{μ≥0} ½μᵀCμ + zᵀμ as NNLS ‖Rμ + R⁻ᵀz‖ with C = RᵀR (finite termination)."""
+        r = scipy.linalg.cholesky(self.C, lower=False, check_finite=False)
+        rhs = -scipy.linalg.solve_triangular(r, z_ind, trans="T", check_finite=False)
+        mu, _ = scipy.optimize.nnls(r, rhs, maxiter=50 * self.ns)
+        return -self.C @ mu, mu
+
+
+def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None):
+    """FE hard-wall reference for one realization of `scene`; a `gfmd.result.Result` (method "fe-p<order>").
+
+    Same steps (`displacement_steps`), same z_ind at the N nodes and same
+    observables (`step_observables` on the GFMD nodes) as GFMD. tolerance: KKT
+    residual bound per step (default min(scene.solver.tolerance, 1e-10)); a step
+    above it is reported as not converged, with a message.
+    """
+    with single_thread():
+        return _run(scene, realization, order, progress, mesh_kw, tolerance)
+
+
+def _run(scene, realization, order, progress, mesh_kw, tolerance):
+    h = surfaces.profile(scene.surface, realization)
+    t0 = time.perf_counter()
+    prob = HardWallProblem(scene, h, order=order, mesh_kw=mesh_kw)
+    setup = time.perf_counter() - t0
+    tol = tolerance if tolerance is not None else min(scene.solver.tolerance, 1e-10)
+    cell = prob.cell
+    model = (f"FE P{order} plane strain, periodic cell L = {scene.surface.length:g} m, bonded layer "
+             f"D = {scene.material.thickness:g} m, {cell.basis.N} DOFs ({cell.mesh.t.shape[1]} triangles, graded), "
+             f"frictionless hard wall (u_x free, t_x = 0) on {prob.ns} surface points"
+             + (", z_ind at facet midpoints from the Fourier interpolant of h" if order == 2 else "")
+             + f"; primal–dual active set on the condensed surface (setup {setup:.1f} s)")
+    result = Result(scene=scene, method=f"fe-p{order}", model=model, realization=realization,
+                    x=surfaces.grid(scene.surface.nodes, scene.surface.length), h=h,
+                    reasons=("finite layer, bonded base, periodic cell: same model as GFMD with material.thickness",
+                             "hard wall: frictionless, no tangential traction"))
+    result.setup_s = setup
+    keep = field_step_indices(scene.loading, scene.output.field_steps)
+    d0 = scene.loading.initial_separation
+    vp = cell.vertex_points
+    u, mu = np.zeros(prob.ns), np.zeros(prob.ns)
+    result.fallback_steps = []
+    result.solutions = {}
+    for k, displacement in enumerate(displacement_steps(scene.loading)):
+        start = time.perf_counter()
+        z_ind = prob.indenter(d0, displacement)
+        u_new, mu_new, its, ok, how = prob.solve_step(z_ind, u, mu, tol)
+        wall = time.perf_counter() - start
+        res = prob.residual(u_new, mu_new, z_ind)
+        if how != "pdas":
+            result.fallback_steps.append(k)
+            result.messages.append(f"realization {realization}, step {k} (δ = {displacement - d0:.4g} m): {how}")
+        if not ok:
+            result.messages.append(f"realization {realization}, step {k}: not converged, KKT residual {res:.3g} p_ref")
+        if not np.all(np.isfinite(u_new)):
+            raise FloatingPointError(f"realization {realization}, step {k}: non-finite hard-wall solution")
+        u, mu = u_new, mu_new
+        gap = np.maximum(z_ind - u, 0.0)  # round-off penetration (≤ tol) shown as contact
+        t_n = -mu / prob.w
+        obs = step_observables(scene, h, gap[vp], t_n[vp])
+        result.append_step(step=k, U=displacement, delta=displacement - d0, iterations=its,
+                           residual=res if math.isfinite(res) else 1e300, converged=int(ok), wall_s=wall, **obs)
+        if k in keep:
+            ux = prob.solve_interior(u)[cell.surface_dofs[0]]
+            result.fields[k] = {"u_z": u[vp].copy(), "u_x": ux[vp].copy(), "gap": gap[vp].copy(),
+                                "t_n": t_n[vp].copy(), "t_t": np.zeros(vp.size)}
+            result.solutions[k] = {"u_z": u.copy(), "mu": mu.copy(), "z_ind": z_ind.copy()}
+        if progress is not None:
+            progress(k, scene.loading.steps)
+    result.problem = prob
+    return result.finalize()
