@@ -4,6 +4,11 @@ Units: SI (see `gfmd.conventions`). The indenter starts with its closest point
 δ0 above the undeformed surface; U goes from 0 to δ0 + final_penetration in
 `steps` equal increments (step 0 is U = 0), each step warm-started from the
 previous equilibrium (linearly extrapolated from the last two steps).
+
+Warnings: the model's check findings (`gfmd.model.scene_warnings`) are carried in
+`Result.reasons`; after step 0 (U = 0) the run also says whether the surface
+started in contact or jumped into contact at once (`start_warning`), since then
+the recorded curve lacks the approach. Solver failures go to `Result.messages`.
 """
 
 from __future__ import annotations
@@ -13,7 +18,7 @@ import time
 import numpy as np
 
 from . import surfaces
-from .model import build_model
+from .model import WARNING, build_model, jump_in_separation, softest_normal_stiffness
 from .observables import step_observables
 from .result import Result
 from .laws import CompressionOverflowError
@@ -56,6 +61,30 @@ def check_penetration_limit(scene, h, realization=0):
             "or use a finite material.thickness.")
 
 
+def start_warning(scene, model, min_gap):
+    """Warning (str) if step 0 did not start out of contact on the stable branch, else None.
+
+    min_gap: smallest normal gap Δn (m) of the relaxed step 0 (U = 0). With δ0 < δn the
+    indenter starts on the rising branch of the law (in contact); with δ0 ≥ δn and a
+    relaxed gap below δn (past the traction peak) the surface jumped into contact
+    during the first relaxation.
+    """
+    i = scene.interface
+    if i.law != "cohesive":
+        return None
+    d0, dn = scene.loading.initial_separation, i.length_normal
+    safe = max(jump_in_separation(softest_normal_stiffness(model), i.work_normal, dn), 2 * dn)
+    fix = f"raise loading.initial_separation to ≥ {safe / dn:.3g} δn = {safe:.3g} m"
+    if d0 < dn:
+        return (f"start in contact: loading.initial_separation δ0 = {d0 / dn:.3g} δn < δn puts the closest point on "
+                f"the law's rising branch at step 0; the approach is not recorded: {fix}")
+    if min_gap < dn:
+        return (f"jump at start: the surface jumped into contact during step 0 (U = 0): smallest gap "
+                f"{min_gap / dn:.3g} δn after relaxation, δ0 = {d0 / dn:.3g} δn; the approach and the jump are not "
+                f"recorded: {fix}")
+    return None
+
+
 def run_realization(scene, realization=0, settings=None, progress=None, method_name=None):
     """Run the whole load ramp for one realization; returns a `Result`.
 
@@ -96,6 +125,10 @@ def run_realization(scene, realization=0, settings=None, progress=None, method_n
                                    f"{relaxed.message}")
         else:
             u_prev, u_hat = u_hat, relaxed.u_hat
+        if k == 0:
+            warning = start_warning(scene, model, float(np.min(relaxed.gap)))
+            if warning:
+                result.reasons = tuple(result.reasons) + (WARNING + warning,)
         obs = step_observables(scene, h, relaxed.gap, relaxed.t_z)
         result.append_step(step=k, U=displacement, delta=displacement - d0, iterations=iterations,
                            residual=relaxed.residual, converged=int(relaxed.converged), wall_s=wall, **obs)

@@ -82,9 +82,20 @@ class Loading:
 
 @dataclass(frozen=True)
 class Solver:
+    """Solver settings.
+
+    unknowns: "auto" (only what the scene requires, `gfmd.model`) or "coupled" (always
+    u_x and u_z, to compare the reduced model with the full one; cohesive law only).
+    checks: "warn" (resolution/stability findings of `gfmd.model.scene_warnings` are
+    recorded in the model's reasons and the run goes on) or "error" (such a scene is
+    refused before any work).
+    """
+
     method: str = "fire"
     tolerance: float = 1e-8
     max_iterations: int = 200_000
+    unknowns: str = "auto"
+    checks: str = "warn"
 
 
 @dataclass(frozen=True)
@@ -138,6 +149,8 @@ _SECTIONS = {"surface": Surface, "material": Material, "interface": Interface,
 _KINDS = ("self-affine", "sinusoid", "cylinder", "flat", "file")
 _LAWS = ("hard-wall", "cohesive")
 _METHODS = ("fire", "verlet")
+_UNKNOWNS = ("auto", "coupled")
+_CHECKS = ("warn", "error")
 
 
 def _fail(key, value, allowed):
@@ -313,7 +326,13 @@ def _solver(d):
     iters = _number(d, "solver", "max_iterations", so.max_iterations, integer=True)
     if iters < 1:
         _fail("solver.max_iterations", iters, "must be an integer ≥ 1")
-    return Solver(method=method, tolerance=tol, max_iterations=iters)
+    unknowns = d.get("unknowns", so.unknowns)
+    if unknowns not in _UNKNOWNS:
+        _fail("solver.unknowns", unknowns, f"must be one of {list(_UNKNOWNS)} (auto: only what the scene requires)")
+    checks = d.get("checks", so.checks)
+    if checks not in _CHECKS:
+        _fail("solver.checks", checks, f"must be one of {list(_CHECKS)}")
+    return Solver(method=method, tolerance=tol, max_iterations=iters, unknowns=unknowns, checks=checks)
 
 
 def _output(d):
@@ -336,9 +355,13 @@ def scene_from_dict(d, name="scene"):
         if section not in _SECTIONS:
             raise SceneError(f"unknown section [{section}]; valid sections: {', '.join(_SECTIONS)}")
     material = _material(d.get("material", {}))
-    return Scene(surface=_surface(d.get("surface", {})), material=material,
-                 interface=_interface(d.get("interface", {}), material), loading=_loading(d.get("loading", {})),
-                 solver=_solver(d.get("solver", {})), output=_output(d.get("output", {})), name=name)
+    interface = _interface(d.get("interface", {}), material)
+    solver = _solver(d.get("solver", {}))
+    if solver.unknowns == "coupled" and interface.law != "cohesive":
+        _fail("solver.unknowns", solver.unknowns, f"needs interface.law = \"cohesive\" (got {interface.law!r}: "
+              "the hard wall is frictionless and always normal-only); use \"auto\"")
+    return Scene(surface=_surface(d.get("surface", {})), material=material, interface=interface,
+                 loading=_loading(d.get("loading", {})), solver=solver, output=_output(d.get("output", {})), name=name)
 
 
 def load_scene(path):
