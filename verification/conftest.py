@@ -12,7 +12,8 @@ Fixture (see `verification.harness.Measurement` for the fields):
     def test_x(verification_record):
         verification_record(case="…", metric="…", value=…, tolerance=…,
                             methods=("gfmd-fire", "fe-p2"), tolerance_source="…",
-                            resolution={"N": 1024}, wall_s=…, passed=None, plots=[…])
+                            resolution={"N": 1024}, wall_s=…, passed=None, plots=[…],
+                            scene=scene)  # a gfmd Scene (stored as TOML, shown in the report) or ""
 
 wall_s defaults to the time since the test started, peak memory to the
 process ru_maxrss delta since then; passed defaults to |value| ≤ tolerance.
@@ -108,7 +109,8 @@ def verification_record(request):
     rss0 = harness.max_rss_bytes()
 
     def record(*, case, metric, value, tolerance=None, methods=(), tolerance_source="", resolution=None,
-               wall_s=None, passed=None, plots=None, peak_memory_bytes=None, memory_method=None, notes=""):
+               wall_s=None, passed=None, plots=None, peak_memory_bytes=None, memory_method=None, notes="",
+               scene=""):
         if peak_memory_bytes is None:
             peak_memory_bytes = max(0, harness.max_rss_bytes() - rss0)
             memory_method = memory_method or harness.MEMORY_RSS + ", since test start"
@@ -118,7 +120,8 @@ def verification_record(request):
                                   tolerance_source=tolerance_source, methods=methods,
                                   resolution=resolution or {}, wall_s=wall_s,
                                   peak_memory_bytes=peak_memory_bytes, memory_method=memory_method or "",
-                                  passed=passed, plots=plots or [], notes=notes, test=request.node.nodeid)
+                                  passed=passed, plots=plots or [], notes=notes, test=request.node.nodeid,
+                                  scene=scene if scene is not None else "")
         records.append(rec)
         return rec
 

@@ -72,6 +72,7 @@ class Measurement:
     test: str = ""  # pytest node id, filled by the fixture
     test_outcome: str = ""  # passed/failed/skipped/error, filled at session end
     provenance: dict = field(default_factory=dict)
+    scene: str = ""  # the scene measured, as TOML (`gfmd.scene.scene_to_toml`); "" if not given
 
     def __post_init__(self):
         self.methods = tuple(self.methods or ())
@@ -80,6 +81,9 @@ class Measurement:
         for plot in self.plots:
             validate_plot(plot)
         self.passed = verdict(self.value, self.tolerance) if self.passed is None else bool(self.passed)
+        if not isinstance(self.scene, str):  # a gfmd.scene.Scene
+            from gfmd.scene import scene_to_toml
+            self.scene = scene_to_toml(self.scene)
 
     def to_dict(self):
         return to_jsonable(dataclasses.asdict(self))

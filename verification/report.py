@@ -10,7 +10,7 @@ JavaScript. Layout:
    (colour-coded), time;
 3. speed–accuracy trade (every plot of kind "pareto") and extremes
    (every plot of kind "grid"), when records provide them;
-4. one section per case: its records (resolution, tolerance source, cost,
+4. one section per case: each distinct scene (TOML, folded), its records (resolution, tolerance source, cost,
    notes), provenance and plots.
 
 Plot dicts (built by the helpers in `verification.harness`):
@@ -380,6 +380,7 @@ def render_html(records, session=None, provenance=None):
             f'<li><a href="#{slug(c)}">{esc(c)}</a></li>' for c in cases) + "</ul></nav>")
     for name, recs in cases.items():
         out.append(f'<section class="case" id="{slug(name)}"><h2>{esc(name)}</h2>')
+        shown_scenes = set()
         for r in recs:
             cls, text = verdict_of(r)
             mem = "—" if r.peak_memory_bytes is None else f"{r.peak_memory_bytes / 2**20:.3g} MiB"
@@ -395,6 +396,10 @@ def render_html(records, session=None, provenance=None):
                 info["notes"] = r.notes
             out.append(f'<div class="record r-{cls}"><h3>{esc(r.metric)} '
                        f'<span class="{cls}">&nbsp;{esc(text)}&nbsp;</span></h3>{_kv(info)}')
+            if r.scene and r.scene not in shown_scenes:  # each distinct scene of a case once
+                shown_scenes.add(r.scene)
+                out.append(f'<details class="scene"><summary>scene (TOML, SI units)</summary>'
+                           f"<pre>{esc(r.scene)}</pre></details>")
             for p in r.plots:
                 if p.get("kind") in ("pareto", "grid"):
                     out.append('<p class="muted">(shown above under '

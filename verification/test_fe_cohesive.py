@@ -92,7 +92,8 @@ def _record(rec, n, out):
               "xlabel": "δ (m)", "ylabel": "a_rel", "title": f"a_rel(δ), N = {n}"}]
     scale = (64 / n) ** 2
     rec(case=CASE, metric="t_n relative L2 (max over field steps)", value=out["tn"], tolerance=1e-2 * scale,
-        methods=METHODS, tolerance_source=SOURCE, resolution=res, wall_s=out["fe_s"] + out["gfmd_s"], plots=plots)
+        methods=METHODS, tolerance_source=SOURCE, resolution=res, wall_s=out["fe_s"] + out["gfmd_s"], plots=plots,
+        scene=rf.scene)
     rec(case=CASE, metric="p(δ) max diff / max|p|", value=out["p"], tolerance=4e-3 * scale, methods=METHODS,
         tolerance_source=SOURCE, resolution=res)
     rec(case=CASE, metric="max |Δa_rel|", value=out["a"], tolerance=2 / n, methods=METHODS,

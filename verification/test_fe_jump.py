@@ -38,7 +38,7 @@ def test_fe_jump_into_contact(verification_record):
     res = {"N": N, "D/L": 1, "elements": "P2", "fe_fallback_steps": list(rf.fallback_steps)}
     src = "measured at N = 128 (t_n 2.4e-3), bound ≈ 2× (verification/test_fe_jump.py docstring)"
     verification_record(case=case, metric="t_n relative L2 (max over field steps)", value=tn, tolerance=5e-3,
-                        methods=METHODS, tolerance_source=src, resolution=res, wall_s=wall,
+                        methods=METHODS, tolerance_source=src, resolution=res, wall_s=wall, scene=sc,
                         plots=[{"kind": "curve", "x": rf.curve["delta"],
                                 "series": {"GFMD": rg.curve["p"], "FE": rf.curve["p"]},
                                 "xlabel": "δ (m)", "ylabel": "p (Pa)", "title": "p(δ) through the jump-in"}])

@@ -112,7 +112,7 @@ def test_fe_selfaffine(n, hurst, verification_record):
                                 xlabel="δ (nm)", ylabel="p / E*", title="p(δ)", difference=True),
              harness.curve_plot(rf.curve["delta"] * 1e9, {"GFMD": rg.curve["a_rel"], "FE": rf.curve["a_rel"]},
                                 xlabel="δ (nm)", ylabel="a_rel", title="a_rel(δ)")]
-    common = dict(case=case, methods=METHODS, tolerance_source=SOURCE, resolution=res)
+    common = dict(case=case, methods=METHODS, tolerance_source=SOURCE, resolution=res, scene=rf.scene)
     verification_record(metric="t_n relative L2 (max over field steps)", value=out["tn"], tolerance=tol["tn"],
                         wall_s=out["fe_s"] + out["gfmd_s"], plots=plots, **common)
     verification_record(metric="p(δ) max diff / max|p|", value=out["p"], tolerance=tol["p"], **common)

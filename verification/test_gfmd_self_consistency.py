@@ -117,7 +117,7 @@ def test_fire_vs_verlet(case, verification_record):
     ]
     common = dict(case=case.name, methods=case.methods, tolerance_source=case.tolerance_source,
                   resolution=resolution, wall_s=wall, peak_memory_bytes=peak,
-                  memory_method=runs[METHODS[0]].memory_method, notes=notes)
+                  memory_method=runs[METHODS[0]].memory_method, notes=notes, scene=scene)
 
     err_tn = harness.relative_l2(tn_f, tn_v)
     tol_tn = _bound(tau, p_ref, tn_f)

@@ -225,3 +225,16 @@ def test_render_check_flags_a_broken_page(tmp_path):
     for needle in ("summary table", "<img> not loaded", "boom"):
         assert needle in proc.stderr, proc.stderr
     assert (tmp_path / "screenshot.png").stat().st_size > 0
+
+
+def test_scene_shown_once_per_case_and_round_trips(tmp_path):
+    from gfmd.scene import default_scene, load_scene
+    sc = default_scene().replace(**{"surface.nodes": 8192})
+    recs = [harness.Measurement(case="c", metric=f"m{i}", value=1e-3, tolerance=1e-2, scene=sc) for i in range(3)]
+    assert recs[0].scene.startswith("# resolved scene")  # a Scene is stored as its TOML
+    text = report.render_html(recs)
+    assert text.count('<details class="scene">') == 1 and "nodes = 8192" in text
+    harness.write_results(tmp_path / "r.json", recs)
+    _, back = harness.load_results(tmp_path / "r.json")
+    (tmp_path / "default.toml").write_text(back[0].scene)
+    assert load_scene(tmp_path / "default.toml") == sc
