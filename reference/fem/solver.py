@@ -13,7 +13,8 @@ facet midpoints, where z_ind uses the band-limited (Fourier) interpolant of
 h). Newton with the consistent (for the coupled law non-symmetric) tangent,
 each iteration's surface-displacement increment limited to 0.5 δn (0.5 δt
 tangentially), then backtracking on ‖R‖. If Newton fails, or converges to an
-unstable equilibrium (normal law: tangent not positive definite), the step
+unstable equilibrium (`locally_stable`: normal law, tangent not positive
+definite; coupled law, an eigenvalue of W⁻¹J with Re λ ≤ 0), the step
 falls back to pseudo-transient continuation (shifted Newton, energy-decrease
 line search for the normal law, residual decrease for the coupled law); those
 steps are listed in `Result.messages`. The residual reported is
@@ -47,6 +48,36 @@ def fourier_interpolate(h, factor):
     if n % 2 == 0:
         spec[-1] *= 0.5  # split the Nyquist mode between ±q
     return scipy.fft.irfft(spec, n * factor) * factor
+
+
+def locally_stable(jacobian, weights, symmetric):
+    """Local stability of an equilibrium of R(u) = S u − W t(u) = 0 from its tangent J = ∂R/∂u.
+
+    jacobian: J (Pa: N/m of nodal force per m of displacement); weights: nodal
+    quadrature weights W (m), one per unknown; symmetric: True when the law
+    derives from a potential (normal law), so that J is symmetric.
+
+    * Normal law: Π = ½uᵀSu + Σ W V(Δn) exists and J = ∇²Π; the equilibrium is
+      a strict local minimum iff J is positive definite (Cholesky).
+    * Coupled law (seed Eq. 2, no potential, J non-symmetric): there is no energy
+      to minimise; the equilibrium is stable iff perturbations decay under the
+      overdamped dynamics W u̇ = −R(u) (damping per unit surface, as in the
+      quasi-static limit of GFMD's damped dynamics), i.e. iff every eigenvalue of
+      W⁻¹J has a positive real part. A positive definite symmetric part of J is
+      sufficient (Re λ = v*sym(W^-½JW^-½)v / v*v > 0) but not necessary: the coupled
+      tangent's antisymmetric part makes sym(J) indefinite at stable states. So
+      Cholesky of sym(J) is tried first (cheap) and the eigenvalues (dense,
+      O(n³), about 10 solves) are computed only when it fails.
+    """
+    try:
+        scipy.linalg.cho_factor(0.5 * (jacobian + jacobian.T) if not symmetric else jacobian, check_finite=False)
+        return True
+    except scipy.linalg.LinAlgError:
+        if symmetric:
+            return False
+    scaled = jacobian / np.sqrt(np.outer(weights, weights))  # W^-½ J W^-½, similar to W⁻¹J
+    eigenvalues = scipy.linalg.eigvals(scaled, check_finite=False)
+    return bool(np.all(np.isfinite(eigenvalues)) and np.min(eigenvalues.real) > 0.0)
 
 
 class SurfaceProblem:
@@ -131,13 +162,8 @@ class SurfaceProblem:
         return du / worst if worst > 1 else du
 
     def stable(self, u, z_ind):
-        """Normal law: tangent positive definite (Cholesky); coupled: symmetric part checked."""
-        J = self.jacobian(u, z_ind)
-        try:
-            scipy.linalg.cho_factor(0.5 * (J + J.T), check_finite=False)
-            return True
-        except scipy.linalg.LinAlgError:
-            return False
+        """True if the equilibrium u is locally stable (see `locally_stable`)."""
+        return locally_stable(self.jacobian(u, z_ind), self.wt, symmetric=not self.tangential)
 
     # -- solvers ---------------------------------------------------------------------------
     def _safe_residual(self, u, z_ind):
