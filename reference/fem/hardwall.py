@@ -151,7 +151,7 @@ class HardWallProblem:
         return u, mu, it + 1, self.residual(u, mu, z_ind) <= tol, f"nnls fallback (active set {why})"
 
     def dual_nnls(self, z_ind):
-        """Dual problem min_{μ≥0} ½μᵀCμ + zᵀμ as NNLS ‖Rμ + R⁻ᵀz‖ with C = RᵀR (finite termination)."""
+        """Dual min_{μ≥0} ½μᵀCμ + zᵀμ as NNLS ‖Rμ + R⁻ᵀz‖, C = RᵀR (finite termination); (u, μ)."""
         r = scipy.linalg.cholesky(self.C, lower=False, check_finite=False)
         rhs = -scipy.linalg.solve_triangular(r, z_ind, trans="T", check_finite=False)
         mu, _ = scipy.optimize.nnls(r, rhs, maxiter=50 * self.ns)
