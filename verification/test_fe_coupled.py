@@ -1,0 +1,260 @@
+"""GFMD (finite bonded layer) vs the FE cell on the adhesive sinusoid, COUPLED CZ law (issue #4, case 3).
+
+Scene: the normal-law case's (verification/test_fe_cohesive.py: h = −a cos(2πx/L), a = 50 nm,
+L = 1 µm, layer D = L on a rigid base, E = 70 GPa, φn* = 0.01, δn = δt = 1 nm, δ0 = 2 nm) with
+the coupled law of seed Eq. 2, c = φt*/φn* = 0.5, ν ∈ {0.1, 0.3, 0.45, 0.49}, δ from −2 nm to
+18 nm in 10 steps (a_rel ≈ 0.17–0.30). GFMD: `gfmd.loading.run_realization` (FIRE, tolerance 1e-8;
+u_x and u_z solved); FE: `reference.fem` P2 (Newton, tolerance 1e-10). Same nodes, same z_ind.
+
+Metrics (max over the recorded field steps 2, 4, …, 10, resp. over all steps):
+* t_n(x), t_t(x): ‖t^FE − t^GFMD‖₂ / ‖t^GFMD‖₂ (also max |Δt| / (φn/δn), informational)
+* p(δ): max_k |p_FE − p_GFMD| / max_k |p_GFMD|;  a_rel: max_k |Δa_rel| (0 in every run below)
+
+Study (measured when the tolerances were set; 256, 512: --full; times under load ~4 on 2 cores):
+
+    ν     N      t_n L2   t_t L2   p(δ)     max|Δt_n|  max|Δt_t|  (φn/δn)   FE / GFMD s/step
+    0.1   64     3.1e-3   6.7e-3   2.9e-3   2.6e-2     1.5e-2               0.012 / 0.017
+          128    5.0e-4   1.1e-3   3.4e-4   3.9e-3     2.9e-3               0.074 / 0.019
+          256    7.4e-5   1.8e-4   4.0e-5   1.0e-3     5.5e-4               0.72  / 0.018
+          512    1.7e-5   5.9e-5   6.6e-6   2.7e-4     1.9e-4               5.2   / 0.029
+    0.3   64     4.5e-3   3.7e-3   1.5e-3   2.1e-2     3.9e-3               0.008 / 0.018
+          128    8.1e-4   1.7e-3   2.7e-4   3.6e-3     8.3e-4               0.037 / 0.018
+          256    1.2e-4   2.8e-4   3.2e-5   5.4e-4     2.4e-4               0.30  / 0.024
+          512    2.0e-5   9.0e-5   2.4e-6   1.3e-4     1.0e-4               2.9   / 0.060
+    0.45  64     1.1e-2   9.4e-2   3.0e-3   6.9e-2     1.9e-2               0.007 / 0.017
+          128    1.9e-3   1.6e-2   5.2e-4   1.3e-2     2.5e-3               0.035 / 0.018
+          256    2.8e-4   2.8e-3   6.2e-5   2.0e-3     5.4e-4               0.65  / 0.052
+          512    4.4e-5   8.0e-4   5.6e-6   4.2e-4     2.7e-4               2.8   / 0.028
+    0.49  64     2.0e-2   7.9e-1   6.8e-3   1.6e-1     4.1e-2               0.007 / 0.017
+          128    3.8e-3   1.2e-1   1.1e-3   3.0e-2     7.5e-3               0.042 / 0.018
+          256    5.6e-4   2.2e-2   1.3e-4   4.6e-3     1.7e-3               0.42  / 0.051
+          512    8.5e-5   7.4e-3   2.4e-5   1.1e-3     8.0e-4               3.9   / 0.026
+
+Observed orders (64→128, 128→256, 256→512): t_n 2.4–2.6, 2.7–2.8, 2.1–2.7; t_t 1.1 (ν = 0.3) or
+2.5–2.7, 2.5–2.7, 1.6–1.8; p 2.5–3.1, 3.1, 2.4–3.7. As in the normal-law case the difference is
+discretisation (continuum kernel sampled at the nodes vs P2 + Simpson nodal quadrature); the last
+t_t order (~1.6) was not investigated further (GFMD tolerance 1e-8 and the max-norm
+contact-edge error are candidates). FE cost grows ~N³ (dense condensed system, 2N unknowns;
+a non-symmetric stability check by eigenvalues, ≈ 20 solves, where sym(J) is indefinite).
+Tolerances: t_n, t_t, p ≤ 3 × (value at N = 64, per ν) × (64/N)²: the measured values sit 3×
+(N = 64), 1.7–4.9× (128), 2.4–13× (256) and 1.9–29× (512) below; the tightest is t_t at ν = 0.3
+(order 1.1 from 64 to 128). |Δa_rel| ≤ 2/N; t_n order 64 → 128 > 1.5 (measured 2.4–2.6).
+
+ν → 0.5: the kernel's normalised coupling |K_xz|/√(K_xx K_zz) = (1−2ν)/(2(1−ν)) (0.44, 0.29,
+0.091, 0.020; the layer D = L is half-plane-like for every q ≠ 0) drives t_t, and
+max|t_t|/max|t_n| at δ = 18 nm follows it: 0.32, 0.21, 0.072, 0.016 (≈ 0.75 × the coupling).
+With t_t small, its relative difference grows (0.79 at ν = 0.49, N = 64, at δ = 2 nm where
+max|t_t| = 0.011 φn/δn) while the absolute one stays ≤ 0.04 φn/δn and converges with order ≈ 2.5.
+
+Why δ ≤ 18 nm (the limit of the coupled law, measured): Eq. 2 multiplies the normal repulsion by
+e^{−Δt²/δt²}. Under compression the surface slips (ν = 0.3: max|Δt| = 1.3 δt at 18 nm, 2.2 δt at
+30 nm, 3.2 δt at 40 nm; ν = 0.1: 2.0 δt at 18 nm, 3.0 δt at 26 nm) and once |Δt| ≳ 2–3 δt the
+repulsion collapses: the body interpenetrates the indenter (min Δn = −2.2 nm at 30 nm, −6.5 nm at
+40 nm, −16 nm at 57 nm, ν = 0.3, N = 64), and the traction, ∝ e^{|Δn|/δn − Δt²/δt²}, becomes
+exponentially sensitive; its tangent is strongly non-symmetric (off-diagonal ∂T/∂Δ up to 72 φn/δn² at
+δ = 50 nm, N = 128, vs K(q_max) ≈ 24 φn/δn²). That is a property of Eq. 2, not of a solver: the
+GFMD–FE t_n difference (ν = 0.3) jumps beyond ~35 nm,
+
+    δ (nm)     29.5    33.7    35.8    37.9    40.0
+    N = 64     3.7e-3  5.8e-3  6.2e-3  3.7e-2  8.9e-2
+    N = 128    7.0e-4  2.0e-3  3.5e-3  6.0e-3  9.5e-3
+
+(ν = 0.1, N = 128: 3.9e-4 at 18 nm, 9.1e-3 at 26 nm, 0.45 at 30 nm). The FE Newton converges to
+60 nm (N = 64) once equilibria are classified by the eigenvalues of W⁻¹J
+(`reference.fem.solver.locally_stable`; the old symmetric-part test rejected every root from
+δ = 23 nm and its continuation fallback failed from 54 nm). GFMD: FIRE stalled from δ ≈ 35–39 nm
+(N = 128, ν = 0.3: 950, 7 580, 33 060 iterations, then no convergence in 3e4, residual 1e-2–1e2
+p_ref; the reported 4–14 p_ref from 45 nm) because FIRE's power test assumes a potential; the
+per-mode critically damped Verlet converges there, so coupled-law FIRE now falls back to Verlet
+(`gfmd.solver.COUPLED_FIRE_BUDGET`), which converges to 47.8 nm (ν = 0.3, N = 128; Verlet alone: 57 nm at N = 64)
+and to 28 nm (ν = 0.1, N = 128; 26 nm at N = 64). Beyond, explicit damped dynamics with a fixed step cannot follow the
+law's growing, non-symmetric local stiffness (not fixed here). `test_gfmd_coupled_slip_regime`
+runs into that regime (N = 128, ν = 0.3, δ to 40 nm) and records the differences, informational.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+
+import gfmd.loading as gl
+from reference import fem
+from gfmd.solver import COUPLED_FIRE_BUDGET
+from verification.harness import convergence_plot, curve_plot, profile_plot
+from verification.test_fe_cohesive import scene as normal_scene
+
+METHODS = ("gfmd-fire", "fe-p2")
+TANGENTIAL_RATIO = 0.5
+FINAL_PENETRATION = 18e-9  # m; see the docstring for why not deeper
+RATIOS = (0.1, 0.3, 0.45, 0.49)  # Poisson ratios; N = 64, 128 of all four run in CI (~1–2 s each)
+
+
+def scene(n, nu):
+    """The normal-law FE case's scene (a = 50 nm, L = D = 1 µm, E = 70 GPa, φn* = 0.01, δn = δt = 1 nm,
+    δ0 = 2 nm) with c = φt*/φn* = 0.5, Poisson ratio nu, δ up to 18 nm in 10 steps of 2 nm."""
+    return normal_scene(n).replace(**{
+        "interface.tangential_ratio": TANGENTIAL_RATIO, "material.poisson_ratio": nu,
+        "loading.final_penetration": FINAL_PENETRATION, "loading.steps": 10, "output.field_steps": 5})
+
+
+_CACHE = {}
+
+
+def _field_differences(rf, rg, name, scale):
+    """(max over field steps of the relative L2 difference, of max |diff| / scale) of field `name`."""
+    rel = max(np.linalg.norm(rf.fields[k][name] - rg.fields[k][name]) / np.linalg.norm(rg.fields[k][name])
+              for k in rf.fields)
+    peak = max(np.max(np.abs(rf.fields[k][name] - rg.fields[k][name])) for k in rf.fields) / scale
+    return float(rel), float(peak)
+
+
+def compare(n, nu):
+    """Run FE P2 and GFMD on scene(n, nu); differences (dimensionless) and times (s), cached."""
+    if (n, nu) in _CACHE:
+        return _CACHE[(n, nu)]
+    sc = scene(n, nu)
+    t0 = time.perf_counter()
+    rf = fem.run_realization(sc, order=2)
+    t1 = time.perf_counter()
+    rg = gl.run_realization(sc)
+    t2 = time.perf_counter()
+    assert rf.all_converged, f"FE N={n} ν={nu}: {rf.messages}"
+    assert rg.all_converged, f"GFMD N={n} ν={nu}: {rg.messages}"
+    traction_scale = sc.work_normal / sc.interface.length_normal  # φn/δn (Pa)
+    tn, tn_max = _field_differences(rf, rg, "t_n", traction_scale)
+    tt, tt_max = _field_differences(rf, rg, "t_t", traction_scale)
+    p = float(np.max(np.abs(rf.curve["p"] - rg.curve["p"])) / np.max(np.abs(rg.curve["p"])))
+    a = float(np.max(np.abs(rf.curve["a_rel"] - rg.curve["a_rel"])))
+    last = max(rg.fields)
+    tt_over_tn = float(np.max(np.abs(rg.fields[last]["t_t"])) / np.max(np.abs(rg.fields[last]["t_n"])))
+    out = dict(tn=tn, tn_max=tn_max, tt=tt, tt_max=tt_max, p=p, a=a, tt_over_tn=tt_over_tn, rf=rf, rg=rg,
+               fe_s=t1 - t0, gfmd_s=t2 - t1, fe_step=float(np.mean(rf.curve["wall_s"])),
+               gfmd_step=float(np.mean(rg.curve["wall_s"])), gfmd_iterations=int(np.max(rg.curve["iterations"])),
+               fe_fallbacks=len(rf.fallback_steps))
+    print(f"\nN={n} ν={nu}: t_n L2 {tn:.3g} (max {tn_max:.3g} φn/δn)  t_t L2 {tt:.3g} (max {tt_max:.3g} φn/δn)  "
+          f"p {p:.3g}  a_rel {a:.3g}  max|t_t|/max|t_n| {tt_over_tn:.3g}  FE {out['fe_step']:.3f} s/step "
+          f"({out['fe_fallbacks']} fallback steps)  GFMD {out['gfmd_step']:.3f} s/step "
+          f"(≤ {out['gfmd_iterations']} iterations)")
+    _CACHE[(n, nu)] = out
+    return out
+
+
+# measured N = 64 values (docstring table) and the bound factor; the bound at N is
+# BOUND_FACTOR × value(64) × (64/N)² (observed order ≥ 2 for t_n and p, 1.1–2.8 for t_t; see docstring)
+AT_64 = {  # ν: (t_n L2, t_t L2, p)
+    0.1: (3.1e-3, 6.7e-3, 2.9e-3),
+    0.3: (4.5e-3, 3.7e-3, 1.5e-3),
+    0.45: (1.1e-2, 9.4e-2, 3.0e-3),
+    0.49: (2.0e-2, 7.9e-1, 6.8e-3),
+}
+BOUND_FACTOR = 3.0
+SOURCE = ("GFMD–FE study in verification/test_fe_coupled.py docstring: bound = 3 × (value at N = 64) × (64/N)²; "
+          "observed orders 2.1–2.8 (t_n), 1.1–2.8 (t_t), 2.5–3.7 (p)")
+
+
+def bounds(n, nu):
+    """(t_n, t_t, p) tolerances at N nodes (dimensionless, see AT_64)."""
+    scale = BOUND_FACTOR * (64 / n) ** 2
+    return tuple(v * scale for v in AT_64[nu])
+
+
+def _plots(n, nu, out):
+    rf, rg = out["rf"], out["rg"]
+    k = max(rf.fields)
+    delta = rf.curve["delta"]
+    return [profile_plot(rf.x, {"GFMD": rg.fields[k]["t_n"], "FE": rf.fields[k]["t_n"]}, xlabel="x (m)",
+                         ylabel="t_n (Pa)", title=f"t_n at δ = {delta[k]:.3g} m, N = {n}, ν = {nu}"),
+            profile_plot(rf.x, {"GFMD": rg.fields[k]["t_t"], "FE": rf.fields[k]["t_t"]}, xlabel="x (m)",
+                         ylabel="t_t (Pa)", title=f"t_t at δ = {delta[k]:.3g} m, N = {n}, ν = {nu}"),
+            curve_plot(delta, {"GFMD": rg.curve["p"], "FE": rf.curve["p"]}, xlabel="δ (m)", ylabel="p (Pa)",
+                       title=f"p(δ), N = {n}, ν = {nu}", difference=True),
+            curve_plot(delta, {"GFMD": rg.curve["a_rel"], "FE": rf.curve["a_rel"]}, xlabel="δ (m)",
+                       ylabel="a_rel", title=f"a_rel(δ), N = {n}, ν = {nu}")]
+
+
+def _record(rec, n, nu, out):
+    case = f"fe/coupled-sinusoid-c{TANGENTIAL_RATIO:g}-nu{nu:g}"
+    res = {"N": n, "D/L": 1, "elements": "P2", "nu": nu, "c": TANGENTIAL_RATIO}
+    tol_tn, tol_tt, tol_p = bounds(n, nu)
+    rec(case=case, metric="t_n relative L2 (max over field steps)", value=out["tn"], tolerance=tol_tn,
+        methods=METHODS, tolerance_source=SOURCE, resolution=res, wall_s=out["fe_s"] + out["gfmd_s"],
+        plots=_plots(n, nu, out))
+    rec(case=case, metric="t_t relative L2 (max over field steps)", value=out["tt"], tolerance=tol_tt,
+        methods=METHODS, tolerance_source=SOURCE, resolution=res)
+    rec(case=case, metric="p(δ) max diff / max|p|", value=out["p"], tolerance=tol_p, methods=METHODS,
+        tolerance_source=SOURCE, resolution=res)
+    rec(case=case, metric="max |Δa_rel|", value=out["a"], tolerance=2 / n, methods=METHODS,
+        tolerance_source="one node per contact edge (2/N)", resolution=res)
+    rec(case=case, metric="max |Δt_n|, max |Δt_t| over field steps / (φn/δn)", value=[out["tn_max"], out["tt_max"]],
+        tolerance=None, methods=METHODS, tolerance_source="informational (docstring table)", resolution=res,
+        passed=None)
+    rec(case=case, metric="max|t_t| / max|t_n| at the last step (GFMD)", value=out["tt_over_tn"], tolerance=None,
+        methods=METHODS, resolution=res, passed=None,
+        tolerance_source="informational: ≈ 0.75 × (1−2ν)/(2(1−ν)), the kernel's normalised coupling")
+    rec(case=case, metric="time per load step FE / GFMD (s)", value=[out["fe_step"], out["gfmd_step"]],
+        tolerance=None, methods=METHODS, tolerance_source="informational", resolution=res, passed=None)
+    assert out["tn"] < tol_tn, f"t_n relative L2 {out['tn']:.3g} > {tol_tn:.3g} (N={n}, ν={nu})"
+    assert out["tt"] < tol_tt, f"t_t relative L2 {out['tt']:.3g} > {tol_tt:.3g} (N={n}, ν={nu})"
+    assert out["p"] < tol_p, f"p(δ) difference {out['p']:.3g} > {tol_p:.3g} (N={n}, ν={nu})"
+    assert out["a"] <= 2 / n + 1e-12, f"|Δa_rel| {out['a']:.3g} > 2/N (N={n}, ν={nu})"
+
+
+@pytest.mark.parametrize("nu", RATIOS)
+@pytest.mark.parametrize("n", [64, 128, pytest.param(256, marks=pytest.mark.slow),
+                               pytest.param(512, marks=pytest.mark.slow)])
+def test_fe_coupled_sinusoid(n, nu, verification_record):
+    _record(verification_record, n, nu, compare(n, nu))
+
+
+@pytest.mark.parametrize("nu", RATIOS)
+def test_fe_coupled_sinusoid_convergence(nu, verification_record):
+    """Observed order of the GFMD–FE difference between N = 64 and 128 (t_n asserted > 1.5)."""
+    ns = [64, 128]
+    outs = [compare(n, nu) for n in ns]
+    h = [1e-6 / n for n in ns]
+    orders = {key: float(np.log(outs[0][key] / outs[1][key]) / np.log(2)) for key in ("tn", "tt", "p")}
+    case = f"fe/coupled-sinusoid-c{TANGENTIAL_RATIO:g}-nu{nu:g}"
+    verification_record(
+        case=case, metric="observed order of the t_n difference (N = 64 → 128)", value=orders["tn"],
+        tolerance=None, passed=bool(orders["tn"] > 1.5), methods=METHODS, resolution={"N": ns, "nu": nu},
+        tolerance_source="order 2.4–2.6 measured (docstring); must exceed 1.5",
+        plots=[convergence_plot(h, [o["tn"] for o in outs], xlabel="l = L/N (m)", ylabel="t_n rel. L2 GFMD–FE",
+                                title=f"t_n, ν = {nu}"),
+               convergence_plot(h, [o["tt"] for o in outs], xlabel="l = L/N (m)", ylabel="t_t rel. L2 GFMD–FE",
+                                title=f"t_t, ν = {nu}")])
+    verification_record(case=case, metric="observed order of the t_t, p differences (N = 64 → 128)",
+                        value=[orders["tt"], orders["p"]], tolerance=None, passed=None, methods=METHODS,
+                        resolution={"N": ns, "nu": nu}, tolerance_source="informational (docstring table)")
+    assert orders["tn"] > 1.5, f"t_n difference converges with order {orders['tn']:.2f} ≤ 1.5 (ν = {nu})"
+
+
+def test_gfmd_coupled_slip_regime(verification_record):
+    """Beyond the verified range (ν = 0.3, N = 128, δ to 40 nm in 20 steps): both methods must converge,
+    GFMD through the FIRE → Verlet fallback (FIRE alone stalled from δ ≈ 37–39 nm, see docstring).
+    The differences there (t_n 9.5e-3, t_t 2.0e-2 at 40 nm when measured) are recorded, not asserted:
+    the law's exponential sensitivity, not discretisation, sets them."""
+    n, nu = 128, 0.3
+    sc = scene(n, nu).replace(**{"loading.final_penetration": 40e-9, "loading.steps": 20, "output.field_steps": 1})
+    rf = fem.run_realization(sc, order=2)
+    rg = gl.run_realization(sc)
+    assert rf.all_converged, f"FE in the slip regime: {rf.messages}"
+    assert rg.all_converged, f"GFMD in the slip regime: {rg.messages}"
+    fallback = [k for k, it in enumerate(rg.curve["iterations"]) if it > COUPLED_FIRE_BUDGET]
+    assert fallback, "no step needed the Verlet fallback: the case no longer reaches the slip regime"
+    k = max(rf.fields)
+    tn = float(np.linalg.norm(rf.fields[k]["t_n"] - rg.fields[k]["t_n"]) / np.linalg.norm(rg.fields[k]["t_n"]))
+    tt = float(np.linalg.norm(rf.fields[k]["t_t"] - rg.fields[k]["t_t"]) / np.linalg.norm(rg.fields[k]["t_t"]))
+    slip = float(np.max(np.abs(rg.fields[k]["u_x"])) / sc.interface.length_tangential)
+    print(f"\nslip regime δ = 40 nm: t_n L2 {tn:.3g}, t_t L2 {tt:.3g}, max|Δt|/δt {slip:.3g}, "
+          f"min Δn {np.min(rg.fields[k]['gap']):.3g} m, Verlet fallback at steps {fallback}")
+    verification_record(
+        case=f"fe/coupled-sinusoid-c{TANGENTIAL_RATIO:g}-slip-regime", metric="t_n, t_t relative L2 at δ = 40 nm",
+        value=[tn, tt], tolerance=None, passed=None, methods=METHODS, resolution={"N": n, "nu": nu},
+        tolerance_source="informational: beyond the verified δ range (docstring)",
+        notes=f"max|Δt| = {slip:.3g} δt; GFMD steps {fallback} used the FIRE → Verlet fallback",
+        plots=[profile_plot(rf.x, {"GFMD": rg.fields[k]["t_n"], "FE": rf.fields[k]["t_n"]}, xlabel="x (m)",
+                            ylabel="t_n (Pa)", title="t_n at δ = 40 nm (slip regime), N = 128, ν = 0.3"),
+               profile_plot(rf.x, {"GFMD": rg.fields[k]["t_t"], "FE": rf.fields[k]["t_t"]}, xlabel="x (m)",
+                            ylabel="t_t (Pa)", title="t_t at δ = 40 nm (slip regime), N = 128, ν = 0.3")])
