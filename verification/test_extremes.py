@@ -154,11 +154,13 @@ _FIELD_CHECKED = ("u_z", "u_x", "gap", "t_n", "t_t")
 def run_cell(overrides):
     """Run one cell; returns a dict with status, message and the numbers (never raises for scene errors)."""
     t0 = time.perf_counter()
+    sc = None
     try:
         sc = scene(**overrides)
         result = gl.run_realization(sc)
     except ValueError as exc:  # SceneError, ModelCheckError, full-contact refusal: all ValueError
         return {"status": "fail", "message": f"refused: {exc}", "refused": True, "wall_s": time.perf_counter() - t0,
+                "scene": sc or "",
                 "nan": False, "residual_ok": True, "iterations": 0, "residual": float("nan"), "steps": 0}
     wall = time.perf_counter() - t0
     c = result.curve
@@ -169,7 +171,7 @@ def run_cell(overrides):
     residual = np.asarray(c["residual"], float)
     residual_ok = bool(np.all(residual[conv] < sc.solver.tolerance))
     warnings = warnings_in(result.reasons)
-    out = {"refused": False, "wall_s": wall, "nan": nan, "residual_ok": residual_ok, "steps": int(conv.size),
+    out = {"refused": False, "scene": sc, "wall_s": wall, "nan": nan, "residual_ok": residual_ok, "steps": int(conv.size),
            "iterations": int(np.sum(c["iterations"])), "residual": float(np.max(residual)),
            "model": result.model, "warnings": warnings, "messages": list(result.messages),
            "p": np.asarray(c["p"]), "a_rel": np.asarray(c["a_rel"]), "delta": np.asarray(c["delta"])}
@@ -217,7 +219,8 @@ def test_extreme_cell(sweep, label, verification_record):
     verification_record(case=CASE, metric=f"{sweep} | {label}: status", value=out["status"], tolerance=None,
                         methods=("gfmd-fire",), passed=not out["nan"] and out["residual_ok"],
                         tolerance_source="no NaN; converged steps below solver.tolerance; failures name a key",
-                        resolution={"sweep": sweep, "cell": label}, wall_s=out["wall_s"], notes=out["message"])
+                        resolution={"sweep": sweep, "cell": label}, wall_s=out["wall_s"], notes=out["message"],
+                        scene=out["scene"])
     check_cell(out)
 
 
@@ -291,7 +294,7 @@ def fe_compare(label, n):
     a = float(np.max(np.abs(rf.curve["a_rel"] - rg.curve["a_rel"])))
     tn = max(float(np.linalg.norm(rf.fields[k]["t_n"] - rg.fields[k]["t_n"]) / np.linalg.norm(rg.fields[k]["t_n"]))
              for k in rf.fields)
-    out = {"p": p, "a": a, "tn": tn, "gfmd_s": t1 - t0, "fe_s": t2 - t1, "rg": rg, "rf": rf}
+    out = {"p": p, "a": a, "tn": tn, "gfmd_s": t1 - t0, "fe_s": t2 - t1, "rg": rg, "rf": rf, "scene": sc}
     _FE_CACHE[label, n] = out
     return out
 
@@ -318,7 +321,7 @@ def test_extreme_cell_gfmd_vs_fe(label, n, verification_record):
     res = {"N": n, "D/L": 1, "cell": label, "elements": "P2"}
     verification_record(case="extremes/gfmd-vs-fe", metric=f"{label}: p(δ) max diff / max|p|", value=out["p"],
                         tolerance=scale * e_p, methods=("gfmd-fire", "fe-p2"), tolerance_source=FE_SOURCE,
-                        resolution=res, wall_s=out["gfmd_s"] + out["fe_s"], notes=message,
+                        resolution=res, wall_s=out["gfmd_s"] + out["fe_s"], notes=message, scene=out["scene"],
                         plots=[harness.curve_plot(rg.curve["delta"], {"GFMD": rg.curve["p"], "FE": rf.curve["p"]},
                                                   xlabel="δ (m)", ylabel="p (Pa)", title=f"{label}, N = {n}",
                                                   difference=True)])

@@ -112,7 +112,7 @@ def test_seed_claim_coupled_vs_normal_only(nu, area_nodes, p_bound, verification
     methods = ("gfmd-coupled", "gfmd-normal-only")
     verification_record(case=f"{CASE}/seed-claim ν={nu}", metric="max |Δa_rel| at equal δ (c = 0.5 vs 0)", value=da,
                         tolerance=area_nodes / N, methods=methods, tolerance_source=src, resolution=res,
-                        plots=_plots(coupled, normal, "c = 0.5", "c = 0", f"ν = {nu}"))
+                        plots=_plots(coupled, normal, "c = 0.5", "c = 0", f"ν = {nu}"), scene=coupled[0])
     verification_record(case=f"{CASE}/seed-claim ν={nu}", metric="max |Δp_r*| / max |p_r*| at equal δ", value=dp,
                         tolerance=p_bound, methods=methods, resolution=res,
                         tolerance_source=src if p_bound else "informational: must exceed 0.1 (a real effect)",
@@ -145,7 +145,8 @@ def test_forced_full_model_against_reduced(nu, c, exact, verification_record):
         tol, src = 8e-4, "Eq. 2 (φt = 0) vs Eq. 3: 3× the measured 2.7e-4 p_ref; must exceed 100·tolerance"
     verification_record(case=case, metric="max |Δp| / p_ref", value=dp, tolerance=tol, methods=methods,
                         tolerance_source=src, resolution={"N": N, "ν": nu, "c": c},
-                        plots=_plots(full, auto, "full (u_x, u_z)", "reduced", f"ν = {nu}, c = {c}"))
+                        plots=_plots(full, auto, "full (u_x, u_z)", "reduced", f"ν = {nu}, c = {c}"),
+                        scene=full[0])
     verification_record(case=case, metric="max |Δa_rel|", value=da, tolerance=1 / N, methods=methods,
                         tolerance_source="one node at the contact threshold", resolution={"N": N})
     verification_record(case=case, metric="wall time full / reduced (s)", value=[full[2], auto[2]], methods=methods,
