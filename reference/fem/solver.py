@@ -83,6 +83,8 @@ def locally_stable(jacobian, weights, symmetric):
 class SurfaceProblem:
     """Condensed surface system of one scene (see module docstring)."""
 
+    linear_solver = "dense LU of the condensed surface"
+
     def __init__(self, scene, h, order=2, mesh_kw=None):
         m, i = scene.material, scene.interface
         if m.half_plane:
@@ -98,7 +100,7 @@ class SurfaceProblem:
         self.cell = build_cell(scene.surface.nodes, scene.surface.length, m.thickness, m.youngs_modulus,
                                m.poisson_ratio, order=order, **(mesh_kw or {}))
         comps = ("x", "z") if self.tangential else ("z",)
-        self.S, self.solve_interior = self.cell.schur(comps)
+        self.S, self.solve_interior = self.condense(comps)
         self.ns = self.cell.surface_x.size
         self.h_surface = fourier_interpolate(h, self.ns // h.size)
         self.w = self.cell.weights
@@ -129,22 +131,35 @@ class SurfaceProblem:
         f = np.concatenate([self.w * tt, self.w * tn]) if self.tangential else self.w * tn
         return self.S @ u - f
 
-    def jacobian(self, u, z_ind):
+    def condense(self, comps):
+        """(S, solve_interior) for the surface components `comps` (dense Schur complement, `Cell.schur`)."""
+        return self.cell.schur(comps)
+
+    def surface_tangent(self, u, z_ind):
+        """Law part −∂(W t)/∂u of the tangent as (rows, cols, values) in the unknowns' indexing (N/m²·m = Pa)."""
         ux, uz = self.split(u)
         gap = z_ind - uz
-        J = self.S.copy()
-        ns = self.ns
+        idx = np.arange(self.ns)
         if self.tangential:
             nn, nt, tn_, tt_ = laws.jacobian_coupled(gap, -ux, self.phi_n, self.dn, self.phi_t, self.dt)
             # f_x = w T_t, f_z = w T_n; dΔn/du_z = −1, dΔt/du_x = −1; J = S − df/du
-            idx = np.arange(ns)
-            J[idx, idx] += self.w * tt_
-            J[idx, ns + idx] += self.w * tn_
-            J[ns + idx, idx] += self.w * nt
-            J[ns + idx, ns + idx] += self.w * nn
-        else:
-            J[np.diag_indices(ns)] += self.w * laws.stiffness_normal(gap, self.phi_n, self.dn)
+            rows = np.concatenate([idx, idx, self.ns + idx, self.ns + idx])
+            cols = np.concatenate([idx, self.ns + idx, idx, self.ns + idx])
+            return rows, cols, np.concatenate([self.w * tt_, self.w * tn_, self.w * nt, self.w * nn])
+        return idx, idx, self.w * laws.stiffness_normal(gap, self.phi_n, self.dn)
+
+    def jacobian(self, u, z_ind, shift=None):
+        """Tangent J = S − ∂(W t)/∂u (Pa), plus diag(shift) if given (pseudo-transient continuation)."""
+        J = self.S.copy()
+        rows, cols, values = self.surface_tangent(u, z_ind)
+        J[rows, cols] += values  # (row, col) pairs are distinct
+        if shift is not None:
+            J[np.diag_indices_from(J)] += shift
         return J
+
+    def solve_linear(self, J, rhs):
+        """Solve J x = rhs for a tangent from `jacobian` (dense LU); raises LinAlgError if singular."""
+        return scipy.linalg.solve(J, rhs, check_finite=False)
 
     def energy(self, u, z_ind):
         """Π = ½uᵀSu + Σ W V(Δn) (J/m), normal law only."""
@@ -183,7 +198,7 @@ class SurfaceProblem:
                 return u, self.measure(r), it - 1, True
             J = self.jacobian(u, z_ind)
             try:
-                du = self.limit(scipy.linalg.solve(J, -r, check_finite=False))
+                du = self.limit(self.solve_linear(J, -r))
             except (scipy.linalg.LinAlgError, ValueError):
                 return u, self.measure(r), it, False
             norm0 = np.linalg.norm(r / self.wt)
@@ -213,10 +228,9 @@ class SurfaceProblem:
             res = self.measure(r)
             if res <= tol:
                 return u, res, it - 1, True
-            J = self.jacobian(u, z_ind)
-            J[np.diag_indices_from(J)] += sigma * mass
+            J = self.jacobian(u, z_ind, shift=sigma * mass)
             try:
-                du = self.limit(scipy.linalg.solve(J, -r, check_finite=False))
+                du = self.limit(self.solve_linear(J, -r))
             except (scipy.linalg.LinAlgError, ValueError):
                 sigma *= 10
                 continue
@@ -260,24 +274,29 @@ class SurfaceProblem:
         return u, res, it, ok, how
 
 
-def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None):
+def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None, linear="auto"):
     """FE reference for one realization (see `_run`); dense solves use single-threaded BLAS."""
     if scene.interface.law == "hard-wall":  # a constraint, not a law: primal–dual active set
         from .hardwall import run_realization as run_hard_wall
         return run_hard_wall(scene, realization, order, progress, mesh_kw, tolerance)
     with single_thread():
-        return _run(scene, realization, order, progress, mesh_kw, tolerance)
+        return _run(scene, realization, order, progress, mesh_kw, tolerance, linear)
 
 
-def _run(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None):
+def _run(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None, linear="auto"):
     """FE reference for one realization of `scene`; returns a `gfmd.result.Result` (method "fe-p<order>").
 
     Same steps (`displacement_steps`), same z_ind, same observables as GFMD.
     tolerance: max |R/W|/p_ref per step (default min(scene.solver.tolerance, 1e-10)).
+    linear: "dense" (Schur complement S, dense LU), "sparse" (SuperLU on the full reduced
+    system, `reference.fem.sparse`), "sparse-lagged" (SuperLU reused as GMRES preconditioner)
+    or "auto" (dense for N ≤ sparse.DENSE_MAX_NODES = 1024, sparse above); same equations.
     """
+    from .sparse import make_problem  # sparse.py subclasses SurfaceProblem: import here, not at the top
+
     h = surfaces.profile(scene.surface, realization)
     t0 = time.perf_counter()
-    prob = SurfaceProblem(scene, h, order=order, mesh_kw=mesh_kw)
+    prob = make_problem(linear, scene, h, order=order, mesh_kw=mesh_kw)
     setup = time.perf_counter() - t0
     tol = tolerance if tolerance is not None else min(scene.solver.tolerance, 1e-10)
     cell = prob.cell
@@ -286,7 +305,7 @@ def _run(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=N
              f"D = {scene.material.thickness:g} m, {cell.basis.N} DOFs ({cell.mesh.t.shape[1]} triangles, graded), "
              f"{law}, nodal (FacetBasis-weight) quadrature on {prob.ns} surface points"
              + (", z_ind at facet midpoints from the Fourier interpolant of h" if order == 2 else "")
-             + f"; Newton on the condensed surface (setup {setup:.1f} s)")
+             + f"; Newton on the condensed surface, {prob.linear_solver} (setup {setup:.1f} s)")
     result = Result(scene=scene, method=f"fe-p{order}", model=model, realization=realization,
                     x=surfaces.grid(scene.surface.nodes, scene.surface.length), h=h,
                     reasons=("finite layer, bonded base, periodic cell: same model as GFMD with material.thickness",))
