@@ -32,9 +32,12 @@ Study (measured when the tolerances were set; 256, 512: --full; times under load
 
 Observed orders (64→128, 128→256, 256→512): t_n 2.4–2.6, 2.7–2.8, 2.1–2.7; t_t 1.1 (ν = 0.3) or
 2.5–2.7, 2.5–2.7, 1.6–1.8; p 2.5–3.1, 3.1, 2.4–3.7. As in the normal-law case the difference is
-discretisation (continuum kernel sampled at the nodes vs P2 + Simpson nodal quadrature); the last
-t_t order (~1.6) was not investigated further (GFMD tolerance 1e-8 and the max-norm
-contact-edge error are candidates). FE cost grows ~N³ (dense condensed system, 2N unknowns;
+discretisation (continuum kernel sampled at the nodes vs P2 + Simpson nodal quadrature). The last
+t_t order (~1.6) is a floor of the FE mesh: at δ ≥ 6 nm (ν = 0.3) the t_t difference stays at
+5–7e-5 from N = 256 to 512 (the max, 9e-5, is the small-t_t step δ = 2 nm); it is not the GFMD
+tolerance (identical to 3 digits with 1e-11), and refining the graded FE mesh in depth (which does
+not refine with N; mesh_kw max_spacing D/16 + min_segments 128, or rows_per_level 8) moves it by
+2–4e-5 at N = 256. FE cost per step grows ~N³ from N = 256 (dense condensed system, 2N unknowns;
 a non-symmetric stability check by eigenvalues, ≈ 20 solves, where sym(J) is indefinite).
 Tolerances: t_n, t_t, p ≤ 3 × (value at N = 64, per ν) × (64/N)²: the measured values sit 3×
 (N = 64), 1.7–4.9× (128), 2.4–13× (256) and 1.9–29× (512) below; the tightest is t_t at ν = 0.3
