@@ -24,11 +24,11 @@ never forms S:
   its Schur complement sym(S + B), so sym(S + B) is positive definite iff all
   pivots of an unpivoted (symmetric-mode, diagonal-pivot) LU of sym(J_r) are
   positive (Sylvester's law of inertia). Coupled law, when sym(S + B) is not
-  positive definite: the `STABILITY_EIGENVALUES` eigenvalues of W⁻¹(S + B)
-  nearest to 0 (ARPACK, shift-invert at 0 through the factored J_r) must have
-  positive real parts — exact for a real eigenvalue crossing 0 (fold), but a
-  complex pair crossing the imaginary axis far from 0 would be missed
-  (the dense path computes all eigenvalues).
+  positive definite: all eigenvalues of W⁻¹(S + B) with Re λ ≤ 0 lie in a box
+  given by Bendixson's theorem (`_bendixson_box`); ARPACK (shift-invert left of
+  the box, through a factored shifted J_r) finds the eigenvalues nearest the box
+  until they provably include every eigenvalue in it (RuntimeError if that
+  needs more than STABILITY_EIGENVALUES_MAX of them).
 
 `choose_linear("auto", N)` (used by `solver.run_realization(linear=...)`) picks dense for N ≤ DENSE_MAX_NODES and sparse above
 (at N = 1024, P2, a dense Newton iteration costs less than a sparse one;
@@ -47,7 +47,8 @@ from .solver import SurfaceProblem
 DENSE_MAX_NODES = 1024  # "auto": dense condensation up to this N, sparse above
 GMRES_RESTART = 30  # lagged mode: GMRES iterations allowed before refactoring
 GMRES_RTOL = 1e-12  # lagged mode: relative residual of the linear solve
-STABILITY_EIGENVALUES = 6  # coupled law: eigenvalues of W⁻¹J checked near 0
+STABILITY_EIGENVALUES = 6  # coupled law: first count of eigenvalues of W⁻¹J computed (×4 until conclusive)
+STABILITY_EIGENVALUES_MAX = 384  # coupled law: give up (RuntimeError) beyond this count
 DIAGONAL_PIVOT_THRESHOLD = 0.01  # SuperLU: keep the diagonal pivot unless < 1 % of the column's largest
 
 
@@ -206,21 +207,62 @@ class SparseSurfaceProblem(SurfaceProblem):
             return positive_definite(J)
         if positive_definite(0.5 * (J + J.T)):
             return True
-        return self._eigenvalues_near_zero_positive(J)
+        return self._eigenvalues_positive(u, z_ind)
 
-    def _eigenvalues_near_zero_positive(self, J):
-        """Coupled law: the eigenvalues of W⁻¹(S + B) nearest 0 all have Re λ > 0."""
+    def _bendixson_box(self, u, z_ind):
+        """(β, ρ): every eigenvalue λ of W⁻¹(S + B) has Re λ > β and |Im λ| ≤ ρ (Pa/m).
+
+        Bendixson: Re λ lies within the spectrum of the symmetric part of
+        A = W^-½(S + B)W^-½ and |Im λ| within that of its skew part. S is symmetric
+        positive definite and B is block-diagonal (2×2 per surface point, both
+        components weighted by the same w), so Re λ > min eig of the blocks' symmetric
+        parts / w and |Im λ| ≤ max |B_xz − B_zx| / (2w).
+        """
+        rows, cols, values = self.surface_tangent(u, z_ind)
+        ns = self.ns
+        block = np.zeros((ns, 2, 2))
+        block[rows % ns, rows // ns, cols // ns] = values / self.wt[rows]
+        sym = 0.5 * (block + block.transpose(0, 2, 1))
+        beta = float(np.min(np.linalg.eigvalsh(sym)))
+        rho = float(np.max(np.abs(block[:, 0, 1] - block[:, 1, 0]))) / 2
+        return beta, rho
+
+    def _eigenvalues_positive(self, u, z_ind):
+        """Coupled law: every eigenvalue of W⁻¹(S + B) has Re λ > 0 (module docstring).
+
+        Eigenvalues with Re λ ≤ 0 lie in the box β ≤ Re λ ≤ 0, |Im λ| ≤ ρ
+        (`_bendixson_box`); ARPACK in shift-invert mode at σ < β returns the
+        eigenvalues nearest σ, and once the farthest of them lies outside the disc
+        around σ that covers the box, no eigenvalue in the box was missed.
+        """
+        beta, rho = self._bendixson_box(u, z_ind)
+        if beta >= 0:
+            return True
+        sigma = 1.01 * beta
+        radius = float(np.hypot(sigma, rho))
         try:
-            lu = _factor(J)
+            lu = _factor(self.jacobian(u, z_ind, shift=-sigma * self.wt))
         except scipy.linalg.LinAlgError:
-            return False  # λ = 0
+            return False  # σ is an eigenvalue, Re σ < 0
         s, wt = self.surface_index, self.wt
         n_s = s.size
 
-        def inverse_times_w(v):  # (S + B)⁻¹ W v, whose eigenvalues are 1/λ
+        def shifted_inverse_times_w(v):  # (S + B − σW)⁻¹ W v: eigenvalues 1/(λ − σ)
             return lu.solve(self._full_rhs(wt * v))[s]
 
-        op = spla.LinearOperator((n_s, n_s), matvec=inverse_times_w, dtype=float)
-        k = min(STABILITY_EIGENVALUES, n_s - 2)
-        mu = spla.eigs(op, k=k, which="LM", return_eigenvectors=False, tol=1e-10)
-        return bool(np.all(np.isfinite(mu)) and np.all((1.0 / mu).real > 0.0))
+        op = spla.LinearOperator((n_s, n_s), matvec=shifted_inverse_times_w, dtype=float)
+        k = STABILITY_EIGENVALUES
+        while True:
+            k = min(k, n_s - 2)
+            mu = spla.eigs(op, k=k, which="LM", return_eigenvectors=False, tol=1e-10)
+            lam = sigma + 1.0 / mu
+            if not np.all(np.isfinite(lam)) or np.any(lam.real <= 0):
+                return False
+            if np.max(np.abs(lam - sigma)) > radius:
+                return True  # every eigenvalue in the box is nearer σ than the ones found
+            if k >= min(STABILITY_EIGENVALUES_MAX, n_s - 2):
+                raise RuntimeError(
+                    f"stability check inconclusive: the {k} eigenvalues of W⁻¹J nearest σ = {sigma:.3g} Pa/m have "
+                    f"Re λ > 0 but do not cover the box Re λ ≥ {beta:.3g}, |Im λ| ≤ {rho:.3g} Pa/m; "
+                    "use linear='dense' for this scene")
+            k *= 4
