@@ -109,11 +109,14 @@ def centred_self_affine_path(n):
     groups differed by 1.9e-4 (rel. L2): a rigid indenter shift, not discretisation. The profile has 16
     modes (λs = L/16), so its Fourier series is exact on every N ≥ 64 and is evaluated directly.
     """
+    import atexit
+    import shutil
     import tempfile
     from pathlib import Path
     from gfmd import surfaces
-    if not _PROFILE_DIR:
+    if not _PROFILE_DIR:  # one folder per process, removed at exit (the profile is rebuilt from _SELF_AFFINE)
         _PROFILE_DIR.append(Path(tempfile.mkdtemp(prefix="speed_accuracy_profiles_")))
+        atexit.register(shutil.rmtree, _PROFILE_DIR[0], ignore_errors=True)
     path = _PROFILE_DIR[0] / f"self_affine_{n}.npy"
     if not path.exists():
         base = Scene().replace(**_SELF_AFFINE).surface
