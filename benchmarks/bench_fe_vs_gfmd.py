@@ -1,6 +1,10 @@
 """FE reference vs GFMD: cost per load step, setup, unknowns and peak memory vs N (issue #4).
 
-Usage: python benchmarks/bench_fe_vs_gfmd.py [--quick] [--out DIR] [--steps S] [--timeout T]
+Usage: python benchmarks/bench_fe_vs_gfmd.py [--quick] [--out DIR] [--steps S] [--timeout T] [--sizes N ...]
+
+Full: N = 256, 1024, 2048, 4096 (about 15 min on 2 shared cores); --quick: N = 256,
+1024 (about 1 min). Output: benchmarks/results/bench_fe_vs_gfmd[_quick].md and .json
+(with --sizes: a _N<sizes> suffix).
 
 Scene: the cohesive sinusoid of verification/test_fe_cohesive.py (a = 50 nm,
 L = 1 µm, layer D = L, E = 70 GPa, ν = 0.3, normal CZ φn* = 0.01, δn = 1 nm,
@@ -23,6 +27,8 @@ process's maximum resident set size, imports included, about 150 MB):
   the verification's 1e-8.
 
 ratio = FE s/step / GFMD (FIRE, 1e-10) s/step at the same N, same run.
+Δp/p vs dense: |p_last − p_last(dense, same order)| / |p_last(dense)| at the last
+step, a check that the sparse paths solve the same problem.
 setup = total run time − sum of step times (mesh, assembly, condensation or
 interior factorization; GFMD: kernel and model). "system" is the size of the
 Newton system: dense = surface unknowns (S is system²), sparse = reduced DOFs.
@@ -54,7 +60,7 @@ INCREMENT = 62e-9 / 20  # m, ΔU of verification/test_fe_cohesive.py
 FE_METHODS = (("fe-p2", "dense"), ("fe-p2", "sparse"), ("fe-p2", "sparse-lagged"), ("fe-p1", "dense"),
               ("fe-p1", "sparse"))
 GFMD_METHODS = (("gfmd-fire", "1e-10"), ("gfmd-fire", "1e-8"))
-SIZES_FULL = (256, 1024, 4096)
+SIZES_FULL = (256, 1024, 2048, 4096)
 SIZES_QUICK = (256, 1024)
 
 
@@ -125,26 +131,38 @@ def git_describe():
         return "unknown"
 
 
+def _sha1(path):
+    """First 10 hex digits of the file's git blob hash (identifies the timed FE code when the tree is dirty)."""
+    try:
+        return subprocess.run(["git", "hash-object", path], capture_output=True, text=True, cwd=ROOT,
+                              timeout=30).stdout.strip()[:10] or "unknown"
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+
+
 def _fmt(x, spec=".3g"):
     return format(x, spec) if isinstance(x, (int, float)) else str(x)
 
 
 def table(rows):
-    """Markdown table; ratio = FE s/step ÷ GFMD (1e-10) s/step at the same N."""
+    """Markdown table; ratio = FE s/step ÷ GFMD (1e-10) s/step at the same N; Δp vs the dense run of that order."""
     gfmd = {r["N"]: r["step_s"] for r in rows if r["method"] == "gfmd-fire" and r.get("variant") == "1e-10"
             and "step_s" in r}
+    dense_p = {(r["N"], r["method"]): r["p_last"] for r in rows if r.get("variant") == "dense" and "p_last" in r}
     head = ("| N | method | linear / tol | DOFs | system | setup s | s/step | FE/GFMD | it/step | factorizations "
-            "| peak MB | converged |")
+            "| peak MB | converged | Δp/p vs dense |")
     lines = [head, "|---" * (head.count("|") - 1) + "|"]
     for r in rows:
         if "error" in r:
-            lines.append(f"| {r['N']} | {r['method']} | {r['variant']} | | | | {r['error']} | | | | | |")
+            lines.append(f"| {r['N']} | {r['method']} | {r['variant']} | | | | {r['error']} | | | | | | |")
             continue
         ratio = r["step_s"] / gfmd[r["N"]] if r["method"].startswith("fe") and r["N"] in gfmd else ""
         fact = r.get("factorizations", "")
+        ref = dense_p.get((r["N"], r["method"]))
+        dp = abs(r["p_last"] - ref) / abs(ref) if ref is not None and r["variant"] != "dense" else ""
         lines.append(f"| {r['N']} | {r['method']} | {r['variant']} | {r['dofs']} | {r['system']} | "
                      f"{_fmt(r['setup_s'])} | {_fmt(r['step_s'])} | {_fmt(ratio)} | {_fmt(r['iterations'])} | "
-                     f"{fact} | {r['peak_mb']:.0f} | {'yes' if r['converged'] else 'NO'} |")
+                     f"{fact} | {r['peak_mb']:.0f} | {'yes' if r['converged'] else 'NO'} | {_fmt(dp, '.1e')} |")
     return "\n".join(lines)
 
 
@@ -161,6 +179,7 @@ def main():
         print(json.dumps(run_one(int(args.one[0]), args.one[1], args.one[2], args.steps)), flush=True)
         return
     sizes = args.sizes or (SIZES_QUICK if args.quick else SIZES_FULL)
+    code = git_describe()  # before the runs: the version that is timed
     load_start = os.getloadavg()
     started = time.perf_counter()
     rows = []
@@ -177,7 +196,8 @@ def main():
               f"Machine: date = {datetime.datetime.now().isoformat(timespec='seconds')}; host = {platform.node()}; "
               f"cpu = {platform.processor() or platform.machine()}; cores = {os.cpu_count()}; "
               f"python = {platform.python_version()}; numpy = {numpy.__version__}; scipy = {scipy.__version__}; "
-              f"OPENBLAS_NUM_THREADS = {os.environ.get('OPENBLAS_NUM_THREADS')}; code = {git_describe()}; "
+              f"OPENBLAS_NUM_THREADS = {os.environ.get('OPENBLAS_NUM_THREADS')}; code = {code} "
+              f"(reference/fem/sparse.py {_sha1('reference/fem/sparse.py')}, solver.py {_sha1('reference/fem/solver.py')}); "
               f"loadavg_start = {' '.join(f'{x:.2f}' for x in load_start)}; "
               f"loadavg_end = {' '.join(f'{x:.2f}' for x in load_end)}; "
               f"total_s = {time.perf_counter() - started:.0f}\n\n"
@@ -191,6 +211,8 @@ def main():
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     name = "bench_fe_vs_gfmd_quick" if args.quick else "bench_fe_vs_gfmd"
+    if args.sizes:
+        name += "_N" + "-".join(map(str, sizes))
     (out / f"{name}.md").write_text(text)
     (out / f"{name}.json").write_text(json.dumps(rows, indent=1) + "\n")
 
