@@ -40,7 +40,10 @@ Measured (this machine, 2 shared cores; time per cell of 24 steps; "res" = max r
                                8, 10           ok      2240   0.2
     N (l = 0.5 nm, L = N l)    2^9, 2^12       ok      1870, 2500   0.2, 0.5
                                2^15 (slow)     warn    5900   36    "unstable start": δ_jump = 9.58 δn > δ0 = 8 δn
-                               2^18 (slow)     BIG_CELL
+                               2^18, 6 steps   warn    46750  857   "unstable start": δ_jump = 11.9 δn; all 7
+                               (slow)                               steps converged, ≈ 6700 iterations a step
+                                                                    (ΔU = 2 nm) against ≈ 240 at 2^15: the
+                                                                    FIRE cost per step grows steeply with L/l
     corners  ν 0.4999, φn* 1, δ0 0, c 0.5      warn    1880   0.3   unstable start + start in contact
              layer ν 0.4999, φn* 1, c 0.5      ok      3510   0.5
              H 0.1, φn* 1, δn/l 0.5            warn    2710   0.2   under-resolved δn
@@ -49,7 +52,8 @@ Measured (this machine, 2 shared cores; time per cell of 24 steps; "res" = max r
 
 No cell produced a NaN or an unconverged step; the only failure is the refused incompressible
 layer. Coupled and normal-only cost the same number of iterations; iterations grow with φn*
-(×3.6 from 1e-4 to 1) and slowly with N (×3 from 2^9 to 2^15).
+(×3.6 from 1e-4 to 1) and with N at fixed l (per step: 75, 100, 240 at 2^9, 2^12, 2^15;
+6700 at 2^18 with 4× larger steps).
 
 GFMD vs FE (P2, `reference.fem`) on layer cells (D = L, N = 128, L = 64 nm, l = 0.5 nm,
 λr = 16 nm, λs,H = 2 nm, h_rms = 1 nm, δ0 = 8 nm, δ to 2 nm in 20 steps):
@@ -131,8 +135,8 @@ SWEEPS = {
     "δn/l (N at fixed L)": [(f"δn/l = {v:g}", _nodes_for(v), ()) for v in (0.5, 1, 2, 8, 32)],
     "H": [(f"H = {v:g}", {"surface.hurst": v}, ()) for v in (0.1, 0.2, 0.5, 0.8, 0.95)],
     "δ0/δn": [(f"δ0 = {v:g} δn", _d0(v), ()) for v in (0, 1, 2, 4, 8, 10)],
-    "N (l = δn/2, L = N l)": [(f"N = 2^{k}", _n_at_spacing(2**k), (slow,) if k > 12 else ())
-                              for k in (9, 12, 15, 18)],
+    "N (l = δn/2, L = N l)": [(f"N = 2^{k}", _n_at_spacing(2**k), (slow,) if k > 12 else ()) for k in (9, 12, 15)]
+    + [("N = 2^18, 6 steps", {**_n_at_spacing(2**18), "loading.steps": 6, "solver.max_iterations": 20000}, (slow,))],
     "corners": [
         ("ν = 0.4999, φn* = 1, δ0 = 0, c = 0.5", {**COUPLED, "material.poisson_ratio": 0.4999,
                                                 "interface.phi_n_star": 1.0, **_d0(0)}, ()),
