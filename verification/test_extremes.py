@@ -55,8 +55,8 @@ layer. Coupled and normal-only cost the same number of iterations; iterations gr
 (×3.6 from 1e-4 to 1) and with N at fixed l (per step: 75, 100, 240 at 2^9, 2^12, 2^15;
 6700 at 2^18 with 4× larger steps).
 
-GFMD vs FE (P2, `reference.fem`) on layer cells (D = L, N = 128, L = 64 nm, l = 0.5 nm,
-λr = 16 nm, λs,H = 2 nm, h_rms = 1 nm, δ0 = 8 nm, δ to 2 nm in 20 steps):
+GFMD vs FE (P2, `reference.fem`) on layer cells: the base scene on a layer D = L bonded to a
+rigid base, δ from −8 nm to 2 nm in 20 steps, N = 256 (CI) and 512 (--full):
 
     cell                N = 256: Δp    t_n L2   Δa_rel   N = 512: Δp   t_n L2    FE s (256/512)
     ν = 0               3.2e-3         3.8e-3   0         6.7e-4        7.8e-4    1.2 / 7.9
