@@ -63,11 +63,11 @@ rigid base, δ from −8 nm to 2 nm in 20 steps, N = 256 (CI) and 512 (--full):
     ν = 0.45            1.2e-2         1.3e-2   0         2.2e-3        2.5e-3    1.2 / 6.1
     ν = 0.4999          3.4e-2         3.0e-2   0         7.0e-3        6.6e-3    1.4 / 6.1
     φn* = 1e-3          1.4e-4         3.3e-4   0         1.2e-5        8.4e-5    1.2 / 4.0
-    φn* = 1 (slow)      8.4e-3         3.1e-2   3.9e-3    –             –         35 (FE Newton fails from
-                                                                                  step 8, PTC does not converge:
+    φn* = 1 (slow)      8.4e-3         3.1e-2   3.9e-3    1.7e-3        6.2e-3    16–35 / 115 (FE Newton fails
+                                                                                  at step 8 and PTC does not converge:
                                                                                   "step 8: not converged, residual
                                                                                   0.00195"; GFMD converged, 0.2 s)
-    c = 0.5, ν = 0.3    4.3e-3         5.5e-3   3.9e-3    –             –         3.7
+    c = 0.5, ν = 0.3    4.3e-3         5.5e-3   3.9e-3    8.4e-4        1.1e-3    2.8 / 15.5
 
 (Δp = max|p_FE − p_GFMD|/max|p|, t_n L2 over the field steps; GFMD 0.1–0.3 s per cell.) The
 differences fall with order ≈ 2.3–2.5 from N = 256 to 512 in every cell, also at ν = 0.4999
