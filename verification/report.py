@@ -61,6 +61,7 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: now
 .pass { background: var(--ok-bg); color: var(--ok); font-weight: 600; }
 .fail { background: var(--fail-bg); color: var(--fail); font-weight: 600; }
 .info { background: var(--warn-bg); color: var(--warn); font-weight: 600; }
+.warn { background: #fff8c5; color: var(--warn); font-weight: 600; border: 1px dashed var(--warn); }
 .muted { color: var(--muted); font-size: .88rem; }
 .banner { padding: .5rem .8rem; border-radius: 6px; margin: .6rem 0; font-weight: 600; }
 .kv td:first-child { font-weight: 600; white-space: nowrap; }
@@ -77,7 +78,7 @@ code { font-size: .9em; }
   nav { display: none; }
   section.case, figure, table { break-inside: avoid; page-break-inside: avoid; }
   h2 { break-after: avoid; }
-  .pass, .fail, .info, .banner { -webkit-print-color-adjust: exact; print-color-adjust: exact; }
+  .pass, .fail, .info, .warn, .banner { -webkit-print-color-adjust: exact; print-color-adjust: exact; }
 }
 """
 
@@ -270,7 +271,8 @@ def html_grid(plot):
         for v in row:
             if isinstance(v, dict):
                 status = str(v.get("status", ""))
-                cls = {"ok": "pass", "pass": "pass", "fail": "fail", "failed": "fail"}.get(status.lower(), "info")
+                cls = {"ok": "pass", "pass": "pass", "fail": "fail", "failed": "fail", "warn": "warn",
+                       "warning": "warn"}.get(status.lower(), "info")
                 msg = v.get("message", "")
                 cells.append(f'<td class="{cls}">{esc(status)}'
                              + (f'<br><span class="muted">{esc(msg)}</span>' if msg else "") + "</td>")

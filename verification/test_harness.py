@@ -84,8 +84,10 @@ def _records():
         harness.pareto_plot([{"label": "N=256", "method": "gfmd-fire", "time": 0.1, "error": 1e-2},
                              {"label": "N=512", "method": "gfmd-fire", "time": 0.3, "error": 3e-3},
                              {"label": "P2", "method": "fe-p2", "time": 2.0, "error": 1e-3}], title="pareto"),
-        harness.grid_plot(["case", "N=64", "N=1e6"], [["φn* = 1e-4", {"status": "ok", "message": ""},
-                                                        {"status": "fail", "message": "did not converge"}]],
+        harness.grid_plot(["case", "N=64", "N=1e6", "δn/l=0.5"],
+                          [["φn* = 1e-4", {"status": "ok", "message": ""},
+                            {"status": "fail", "message": "did not converge"},
+                            {"status": "warn", "message": "under-resolved"}]],
                           title="extremes"),
     ]
     good = harness.Measurement(case="demo/good", metric="rel. L2", value=np.float64(1e-4), tolerance=1e-3,
@@ -149,6 +151,7 @@ def test_html_well_formed_self_contained():
     assert "<script" not in text and "<link" not in text
     assert "@media print" in text and "subset <strong>full</strong>" in text
     assert "did not converge" in text and 'class="fail"' in text  # grid cell
+    assert '<td class="warn">warn' in text  # warnings have their own style
     assert "TESTS_FAILED" in text
 
 
