@@ -177,6 +177,7 @@ def test_singular_tangent_raises_linalg_error():
 def test_choose_linear():
     assert sparse.choose_linear("auto", sparse.DENSE_MAX_NODES) == "dense"
     assert sparse.choose_linear("auto", 2 * sparse.DENSE_MAX_NODES) == "sparse"
+    assert sparse.choose_linear("auto", sparse.DENSE_MAX_NODES, components=2) == "sparse"  # coupled: 2N unknowns
     assert sparse.choose_linear("sparse", 16) == "sparse"
     with pytest.raises(ValueError, match="linear = 'lu'"):
         sparse.choose_linear("lu", 16)

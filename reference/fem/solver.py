@@ -83,7 +83,7 @@ def locally_stable(jacobian, weights, symmetric):
 class SurfaceProblem:
     """Condensed surface system of one scene (see module docstring)."""
 
-    linear_solver = "dense LU of the condensed surface"
+    linear_solver = "dense LU"
 
     def __init__(self, scene, h, order=2, mesh_kw=None):
         m, i = scene.material, scene.interface
@@ -290,7 +290,7 @@ def _run(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=N
     tolerance: max |R/W|/p_ref per step (default min(scene.solver.tolerance, 1e-10)).
     linear: "dense" (Schur complement S, dense LU), "sparse" (SuperLU on the full reduced
     system, `reference.fem.sparse`), "sparse-lagged" (SuperLU reused as GMRES preconditioner)
-    or "auto" (dense for N ≤ sparse.DENSE_MAX_NODES = 1024, sparse above); same equations.
+    or "auto" (`sparse.choose_linear`: dense up to N = 2048, coupled law 1024); same equations.
     """
     from .sparse import make_problem  # sparse.py subclasses SurfaceProblem: import here, not at the top
 

@@ -30,9 +30,13 @@ never forms S:
   until they provably include every eigenvalue in it (RuntimeError if that
   needs more than STABILITY_EIGENVALUES_MAX of them).
 
-`choose_linear("auto", N)` (used by `solver.run_realization(linear=...)`) picks dense for N ≤ DENSE_MAX_NODES and sparse above
-(at N = 1024, P2, a dense Newton iteration costs less than a sparse one;
-benchmarks/results/bench_fe_vs_gfmd.md).
+`choose_linear("auto", N, components)` (used by `solver.run_realization(linear=...)`)
+picks dense while N·components ≤ DENSE_MAX_NODES = 2048 (components = 2 for the
+coupled law, whose dense system is twice as large) and sparse above. Measured
+(benchmarks/results/bench_fe_vs_gfmd.md, normal law, s per load step, dense /
+sparse): P2 0.98 / 3.1 at N = 1024, 5.6 / 6.6 at 2048, 34 / 16 at 4096; P1
+0.16 / 0.48, 1.05 / 0.97, 6.0 / 2.3: break-even at N = 2048, where dense also
+needs slightly more memory (P2: 1.3 GB vs 1.2 GB; 3.2 vs 2.3 GB at 4096).
 """
 
 from __future__ import annotations
@@ -44,7 +48,7 @@ import scipy.sparse.linalg as spla
 
 from .solver import SurfaceProblem
 
-DENSE_MAX_NODES = 1024  # "auto": dense condensation up to this N, sparse above
+DENSE_MAX_NODES = 2048  # "auto": dense while N × components ≤ this (measured break-even), sparse above
 GMRES_RESTART = 30  # lagged mode: GMRES iterations allowed before refactoring
 GMRES_RTOL = 1e-12  # lagged mode: relative residual of the linear solve
 STABILITY_EIGENVALUES = 6  # coupled law: first count of eigenvalues of W⁻¹J computed (×4 until conclusive)
@@ -55,18 +59,19 @@ DIAGONAL_PIVOT_THRESHOLD = 0.01  # SuperLU: keep the diagonal pivot unless < 1 %
 LINEAR_CHOICES = ("auto", "dense", "sparse", "sparse-lagged")
 
 
-def choose_linear(linear, nodes):
-    """'dense', 'sparse' or 'sparse-lagged' for `linear` (one of LINEAR_CHOICES) and N top nodes."""
+def choose_linear(linear, nodes, components=1):
+    """'dense', 'sparse' or 'sparse-lagged' for `linear` (one of LINEAR_CHOICES), N top nodes and the
+    number of displacement components solved at the surface (1: normal law, 2: coupled law)."""
     if linear not in LINEAR_CHOICES:
         raise ValueError(f"linear = {linear!r}: one of {', '.join(map(repr, LINEAR_CHOICES))}")
     if linear == "auto":
-        return "dense" if nodes <= DENSE_MAX_NODES else "sparse"
+        return "dense" if nodes * components <= DENSE_MAX_NODES else "sparse"
     return linear
 
 
 def make_problem(linear, scene, h, order=2, mesh_kw=None):
     """The surface problem of `scene` with heights h (m) for the linear-solver choice `linear`."""
-    kind = choose_linear(linear, scene.surface.nodes)
+    kind = choose_linear(linear, scene.surface.nodes, 2 if scene.interface.tangential_ratio > 0 else 1)
     if kind == "dense":
         return SurfaceProblem(scene, h, order=order, mesh_kw=mesh_kw)
     return SparseSurfaceProblem(scene, h, order=order, mesh_kw=mesh_kw, lagged=kind == "sparse-lagged")
