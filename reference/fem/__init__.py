@@ -8,10 +8,12 @@ result and loading's geometry helpers with GFMD, but no solver code:
               projection K_r = Pᵀ K P (scikit-fem 12's MeshTri1DG.periodic breaks
               FacetBasis and skfem.utils.mpc mis-assembles periodic constraints),
               bonded base, dense condensation onto the top surface
-* `solver`    Newton on the condensed surface + pseudo-transient fallback; load ramp
-* `export`    VTU output (meshio)
+* `solver`    Newton (dense condensed surface) + pseudo-transient fallback; load ramp
+* `sparse`    the same Newton on the full reduced system (SuperLU), for large N
+* `hardwall`  frictionless hard wall: primal–dual active set on the surface compliance
+* `export`    VTU output (meshio): one file per recorded step + a PVD series
 
-`run_realization(scene, realization=0, order=2, progress=None)` returns a
+`run_realization(scene, realization=0, order=2, progress=None, linear="auto")` returns a
 `gfmd.result.Result` with method "fe-p2" / "fe-p1".
 """
 

@@ -1,8 +1,14 @@
 """Nonlinear surface solve of the FE cell and the displacement-controlled load ramp.
 
-Units: SI (see `gfmd.conventions`). The linear interior is condensed once onto
-the top surface (dense Schur complement S from `reference.fem.assembly`); each
-load step solves the surface equilibrium
+Units: SI (see `gfmd.conventions`). Two linear paths, chosen by
+`run_realization(linear=...)`: "dense" condenses the linear interior once onto
+the top surface (dense Schur complement S from `reference.fem.assembly`);
+"sparse" / "sparse-lagged" (`reference.fem.sparse`) never forms S and solves
+the full reduced system with SuperLU per Newton iteration (optionally a lagged
+factorisation as GMRES preconditioner); "auto" takes dense up to 2048 surface
+unknowns (the measured break-even, benchmarks/results/bench_fe_vs_gfmd.md).
+Both paths share the algorithms below unchanged. Each load step solves the
+surface equilibrium
 
     R(u) = S u − W t(u) = 0,   t_z = T_n(Δn, Δt), t_x = T_t(Δn, Δt),
     Δn = z_ind − u_z, Δt = −u_x,
