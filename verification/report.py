@@ -6,7 +6,8 @@ JavaScript. Layout:
 
 1. header: provenance, which subset ran (default / --full), pytest exit status
    and outcome counts;
-2. summary table: case, methods, metric, value, tolerance, verdict
+2. summary table: case, methods, metric, value, tolerance, verdict (per case at most
+   SUMMARY_ROWS_PER_CASE rows plus every failure; the rest folded into one counted row)
    (colour-coded), time;
 3. speed–accuracy trade (every plot of kind "pareto") and extremes
    (every plot of kind "grid"), when records provide them;
@@ -323,6 +324,19 @@ def _session_banner(session):
             f" — {esc(counts_text)}</p>")
 
 
+#: summary rows shown per case before the rest is folded into one line (failures are never folded)
+SUMMARY_ROWS_PER_CASE = 8
+
+
+def summary_rows(recs):
+    """(shown, folded): the first SUMMARY_ROWS_PER_CASE records of a case plus every failing one."""
+    shown, folded = [], []
+    for r in recs:
+        keep = len(shown) < SUMMARY_ROWS_PER_CASE or verdict_of(r)[0] == "fail"
+        (shown if keep else folded).append(r)
+    return shown, folded
+
+
 def render_html(records, session=None, provenance=None):
     """The whole page as a string."""
     records = [r if isinstance(r, harness.Measurement) else harness.Measurement.from_dict(r) for r in records]
@@ -352,12 +366,22 @@ def render_html(records, session=None, provenance=None):
     out += ['<section id="summary"><h2>Summary</h2>',
             '<table id="summary-table"><thead><tr><th>case</th><th>methods</th><th>metric</th><th>value</th>'
             "<th>tolerance</th><th>verdict</th><th>time (s)</th></tr></thead><tbody>"]
-    for r in records:
-        cls, text = verdict_of(r)
-        out.append(f'<tr class="row-{cls}"><td><a href="#{slug(r.case)}">{esc(r.case)}</a></td>'
-                   f"<td>{esc(', '.join(r.methods))}</td><td>{esc(r.metric)}</td>"
-                   f'<td class="num">{esc(fmt(r.value))}</td><td class="num">{esc(fmt(r.tolerance))}</td>'
-                   f'<td class="{cls}">{esc(text)}</td><td class="num">{esc(fmt(r.wall_s))}</td></tr>')
+    for name, recs in cases.items():
+        shown, folded = summary_rows(recs)
+        for r in shown:
+            cls, text = verdict_of(r)
+            out.append(f'<tr class="row-{cls}"><td><a href="#{slug(r.case)}">{esc(r.case)}</a></td>'
+                       f"<td>{esc(', '.join(r.methods))}</td><td>{esc(r.metric)}</td>"
+                       f'<td class="num">{esc(fmt(r.value))}</td><td class="num">{esc(fmt(r.tolerance))}</td>'
+                       f'<td class="{cls}">{esc(text)}</td><td class="num">{esc(fmt(r.wall_s))}</td></tr>')
+        if folded:
+            tally = OrderedDict()
+            for r in folded:
+                v = verdict_of(r)[1]
+                tally[v] = tally.get(v, 0) + 1
+            out.append(f'<tr class="row-folded"><td><a href="#{slug(name)}">{esc(name)}</a></td>'
+                       f'<td colspan="6" class="muted">… and {len(folded)} more measurements of this case ('
+                       + ", ".join(f"{n} {v}" for v, n in tally.items()) + "), listed in its section</td></tr>")
     if not records:
         out.append('<tr><td colspan="7">no measurements were recorded</td></tr>')
     out.append("</tbody></table></section>")

@@ -241,3 +241,16 @@ def test_scene_shown_once_per_case_and_round_trips(tmp_path):
     _, back = harness.load_results(tmp_path / "r.json")
     (tmp_path / "default.toml").write_text(back[0].scene)
     assert load_scene(tmp_path / "default.toml") == sc
+
+
+def test_summary_folds_long_cases_but_never_a_failure():
+    recs = [harness.Measurement(case="sweep", metric=f"cell {i}", value=1e-3, tolerance=1e-2) for i in range(20)]
+    recs[15] = harness.Measurement(case="sweep", metric="cell 15", value=1.0, tolerance=1e-2)  # a late failure
+    recs.append(harness.Measurement(case="other", metric="m", value=1e-3, tolerance=1e-2))
+    text = report.render_html(recs)
+    c = parse(text)
+    assert not c.errors and not c.stack
+    summary = text[text.index('id="summary-table"'):text.index("</table>", text.index('id="summary-table"'))]
+    assert "<td>cell 15</td>" in summary and "<td>cell 9</td>" not in summary and "<td>m</td>" in summary
+    assert len(c.summary_cells) == report.SUMMARY_ROWS_PER_CASE + 1 + 1 + 1  # shown, failure, other, fold row
+    assert summary.count('class="row-folded"') == 1 and "11 more measurements of this case (11 pass)" in summary
