@@ -25,6 +25,15 @@ falls back to pseudo-transient continuation (shifted Newton, energy-decrease
 line search for the normal law, residual decrease for the coupled law); those
 steps are listed in `Result.messages`. The residual reported is
 max_i |R_i/W_i| / p_ref (a traction relative to p_ref = E* ḡ), as in GFMD.
+
+`quadrature="gauss"` (`reference.fem.quadrature`) replaces W t(u) by the
+consistent Gauss–Legendre force Bᵀ(w_g ∘ T(Δ_g)) (tangent Bᵀ diag(w_g ∂T/∂Δ) B,
+energy Σ w_g V(Δ_g)), with z_ind at the Gauss points from the Fourier
+interpolant of h. Everything else is unchanged: the nodal weights W still scale
+the residual measure, the continuation mass and the stability test (damping
+W u̇ = −R), and the outputs are nodal, i.e. the fields t_n, t_t are T at the
+GFMD nodes' gaps and p = −⟨t_z⟩ over the nodes (`gfmd.observables`), for both
+quadratures, as for GFMD.
 """
 
 from __future__ import annotations
@@ -35,6 +44,7 @@ import time
 import numpy as np
 import scipy.fft
 import scipy.linalg
+import scipy.sparse as sp
 
 from gfmd import laws, surfaces
 from gfmd.loading import displacement_steps, field_step_indices, indenter_surface
@@ -43,6 +53,9 @@ from gfmd.result import Result
 
 from ._blas import single_thread
 from .assembly import build_cell
+from .quadrature import fourier_evaluate, gauss_surface_quadrature
+
+QUADRATURES = ("nodal", "gauss")  # boundary-term quadrature (module docstring)
 
 
 def fourier_interpolate(h, factor):
@@ -87,11 +100,18 @@ def locally_stable(jacobian, weights, symmetric):
 
 
 class SurfaceProblem:
-    """Condensed surface system of one scene (see module docstring)."""
+    """Condensed surface system of one scene (see module docstring).
+
+    quadrature: "nodal" (lumped weights W, the default) or "gauss" (consistent
+    Gauss–Legendre boundary term, `reference.fem.quadrature`).
+    """
 
     linear_solver = "dense LU"
 
-    def __init__(self, scene, h, order=2, mesh_kw=None):
+    def __init__(self, scene, h, order=2, mesh_kw=None, quadrature="nodal"):
+        if quadrature not in QUADRATURES:
+            raise ValueError(f"quadrature = {quadrature!r}: one of {', '.join(map(repr, QUADRATURES))}")
+        self.quadrature = quadrature
         m, i = scene.material, scene.interface
         if m.half_plane:
             raise ValueError(
@@ -115,6 +135,9 @@ class SurfaceProblem:
         g = rms_gradient(h, scene.surface.spacing)
         self.p_ref = m.contact_modulus * g if g > 0 else self.phi_n / (math.e * self.dn)
         self.wt = np.tile(self.w, 2 if self.tangential else 1)
+        if quadrature == "gauss":
+            self.gauss = gauss_surface_quadrature(self.cell.surface_x, scene.surface.length, order)
+            self.h_gauss = fourier_evaluate(h, scene.surface.length, self.gauss.x)  # h at the Gauss points (m)
 
     # -- law -------------------------------------------------------------------------------
     def split(self, u):
@@ -132,9 +155,36 @@ class SurfaceProblem:
             tn, tt = laws.traction_normal(gap, self.phi_n, self.dn), np.zeros(self.ns)
         return tt, tn, gap
 
+    def law_gaps(self, u, z_ind):
+        """(Δn, Δt) (m) where the boundary term evaluates the law: surface points (nodal) or Gauss points.
+
+        z_ind: indenter at the surface points; z_ind − h_surface is a constant
+        (`gfmd.loading.indenter_surface`), added to h at the Gauss points.
+        """
+        ux, uz = self.split(u)
+        if self.quadrature == "nodal":
+            return z_ind - uz, -ux
+        b = self.gauss.interpolation
+        z_gauss = self.h_gauss + float(np.mean(z_ind - self.h_surface))
+        return z_gauss - b @ uz, -(b @ ux)
+
+    def law_weights(self):
+        """Quadrature weights (m) of the law points: W (nodal) or w_g (gauss)."""
+        return self.w if self.quadrature == "nodal" else self.gauss.weights
+
+    def to_surface(self, point_forces):
+        """Nodal forces (N/m) from forces at the law points: identity (nodal) or Bᵀ (gauss)."""
+        return point_forces if self.quadrature == "nodal" else self.gauss.interpolation.T @ point_forces
+
     def residual(self, u, z_ind):
-        tt, tn, _ = self.tractions(u, z_ind)
-        f = np.concatenate([self.w * tt, self.w * tn]) if self.tangential else self.w * tn
+        """R(u) = S u − f(u) (N/m per surface unknown), f the boundary-term nodal forces."""
+        gap_n, gap_t = self.law_gaps(u, z_ind)
+        w = self.law_weights()
+        if self.tangential:
+            tn, tt = laws.traction_coupled(gap_n, gap_t, self.phi_n, self.dn, self.phi_t, self.dt)
+            f = np.concatenate([self.to_surface(w * tt), self.to_surface(w * tn)])
+        else:
+            f = self.to_surface(w * laws.traction_normal(gap_n, self.phi_n, self.dn))
         return self.S @ u - f
 
     def condense(self, comps):
@@ -142,7 +192,13 @@ class SurfaceProblem:
         return self.cell.schur(comps)
 
     def surface_tangent(self, u, z_ind):
-        """Law part −∂(W t)/∂u of the tangent as (rows, cols, values) in the unknowns' indexing (N/m²·m = Pa)."""
+        """Law part −∂f/∂u of the tangent as (rows, cols, values) in the unknowns' indexing (N/m²·m = Pa).
+
+        (row, col) pairs are distinct. Nodal: diagonal (2×2 blocks per point for
+        the coupled law); gauss: Bᵀ diag(w_g ∂T/∂Δ) B per block.
+        """
+        if self.quadrature == "gauss":
+            return self._gauss_tangent(u, z_ind)
         ux, uz = self.split(u)
         gap = z_ind - uz
         idx = np.arange(self.ns)
@@ -153,6 +209,24 @@ class SurfaceProblem:
             cols = np.concatenate([idx, self.ns + idx, idx, self.ns + idx])
             return rows, cols, np.concatenate([self.w * tt_, self.w * tn_, self.w * nt, self.w * nn])
         return idx, idx, self.w * laws.stiffness_normal(gap, self.phi_n, self.dn)
+
+    def _gauss_tangent(self, u, z_ind):
+        """`surface_tangent` for quadrature="gauss": blocks Bᵀ diag(w_g ∂T/∂Δ) B (Pa)."""
+        gap_n, gap_t = self.law_gaps(u, z_ind)
+        w, b = self.gauss.weights, self.gauss.interpolation
+        if self.tangential:  # same block layout as the nodal coupled tangent: (x,x), (x,z), (z,x), (z,z)
+            nn, nt, tn_, tt_ = laws.jacobian_coupled(gap_n, gap_t, self.phi_n, self.dn, self.phi_t, self.dt)
+            blocks = {(0, 0): tt_, (0, 1): tn_, (1, 0): nt, (1, 1): nn}
+        else:
+            blocks = {(0, 0): laws.stiffness_normal(gap_n, self.phi_n, self.dn)}
+        rows, cols, values = [], [], []
+        for (r, c), slope in blocks.items():
+            block = (b.T @ sp.diags(w * slope) @ b).tocoo()
+            block.sum_duplicates()
+            rows.append(r * self.ns + block.row)
+            cols.append(c * self.ns + block.col)
+            values.append(block.data)
+        return np.concatenate(rows), np.concatenate(cols), np.concatenate(values)
 
     def jacobian(self, u, z_ind, shift=None):
         """Tangent J = S − ∂(W t)/∂u (Pa), plus diag(shift) if given (pseudo-transient continuation)."""
@@ -168,9 +242,9 @@ class SurfaceProblem:
         return scipy.linalg.solve(J, rhs, check_finite=False)
 
     def energy(self, u, z_ind):
-        """Π = ½uᵀSu + Σ W V(Δn) (J/m), normal law only."""
-        _, uz = self.split(u)
-        return 0.5 * u @ (self.S @ u) + self.w @ laws.potential_normal(z_ind - uz, self.phi_n, self.dn)
+        """Π = ½uᵀSu + Σ W V(Δn) (J/m; Σ w_g V(Δn_g) for gauss), normal law only."""
+        gap_n, _ = self.law_gaps(u, z_ind)
+        return 0.5 * u @ (self.S @ u) + self.law_weights() @ laws.potential_normal(gap_n, self.phi_n, self.dn)
 
     def measure(self, r):
         return float(np.max(np.abs(r / self.wt)) / self.p_ref)
@@ -280,16 +354,21 @@ class SurfaceProblem:
         return u, res, it, ok, how
 
 
-def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None, linear="auto"):
+def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None, linear="auto",
+                    quadrature="nodal"):
     """FE reference for one realization (see `_run`); dense solves use single-threaded BLAS."""
     if scene.interface.law == "hard-wall":  # a constraint, not a law: primal–dual active set
+        if quadrature != "nodal":
+            raise ValueError(f"quadrature = {quadrature!r}: the hard wall is a nodal constraint, "
+                             "only quadrature='nodal' applies")
         from .hardwall import run_realization as run_hard_wall
         return run_hard_wall(scene, realization, order, progress, mesh_kw, tolerance)
     with single_thread():
-        return _run(scene, realization, order, progress, mesh_kw, tolerance, linear)
+        return _run(scene, realization, order, progress, mesh_kw, tolerance, linear, quadrature)
 
 
-def _run(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None, linear="auto"):
+def _run(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None, linear="auto",
+         quadrature="nodal"):
     """FE reference for one realization of `scene`; returns a `gfmd.result.Result` (method "fe-p<order>").
 
     Same steps (`displacement_steps`), same z_ind, same observables as GFMD.
@@ -297,19 +376,23 @@ def _run(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=N
     linear: "dense" (Schur complement S, dense LU), "sparse" (SuperLU on the full reduced
     system, `reference.fem.sparse`), "sparse-lagged" (SuperLU reused as GMRES preconditioner)
     or "auto" (`sparse.choose_linear`: dense up to N = 2048, coupled law 1024); same equations.
+    quadrature: "nodal" (default) or "gauss" (dense path only; `SurfaceProblem`, module docstring).
     """
     from .sparse import make_problem  # sparse.py subclasses SurfaceProblem: import here, not at the top
 
     h = surfaces.profile(scene.surface, realization)
     t0 = time.perf_counter()
-    prob = make_problem(linear, scene, h, order=order, mesh_kw=mesh_kw)
+    prob = make_problem(linear, scene, h, order=order, mesh_kw=mesh_kw, quadrature=quadrature)
     setup = time.perf_counter() - t0
     tol = tolerance if tolerance is not None else min(scene.solver.tolerance, 1e-10)
     cell = prob.cell
     law = "coupled CZ (seed Eq. 2)" if prob.tangential else "normal-only CZ (seed Eq. 3), u_x free (t_x = 0)"
     model = (f"FE P{order} plane strain, periodic cell L = {scene.surface.length:g} m, bonded layer "
              f"D = {scene.material.thickness:g} m, {cell.basis.N} DOFs ({cell.mesh.t.shape[1]} triangles, graded), "
-             f"{law}, nodal (FacetBasis-weight) quadrature on {prob.ns} surface points"
+             f"{law}, "
+             + (f"nodal (FacetBasis-weight) quadrature on {prob.ns} surface points" if quadrature == "nodal" else
+                f"Gauss–Legendre quadrature ({prob.gauss.x.size // cell.nodes} points per facet; "
+                f"outputs at the {prob.ns} surface points)")
              + (", z_ind at facet midpoints from the Fourier interpolant of h" if order == 2 else "")
              + f"; Newton on the condensed surface, {prob.linear_solver} (setup {setup:.1f} s)")
     result = Result(scene=scene, method=f"fe-p{order}", model=model, realization=realization,

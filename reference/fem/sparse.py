@@ -69,11 +69,17 @@ def choose_linear(linear, nodes, components=1):
     return linear
 
 
-def make_problem(linear, scene, h, order=2, mesh_kw=None):
-    """The surface problem of `scene` with heights h (m) for the linear-solver choice `linear`."""
+def make_problem(linear, scene, h, order=2, mesh_kw=None, quadrature="nodal"):
+    """The surface problem of `scene` with heights h (m) for the linear-solver choice `linear`.
+
+    quadrature="gauss" (`SurfaceProblem`) is implemented on the dense path only: ValueError otherwise.
+    """
     kind = choose_linear(linear, scene.surface.nodes, 2 if scene.interface.tangential_ratio > 0 else 1)
     if kind == "dense":
-        return SurfaceProblem(scene, h, order=order, mesh_kw=mesh_kw)
+        return SurfaceProblem(scene, h, order=order, mesh_kw=mesh_kw, quadrature=quadrature)
+    if quadrature != "nodal":
+        raise ValueError(f"quadrature = {quadrature!r} needs linear='dense' (the sparse path, here {kind!r} from "
+                         f"linear={linear!r}, assumes the nodal quadrature's block-diagonal law tangent)")
     return SparseSurfaceProblem(scene, h, order=order, mesh_kw=mesh_kw, lagged=kind == "sparse-lagged")
 
 
