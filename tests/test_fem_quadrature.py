@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gfmd import laws
+from gfmd import surfaces
 from gfmd.loading import indenter_surface
 from gfmd.scene import Scene
 from reference import fem
@@ -141,7 +141,6 @@ def small_scene(nodes=16, tangential_ratio=0.0):
 
 
 def problem(tangential_ratio, quadrature="gauss", nodes=16):
-    from gfmd import surfaces
     sc = small_scene(nodes, tangential_ratio)
     h = surfaces.profile(sc.surface, 0)
     prob = SurfaceProblem(sc, h, order=2, quadrature=quadrature)

@@ -157,10 +157,11 @@ def _record(rec, n, out):
     for quantity in ("tn", "p"):
         name = {"tn": "t_n relative L2", "p": "p(δ) max diff"}[quantity]
         ratio = out[quantity]["gauss-gfmd"] / out[quantity]["nodal-gfmd"]
+        diffs = f"nodal–GFMD {out[quantity]['nodal-gfmd']:.3g}, Gauss–GFMD {out[quantity]['gauss-gfmd']:.3g}"
         rec(case=CASE, metric=f"{name}: (FE Gauss vs GFMD) / (FE nodal vs GFMD)", value=ratio, tolerance=None,
             passed=bool(ratio > 1), methods=METHODS, resolution=res,
-            tolerance_source=f"claim: GFMD (nodal forces) is closer to FE nodal; must exceed 1 "
-                             f"(nodal–GFMD {out[quantity]['nodal-gfmd']:.3g}, Gauss–GFMD {out[quantity]['gauss-gfmd']:.3g})")
+            tolerance_source=f"claim: GFMD (nodal forces) is closer to FE nodal; must exceed 1 ({diffs}; "
+                             "N = 512: t_n ratio 0.92, docstring)")
     for pair in ("nodal-gfmd", "gauss-gfmd"):
         rec(case=CASE, metric=f"p from FE total boundary force, {pair.replace('-', ' vs ')}",
             value=out["p_force"][pair], tolerance=None, passed=None, methods=METHODS, resolution=res,

@@ -10,6 +10,7 @@ result and loading's geometry helpers with GFMD, but no solver code:
               bonded base, dense condensation onto the top surface
 * `solver`    Newton (dense condensed surface) + pseudo-transient fallback; load ramp
 * `sparse`    the same Newton on the full reduced system (SuperLU), for large N
+* `quadrature` Gauss–Legendre boundary term (run_realization(quadrature="gauss"); default nodal)
 * `hardwall`  frictionless hard wall: primal–dual active set on the surface compliance
 * `export`    VTU output (meshio): one file per recorded step + a PVD series
 
