@@ -13,7 +13,7 @@ from gfmd import kernels
 from gfmd.loading import run_realization, start_warning
 from gfmd.model import (MIN_LENGTH_NORMAL_NODES, ModelCheckError, build_model, jump_in_separation,
                         softest_normal_stiffness, warnings_in)
-from gfmd.scene import Scene, SceneError
+from gfmd.scene import Scene, SceneError, default_scene
 
 E, NU, DN, PHI = 70e9, 0.3, 1e-9, 0.15
 
@@ -121,3 +121,16 @@ def test_forced_coupled_unknowns():
         sc.replace(**{"solver.unknowns": "everything"})
     with pytest.raises(SceneError, match="solver.checks"):
         sc.replace(**{"solver.checks": "ignore"})
+
+
+def test_slip_warning_flags_compressed_slipping_nodes_only():
+    from gfmd.loading import SLIP_LIMIT, slip_warning
+    sc = default_scene().replace(**{"interface.tangential_ratio": 0.5})
+    dt = sc.interface.length_tangential
+    gap = np.array([-1e-9, -1e-9, 2e-9])
+    assert slip_warning(sc, 3, 1e-9, gap, np.array([0.5, 2.0, 0.0]) * dt) is None  # below the limit
+    assert slip_warning(sc, 3, 1e-9, gap, np.array([0.0, 0.0, 10.0]) * dt) is None  # slipping but open
+    msg = slip_warning(sc, 3, 1e-9, gap, np.array([0.0, -(SLIP_LIMIT + 0.5), 0.0]) * dt)
+    assert msg and "step 3" in msg and "1 compressed nodes" in msg and f"max {SLIP_LIMIT + 0.5:.3g} δt" in msg
+    normal = sc.replace(**{"interface.tangential_ratio": 0.0})
+    assert slip_warning(normal, 3, 1e-9, gap, np.array([0.0, 10.0, 0.0]) * dt) is None  # no coupled law

@@ -125,6 +125,8 @@ def compare(n, nu):
     t2 = time.perf_counter()
     assert rf.all_converged, f"FE N={n} ν={nu}: {rf.messages}"
     assert rg.all_converged, f"GFMD N={n} ν={nu}: {rg.messages}"
+    for r in (rf, rg):  # the verified range stays below gfmd.loading.SLIP_LIMIT
+        assert not any("slip regime" in w for w in r.reasons), (r.method, r.reasons)
     traction_scale = sc.work_normal / sc.interface.length_normal  # φn/δn (Pa)
     tn, tn_max = _field_differences(rf, rg, "t_n", traction_scale)
     tt, tt_max = _field_differences(rf, rg, "t_t", traction_scale)
@@ -247,6 +249,8 @@ def test_gfmd_coupled_slip_regime(verification_record):
     assert rg.all_converged, f"GFMD in the slip regime: {rg.messages}"
     fallback = [k for k, it in enumerate(rg.curve["iterations"]) if it > COUPLED_FIRE_BUDGET]
     assert fallback, "no step needed the Verlet fallback: the case no longer reaches the slip regime"
+    for r in (rf, rg):  # both methods say that the run left the verified range (gfmd.loading.SLIP_LIMIT)
+        assert any("slip regime" in w for w in r.reasons), (r.method, r.reasons)
     k = max(rf.fields)
     tn = float(np.linalg.norm(rf.fields[k]["t_n"] - rg.fields[k]["t_n"]) / np.linalg.norm(rg.fields[k]["t_n"]))
     tt = float(np.linalg.norm(rf.fields[k]["t_t"] - rg.fields[k]["t_t"]) / np.linalg.norm(rg.fields[k]["t_t"]))

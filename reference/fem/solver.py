@@ -47,7 +47,8 @@ import scipy.linalg
 import scipy.sparse as sp
 
 from gfmd import laws, surfaces
-from gfmd.loading import displacement_steps, field_step_indices, indenter_surface
+from gfmd.loading import displacement_steps, field_step_indices, indenter_surface, slip_warning
+from gfmd.model import WARNING
 from gfmd.observables import rms_gradient, step_observables
 from gfmd.result import Result
 
@@ -406,6 +407,7 @@ def _run(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=N
     vp = cell.vertex_points
     result.fallback_steps = []
     result.solutions = {}
+    slipped = None
     for k, displacement in enumerate(displacement_steps(scene.loading)):
         start = time.perf_counter()
         z_ind = indenter_surface(prob.h_surface, d0, displacement)
@@ -426,6 +428,10 @@ def _run(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=N
             sol = u_new if np.all(np.isfinite(u_new)) else u
         tt, tn, gap = prob.tractions(sol, z_ind)
         ux, uz = prob.split(sol)
+        if prob.tangential and not slipped:  # same check as GFMD (gfmd.loading.slip_warning)
+            slipped = slip_warning(scene, k, displacement - d0, gap[vp], ux[vp])
+            if slipped:
+                result.reasons = tuple(result.reasons) + (WARNING + slipped,)
         obs = step_observables(scene, h, gap[vp], tn[vp])
         result.append_step(step=k, U=displacement, delta=displacement - d0, iterations=its,
                            residual=float(res) if np.isfinite(res) else 1e300, converged=int(ok), wall_s=wall, **obs)
