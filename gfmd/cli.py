@@ -14,6 +14,23 @@ from pathlib import Path
 from .scene import SceneError, default_scene, example_scene_text, load_scene
 
 
+def _run_fe(scene, out, quiet=False):
+    """FE reference on every realization (serial, progress bar per load step); VTU + PVD per realization
+    under out/vtu/realization<i>/ (reference.fem.export_vtu)."""
+    from tqdm import tqdm
+
+    from reference.fem import export_vtu, run_realization as run_fe  # optional reference method
+
+    results = []
+    for i in range(scene.surface.realizations):
+        with tqdm(total=scene.loading.steps + 1, desc=f"FE realization {i}", unit="step", disable=quiet) as bar:
+            result = run_fe(scene, i, progress=lambda k, steps: bar.update(1))
+        files = export_vtu(result, out / "vtu" / f"realization{i}")
+        print(f"wrote {len(files)} VTU/PVD files to {out / 'vtu' / f'realization{i}'}", file=sys.stderr)
+        results.append(result)
+    return results
+
+
 def _cmd_run(args):
     scene = load_scene(args.scene) if args.scene else default_scene()
     overrides = {}
@@ -26,9 +43,7 @@ def _cmd_run(args):
     out = Path(args.out or f"results/{scene.name}")
     start = time.perf_counter()
     if args.method == "fe":
-        from reference.fem import run_realization as run_fe  # optional reference method
-
-        results = [run_fe(scene, i) for i in range(scene.surface.realizations)]
+        results = _run_fe(scene, out, quiet=args.quiet)
     else:
         from .ensemble import run_ensemble
 

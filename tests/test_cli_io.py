@@ -120,3 +120,23 @@ def test_scene_check(tmp_path, capsys):
     f.write_text(scene_to_toml(small_scene()))
     assert main(["scene", "--check", str(f)]) == 0
     assert "valid scene" in capsys.readouterr().out
+
+
+def test_cli_fe_method_writes_results_and_vtu_series(tmp_path, capsys):
+    import meshio
+    scene = small_scene(**{"surface.nodes": 64, "surface.rollon_wavelength": 80e-9, "surface.realizations": 1,
+                           "material.thickness": 1.28e-6, "interface.length_normal": 40e-9,
+                           "loading.initial_separation": 80e-9, "loading.steps": 4})
+    scene_file = tmp_path / "fe.toml"
+    scene_file.write_text(scene_to_toml(scene))
+    out = tmp_path / "out"
+    assert main(["run", str(scene_file), "--method", "fe", "--out", str(out), "--quiet", "--no-plot"]) == 0
+    assert "model solved: FE P2" in capsys.readouterr().err
+    _, curves, _, meta = read_run(out)
+    vtu = out / "vtu" / "realization0"
+    files = sorted(p.name for p in vtu.iterdir())
+    steps = [f for f in files if f.endswith(".vtu")]
+    assert "fe.pvd" in files and len(steps) == scene.output.field_steps
+    mesh = meshio.read(vtu / steps[-1])
+    assert mesh.point_data["displacement"].shape[1] == 3 and np.all(np.isfinite(mesh.point_data["displacement"]))
+    assert meta["all_converged"] is True and np.all(np.isfinite(curves[0]["p"]))
