@@ -16,11 +16,10 @@ it means one integrator stopped on a wrong state.
 
 Cases, declared as data (add one with a `Case(...)` line):
 
-* hard-wall sinusoid (the brief's case). NOTE: `gfmd.solver.relax` sends every
-  hard-wall step to `_relax_hard_wall`, which is FIRE-only and ignores
-  `Settings.method`; the two runs are then the same computation. The test
-  records this in the notes (it detects identical iteration counts and fields)
-  so that the comparison is not mistaken for evidence about Verlet.
+* hard-wall sinusoid (the brief's case): `gfmd.solver._relax_hard_wall` runs FIRE or
+  the damped Verlet (uniform mass, per-mode damping, projection) by `Settings.method`.
+  The test fails on identical iteration counts and fields, so that a regression that
+  routes both to one integrator is not mistaken for evidence about Verlet.
 * cohesive sinusoid (φn* = 0.15, normal-only CZ): here Verlet is a different
   integrator, so this case really compares the two.
 
@@ -92,8 +91,7 @@ def test_fire_vs_verlet(case, verification_record):
              f"Verlet {int(np.sum(verlet.curve['iterations']))}.")
     if same:
         notes += (" WARNING: identical iteration counts and bit-identical fields — the two runs are the same "
-                  "computation (gfmd.solver: hard-wall steps go to the FIRE-only _relax_hard_wall, which ignores "
-                  "Settings.method), so this record says nothing about the Verlet integrator.")
+                  "computation, so this record says nothing about the Verlet integrator.")
     wall = sum(r.wall_s for r in runs.values())
     peak = max(r.peak_memory_bytes for r in runs.values())
     resolution = dict(harness.scene_resolution(scene), law=scene.interface.law, safety=SAFETY, p_ref_Pa=p_ref)
@@ -126,5 +124,6 @@ def test_fire_vs_verlet(case, verification_record):
     tol_p = _bound(tau, p_ref, p_f)
     rec_p = verification_record(metric=case.metrics[1], value=err_p, tolerance=tol_p, plots=plots_p, **common)
 
+    assert not same, "FIRE and Verlet gave bit-identical runs: both went through one integrator"
     assert rec_tn.passed, f"t_n: FIRE vs Verlet rel. L2 {err_tn:.3g} > {tol_tn:.3g}"
     assert rec_p.passed, f"p(δ): FIRE vs Verlet rel. L2 {err_p:.3g} > {tol_p:.3g}"
