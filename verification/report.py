@@ -58,6 +58,8 @@ h3 { font-size: 1.05rem; margin: 1.2rem 0 .4rem; }
 table { border-collapse: collapse; margin: .5rem 0 1rem; font-size: .9rem; }
 th, td { border: 1px solid var(--line); padding: .25rem .5rem; text-align: left; vertical-align: top; }
 th { background: #f6f8fa; }
+table.grid { table-layout: fixed; width: 100%; font-size: .72rem; }
+table.grid td { overflow-wrap: anywhere; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
 .pass { background: var(--ok-bg); color: var(--ok); font-weight: 600; }
 .fail { background: var(--fail-bg); color: var(--fail); font-weight: 600; }
@@ -227,6 +229,7 @@ def pareto_front(points):
 
 
 def svg_pareto(plot):
+    """Log-log error vs time, one marker per method; the Pareto front dotted and labelled."""
     points = plot["points"]
     fig, ax = _subplots(figsize=(6.8, 4.4))
     methods = list(OrderedDict.fromkeys(p.get("method", "") for p in points))
@@ -235,10 +238,11 @@ def svg_pareto(plot):
         sel = [p for p in points if p.get("method", "") == m and p.get("time") and p.get("error")]
         ax.loglog([p["time"] for p in sel], [p["error"] for p in sel], marks[j % len(marks)], ms=7,
                   alpha=.85, label=m or "?")
-        for p in sel:
-            ax.annotate(str(p.get("label", "")), (p["time"], p["error"]), fontsize=7, xytext=(4, 3),
-                        textcoords="offset points")
     front = pareto_front(points)
+    for i in front:  # label the front only: every point labelled is unreadable (the table lists them all)
+        p = points[i]
+        ax.annotate(str(p.get("label", "")), (p["time"], p["error"]), fontsize=7, xytext=(4, 3),
+                    textcoords="offset points")
     if len(front) >= 2:
         ax.loglog([points[i]["time"] for i in front], [points[i]["error"] for i in front], "k:", lw=1,
                   label="Pareto front")
@@ -270,7 +274,9 @@ def html_grid(plot):
     for row in plot["rows"]:
         cells = []
         for v in row:
-            if isinstance(v, dict):
+            if isinstance(v, dict) and not v.get("status") and not v.get("message"):
+                cells.append("<td></td>")  # padding of a shorter row
+            elif isinstance(v, dict):
                 status = str(v.get("status", ""))
                 cls = {"ok": "pass", "pass": "pass", "fail": "fail", "failed": "fail", "warn": "warn",
                        "warning": "warn"}.get(status.lower(), "info")
@@ -281,7 +287,7 @@ def html_grid(plot):
                 cells.append(f"<th>{esc(fmt(v))}</th>")
         body.append("<tr>" + "".join(cells) + "</tr>")
     cap = f"<caption>{esc(plot['title'])}</caption>" if plot.get("title") else ""
-    return f"<table>{cap}<thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
+    return (f'<table class="grid">{cap}<thead><tr>{head}</tr></thead><tbody>{"".join(body)}</tbody></table>')
 
 
 def render_plot(plot):
