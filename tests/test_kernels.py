@@ -337,3 +337,23 @@ def test_layer_stiffer_than_halfplane_and_uniform_settlement():
     k0 = kernels.layer_normal(q, E, nu, depth)[0]
     _, _, m = _moduli(E, nu)
     assert -p / k0 == pytest.approx(-p * depth / m, rel=4 * EPS)
+
+
+@pytest.mark.parametrize("nu", [0.0, 0.3, 0.45, 0.49])
+@pytest.mark.parametrize("thickness", [None, 2e-8, 1e-7, 1e-6, 1e-5])
+def test_normal_kernel_is_the_frictionless_reduction_of_the_coupled_one(nu, thickness):
+    """The normal-only model (gfmd.model, c = 0) solves u_z alone with t_x = 0: exact only if its kernel
+    equals the Schur complement K_zz − |K_xz|²/K_xx of the coupled kernel. The two come from independent
+    formulas (§1.1/§1.3 closed forms vs §1.2/§1.4), so this fails if either is wrong."""
+    n, length = 256, 1e-6
+    q = kernels.wavenumbers(n, length)
+    if thickness is None:
+        k_n = kernels.halfplane_normal(q, 70e9, nu)
+        k_xx, k_xz, k_zz = kernels.halfplane_coupled(q, 70e9, nu)
+    else:
+        k_n = kernels.layer_normal(q, 70e9, nu, thickness)
+        k_xx, k_xz, k_zz = kernels.layer_coupled(q, 70e9, nu, thickness)
+    inner = slice(1, -1)  # q = 0 (clamped or M/D, tested elsewhere) and Nyquist (coupling zeroed) excluded
+    schur = k_zz.real[inner] - np.abs(k_xz[inner]) ** 2 / k_xx.real[inner]
+    # measured ≤ 8e-16 (round-off); 1e-12 leaves room for the cancellation in the thin-layer sinh/cosh terms
+    assert np.max(np.abs(schur - k_n[inner]) / k_n[inner]) < 1e-12
