@@ -10,7 +10,7 @@ from gfmd.cli import main
 from gfmd.ensemble import ensemble_average, mean_standard_error, run_ensemble
 from gfmd.io import read_run, write_run
 from gfmd.result import CURVE_COLUMNS, FIELD_NAMES
-from gfmd.scene import default_scene, load_scene, scene_from_dict, scene_to_toml
+from gfmd.scene import default_scene, scene_from_dict, scene_to_toml
 
 
 def small_scene(**extra):

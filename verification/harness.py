@@ -175,6 +175,29 @@ def relative_l2(a, b, reference=None):
     return num / den
 
 
+def field_difference(result, reference, name):
+    """Max over `result`'s recorded field steps of ‖result − reference‖₂/‖reference‖₂ of field `name`."""
+    return max(relative_l2(result.fields[k][name], reference.fields[k][name], reference.fields[k][name])
+               for k in result.fields)
+
+
+def curve_difference(result, reference, column):
+    """max_k |result − reference| / max_k |reference| of a load-curve column (dimensionless)."""
+    ref = np.asarray(reference.curve[column], float)
+    return float(np.max(np.abs(np.asarray(result.curve[column], float) - ref)) / np.max(np.abs(ref)))
+
+
+def run_fe_and_gfmd(scene, order=2):
+    """(fe, gfmd, fe_s, gfmd_s): `reference.fem` P<order> and GFMD (scene.solver) on one scene, wall times (s)."""
+    from gfmd.loading import run_realization
+    from reference import fem
+    t0 = time.perf_counter()
+    fe = fem.run_realization(scene, order=order)
+    t1 = time.perf_counter()
+    gfmd = run_realization(scene)
+    return fe, gfmd, t1 - t0, time.perf_counter() - t1
+
+
 # --------------------------------------------------------------------------- cost
 class Meter:
     """Context manager: `with Meter() as m: …` then m.wall_s (s), m.peak_memory_bytes, m.memory_method."""

@@ -78,7 +78,6 @@ of methods, not of the continuum. Bounds: 3 × the N = 256 value × (256/N)², |
 
 from __future__ import annotations
 
-import math
 import re
 import time
 
@@ -283,22 +282,15 @@ _FE_CACHE = {}
 
 def fe_compare(label, n):
     """GFMD and FE (P2) on the same layer cell; differences over all steps / field steps."""
-    from reference import fem
-
     if (label, n) in _FE_CACHE:
         return _FE_CACHE[label, n]
     overrides = FE_CELLS[label][0]
     sc = scene(**{**FE_BASE, **overrides, "surface.nodes": n})
-    t0 = time.perf_counter()
-    rg = gl.run_realization(sc)
-    t1 = time.perf_counter()
-    rf = fem.run_realization(sc, order=2)
-    t2 = time.perf_counter()
-    p = float(np.max(np.abs(rf.curve["p"] - rg.curve["p"])) / np.max(np.abs(rg.curve["p"])))
+    rf, rg, fe_s, gfmd_s = harness.run_fe_and_gfmd(sc)
+    p = harness.curve_difference(rf, rg, "p")
     a = float(np.max(np.abs(rf.curve["a_rel"] - rg.curve["a_rel"])))
-    tn = max(float(np.linalg.norm(rf.fields[k]["t_n"] - rg.fields[k]["t_n"]) / np.linalg.norm(rg.fields[k]["t_n"]))
-             for k in rf.fields)
-    out = {"p": p, "a": a, "tn": tn, "gfmd_s": t1 - t0, "fe_s": t2 - t1, "rg": rg, "rf": rf, "scene": sc}
+    tn = harness.field_difference(rf, rg, "t_n")
+    out = {"p": p, "a": a, "tn": tn, "gfmd_s": gfmd_s, "fe_s": fe_s, "rg": rg, "rf": rf, "scene": sc}
     _FE_CACHE[label, n] = out
     return out
 

@@ -31,14 +31,11 @@ contact edge); observed order between N = 64 and 128 ≥ 1.5.
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import pytest
 
-import gfmd.loading as gl
 from gfmd.scene import Scene
-from reference import fem
+from verification import harness
 
 METHODS = ("gfmd-fire", "fe-p2")
 CASE = "fe/cohesive-sinusoid-phi0.01"
@@ -61,21 +58,15 @@ _CACHE = {}
 def compare(n):
     if n in _CACHE:
         return _CACHE[n]
-    sc = scene(n)
-    t0 = time.perf_counter()
-    rf = fem.run_realization(sc, order=2)
-    t1 = time.perf_counter()
-    rg = gl.run_realization(sc)
-    t2 = time.perf_counter()
+    rf, rg, fe_s, gfmd_s = harness.run_fe_and_gfmd(scene(n))
     assert rf.all_converged and rg.all_converged, (rf.messages, rg.messages)
-    tn = max(np.linalg.norm(rf.fields[k]["t_n"] - rg.fields[k]["t_n"]) / np.linalg.norm(rg.fields[k]["t_n"])
-             for k in rf.fields)
-    p = np.max(np.abs(rf.curve["p"] - rg.curve["p"])) / np.max(np.abs(rg.curve["p"]))
+    tn = harness.field_difference(rf, rg, "t_n")
+    p = harness.curve_difference(rf, rg, "p")
     a = np.max(np.abs(rf.curve["a_rel"] - rg.curve["a_rel"]))
-    out = dict(tn=tn, p=p, a=a, rf=rf, rg=rg, fe_s=t1 - t0, gfmd_s=t2 - t1,
+    out = dict(tn=tn, p=p, a=a, rf=rf, rg=rg, fe_s=fe_s, gfmd_s=gfmd_s,
                fe_step=float(np.mean(rf.curve["wall_s"])), gfmd_step=float(np.mean(rg.curve["wall_s"])))
-    print(f"\nN={n}: t_n L2 {tn:.3g}  p {p:.3g}  a_rel {a:.3g}  FE {t1 - t0:.1f} s ({out['fe_step']:.3f} s/step)"
-          f"  GFMD {t2 - t1:.1f} s ({out['gfmd_step']:.3f} s/step)")
+    print(f"\nN={n}: t_n L2 {tn:.3g}  p {p:.3g}  a_rel {a:.3g}  FE {fe_s:.1f} s ({out['fe_step']:.3f} s/step)"
+          f"  GFMD {gfmd_s:.1f} s ({out['gfmd_step']:.3f} s/step)")
     _CACHE[n] = out
     return out
 

@@ -77,14 +77,11 @@ runs into that regime (N = 128, ν = 0.3, δ to 40 nm) and records the differenc
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import pytest
 
-import gfmd.loading as gl
-from reference import fem
 from gfmd.solver import COUPLED_FIRE_BUDGET
+from verification import harness
 from verification.harness import convergence_plot, curve_plot, profile_plot
 from verification.test_fe_cohesive import scene as normal_scene
 
@@ -107,10 +104,8 @@ _CACHE = {}
 
 def _field_differences(rf, rg, name, scale):
     """(max over field steps of the relative L2 difference, of max |diff| / scale) of field `name`."""
-    rel = max(np.linalg.norm(rf.fields[k][name] - rg.fields[k][name]) / np.linalg.norm(rg.fields[k][name])
-              for k in rf.fields)
     peak = max(np.max(np.abs(rf.fields[k][name] - rg.fields[k][name])) for k in rf.fields) / scale
-    return float(rel), float(peak)
+    return harness.field_difference(rf, rg, name), float(peak)
 
 
 def compare(n, nu):
@@ -118,11 +113,7 @@ def compare(n, nu):
     if (n, nu) in _CACHE:
         return _CACHE[(n, nu)]
     sc = scene(n, nu)
-    t0 = time.perf_counter()
-    rf = fem.run_realization(sc, order=2)
-    t1 = time.perf_counter()
-    rg = gl.run_realization(sc)
-    t2 = time.perf_counter()
+    rf, rg, fe_s, gfmd_s = harness.run_fe_and_gfmd(sc)
     assert rf.all_converged, f"FE N={n} ν={nu}: {rf.messages}"
     assert rg.all_converged, f"GFMD N={n} ν={nu}: {rg.messages}"
     for r in (rf, rg):  # the verified range stays below gfmd.loading.SLIP_LIMIT
@@ -130,12 +121,12 @@ def compare(n, nu):
     traction_scale = sc.work_normal / sc.interface.length_normal  # φn/δn (Pa)
     tn, tn_max = _field_differences(rf, rg, "t_n", traction_scale)
     tt, tt_max = _field_differences(rf, rg, "t_t", traction_scale)
-    p = float(np.max(np.abs(rf.curve["p"] - rg.curve["p"])) / np.max(np.abs(rg.curve["p"])))
+    p = harness.curve_difference(rf, rg, "p")
     a = float(np.max(np.abs(rf.curve["a_rel"] - rg.curve["a_rel"])))
     last = max(rg.fields)
     tt_over_tn = float(np.max(np.abs(rg.fields[last]["t_t"])) / np.max(np.abs(rg.fields[last]["t_n"])))
     out = dict(tn=tn, tn_max=tn_max, tt=tt, tt_max=tt_max, p=p, a=a, tt_over_tn=tt_over_tn, rf=rf, rg=rg,
-               fe_s=t1 - t0, gfmd_s=t2 - t1, fe_step=float(np.mean(rf.curve["wall_s"])),
+               fe_s=fe_s, gfmd_s=gfmd_s, fe_step=float(np.mean(rf.curve["wall_s"])),
                gfmd_step=float(np.mean(rg.curve["wall_s"])), gfmd_iterations=int(np.max(rg.curve["iterations"])),
                fe_fallbacks=len(rf.fallback_steps))
     print(f"\nN={n} ν={nu}: t_n L2 {tn:.3g} (max {tn_max:.3g} φn/δn)  t_t L2 {tt:.3g} (max {tt_max:.3g} φn/δn)  "
@@ -243,8 +234,7 @@ def test_gfmd_coupled_slip_regime(verification_record):
     the law's exponential sensitivity, not discretisation, sets them."""
     n, nu = 128, 0.3
     sc = scene(n, nu).replace(**{"loading.final_penetration": 40e-9, "loading.steps": 20, "output.field_steps": 1})
-    rf = fem.run_realization(sc, order=2)
-    rg = gl.run_realization(sc)
+    rf, rg, _, _ = harness.run_fe_and_gfmd(sc)
     assert rf.all_converged, f"FE in the slip regime: {rf.messages}"
     assert rg.all_converged, f"GFMD in the slip regime: {rg.messages}"
     fallback = [k for k, it in enumerate(rg.curve["iterations"]) if it > COUPLED_FIRE_BUDGET]
@@ -252,8 +242,7 @@ def test_gfmd_coupled_slip_regime(verification_record):
     for r in (rf, rg):  # both methods say that the run left the verified range (gfmd.loading.SLIP_LIMIT)
         assert any("slip regime" in w for w in r.reasons), (r.method, r.reasons)
     k = max(rf.fields)
-    tn = float(np.linalg.norm(rf.fields[k]["t_n"] - rg.fields[k]["t_n"]) / np.linalg.norm(rg.fields[k]["t_n"]))
-    tt = float(np.linalg.norm(rf.fields[k]["t_t"] - rg.fields[k]["t_t"]) / np.linalg.norm(rg.fields[k]["t_t"]))
+    tn, tt = (harness.relative_l2(rf.fields[k][f], rg.fields[k][f], rg.fields[k][f]) for f in ("t_n", "t_t"))
     slip = float(np.max(np.abs(rg.fields[k]["u_x"])) / sc.interface.length_tangential)
     print(f"\nslip regime δ = 40 nm: t_n L2 {tn:.3g}, t_t L2 {tt:.3g}, max|Δt|/δt {slip:.3g}, "
           f"min Δn {np.min(rg.fields[k]['gap']):.3g} m, Verlet fallback at steps {fallback}")

@@ -10,12 +10,9 @@ Tolerances: t_n ≤ 5e-3, p ≤ 5e-3 (≈ 2× measured), |Δa_rel| ≤ 2/N.
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
-import gfmd.loading as gl
-from reference import fem
+from verification import harness
 from verification.test_fe_cohesive import METHODS, scene
 
 N = 128
@@ -24,14 +21,11 @@ N = 128
 def test_fe_jump_into_contact(verification_record):
     sc = scene(N).replace(**{"interface.phi_n_star": 0.15, "loading.initial_separation": 10e-9,
                              "loading.final_penetration": 40e-9, "loading.steps": 25})
-    t0 = time.perf_counter()
-    rf = fem.run_realization(sc)
-    rg = gl.run_realization(sc)
-    wall = time.perf_counter() - t0
+    rf, rg, fe_s, gfmd_s = harness.run_fe_and_gfmd(sc)
+    wall = fe_s + gfmd_s
     assert rf.all_converged and rg.all_converged, (rf.messages, rg.messages)
-    tn = max(np.linalg.norm(rf.fields[k]["t_n"] - rg.fields[k]["t_n"]) / np.linalg.norm(rg.fields[k]["t_n"])
-             for k in rf.fields)
-    p = float(np.max(np.abs(rf.curve["p"] - rg.curve["p"])) / np.max(np.abs(rg.curve["p"])))
+    tn = harness.field_difference(rf, rg, "t_n")
+    p = harness.curve_difference(rf, rg, "p")
     a = float(np.max(np.abs(rf.curve["a_rel"] - rg.curve["a_rel"])))
     print(f"\nφn* = 0.15, N = {N}: t_n {tn:.3g}, p {p:.3g}, a_rel {a:.3g}; FE fallbacks: {rf.messages}")
     case = "fe/cohesive-sinusoid-phi0.15-jump"

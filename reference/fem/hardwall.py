@@ -42,12 +42,13 @@ import scipy.linalg
 import scipy.optimize
 
 from gfmd import surfaces
-from gfmd.loading import displacement_steps, field_step_indices, indenter_surface
+from gfmd.loading import displacement_steps, field_step_indices
 from gfmd.observables import rms_gradient, step_observables
 from gfmd.result import Result
 
 from ._blas import single_thread
 from .assembly import build_cell
+from .solver import fourier_interpolate, surface_indenter  # shared z_ind (P2 midpoints: Fourier interpolant)
 
 
 class HardWallProblem:
@@ -58,7 +59,6 @@ class HardWallProblem:
     """
 
     def __init__(self, scene, h, order=2, mesh_kw=None):
-        from .solver import fourier_interpolate  # shared z_ind interpolation (P2 midpoints)
         m = scene.material
         if m.half_plane:
             raise ValueError("the FE reference models a finite layer only: set material.thickness (e.g. 2 L)")
@@ -108,8 +108,7 @@ class HardWallProblem:
 
     def indenter(self, initial_separation, displacement):
         """z_ind = h − min_nodes h + δ0 − U (m) at all surface points (gfmd.conventions)."""
-        shift = float(np.min(self.h_surface)) - self.h_min
-        return indenter_surface(self.h_surface, initial_separation, displacement) + shift
+        return surface_indenter(self.h_surface, self.h_min, initial_separation, displacement)
 
     def state(self, active, z_ind):
         """(u, μ) for the active set `active` (bool, surface points): μ_A = −C_AA⁻¹ z_A, u = −C μ."""

@@ -100,6 +100,15 @@ def locally_stable(jacobian, weights, symmetric):
     return bool(np.all(np.isfinite(eigenvalues)) and np.min(eigenvalues.real) > 0.0)
 
 
+def surface_indenter(h_surface, h_min, initial_separation, displacement):
+    """z_ind = h − min h + δ0 − U (m, gfmd.conventions) at every FE surface point.
+
+    h_surface: the profile at the surface points (Fourier interpolant of the nodal h);
+    h_min: the *nodal* minimum of h (m), so that z_ind at the vertices is exactly GFMD's.
+    """
+    return indenter_surface(h_surface, initial_separation, displacement) + (np.min(h_surface) - h_min)
+
+
 class SurfaceProblem:
     """Condensed surface system of one scene (see module docstring).
 
@@ -408,11 +417,10 @@ def _run(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=N
     result.fallback_steps = []
     result.solutions = {}
     slipped = None
+    h_min = float(np.min(h))
     for k, displacement in enumerate(displacement_steps(scene.loading)):
         start = time.perf_counter()
-        z_ind = indenter_surface(prob.h_surface, d0, displacement)
-        # h_surface has the same min as h up to interpolation: use the nodal min (same z_ind at nodes)
-        z_ind = z_ind + (np.min(prob.h_surface) - np.min(h))
+        z_ind = surface_indenter(prob.h_surface, h_min, d0, displacement)
         guess = 2 * u - u_prev if k >= 2 else u
         u_new, res, its, ok, how = prob.solve_step(guess, z_ind, tol, fallback_from=u)
         wall = time.perf_counter() - start
