@@ -9,7 +9,10 @@ the P2 "triangle6" nodes 3–5 are the midpoints of the edges 01, 12, 20 (VTK's
 quadratic-triangle order; 1e-12 relative to L: coordinates are sums of two
 doubles); the dense and sparse runs export the same displacement (1e-8
 relative, the bound of tests/test_fem_sparse.py). The PVD collection must list
-every exported step, in order, with δ as its time value.
+every exported step, in order, with δ as its time value. Every check runs on
+both FE interface paths, cohesive (`reference.fem.solver`) and hard wall
+(`reference.fem.hardwall`), P1 and P2: both store `Result.solutions[k]` as the
+vector of the problem's surface unknowns that the export extends to every DOF.
 """
 
 from __future__ import annotations
@@ -27,14 +30,22 @@ from reference.fem.export import SERIES_NAME, step_mesh
 from verification.test_fe_cohesive import scene as cohesive_scene
 
 
-def small_scene(steps=4, field_steps=2):
-    """N = 8 cohesive sinusoid of verification/test_fe_cohesive.py, a short ramp."""
-    return cohesive_scene(8).replace(**{"loading.steps": steps, "output.field_steps": field_steps})
+def small_scene(steps=4, field_steps=2, law="cohesive"):
+    """N = 8 sinusoid of verification/test_fe_cohesive.py (h0 = 50 nm, D = L = 1 µm), a short ramp to
+    δ = 58 nm; law "hard-wall" keeps the geometry (contact from the first loaded step)."""
+    return cohesive_scene(8).replace(**{"loading.steps": steps, "output.field_steps": field_steps,
+                                        "interface.law": law})
 
 
-@pytest.fixture(scope="module", params=[1, 2], ids=["P1", "P2"])
+_RUNS = [("cohesive", 1), ("cohesive", 2), ("hard-wall", 1), ("hard-wall", 2)]
+
+
+@pytest.fixture(scope="module", params=_RUNS, ids=[f"{law}-P{order}" for law, order in _RUNS])
 def run(request):
-    return fem.run_realization(small_scene(), order=request.param)
+    law, order = request.param
+    result = fem.run_realization(small_scene(law=law), order=order)
+    assert result.all_converged, result.messages
+    return result
 
 
 def _series(directory):
@@ -71,7 +82,8 @@ def test_exported_surface_displacement_is_the_recorded_field(run, tmp_path):
         assert np.array_equal(m.point_data["displacement"][idx, 0], run.fields[k]["u_x"])
 
 
-@pytest.mark.parametrize("run", [2], ids=["P2"], indirect=True)  # P1 writes linear triangles: no midside nodes
+@pytest.mark.parametrize("run", [("cohesive", 2), ("hard-wall", 2)], ids=["cohesive-P2", "hard-wall-P2"],
+                         indirect=True)  # P1 writes linear triangles: no midside nodes
 def test_p2_midside_nodes_follow_vtk_order(run):
     assert run.problem.cell.order == 2
     m = step_mesh(run, max(run.solutions))

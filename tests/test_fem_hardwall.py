@@ -90,8 +90,9 @@ def test_kkt_and_independent_dual_solver(order):
     assert np.max(r.curve["iterations"]) <= 15
     assert 0.05 < r.curve["a_rel"][-1] < 0.9  # partial contact: the test exercises both sets
     prob = r.problem
-    for k, sol in r.solutions.items():
-        u, mu, z = sol["u_z"], sol["mu"], sol["z_ind"]
+    assert sorted(r.solutions) == sorted(r.wall_forces) == sorted(r.fields)
+    for k, u in r.solutions.items():
+        mu, z = r.wall_forces[k], prob.indenter(sc.loading.initial_separation, r.curve["U"][k])
         scale = prob.p_ref * prob.w  # N/m, a nodal force at the reference traction
         assert np.max(np.abs(prob.S @ u + mu) / scale) < 1e-10, f"step {k}: equilibrium"
         assert np.min(mu / scale) >= -1e-12, f"step {k}: wall pulls"
@@ -107,8 +108,8 @@ def test_warm_start_needs_no_iterations_when_nothing_changes():
     """Re-solving a converged step from its own (u, μ) takes one PDAS iteration."""
     sc = sinusoid_scene(32, 1e-6)
     r = fem.run_realization(sc, order=1)
-    sol = r.solutions[STEPS]
-    u, mu, its, ok, how = r.problem.solve_step(sol["z_ind"], sol["u_z"], sol["mu"], 1e-10)
+    z_ind = r.problem.indenter(sc.loading.initial_separation, r.curve["U"][STEPS])
+    u, mu, its, ok, how = r.problem.solve_step(z_ind, r.solutions[STEPS], r.wall_forces[STEPS], 1e-10)
     assert ok and how == "pdas" and its == 1
 
 

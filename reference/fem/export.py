@@ -3,6 +3,11 @@
 Units: SI (see `gfmd.conventions`): coordinates and displacement in m, stress in Pa,
 the PVD time value is the indenter displacement δ = U − δ0 in m.
 
+The input is a `Result` of `reference.fem.run_realization` (cohesive or hard
+wall, dense or sparse): `Result.problem` is the FE problem and
+`Result.solutions[k]` the vector of its surface unknowns at step k, which
+`problem.solve_interior` extends to every DOF; both FE paths store that.
+
 One `fe_step<k>.vtu` per recorded step k (`Result.solutions`) and a ParaView
 collection `fe.pvd` that lists them in step order. Cells: "triangle" for P1,
 "triangle6" (VTK quadratic triangle: 3 vertices, then the midpoints of the edges

@@ -28,6 +28,13 @@ Each step is warm-started from the previous step's (u, μ). A repeated
 back to the dual bound-constrained least-squares problem (Lawson–Hanson NNLS,
 finite termination) and is listed in `Result.messages`.
 
+Stored per recorded step k (scene.output.field_steps), besides the fields on the
+N nodes: `Result.solutions[k]` = u, the surface u_z at all surface points (the
+unknowns of the condensed problem, the same kind of vector the cohesive FE
+stores: `problem.solve_interior(u)` gives every DOF, which `reference.fem.export`
+writes), and `Result.wall_forces[k]` = μ (N/m). z_ind of step k is
+`problem.indenter(δ0, U_k)`.
+
 Residual reported per step (dimensionless, / p_ref, p_ref = E* ḡ as GFMD):
 max over the points of |S u + μ|/W, max(0, −μ)/W and max(0, u − z)·S_ii/W.
 """
@@ -192,6 +199,7 @@ def _run(scene, realization, order, progress, mesh_kw, tolerance):
     u, mu = np.zeros(prob.ns), np.zeros(prob.ns)
     result.fallback_steps = []
     result.solutions = {}
+    result.wall_forces = {}
     for k, displacement in enumerate(displacement_steps(scene.loading)):
         start = time.perf_counter()
         z_ind = prob.indenter(d0, displacement)
@@ -215,7 +223,8 @@ def _run(scene, realization, order, progress, mesh_kw, tolerance):
             ux = prob.solve_interior(u)[cell.surface_dofs[0]]
             result.fields[k] = {"u_z": u[vp].copy(), "u_x": ux[vp].copy(), "gap": gap[vp].copy(),
                                 "t_n": t_n.copy(), "t_t": np.zeros(vp.size)}
-            result.solutions[k] = {"u_z": u.copy(), "mu": mu.copy(), "z_ind": z_ind.copy()}
+            result.solutions[k] = u.copy()  # the problem's unknowns, as the cohesive FE: solve_interior(u)
+            result.wall_forces[k] = mu.copy()
         if progress is not None:
             progress(k, scene.loading.steps)
     result.problem = prob
