@@ -3,8 +3,12 @@
 Units: SI (see `gfmd.conventions`). `load_scene(path)` reads and validates a TOML
 file; `scene_from_dict` does the same for a dict; `scene_to_toml` writes the
 fully resolved scene back. Every error names the key, the value and the
-allowed range. `EXAMPLE_SCENE` is a fully commented example
-(`gfmd scene --example`).
+allowed range. [surface] takes only the keys of its kind (every kind: kind,
+length, nodes, seed, realizations; self-affine: hurst, h_rms, rolloff_wavelength,
+rollon_wavelength; sinusoid: amplitude; cylinder: radius; file: path); a key of
+another kind is an error, not ignored. Sizes are bounded (N ≤ 2^24, steps ≤ 10^6,
+realizations ≤ 10^5) and positive physical quantities lie in [1e-30, 1e30] (SI).
+`example_scene_text()` is a fully commented example (`gfmd scene --example`).
 """
 
 from __future__ import annotations
@@ -129,6 +133,9 @@ class Scene:
         """Copy with dotted keys ("section.key") replaced and re-validated.
 
         Example: scene.replace(**{"surface.nodes": 1024, "interface.law": "hard-wall"}).
+        A new surface.kind drops the old kind's own keys (e.g. surface.hurst when a self-affine
+        scene becomes a sinusoid; give the new kind's keys, e.g. surface.amplitude, with it), and a
+        deterministic kind gets surface.realizations = 1 unless that is given too.
         """
         d = scene_to_dict(self)
         for key, value in sections.items():
@@ -136,6 +143,16 @@ class Scene:
             if not name:
                 raise SceneError(f"replace() takes dotted keys like 'surface.nodes', got {key!r}")
             d.setdefault(section, {})[name] = value
+        kind = sections.get("surface.kind", self.surface.kind)
+        if kind != self.surface.kind and isinstance(d.get("surface"), dict):
+            # a new kind: the old kind's own keys go (unless given again, which is then an error naming
+            # them), and a deterministic kind gets its single realization unless one is given
+            for name in _KIND_KEYS.get(self.surface.kind, ()):
+                if f"surface.{name}" not in sections:
+                    d["surface"].pop(name, None)
+            if (isinstance(kind, str) and kind in _KIND_KEYS and kind != "self-affine"
+                    and "surface.realizations" not in sections):
+                d["surface"]["realizations"] = 1
         if "interface.phi_n_star" in sections or "interface.work_normal" in sections:
             keep = "phi_n_star" if "interface.phi_n_star" in sections else "work_normal"
             d["interface"].pop("work_normal" if keep == "phi_n_star" else "phi_n_star", None)
@@ -147,6 +164,20 @@ class Scene:
 _SECTIONS = {"surface": Surface, "material": Material, "interface": Interface,
              "loading": Loading, "solver": Solver, "output": Output}
 _KINDS = ("self-affine", "sinusoid", "cylinder", "flat", "file")
+#: [surface] keys of every kind, and the keys that apply to one kind only
+_COMMON_KEYS = ("kind", "length", "nodes", "seed", "realizations")
+_KIND_KEYS = {"self-affine": ("hurst", "h_rms", "rolloff_wavelength", "rollon_wavelength"),
+              "sinusoid": ("amplitude",), "cylinder": ("radius",), "flat": (), "file": ("path",)}
+#: largest surface.nodes: a run holds tens of arrays of N values (N = 2^24: several GB)
+MAX_NODES = 2**24
+#: largest loading.steps, output.field_steps, surface.realizations (arrays and loops of that length)
+MAX_STEPS = 10**6
+MAX_REALIZATIONS = 10**5
+#: positive physical quantities (SI) must lie in [MIN_SCALE, MAX_SCALE]: outside it a value is a unit
+#: slip, and products such as φn = φn* δn E or the stiffness E q underflow to 0 or overflow to inf
+MIN_SCALE, MAX_SCALE = 1e-30, 1e30
+#: TOML integers are 64-bit signed
+_MAX_INT = 2**63 - 1
 _LAWS = ("hard-wall", "cohesive")
 _METHODS = ("fire", "verlet")
 _UNKNOWNS = ("auto", "coupled")
@@ -165,6 +196,8 @@ def _number(d, section, key, default, *, integer=False):
     if integer:
         if not math.isfinite(value) or int(value) != value:
             _fail(full, value, "must be an integer")
+        if abs(int(value)) > _MAX_INT:
+            _fail(full, value, f"must be an integer of at most {_MAX_INT} in size (TOML's 64-bit integers)")
         return int(value)
     value = float(value)
     if math.isnan(value):
@@ -184,19 +217,30 @@ def _check_keys(d, section, cls):
 def _positive(key, value):
     if not value > 0 or math.isinf(value):
         _fail(key, value, "must be a finite number > 0")
+    if not MIN_SCALE <= value <= MAX_SCALE:
+        _fail(key, value, f"must lie in [{MIN_SCALE:g}, {MAX_SCALE:g}] (SI units): a value outside is no "
+              "physical scale (a unit slip?) and under- or overflows in the model")
 
 
 def _surface(d):
     _check_keys(d, "surface", Surface)
     s = Surface()
     kind = d.get("kind", s.kind)
-    if kind not in _KINDS:
+    if not isinstance(kind, str) or kind not in _KINDS:
         _fail("surface.kind", kind, f"must be one of {list(_KINDS)}")
+    allowed = _COMMON_KEYS + _KIND_KEYS[kind]
+    for key in d:
+        if key not in allowed:
+            others = [k for k, keys in _KIND_KEYS.items() if key in keys]
+            _fail(f"surface.{key}", d[key],
+                  f"does not apply to surface.kind = {kind!r} (it belongs to kind {' / '.join(map(repr, others))}); "
+                  f"the keys of a {kind!r} surface are: {', '.join(allowed)}")
     length = _number(d, "surface", "length", s.length)
     _positive("surface.length", length)
     nodes = _number(d, "surface", "nodes", s.nodes, integer=True)
-    if nodes < 8:
-        _fail("surface.nodes", nodes, "must be an integer ≥ 8")
+    if not 8 <= nodes <= MAX_NODES:
+        _fail("surface.nodes", nodes, f"must be an integer in [8, {MAX_NODES}] (2^24: a run holds tens of arrays "
+              "of N values)")
     spacing = length / nodes
     kw = dict(kind=kind, length=length, nodes=nodes)
     seed = _number(d, "surface", "seed", s.seed, integer=True)
@@ -204,8 +248,8 @@ def _surface(d):
         _fail("surface.seed", seed, "must be an integer ≥ 0")
     realizations = _number(d, "surface", "realizations", 1 if kind != "self-affine" else s.realizations,
                            integer=True)
-    if realizations < 1:
-        _fail("surface.realizations", realizations, "must be an integer ≥ 1")
+    if not 1 <= realizations <= MAX_REALIZATIONS:
+        _fail("surface.realizations", realizations, f"must be an integer in [1, {MAX_REALIZATIONS}]")
     if kind != "self-affine" and realizations != 1:
         _fail("surface.realizations", realizations, f"must be 1 for the deterministic kind {kind!r}")
     kw.update(seed=seed, realizations=realizations)
@@ -309,8 +353,8 @@ def _loading(d):
     if math.isinf(final) or final <= -d0:
         _fail("loading.final_penetration", final, f"must be finite and > −initial_separation = {-d0:g} (m)")
     steps = _number(d, "loading", "steps", lo.steps, integer=True)
-    if steps < 1:
-        _fail("loading.steps", steps, "must be an integer ≥ 1")
+    if not 1 <= steps <= MAX_STEPS:
+        _fail("loading.steps", steps, f"must be an integer in [1, {MAX_STEPS}]")
     return Loading(initial_separation=d0, final_penetration=final, steps=steps)
 
 
@@ -339,8 +383,8 @@ def _output(d):
     _check_keys(d, "output", Output)
     o = Output()
     fs = _number(d, "output", "field_steps", o.field_steps, integer=True)
-    if fs < 0:
-        _fail("output.field_steps", fs, "must be an integer ≥ 0")
+    if not 0 <= fs <= MAX_STEPS:
+        _fail("output.field_steps", fs, f"must be an integer in [0, {MAX_STEPS}]")
     workers = _number(d, "output", "workers", o.workers, integer=True)
     if workers < 0:
         _fail("output.workers", workers, "must be an integer ≥ 0 (0 = all cores)")
@@ -389,11 +433,17 @@ def default_scene():
 
 
 def scene_to_dict(scene):
-    """Plain nested dict of the resolved scene (thickness inf written as "inf")."""
+    """Plain nested dict of the resolved scene (thickness inf written as "inf").
+
+    [surface] holds only the keys that apply to its kind (`scene_from_dict` refuses the others).
+    """
     d = {}
     for section in _SECTIONS:
         values = dataclasses.asdict(getattr(scene, section))
         d[section] = values
+    kind = scene.surface.kind
+    if kind in _KIND_KEYS:
+        d["surface"] = {k: v for k, v in d["surface"].items() if k in _COMMON_KEYS + _KIND_KEYS[kind]}
     d["material"]["thickness"] = "inf" if scene.material.half_plane else scene.material.thickness
     return d
 

@@ -8,6 +8,7 @@ zero mean, and h_rms exact after a final rescaling.
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import numpy as np
@@ -76,17 +77,68 @@ def flat(nodes, length):
 
 
 def from_file(path, nodes):
-    """Heights (m) read from a .npy or whitespace text file of exactly `nodes` values."""
+    """Heights (m) read from a file of exactly `nodes` values: a 1-D .npy array, or a text file
+    (any other suffix) with one column of heights (whitespace-separated numbers, '#' comments).
+
+    Anything else (a missing, unreadable, corrupt, empty, comma-separated or 2-D file, non-numeric
+    or non-finite values, the wrong count) raises a `gfmd.scene.SceneError` naming surface.path,
+    the file and what is expected.
+    """
+    from .scene import SceneError
+
     path = Path(path)
+    expected = (f"expected a 1-D .npy array or a text file with one column of surface.nodes = {nodes} "
+                "heights in m")
+
+    def fail(problem):
+        raise SceneError(f"surface.path = {str(path)!r}: {problem}; {expected}")
+
     if not path.is_file():
-        raise ValueError(f"surface.path = {str(path)!r}: no such file")
-    h = np.load(path) if path.suffix == ".npy" else np.loadtxt(path)
-    h = np.asarray(h, dtype=float).ravel()
+        fail("is a directory, not a file" if path.is_dir() else "no such file")
+    try:
+        if path.suffix.lower() == ".npy":
+            try:
+                h = np.load(path, allow_pickle=False)
+            except (ValueError, EOFError) as exc:
+                fail(f"not a valid .npy file ({_first_line(exc)})")
+        else:
+            try:
+                text = path.read_text()
+            except UnicodeDecodeError:
+                fail("not a text file (binary content; a NumPy array must have the suffix .npy)")
+            body = [line.split("#", 1)[0] for line in text.splitlines()]
+            if not any(line.strip() for line in body):
+                fail("the file holds no numbers (empty)")
+            if any("," in line for line in body):
+                fail("comma-separated values are not read (write one height per line)")
+            try:
+                h = np.loadtxt(io.StringIO(text), dtype=float, ndmin=1)
+            except ValueError as exc:  # non-numeric text, ragged rows
+                fail(f"cannot be read as numbers ({_first_line(exc)})")
+    except OSError as exc:  # unreadable
+        fail(f"cannot be read ({_first_line(exc)})")
+    if not isinstance(h, np.ndarray):  # e.g. an .npz archive named .npy
+        getattr(h, "close", lambda: None)()
+        fail(f"holds a {type(h).__name__}, not an array")
+    if h.dtype.kind not in "iuf":
+        fail(f"holds values of dtype {h.dtype}, not real numbers")
+    if h.ndim != 1:
+        fail(f"holds an array of shape {h.shape} ({h.ndim}-D), not one column of heights")
+    if h.size == 0:
+        fail("the file holds no numbers (empty)")
+    h = np.asarray(h, dtype=float)
     if h.size != nodes:
-        raise ValueError(f"surface.path = {str(path)!r} holds {h.size} heights, but surface.nodes = {nodes}")
+        raise SceneError(f"surface.path = {str(path)!r} holds {h.size} heights, but surface.nodes = {nodes}; "
+                         f"{expected}")
     if not np.all(np.isfinite(h)):
-        raise ValueError(f"surface.path = {str(path)!r} contains non-finite heights")
+        fail(f"contains non-finite heights ({int(np.sum(~np.isfinite(h)))} of {h.size})")
     return h
+
+
+def _first_line(exc, limit=120):
+    """First line of an exception's message, at most `limit` characters."""
+    text = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
+    return text if len(text) <= limit else text[:limit] + " …"
 
 
 def profile(surface, realization=0):

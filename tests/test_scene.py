@@ -316,9 +316,9 @@ def test_replace_rejects_bad_keys_and_values():
     with pytest.raises(SceneError, match="surface.nodes"):
         base.replace(**{"surface.nodes": 4})
     with pytest.raises(SceneError, match="surface.realizations"):
-        base.replace(**{"surface.kind": "flat"})  # resolved realizations > 1 is kept: must be reset too
-    flat = base.replace(**{"surface.kind": "flat", "surface.realizations": 1})
-    assert flat.surface.kind == "flat"
+        base.replace(**{"surface.kind": "flat", "surface.realizations": 4})  # given explicitly: refused
+    flat = base.replace(**{"surface.kind": "flat"})  # a deterministic kind gets realizations = 1
+    assert flat.surface.kind == "flat" and flat.surface.realizations == 1
 
 
 def test_scene_to_dict_and_properties():
@@ -330,3 +330,185 @@ def test_scene_to_dict_and_properties():
     assert scene_to_dict(default_scene())["material"]["thickness"] == "inf"
     assert scene.surface.spacing == 1e-6 / 64
     assert scene.interface.cohesive and not scene.replace(**{"interface.law": "hard-wall"}).interface.cohesive
+
+
+# ---------------------------------------------------------------- keys that belong to another surface kind
+
+COMMON = {"kind", "length", "nodes", "seed", "realizations"}
+OWN = {"self-affine": {"hurst", "h_rms", "rolloff_wavelength", "rollon_wavelength"}, "sinusoid": {"amplitude"},
+       "cylinder": {"radius"}, "flat": set(), "file": {"path"}}
+SIN = {"kind": "sinusoid", "amplitude": 5e-9}
+CYL = {"kind": "cylinder", "radius": 1e-6}
+FLAT = {"kind": "flat"}
+FILE = "<heights.npy>"  # replaced by a real 64-node profile file in the test
+
+FOREIGN = [
+    # (surface table, foreign key, its value): each used to be ignored silently
+    ({**SIN, "hurst": 0.5}, "hurst", 0.5),
+    ({**SIN, "radius": 1e-6}, "radius", 1e-6),
+    ({**SIN, "h_rms": 1e-9}, "h_rms", 1e-9),
+    ({**SIN, "path": "h.npy"}, "path", "h.npy"),
+    ({**SA, "amplitude": 5e-9}, "amplitude", 5e-9),
+    ({**SA, "radius": 1e-6}, "radius", 1e-6),
+    ({**SA, "path": "h.npy"}, "path", "h.npy"),
+    ({**CYL, "rolloff_wavelength": 1e-7}, "rolloff_wavelength", 1e-7),
+    ({**CYL, "amplitude": 5e-9}, "amplitude", 5e-9),
+    ({**FLAT, "hurst": 0.8}, "hurst", 0.8),
+    ({**FLAT, "amplitude": 1e-9}, "amplitude", 1e-9),
+    ({**FLAT, "path": "h.npy"}, "path", "h.npy"),
+    ({"kind": "file", "path": FILE, "nodes": 64, "amplitude": 5e-9}, "amplitude", 5e-9),
+    ({"kind": "file", "path": FILE, "nodes": 64, "rollon_wavelength": 1e-9}, "rollon_wavelength", 1e-9),
+]
+
+
+@pytest.mark.parametrize("surface, key, value", FOREIGN, ids=[f"{s['kind']}+{k}" for s, k, _ in FOREIGN])
+def test_key_of_another_kind_is_an_error(tmp_path, surface, key, value):
+    if surface.get("path") == FILE:
+        np.save(tmp_path / "h.npy", np.zeros(64))
+        surface = {**surface, "path": str(tmp_path / "h.npy")}
+    message = _expect({"surface": surface}, f"surface.{key}", value)
+    kind = surface["kind"]
+    assert f"surface.kind = {kind!r}" in message, message
+    for allowed in COMMON | OWN[kind]:  # what is allowed is listed
+        assert allowed in message, message
+
+
+@pytest.mark.parametrize("kind, extra", [("self-affine", {}), ("sinusoid", {"amplitude": 5e-9}),
+                                         ("cylinder", {"radius": 1e-6}), ("flat", {}), ("file", None)])
+def test_scene_to_dict_writes_only_the_keys_of_the_kind(tmp_path, kind, extra):
+    if extra is None:
+        np.save(tmp_path / "h.npy", np.linspace(0, 1e-9, 64))
+        extra = {"path": str(tmp_path / "h.npy")}
+    surface = {"kind": kind, "nodes": 64, "length": 1e-6, **extra}
+    if kind == "self-affine":
+        surface.update(rolloff_wavelength=5e-7, rollon_wavelength=1e-7, realizations=3)
+    scene = scene_from_dict({"surface": surface})
+    assert set(scene_to_dict(scene)["surface"]) == COMMON | OWN[kind]
+    (tmp_path / "rt").mkdir()
+    assert _round_trip(scene, tmp_path / "rt") == scene
+
+
+def test_replace_changes_the_kind(tmp_path):
+    base = default_scene()  # self-affine, 4 realizations
+    sin = base.replace(**{"surface.kind": "sinusoid", "surface.amplitude": 5e-9})
+    assert sin.surface.kind == "sinusoid" and sin.surface.amplitude == 5e-9
+    assert sin.surface.realizations == 1  # deterministic: one realization
+    assert (sin.surface.length, sin.surface.nodes, sin.surface.seed) == (
+        base.surface.length, base.surface.nodes, base.surface.seed)  # the common keys are kept
+    assert sin.material == base.material and sin.interface == base.interface and sin.loading == base.loading
+    assert _round_trip(sin, tmp_path) == sin
+    # sinusoid → cylinder → flat → self-affine: each step drops the old kind's own key
+    cyl = sin.replace(**{"surface.kind": "cylinder", "surface.radius": 1e-6})
+    assert cyl.surface.kind == "cylinder" and cyl.surface.radius == 1e-6 and cyl.surface.amplitude == 0.0
+    flat = cyl.replace(**{"surface.kind": "flat"})
+    assert flat.surface == Surface(kind="flat", length=base.surface.length, nodes=base.surface.nodes,
+                                   seed=base.surface.seed, realizations=1)
+    back = flat.replace(**{"surface.kind": "self-affine", "surface.realizations": 4,
+                           **{f"surface.{k}": getattr(base.surface, k) for k in OWN["self-affine"]}})
+    assert back == base
+    # the new kind's keys are needed (sinusoid: amplitude), and a key of another kind stays an error
+    with pytest.raises(SceneError, match="surface.amplitude"):
+        base.replace(**{"surface.kind": "sinusoid"})
+    with pytest.raises(SceneError, match="surface.hurst"):
+        base.replace(**{"surface.kind": "sinusoid", "surface.amplitude": 5e-9, "surface.hurst": 0.5})
+    with pytest.raises(SceneError, match="surface.amplitude"):
+        base.replace(**{"surface.amplitude": 5e-9})  # no kind change: amplitude does not apply
+    # the same kind given again changes nothing
+    assert base.replace(**{"surface.kind": "self-affine"}) == base
+
+
+# ---------------------------------------------------------------- profile files through the scene
+
+def _bad_profile(directory, what):
+    """A profile file that is not one column of 256 heights; returns its path."""
+    if what == "2-D npy":
+        np.save(directory / "h.npy", np.zeros((16, 16)))  # 256 values, but a 16×16 map
+        return directory / "h.npy"
+    if what == "corrupt npy":
+        (directory / "h.npy").write_bytes(b"\x93NUMPY\x01\x00garbage")
+        return directory / "h.npy"
+    if what == "comma-separated":
+        (directory / "h.csv").write_text(",".join(["1e-9"] * 256) + "\n")
+        return directory / "h.csv"
+    if what == "empty text":
+        (directory / "h.txt").write_text("")
+        return directory / "h.txt"
+    if what == "two columns":
+        np.savetxt(directory / "h.txt", np.zeros((128, 2)))  # x, h pairs: 256 numbers
+        return directory / "h.txt"
+    raise AssertionError(what)
+
+
+@pytest.mark.parametrize("what", ["2-D npy", "corrupt npy", "comma-separated", "empty text", "two columns"])
+def test_bad_profile_file_names_surface_path(tmp_path, what):
+    path = _bad_profile(tmp_path, what)
+    scene_file = tmp_path / "s.toml"
+    scene_file.write_text(f'[surface]\nkind = "file"\nnodes = 256\nlength = 1e-6\npath = "{path.name}"\n')
+    with pytest.raises(SceneError) as info:
+        load_scene(scene_file)
+    message = str(info.value)
+    assert "surface.path" in message and path.name in message, message
+    assert "1-D" in message and "one column of surface.nodes = 256 heights in m" in message, message
+
+
+# ---------------------------------------------------------------- absurd sizes and magnitudes
+
+HUGE = [
+    # (dict, key, value): each gave a traceback (MemoryError, ZeroDivisionError, OverflowError), a NaN
+    # pressure or a denormal answer on the old code, or an integer TOML cannot hold
+    ({"surface": {**SA, "nodes": 2**40}}, "surface.nodes", 2**40),
+    ({"surface": {**SA, "nodes": 1e300}}, "surface.nodes", None),
+    ({"surface": {**SA, "nodes": 2**24 + 1}}, "surface.nodes", 2**24 + 1),
+    ({"surface": {**SA, "realizations": 10**9}}, "surface.realizations", 10**9),
+    ({"surface": {**SA, "seed": 2**70}}, "surface.seed", 2**70),
+    ({"loading": {"steps": 10**12}}, "loading.steps", 10**12),
+    ({"output": {"field_steps": 10**9}}, "output.field_steps", 10**9),
+    ({"solver": {"max_iterations": 2**70}}, "solver.max_iterations", 2**70),
+    ({"material": {"youngs_modulus": 1e-320}}, "material.youngs_modulus", 1e-320),
+    ({"material": {"youngs_modulus": 1e31}}, "material.youngs_modulus", 1e31),
+    ({"material": {"thickness": 1e-320}}, "material.thickness", 1e-320),
+    ({"interface": {"length_normal": 1e-320}}, "interface.length_normal", 1e-320),
+    ({"interface": {"work_normal": 1e-320}}, "interface.work_normal", 1e-320),
+    ({"interface": {"phi_n_star": 1e308}}, "interface.phi_n_star", 1e308),
+    ({"surface": {**SIN, "amplitude": 1e300}}, "surface.amplitude", 1e300),
+    ({"surface": {**CYL, "radius": 1e-300}}, "surface.radius", 1e-300),
+    ({"surface": {**SA, "h_rms": 1e-300}}, "surface.h_rms", 1e-300),
+    ({"surface": {**FLAT, "length": 1e-300}}, "surface.length", 1e-300),
+]
+
+
+@pytest.mark.parametrize("d, key, value", HUGE, ids=[f"{k}={v!r}" for _, k, v in HUGE])
+def test_absurd_sizes_and_magnitudes_are_refused(d, key, value):
+    message = _expect(d, key, value)
+    assert "must" in message  # says what is allowed
+
+
+def test_largest_allowed_values_are_valid():
+    scene = scene_from_dict({"surface": {**FLAT, "nodes": 2**24, "length": 1e-3, "seed": 2**63 - 1},
+                             "loading": {"steps": 10**6}, "output": {"field_steps": 10**6}})
+    assert scene.surface.nodes == 2**24 and scene.loading.steps == 10**6
+
+
+# ---------------------------------------------------------------- the shipped scenes run cleanly
+
+def _shipped(name):
+    if name == "default":
+        return default_scene()
+    return load_scene(Path(resources.files("gfmd").joinpath("example_scene.toml")))
+
+
+@pytest.mark.parametrize("name", ["default", "example"])
+def test_shipped_scenes_start_stable_and_stay_below_full_contact(name):
+    from gfmd import surfaces
+    from gfmd.model import build_model, jump_in_separation, softest_normal_stiffness
+
+    scene = _shipped(name)
+    h0 = surfaces.profile(scene.surface, 0)
+    model = build_model(scene, h0)
+    assert model.warnings == ()  # neither under-resolved δn nor a start inside the jump-in separation
+    gap = jump_in_separation(softest_normal_stiffness(model), scene.interface.work_normal,
+                             scene.interface.length_normal)
+    assert scene.loading.initial_separation >= 1.2 * gap  # with a margin, as the comments say
+    for i in range(scene.surface.realizations):
+        h = surfaces.profile(scene.surface, i)
+        assert scene.loading.final_penetration < 0.85 * (np.mean(h) - np.min(h)), i  # full contact: mean − min

@@ -243,6 +243,93 @@ def test_from_file_missing_and_non_finite(tmp_path):
         surfaces.from_file(path, 8)
 
 
+def _write(directory, what):
+    """A file that is not a profile of 256 heights; returns (path, words the message must hold)."""
+    d = directory
+    if what == "16x16 npy":  # 256 values, accepted as a 256-node profile before
+        np.save(d / "h.npy", np.zeros((16, 16)))
+        return d / "h.npy", ["(16, 16)", "2-D"]
+    if what == "corrupt npy":
+        (d / "h.npy").write_bytes(b"\x93NUMPY\x01\x00" + b"\x00" * 40)
+        return d / "h.npy", ["not a valid .npy file"]
+    if what == "text named npy":
+        (d / "h.npy").write_text("1e-9\n" * 256)
+        return d / "h.npy", ["not a valid .npy file"]
+    if what == "npz named npy":
+        np.savez(d / "h.npz", h=np.zeros(256))
+        (d / "h.npz").rename(d / "h.npy")
+        return d / "h.npy", ["NpzFile", "not an array"]
+    if what == "0-d npy":
+        np.save(d / "h.npy", np.float64(1e-9))
+        return d / "h.npy", ["0-D"]
+    if what == "empty npy":
+        np.save(d / "h.npy", np.zeros(0))
+        return d / "h.npy", ["empty"]
+    if what == "complex npy":
+        np.save(d / "h.npy", np.zeros(256, complex))
+        return d / "h.npy", ["complex128", "not real numbers"]
+    if what == "string npy":
+        np.save(d / "h.npy", np.array(["1e-9"] * 256))
+        return d / "h.npy", ["not real numbers"]
+    if what == "comma-separated":
+        (d / "h.csv").write_text("\n".join(f"{i},1e-9" for i in range(128)) + "\n")
+        return d / "h.csv", ["comma-separated"]
+    if what == "comma row":
+        (d / "h.txt").write_text(",".join(["1e-9"] * 256) + "\n")
+        return d / "h.txt", ["comma-separated"]
+    if what == "empty text":
+        (d / "h.txt").write_text("")
+        return d / "h.txt", ["empty"]
+    if what == "comments only":
+        (d / "h.txt").write_text("# heights in m\n\n")
+        return d / "h.txt", ["empty"]
+    if what == "two columns":
+        np.savetxt(d / "h.txt", np.zeros((128, 2)))
+        return d / "h.txt", ["(128, 2)", "2-D"]
+    if what == "header word":
+        (d / "h.txt").write_text("height\n" + "0\n" * 256)
+        return d / "h.txt", ["cannot be read as numbers", "height"]
+    if what == "ragged":
+        (d / "h.txt").write_text("1 2\n3\n")
+        return d / "h.txt", ["cannot be read as numbers"]
+    if what == "binary":
+        (d / "h.dat").write_bytes(bytes(range(256)) * 4)
+        return d / "h.dat", ["not a text file", ".npy"]
+    if what == "directory":
+        (d / "h.npy").mkdir()
+        return d / "h.npy", ["directory"]
+    raise AssertionError(what)
+
+
+BAD_FILES = ["16x16 npy", "corrupt npy", "text named npy", "npz named npy", "0-d npy", "empty npy", "complex npy",
+             "string npy", "comma-separated", "comma row", "empty text", "comments only", "two columns",
+             "header word", "ragged", "binary", "directory"]
+
+
+@pytest.mark.parametrize("what", BAD_FILES)
+def test_from_file_refuses_what_is_not_a_profile(tmp_path, what):
+    # a SceneError (a ValueError) naming surface.path, the file, the problem and what is expected,
+    # never a raw numpy/pickle/unicode error or a silently flattened array
+    from gfmd.scene import SceneError
+
+    path, words = _write(tmp_path, what)
+    with pytest.raises(SceneError) as info:
+        surfaces.from_file(path, 256)
+    message = str(info.value)
+    assert message.startswith(f"surface.path = {str(path)!r}: "), message
+    assert "expected a 1-D .npy array or a text file with one column of surface.nodes = 256 heights in m" in message
+    for word in words:
+        assert word in message, message
+    assert "\n" not in message and len(message) < 400, message
+
+
+def test_from_file_accepts_integers_and_one_row(tmp_path):
+    np.save(tmp_path / "i.npy", np.arange(16))
+    assert np.array_equal(surfaces.from_file(tmp_path / "i.npy", 16), np.arange(16.0))
+    (tmp_path / "row.txt").write_text(" ".join(["2e-9"] * 16) + "  # one line is one 1-D row\n")
+    assert np.array_equal(surfaces.from_file(tmp_path / "row.txt", 16), np.full(16, 2e-9))
+
+
 # ---------------------------------------------------------------- dispatch from a scene spec
 
 def test_profile_dispatch(tmp_path):
