@@ -72,7 +72,7 @@ def _cmd_run(args):
 def _cmd_plot(args):
     from .plots import plot_run
 
-    for path in plot_run(args.dir, snapshot_delta=args.delta):
+    for path in plot_run(args.dir, snapshot_delta=args.delta, fmt=args.format, realization=args.realization):
         print(f"wrote {path}")
     return 0
 
@@ -107,9 +107,13 @@ def build_parser():
     run.add_argument("--no-plot", action="store_true", help="skip the figures")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     run.set_defaults(func=_cmd_run)
-    plot = sub.add_parser("plot", help="seed-style figures of a run directory")
+    plot = sub.add_parser("plot", help="seed-style figures of a run directory (into DIR/plots/)")
     plot.add_argument("dir")
     plot.add_argument("--delta", type=float, help="δ (m) of the interface snapshot (default: last saved step)")
+    plot.add_argument("--format", choices=("png", "svg", "pdf"), default="png", help="file format (default png)")
+    plot.add_argument("--realization", type=int, metavar="I",
+                      help="realization of the interface snapshot, as in curve.csv's `realization` column "
+                           "(default: the first one with saved fields)")
     plot.set_defaults(func=_cmd_plot)
     scene = sub.add_parser("scene", help="print a commented example scene or check a scene file")
     scene.add_argument("--example", action="store_true")
