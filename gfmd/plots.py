@@ -9,12 +9,15 @@ What is drawn:
   point is the mean over the realizations that have a value there, with its
   standard error (`gfmd.ensemble.mean_standard_error`); the legend says so and
   gives the realization count n (a range where it differs between points);
+* points averaged over fewer than all realizations (a realization stopped
+  early, or ḡ_r is undefined without contact) are drawn as open markers: the
+  mean of a changing subset can jump where a realization drops out;
 * steps where some realization did not converge are marked with red ×;
 * on the load–area figure the adhesive branch (p < 0, tensile mean pressure)
   is kept, left of a line at p = 0; the κ fit (seed Eq. 1, non-adhesive only)
   uses p > 0 only.
 `make_figures` returns the matplotlib figures (artists carry a `gid`: "mean",
-"nonconverged", "p=0", "kappa-fit"), `plot_run` writes them.
+"partial", "nonconverged", "p=0", "kappa-fit"), `plot_run` writes them.
 """
 
 from __future__ import annotations
@@ -132,6 +135,15 @@ def _legend(fig, ax, ncols=1):
         fig.legend(handles, labels, loc="outside lower center", ncols=ncols, fontsize=8, frameon=False)
 
 
+def _mark_partial(ax, x, y, count, total, drawn, label=True):
+    """Open markers where the mean is over fewer than all `total` realizations (stopped early, no contact)."""
+    at = drawn & (count < total)
+    if total > 1 and at.any():
+        ax.plot(x[at], y[at], "o", ms=3.5, mfc="white", mec="tab:blue", mew=0.9, ls="none", zorder=4, gid="partial",
+                label=f"open: mean over n < {total} realizations (the others stopped early or have no value)"
+                if label else None)
+
+
 def _mark_nonconverged(ax, x, y, mask, realizations, drawn, label=True):
     """Red × at the drawn points (x, y) of steps where any realization did not converge."""
     at = mask.any(axis=0) & drawn & np.isfinite(x) & np.isfinite(y)
@@ -160,6 +172,7 @@ def _load_area(scene, st, e_star, label, nc):
                          else "p = 0") if first else None)
         a.errorbar(mx[ok], my[ok], xerr=sx[ok], yerr=sy[ok], gid="mean",
                    label=f"{label}\n{error_bar_label(cx[ok], cy[ok])}" if first else None, **style)
+        _mark_partial(a, mx, my, np.minimum(cx, cy), len(st.realizations), ok, label=first)
         _mark_nonconverged(a, mx, my, nc, st.realizations, ok, label=first)
         a.set(xlabel=r"reduced pressure $p_r^* = p\,/\,(\bar g_r E^*)$")
         _sci(a, "x")
@@ -196,6 +209,7 @@ def _versus_delta(st, values, ylabel, title, label, nc, zero_line=False):
     ax.errorbar(x[ok], m[ok], yerr=se[ok], fmt="-o", ms=2, lw=0.8, elinewidth=0.7, capsize=0, color="tab:blue",
                 ecolor=_BAR_COLOR,
                 gid="mean", label=f"{label}\n{error_bar_label(count[ok])}")
+    _mark_partial(ax, x, m, count, len(st.realizations), ok)
     _mark_nonconverged(ax, x, m, nc, st.realizations, ok)
     ax.set(xlabel=r"penetration $\delta$ (nm)", ylabel=ylabel, title=title)
     _sci(ax, "y")

@@ -160,6 +160,15 @@ def test_ragged_curves_are_stacked_by_step(tmp_path, saved):
     expected = _expected_mean([p for p, _, _, _ in CURVES.values()]) / E_STAR
     np.testing.assert_allclose(line.get_ydata(), expected, rtol=1e-12)
     np.testing.assert_allclose(line.get_ydata()[4], (2e7 + 3e7) / 2 / E_STAR)  # r1 absent: mean of r0, r2
+    for name in ("pressure_vs_delta.png", "area_vs_reduced_pressure.png"):  # subset means: open markers
+        fig = saved[name]
+        (partial,) = _gid(fig, "partial")
+        mean = _data_line(fig)
+        np.testing.assert_allclose(partial.get_xdata(), mean.get_xdata()[-2:])  # steps 4, 5 (step 0 of p_r: NaN)
+        assert "open: mean over n < 3 realizations (the others stopped early or have no value)" in _legend_texts(fig)
+    saved.clear()
+    plots.plot_run(write_synthetic_run(tmp_path / "full", curves={r: CURVES[r] for r in (0, 2)}))
+    assert not _gid(saved["pressure_vs_delta.png"], "partial")
 
 
 def test_stack_curves_aligns_steps_and_takes_delta_from_the_longest():
