@@ -6,6 +6,7 @@ Units: SI everywhere (see gfmd.conventions); scenes are TOML files (gfmd.scene).
 from __future__ import annotations
 
 import argparse
+import signal
 import subprocess
 import sys
 import time
@@ -14,25 +15,91 @@ from pathlib import Path
 from .scene import SceneError, default_scene, example_scene_text, load_scene
 
 
+def _fe_problem_check(scene):
+    """What the FE reference refuses, said before any work (reference.fem builds a finite layer)."""
+    if scene.material.half_plane:
+        raise SceneError("--method fe: the FE reference models a finite layer only; material.thickness = \"inf\" "
+                         "(half-plane) cannot be meshed: give a finite material.thickness (e.g. the period L)")
+    if scene.surface.nodes % 2:
+        raise SceneError(f"--method fe: surface.nodes = {scene.surface.nodes}: the FE mesh needs an even number")
+
+
+def _checks(scene, method):
+    """Every check `gfmd run` makes before compute (gfmd.loading.preflight + the method's); (warnings, notes)."""
+    from .loading import preflight
+
+    if method == "fe":
+        _fe_problem_check(scene)
+    return preflight(scene)
+
+
 def _run_fe(scene, out, quiet=False):
-    """FE reference on every realization (serial, progress bar per load step); VTU + PVD per realization
-    under out/vtu/realization<i>/ (reference.fem.export_vtu)."""
+    """FE reference on every realization (serial, progress bar per load step), each saved when done
+    (gfmd.io.save_realization; realizations done by an earlier, interrupted run are reused);
+    VTU + PVD per realization under out/vtu/realization<i>/ (reference.fem.export_vtu)."""
     from tqdm import tqdm
 
     from reference.fem import export_vtu, run_realization as run_fe  # optional reference method
 
-    results = []
+    from . import io
+
+    reused = 0
     for i in range(scene.surface.realizations):
+        part = io.load_part(out, scene, i)
+        if part is not None and part[2]:
+            reused += 1
+            continue
         with tqdm(total=scene.loading.steps + 1, desc=f"FE realization {i}", unit="step", disable=quiet) as bar:
             result = run_fe(scene, i, progress=lambda k, steps: bar.update(1))
-        files = export_vtu(result, out / "vtu" / f"realization{i}")
-        print(f"wrote {len(files)} VTU/PVD files to {out / 'vtu' / f'realization{i}'}", file=sys.stderr)
-        results.append(result)
-    return results
+        if result.fields:
+            files = export_vtu(result, out / "vtu" / f"realization{i}")
+            print(f"wrote {len(files)} VTU files and fe.pvd to {out / 'vtu' / f'realization{i}'}", file=sys.stderr)
+        io.start_part(out, i)
+        io.save_realization(out, result)
+    results = [io.load_part(out, scene, i)[0].finalize() for i in range(scene.surface.realizations)]
+    return results, {"realizations_reused": reused, "steps_reused": 0}
+
+
+def _interrupted(signum, frame):
+    raise KeyboardInterrupt
+
+
+def _resume_command(args, out):
+    method = f" --method {args.method}" if args.method else ""
+    scene = f" {args.scene}" if args.scene else ""
+    return f"gfmd run{scene} --out {out}{method} --resume"
+
+
+def _on_disk(scene, out):
+    """One line: what an interrupted run left in `out`."""
+    from . import io
+
+    parts = [io.load_part(out, scene, i) for i in range(scene.surface.realizations)]
+    done = sum(1 for p in parts if p is not None and p[2])
+    partial = [p for p in parts if p is not None and not p[2]]
+    steps = sum(len(p[0].curve["step"]) for p in partial)
+    return (f"{done} of {scene.surface.realizations} realization(s) complete, {len(partial)} partial "
+            f"({steps} load steps) saved in {out}")
+
+
+def _scene_from_args(args):
+    if args.scene:
+        if Path(args.scene).is_dir():
+            raise SceneError(f"scene {args.scene!r} is a directory, not a TOML scene file "
+                             "(to continue a run in it: gfmd run --out DIR --resume)")
+        return load_scene(args.scene)
+    if args.resume and args.out and (Path(args.out) / "scene.toml").is_file():
+        return load_scene(Path(args.out) / "scene.toml")  # resume the scene of the run directory
+    return default_scene()
 
 
 def _cmd_run(args):
-    scene = load_scene(args.scene) if args.scene else default_scene()
+    import dataclasses
+    import json
+
+    from . import io
+
+    scene = _scene_from_args(args)
     overrides = {}
     if args.realizations is not None:
         overrides["surface.realizations"] = args.realizations
@@ -40,20 +107,44 @@ def _cmd_run(args):
         overrides["solver.method"] = args.method
     if overrides:
         scene = scene.replace(**overrides)
-    out = Path(args.out or f"results/{scene.name}")
+    if args.resume and not args.scene and args.out and (Path(args.out) / "meta.json").is_file():
+        name = json.loads((Path(args.out) / "meta.json").read_text()).get("scene_name", scene.name)
+        scene = dataclasses.replace(scene, name=name)
+    method = "fe" if args.method == "fe" else "gfmd"
+    warnings, notes = _checks(scene, method)  # refusals happen here, before any file is touched
+    out = io.prepare_run_dir(Path(args.out or f"results/{scene.name}"), scene, method, resume=args.resume,
+                             overwrite=args.overwrite)
+    if args.resume and io.run_complete(out):
+        print(f"{out}: this run is complete; nothing to resume", file=sys.stderr)
+        return 0
+    for w in warnings:
+        print(f"WARNING: {w}", file=sys.stderr)
+    for n in notes:
+        print(f"note: {n}", file=sys.stderr)
+    print(f"scene {scene.name!r}: {scene.surface.realizations} realization(s), {scene.loading.steps} load steps, "
+          f"method {'FE' if method == 'fe' else 'GFMD ' + scene.solver.method}; results go to {out}/ as they are "
+          "computed", file=sys.stderr)
     start = time.perf_counter()
-    if args.method == "fe":
-        results = _run_fe(scene, out, quiet=args.quiet)
-    else:
-        from .ensemble import run_ensemble
+    previous = signal.signal(signal.SIGTERM, _interrupted)
+    try:
+        if method == "fe":
+            results, resume = _run_fe(scene, out, quiet=args.quiet)
+        else:
+            from .ensemble import run_to_directory
 
-        print(f"scene {scene.name!r}: {scene.surface.realizations} realization(s), "
-              f"{scene.loading.steps} load steps, solver {scene.solver.method}", file=sys.stderr)
-        results = run_ensemble(scene, workers=args.workers, progress=not args.quiet)
+            results, resume = run_to_directory(scene, out, workers=args.workers, progress=not args.quiet)
+    except KeyboardInterrupt:
+        print(f"\ngfmd: interrupted: {_on_disk(scene, out)}; continue with: {_resume_command(args, out)}",
+              file=sys.stderr)
+        return 130
+    finally:
+        signal.signal(signal.SIGTERM, previous)
     elapsed = time.perf_counter() - start
-    from .io import write_run
-
-    write_run(out, scene, results, timings={"total_s": elapsed, "workers": args.workers})
+    io.write_run(out, scene, results, timings={"total_s": elapsed, "workers": args.workers}, method=method,
+                 resume=resume)
+    if resume["realizations_reused"] or resume["steps_reused"]:
+        print(f"resumed: {resume['realizations_reused']} realization(s) and {resume['steps_reused']} load steps "
+              "reused from the interrupted run", file=sys.stderr)
     print(f"model solved: {results[0].model}", file=sys.stderr)
     for reason in results[0].reasons:
         print(f"  - {reason}", file=sys.stderr)
@@ -65,7 +156,8 @@ def _cmd_run(args):
 
         for path in plot_run(out):
             print(f"wrote {path}", file=sys.stderr)
-    print(f"results in {out}/ (curve.csv, fields.npz, scene.toml, meta.json) after {elapsed:.1f} s", file=sys.stderr)
+    print(f"results in {out}/ (curve.csv, mean_curve.csv, fields.npz, scene.toml, meta.json) after {elapsed:.1f} s",
+          file=sys.stderr)
     return 1 if bad else 0
 
 
@@ -82,17 +174,52 @@ def _cmd_scene(args):
         print(example_scene_text(), end="")
         return 0
     if args.check:
+        if Path(args.check).is_dir():
+            raise SceneError(f"scene {args.check!r} is a directory, not a TOML scene file")
         scene = load_scene(args.check)
+        warnings, notes = _checks(scene, args.method or "gfmd")  # the same checks as `gfmd run`
+        for w in warnings:
+            print(f"WARNING: {w}", file=sys.stderr)
+        for n in notes:
+            print(f"note: {n}", file=sys.stderr)
         print(f"{args.check}: valid scene; surface {scene.surface.kind}, N = {scene.surface.nodes}, "
-              f"law {scene.interface.law}")
+              f"law {scene.interface.law}" + (f"; {len(warnings)} warning(s)" if warnings else "")
+              + (f"; {len(notes)} realization(s) stop early" if notes else ""))
         return 0
     print("use `gfmd scene --example` or `gfmd scene --check FILE`", file=sys.stderr)
     return 2
 
 
+def _source_root():
+    """The source checkout the package runs from, if it holds the verification suite, else None."""
+    root = Path(__file__).resolve().parent.parent
+    needed = (root / "conftest.py", root / "pyproject.toml", root / "verification" / "conftest.py")
+    return root if all(p.is_file() for p in needed) else None
+
+
 def _cmd_verify(args):
+    root = _source_root()
+    if root is None:
+        print("gfmd: error: `gfmd verify` needs the source checkout (conftest.py, pyproject.toml and verification/ "
+              f"next to the gfmd package; this gfmd runs from {Path(__file__).resolve().parent}): clone the "
+              "repository, `pip install -e \".[test]\"` there and run `gfmd verify` again", file=sys.stderr)
+        return 2
     cmd = [sys.executable, "-m", "pytest", "verification"] + (["--full"] if args.full else []) + args.pytest_args
-    return subprocess.call(cmd)
+    print(f"running {' '.join(cmd[2:])} in {root}; the report goes to {root / 'reports' / 'index.html'}",
+          file=sys.stderr)
+    return subprocess.call(cmd, cwd=root)
+
+
+def _count(minimum):
+    def parse(text):
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"{value} < {minimum}: must be an integer ≥ {minimum}")
+        return value
+    return parse
 
 
 def build_parser():
@@ -102,8 +229,13 @@ def build_parser():
     run.add_argument("scene", nargs="?", help="scene TOML file (omit for the built-in default scene)")
     run.add_argument("--out", help="output directory (default results/<scene name>)")
     run.add_argument("--method", choices=("fire", "verlet", "fe"), help="override solver.method; fe = FE reference")
-    run.add_argument("--realizations", type=int, help="override surface.realizations")
-    run.add_argument("--workers", type=int, default=None, help="processes (default output.workers; 0 = all cores)")
+    run.add_argument("--realizations", type=_count(1), help="override surface.realizations (≥ 1)")
+    run.add_argument("--workers", type=_count(0), default=None,
+                     help="processes (default output.workers; 0 = all cores)")
+    run.add_argument("--resume", action="store_true",
+                     help="continue an interrupted run in --out: finished realizations are reused, an interrupted one "
+                          "continues from its last saved step (the scene file may be omitted: taken from --out)")
+    run.add_argument("--overwrite", action="store_true", help="replace the results of an earlier run in --out")
     run.add_argument("--no-plot", action="store_true", help="skip the figures")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     run.set_defaults(func=_cmd_run)
@@ -117,11 +249,12 @@ def build_parser():
     plot.set_defaults(func=_cmd_plot)
     scene = sub.add_parser("scene", help="print a commented example scene or check a scene file")
     scene.add_argument("--example", action="store_true")
-    scene.add_argument("--check", metavar="FILE")
+    scene.add_argument("--check", metavar="FILE", help="validate FILE with every check `gfmd run` makes")
+    scene.add_argument("--method", choices=("fire", "verlet", "fe"), help="with --check: also the method's checks")
     scene.set_defaults(func=_cmd_scene)
     verify = sub.add_parser("verify", help="run the verification suite (pytest verification) and write reports/")
     verify.add_argument("--full", action="store_true", help="include the expensive studies")
-    verify.add_argument("pytest_args", nargs="*")
+    verify.add_argument("pytest_args", nargs="*", help="passed to pytest (after --, e.g. gfmd verify -- -x -k westergaard)")
     verify.set_defaults(func=_cmd_verify)
     return parser
 
@@ -130,6 +263,9 @@ def main(argv=None):
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)
-    except (SceneError, ValueError, FileNotFoundError) as exc:
+    except (SceneError, ValueError, OSError) as exc:
         print(f"gfmd: error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("\ngfmd: interrupted before any result was computed", file=sys.stderr)
+        return 130

@@ -1,13 +1,24 @@
-"""Result files of a run directory, written atomically.
+"""Result files of a run directory: written as the run goes, assembled at its end.
 
-Units: SI (see `gfmd.conventions`). A run directory holds
-  curve.csv   one row per (realization, step): realization + CURVE_COLUMNS (SI)
-  fields.npz  x, h_r<i> and, for the saved steps, r<i>_s<k>_<field> (FIELD_NAMES)
-  scene.toml  the fully resolved scene
-  meta.json   code version, method, model solved and why, timings, platform, messages
+Units: SI (see `gfmd.conventions`). A finished run directory holds
+  curve.csv       one row per (realization, step): realization, seed + CURVE_COLUMNS (SI)
+  mean_curve.csv  per step: δ, U and, for each of gfmd.ensemble.AVERAGED, the mean over
+                  realizations, its standard error and the count n of realizations with a value
+  fields.npz      x, h_r<i> and, for the saved steps, r<i>_s<k>_<field> (FIELD_NAMES)
+  scene.toml      the fully resolved scene
+  meta.json       "complete", code version, method, model solved and why, notes, messages,
+                  timings, "resume" {"realizations_reused", "steps_reused"}, platform
 ḡ_r is written as "nan" at steps without contact (undefined, seed Eq. 5).
-Every file is written to a temporary name and renamed, so an interrupt never
-leaves a half-written result.
+
+While a run goes, scene.toml and meta.json ("complete": false) are written before any
+compute, and every realization writes into partial/ after each load step
+(`save_step`): realization<i>.csv (its rows, appended), realization<i>_step<k>.npz
+(saved fields) and realization<i>.state.npz (the `gfmd.loading.RampState` warm start,
+messages, reasons, notes; "done" once the realization ends). `load_part` reads them
+back to continue an interrupted run (`gfmd run --resume`); `write_run` assembles the
+final files and removes partial/. Every file is written to a temporary name and
+renamed (a CSV row is appended and flushed), so an interrupt never leaves a
+half-written result; files get the permissions of the process umask.
 """
 
 from __future__ import annotations
@@ -18,6 +29,7 @@ import io
 import json
 import os
 import platform
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -26,8 +38,17 @@ from pathlib import Path
 
 import numpy as np
 
-from .result import CURVE_COLUMNS, FIELD_NAMES
-from .scene import load_scene, scene_to_toml
+from . import surfaces
+from .result import CURVE_COLUMNS, FIELD_NAMES, Result
+from .scene import load_scene, scene_to_dict, scene_to_toml
+
+#: files and folders a run directory may hold (what --overwrite removes)
+RUN_ENTRIES = ("curve.csv", "mean_curve.csv", "fields.npz", "scene.toml", "meta.json", "plots", "vtu", "partial")
+PARTIAL = "partial"
+
+
+class RunDirError(ValueError):
+    """An output directory that cannot take this run: the message says why and what to do."""
 
 
 def code_version():
@@ -49,12 +70,20 @@ def code_version():
     return v
 
 
+def _file_mode():
+    """Permissions of a new file under the process umask (mkstemp alone would give 0600)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
 def _atomic_write(path, data, binary=False):
     path = Path(path)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "wb" if binary else "w") as fh:
             fh.write(data)
+        os.chmod(tmp, _file_mode())
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):
@@ -62,39 +91,18 @@ def _atomic_write(path, data, binary=False):
         raise
 
 
-def write_run(out_dir, scene, results, timings=None, command=None):
-    """Write curve.csv, fields.npz, scene.toml and meta.json for `results` (list of Result)."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    buf = io.StringIO()
-    writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(("realization",) + CURVE_COLUMNS)
-    for r in results:
-        for k in range(len(r.curve["step"])):
-            writer.writerow([r.realization] + [_fmt(r.curve[c][k]) for c in CURVE_COLUMNS])
-    _atomic_write(out / "curve.csv", buf.getvalue())
-    arrays = {"x": results[0].x}
-    for r in results:
-        arrays[f"h_r{r.realization}"] = r.h
-        for step, fields in r.fields.items():
-            for name in FIELD_NAMES:
-                arrays[f"r{r.realization}_s{step}_{name}"] = fields[name]
-    npz = io.BytesIO()
-    np.savez_compressed(npz, **arrays)
-    _atomic_write(out / "fields.npz", npz.getvalue(), binary=True)
-    _atomic_write(out / "scene.toml", scene_to_toml(scene))
-    messages = [m for r in results for m in r.messages]
-    meta = {
+def _npz_bytes(arrays):
+    buf = io.BytesIO()
+    np.savez_compressed(buf, **arrays)
+    return buf.getvalue()
+
+
+def _meta_base(scene, method, command):
+    return {
+        "complete": False,
         "code_version": code_version(),
         "scene_name": scene.name,
-        "method": results[0].method,
-        "model": results[0].model,
-        "model_reasons": list(results[0].reasons),
-        "realizations": [r.realization for r in results],
-        "all_converged": all(r.all_converged for r in results),
-        "messages": messages,
-        "timings": {**(timings or {}),
-                    "solve_s_per_realization": [float(np.sum(r.curve["wall_s"])) for r in results]},
+        "method": method,
         "platform": {"python": sys.version.split()[0], "machine": platform.machine(),
                      "system": platform.platform(), "cpus": os.cpu_count()},
         "numpy": np.__version__,
@@ -102,7 +110,81 @@ def write_run(out_dir, scene, results, timings=None, command=None):
         "command": command or " ".join(sys.argv),
         "units": "SI: m, Pa, J/m^2; see gfmd/conventions.py",
     }
+
+
+def mean_curve(results):
+    """Columns of mean_curve.csv: per step δ, U and mean, standard error, count of each averaged observable.
+
+    Realizations are matched by step index; one that stopped early (gfmd.loading.realization_steps)
+    or has no value (ḡ_r without contact) is left out of that step's mean, and n says so.
+    """
+    from .ensemble import AVERAGED, mean_standard_error
+
+    longest = max(results, key=lambda r: len(r.curve["step"]))
+    steps = np.asarray(longest.curve["step"], int)
+    cols = {"step": steps, "delta": np.asarray(longest.curve["delta"], float),
+            "U": np.asarray(longest.curve["U"], float)}
+    for name in AVERAGED:
+        table = np.full((len(results), steps.size), np.nan)
+        for row, r in zip(table, results):
+            k = np.asarray(r.curve["step"], int)
+            row[k] = r.curve[name]
+        mean, se, count = mean_standard_error(table)
+        cols[name], cols[name + "_se"], cols[name + "_n"] = mean, se, count
+    return cols
+
+
+def write_run(out_dir, scene, results, timings=None, command=None, method=None, resume=None):
+    """Write the final files of a run (module docstring) for `results` (list of Result) and
+    remove partial/; returns the directory.
+
+    method: the run's method as the CLI names it (default results[0].method); resume: the
+    reuse counts of `gfmd run --resume` (default none reused).
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    results = sorted(results, key=lambda r: r.realization)
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(("realization", "seed") + CURVE_COLUMNS)
+    for r in results:
+        for k in range(len(r.curve["step"])):
+            writer.writerow([r.realization, r.seed] + [_fmt(r.curve[c][k]) for c in CURVE_COLUMNS])
+    _atomic_write(out / "curve.csv", buf.getvalue())
+    cols = mean_curve(results)
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(list(cols))
+    for k in range(cols["step"].size):
+        writer.writerow([_fmt(v[k]) for v in cols.values()])
+    _atomic_write(out / "mean_curve.csv", buf.getvalue())
+    arrays = {"x": results[0].x}
+    for r in results:
+        arrays[f"h_r{r.realization}"] = r.h
+        for step, fields in r.fields.items():
+            for name in FIELD_NAMES:
+                arrays[f"r{r.realization}_s{step}_{name}"] = fields[name]
+    _atomic_write(out / "fields.npz", _npz_bytes(arrays), binary=True)
+    _atomic_write(out / "scene.toml", scene_to_toml(scene))
+    meta = _meta_base(scene, method or results[0].method, command)
+    meta.update({
+        "complete": True,
+        "run_method": method or results[0].method,
+        "method": results[0].method,
+        "model": results[0].model,
+        "model_reasons": list(results[0].reasons),
+        "realizations": [r.realization for r in results],
+        "seeds": [r.seed for r in results],
+        "steps_run": [len(r.curve["step"]) for r in results],
+        "all_converged": all(r.all_converged for r in results),
+        "notes": [n for r in results for n in r.notes],
+        "messages": [m for r in results for m in r.messages],
+        "resume": resume or {"realizations_reused": 0, "steps_reused": 0},
+        "timings": {**(timings or {}),
+                    "solve_s_per_realization": [float(np.sum(r.curve["wall_s"])) for r in results]},
+    })
     _atomic_write(out / "meta.json", json.dumps(meta, indent=2))
+    shutil.rmtree(out / PARTIAL, ignore_errors=True)
     return out
 
 
@@ -112,26 +194,222 @@ def _fmt(v):
     return str(int(v)) if isinstance(v, (bool, np.bool_, int, np.integer)) else str(v)
 
 
+# ---------------------------------------------------------------- the run directory before and while a run goes
+
+def _differences(a, b, prefix=""):
+    keys = sorted(set(a) | set(b))
+    out = []
+    for k in keys:
+        va, vb = a.get(k), b.get(k)
+        if isinstance(va, dict) and isinstance(vb, dict):
+            out += _differences(va, vb, f"{prefix}{k}.")
+        elif va != vb:
+            out.append(f"{prefix}{k}: {va!r} there, {vb!r} now")
+    return out
+
+
+def prepare_run_dir(out, scene, method, *, resume=False, overwrite=False, command=None):
+    """Check `out` before any compute and start the run there; returns the directory (Path).
+
+    Refused (RunDirError): `out` is a file; without resume, a non-empty `out` (overwrite
+    clears the entries a run writes, RUN_ENTRIES, and refuses if anything else is there);
+    with resume, a directory holding another scene (the differing keys named; output.workers
+    may differ) or another method. Then scene.toml and meta.json ("complete": false) are
+    written, so an interrupted run is recognisable and resumable.
+    """
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise RunDirError(f"--out {str(out)!r} is an existing file, not a directory: choose another --out")
+    existing = sorted(p.name for p in out.iterdir()) if out.is_dir() else []
+    if existing and resume and (out / "scene.toml").is_file():
+        there = load_scene(out / "scene.toml")
+        a, b = scene_to_dict(there), scene_to_dict(scene)
+        for d in (a, b):
+            d["output"].pop("workers", None)
+        diff = _differences(a, b)
+        if diff:
+            raise RunDirError(f"--resume: {out} holds a run of another scene ({'; '.join(diff)}); resume with the "
+                              "same scene (or omit the scene file to take it from the directory), or choose another --out")
+        meta = json.loads((out / "meta.json").read_text()) if (out / "meta.json").is_file() else {}
+        if meta.get("run_method", method) != method:
+            raise RunDirError(f"--resume: {out} holds a run with --method {meta['run_method']!r}, not {method!r}")
+        return out
+    if existing and resume:
+        raise RunDirError(f"--resume: {out} is not empty but holds no scene.toml ({', '.join(existing)}): it is not a "
+                          "gfmd run directory; choose another --out")
+    if existing and not overwrite:
+        what = "an unfinished run" if (out / PARTIAL).is_dir() else "files"
+        raise RunDirError(f"--out {out} is not empty (it holds {what}: {', '.join(existing[:6])}"
+                          f"{', …' if len(existing) > 6 else ''}): add --resume to continue a run there, --overwrite to "
+                          "replace it, or choose another --out")
+    if existing:
+        foreign = [n for n in existing if n not in RUN_ENTRIES and not n.startswith(".")]
+        if foreign:
+            raise RunDirError(f"--overwrite: {out} holds files a run does not write ({', '.join(foreign)}); "
+                              "not removing them: choose another --out or remove them yourself")
+        for name in existing:
+            path = out / name
+            shutil.rmtree(path) if path.is_dir() else path.unlink()
+    (out / PARTIAL).mkdir(parents=True, exist_ok=True)
+    _atomic_write(out / "scene.toml", scene_to_toml(scene))
+    meta = _meta_base(scene, method, command)
+    meta["run_method"] = method
+    _atomic_write(out / "meta.json", json.dumps(meta, indent=2))
+    return out
+
+
+def run_complete(out):
+    """True if `out` holds a finished run (meta.json "complete": true)."""
+    meta = Path(out) / "meta.json"
+    return meta.is_file() and json.loads(meta.read_text()).get("complete") is True
+
+
+def _part(out, realization, suffix):
+    return Path(out) / PARTIAL / f"realization{realization}{suffix}"
+
+
+def _save_state(out, result, state, done):
+    arrays = {"step": np.int64(state.step), "done": np.bool_(done), "slip_warned": np.bool_(state.slip_warned),
+              "text": np.array(json.dumps({"method": result.method, "model": result.model,
+                                           "reasons": list(result.reasons), "messages": list(result.messages),
+                                           "notes": list(result.notes)}))}
+    if not done:
+        arrays.update(u_hat=state.u_hat, u_prev=state.u_prev)
+    _atomic_write(_part(out, result.realization, ".state.npz"), _npz_bytes(arrays), binary=True)
+
+
+def save_step(out, result, state):
+    """Checkpoint (gfmd.loading.run_realization): put step state.step of `result` on disk.
+
+    Order: the curve row (appended, flushed), the step's fields if saved, then the state;
+    `load_part` trusts a row only up to the state's step, so a kill between any two writes
+    loses at most that one step.
+    """
+    k = state.step
+    path = _part(out, result.realization, ".csv")
+    row = [_fmt(result.curve[c][-1]) for c in CURVE_COLUMNS]
+    new = not path.is_file()
+    with open(path, "a") as fh:
+        if new:
+            fh.write(",".join(CURVE_COLUMNS) + "\n")
+        fh.write(",".join(row) + "\n")
+        fh.flush()
+    if new:
+        os.chmod(path, _file_mode())
+    if k in result.fields:
+        _atomic_write(_part(out, result.realization, f"_step{k}.npz"), _npz_bytes(result.fields[k]), binary=True)
+    _save_state(out, result, state, done=False)
+
+
+def start_part(out, realization, result=None):
+    """Before a realization (re)starts: its CSV holds exactly the rows of `result` (a
+    `load_part` result to continue) or none, dropping a row cut short by a kill."""
+    path = _part(out, realization, ".csv")
+    if result is None:
+        path.unlink(missing_ok=True)
+        return
+    buf = io.StringIO()
+    buf.write(",".join(CURVE_COLUMNS) + "\n")
+    for k in range(len(result.curve["step"])):
+        buf.write(",".join(_fmt(result.curve[c][k]) for c in CURVE_COLUMNS) + "\n")
+    _atomic_write(path, buf.getvalue())
+
+
+def save_realization(out, result):
+    """Put a finished realization on disk at once (methods without step checkpoints, e.g. FE)
+    and mark it done; a realization already checkpointed step by step is only marked done."""
+    from .loading import RampState
+
+    rows = len(result.curve["step"])
+    path = _part(out, result.realization, ".csv")
+    if not path.is_file():
+        buf = io.StringIO()
+        buf.write(",".join(CURVE_COLUMNS) + "\n")
+        for k in range(rows):
+            buf.write(",".join(_fmt(result.curve[c][k]) for c in CURVE_COLUMNS) + "\n")
+        _atomic_write(path, buf.getvalue())
+        for k, fields in result.fields.items():
+            _atomic_write(_part(out, result.realization, f"_step{k}.npz"), _npz_bytes(fields), binary=True)
+    last = int(result.curve["step"][-1]) if rows else -1
+    _save_state(out, result, RampState(step=last, u_hat=None, u_prev=None), done=True)
+
+
+def load_part(out, scene, realization):
+    """(result, state, done) of a realization found in out/partial, or None if it has no state.
+
+    result holds the steps up to state.step (lists, ready to be continued), its saved
+    fields, messages, reasons and notes; state is the `gfmd.loading.RampState` to
+    resume from (its arrays None when done).
+    """
+    from .loading import RampState
+
+    path = _part(out, realization, ".state.npz")
+    if not path.is_file():
+        return None
+    with np.load(path) as z:
+        step, done, slip = int(z["step"]), bool(z["done"]), bool(z["slip_warned"])
+        text = json.loads(str(z["text"]))
+        u_hat = z["u_hat"] if "u_hat" in z else None
+        u_prev = z["u_prev"] if "u_prev" in z else None
+    h = surfaces.profile(scene.surface, realization)
+    result = Result(scene=scene, method=text["method"], model=text["model"], realization=realization,
+                    x=surfaces.grid(scene.surface.nodes, scene.surface.length), h=h,
+                    reasons=tuple(text["reasons"]), messages=text["messages"], notes=text["notes"])
+    with open(_part(out, realization, ".csv")) as fh:
+        rows = [row for row in csv.DictReader(fh) if None not in row.values() and row.get(CURVE_COLUMNS[-1])]
+    for row in rows:
+        k = int(row["step"])
+        if k > step:
+            break
+        result.append_step(**{c: (int(float(row[c])) if c in ("step", "iterations", "converged") else float(row[c]))
+                              for c in CURVE_COLUMNS})
+    if len(result.curve["step"]) != step + 1:
+        raise RunDirError(f"{path.parent}: realization {realization} has {len(result.curve['step'])} rows for "
+                          f"{step + 1} saved steps; the partial files are damaged: rerun with --overwrite")
+    for k in range(step + 1):
+        f = _part(out, realization, f"_step{k}.npz")
+        if f.is_file():
+            with np.load(f) as z:
+                result.fields[k] = {name: z[name] for name in FIELD_NAMES}
+    return result, RampState(step=step, u_hat=u_hat, u_prev=u_prev, slip_warned=slip), done
+
+
 def read_run(out_dir):
     """Read a run directory: (scene, curves, fields, meta).
 
-    curves: {realization: {column: array}}; fields: the npz as a dict of arrays.
+    curves: {realization: {column: array}} (CURVE_COLUMNS and the realization's "seed"); fields: the npz as a dict of arrays. An
+    unfinished run (meta "complete": false) is read from its partial/ files: the steps
+    done so far.
     """
     out = Path(out_dir)
-    for name in ("curve.csv", "scene.toml", "meta.json"):
+    for name in ("scene.toml", "meta.json"):
         if not (out / name).is_file():
             raise FileNotFoundError(f"{out}: missing {name}; is this a `gfmd run` output directory?")
     scene = load_scene(out / "scene.toml")
+    meta = json.loads((out / "meta.json").read_text())
+    scene = dataclasses.replace(scene, name=meta.get("scene_name", scene.name))
+    if not (out / "curve.csv").is_file():
+        parts = [load_part(out, scene, i) for i in range(scene.surface.realizations)]
+        results = [p[0].finalize() for p in parts if p is not None and p[0].curve["step"]]
+        if not results:
+            raise FileNotFoundError(f"{out}: an unfinished run with no completed load step yet")
+        curves = {r.realization: {**{c: np.asarray(r.curve[c], float) for c in CURVE_COLUMNS},
+                                  "seed": np.full(len(r.curve["step"]), float(r.seed))} for r in results}
+        fields = {"x": results[0].x}
+        for r in results:
+            fields[f"h_r{r.realization}"] = r.h
+            for k, f in r.fields.items():
+                fields.update({f"r{r.realization}_s{k}_{name}": f[name] for name in FIELD_NAMES})
+        return scene, curves, fields, meta
     with open(out / "curve.csv") as fh:
         rows = list(csv.DictReader(fh))
+    columns = CURVE_COLUMNS + (("seed",) if rows and "seed" in rows[0] else ())  # runs before the seed column
     curves = {}
     for row in rows:
         r = int(row["realization"])
-        c = curves.setdefault(r, {k: [] for k in CURVE_COLUMNS})
-        for k in CURVE_COLUMNS:
+        c = curves.setdefault(r, {k: [] for k in columns})
+        for k in columns:
             c[k].append(float(row[k]))
     curves = {r: {k: np.asarray(v) for k, v in c.items()} for r, c in curves.items()}
     fields = dict(np.load(out / "fields.npz")) if (out / "fields.npz").is_file() else {}
-    meta = json.loads((out / "meta.json").read_text())
-    scene = dataclasses.replace(scene, name=meta.get("scene_name", scene.name))
     return scene, curves, fields, meta

@@ -14,6 +14,7 @@ the recorded curve lacks the approach. Solver failures go to `Result.messages`.
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -43,22 +44,59 @@ def indenter_surface(h, initial_separation, displacement):
     return h - np.min(h) + initial_separation - displacement
 
 
-def check_penetration_limit(scene, h, realization=0):
-    """Raise ValueError if a half-plane run would be pushed past full contact.
+#: a half-plane realization is loaded up to (1 − FULL_CONTACT_MARGIN) of its own full-contact limit
+#: δ_max = mean(h) − min(h): the mean pressure diverges at δ_max, so the last 5 % are left out
+FULL_CONTACT_MARGIN = 0.05
 
-    With the mean plane clamped (gfmd.conventions), the indenter's mean height above
-    it is ⟨h⟩ − min h − δ; full contact, and an unbounded pressure, is reached at
-    δ_max = ⟨h⟩ − min h (m).
+
+def realization_label(scene, realization):
+    """How a realization is named in messages: its index and, for random profiles, its seed."""
+    if scene.surface.kind != "self-affine":
+        return f"realization {realization}"
+    return f"realization {realization} (seed {scene.surface.seed + realization})"
+
+
+def realization_steps(scene, h, realization=0):
+    """(U_k (m), note): the load steps this realization runs, and why it stops early (None if it does not).
+
+    On a half-plane δ is measured from the mean plane (gfmd.conventions): the indenter's
+    mean height above it is ⟨h⟩ − min h − δ, so full contact, and an unbounded pressure,
+    is reached at δ_max = ⟨h⟩ − min h (m), which differs between realizations. A
+    realization whose δ_max·(1 − FULL_CONTACT_MARGIN) lies below loading.final_penetration
+    runs the common steps up to that δ and stops there; a layer has no such limit.
     """
+    steps = displacement_steps(scene.loading)
     if not scene.material.half_plane:
-        return
+        return steps, None
     limit = float(np.mean(h) - np.min(h))
-    if scene.loading.final_penetration >= limit:
-        raise ValueError(
-            f"loading.final_penetration = {scene.loading.final_penetration:.4g} m reaches full contact for "
-            f"realization {realization}: on a half-plane δ is measured from the mean plane and cannot exceed "
-            f"mean(h) − min(h) = {limit:.4g} m. Lower final_penetration (e.g. to {0.8 * limit:.3g} m) "
-            "or use a finite material.thickness.")
+    stop = (1.0 - FULL_CONTACT_MARGIN) * limit
+    d0 = scene.loading.initial_separation
+    if scene.loading.final_penetration <= stop:
+        return steps, None
+    kept = steps[steps - d0 <= stop]
+    note = (f"{realization_label(scene, realization)} stops at step {kept.size - 1} (δ = {kept[-1] - d0:.4g} m) of "
+            f"{steps.size - 1}: its full-contact limit mean(h) − min(h) = {limit:.4g} m lies below "
+            f"loading.final_penetration = {scene.loading.final_penetration:.4g} m; a half-plane realization is "
+            f"loaded to at most {1 - FULL_CONTACT_MARGIN:g} of its own limit (gfmd.loading.FULL_CONTACT_MARGIN)")
+    return kept, note
+
+
+def preflight(scene):
+    """Every check made before a run: (warnings, notes), the same for `gfmd run` and `gfmd scene --check`.
+
+    warnings: the model's check findings (gfmd.model.scene_warnings; with
+    solver.checks = "error" build_model raises ModelCheckError instead); notes: the
+    realizations that stop early below their full-contact limit (`realization_steps`).
+    """
+    warnings, notes = [], []
+    for i in range(scene.surface.realizations):
+        h = surfaces.profile(scene.surface, i)
+        if i == 0:
+            warnings = list(build_model(scene, h).warnings)
+        _, note = realization_steps(scene, h, i)
+        if note:
+            notes.append(note)
+    return warnings, notes
 
 
 def start_warning(scene, model, min_gap):
@@ -112,30 +150,57 @@ def slip_warning(scene, step, delta, gap, u_x):
             "the indenter and GFMD–FE agreement is verified only to slip ≤ 2 δt (verification/test_fe_coupled.py)")
 
 
-def run_realization(scene, realization=0, settings=None, progress=None, method_name=None):
+@dataclass
+class RampState:
+    """What the load ramp carries from one step to the next: enough to continue it exactly.
+
+    step: the last completed step; u_hat, u_prev: the converged rfft displacements of the
+    last two converged steps (the warm start extrapolates from them); slip_warned: the
+    slip-regime warning has been given.
+    """
+
+    step: int
+    u_hat: np.ndarray
+    u_prev: np.ndarray
+    slip_warned: bool = False
+
+
+def run_realization(scene, realization=0, settings=None, progress=None, method_name=None, *, checkpoint=None,
+                    resume=None):
     """Run the whole load ramp for one realization; returns a `Result`.
 
     settings: `gfmd.solver.Settings` (default from scene.solver); progress: optional
-    callable(step, steps) called after every step.
+    callable(step, steps) called after every step. checkpoint: optional callable(result,
+    state) called after every step with the steps so far and the `RampState` (how
+    gfmd.io writes a run while it runs). resume: a (result, state) pair such a checkpoint
+    saw: the ramp continues after state.step from that exact warm start, so the final
+    Result equals an uninterrupted run's (wall times aside). A half-plane realization
+    stops early below its own full-contact limit (`realization_steps`, a note in
+    `Result.notes`).
     """
     h = surfaces.profile(scene.surface, realization)
-    check_penetration_limit(scene, h, realization)
     model = build_model(scene, h)
     law = InterfaceLaw(model, scene.interface, scene.work_tangential)
     if settings is None:
         settings = Settings(method=scene.solver.method, tolerance=scene.solver.tolerance,
                             max_iterations=scene.solver.max_iterations)
-    result = Result(scene=scene, method=method_name or f"gfmd-{settings.method}", model=model.description,
-                    realization=realization, x=surfaces.grid(model.nodes, model.length), h=h,
-                    reasons=model.reasons)
+    steps, stop_note = realization_steps(scene, h, realization)
+    label = realization_label(scene, realization)
+    if resume is None:
+        result = Result(scene=scene, method=method_name or f"gfmd-{settings.method}", model=model.description,
+                        realization=realization, x=surfaces.grid(model.nodes, model.length), h=h,
+                        reasons=model.reasons, notes=[stop_note] if stop_note else [])
+        nq = model.nodes // 2 + 1
+        state = RampState(step=-1, u_hat=np.zeros((model.components, nq), complex),
+                          u_prev=np.zeros((model.components, nq), complex))
+    else:
+        result, state = resume
     keep = field_step_indices(scene.loading, scene.output.field_steps)
     wall_tolerance = 1e-12 * max(float(np.ptp(h)), scene.interface.length_normal)
-    nq = model.nodes // 2 + 1
-    u_hat = np.zeros((model.components, nq), complex)
-    u_prev = u_hat.copy()
     d0 = scene.loading.initial_separation
-    slipped = None
-    for k, displacement in enumerate(displacement_steps(scene.loading)):
+    u_hat, u_prev = state.u_hat, state.u_prev
+    for k in range(state.step + 1, steps.size):
+        displacement = steps[k]
         start = time.perf_counter()
         z_ind = indenter_surface(h, d0, displacement)
         guess = 2 * u_hat - u_prev if k >= 2 else u_hat
@@ -149,24 +214,27 @@ def run_realization(scene, realization=0, settings=None, progress=None, method_n
             iterations += relaxed.iterations
         wall = time.perf_counter() - start
         if not relaxed.converged:
-            result.messages.append(f"realization {realization}, step {k} (δ = {displacement - d0:.4g} m): "
-                                   f"{relaxed.message}")
+            result.messages.append(f"{label}, step {k} (δ = {displacement - d0:.4g} m): {relaxed.message}")
         else:
             u_prev, u_hat = u_hat, relaxed.u_hat
         if k == 0:
             warning = start_warning(scene, model, float(np.min(relaxed.gap)))
             if warning:
                 result.reasons = tuple(result.reasons) + (WARNING + warning,)
-        if model.tangential and not slipped:
+        if model.tangential and not state.slip_warned:
             slipped = slip_warning(scene, k, displacement - d0, relaxed.gap, relaxed.u_x)
             if slipped:
                 result.reasons = tuple(result.reasons) + (WARNING + slipped,)
+                state.slip_warned = True
         obs = step_observables(scene, h, relaxed.gap, relaxed.t_z)
         result.append_step(step=k, U=displacement, delta=displacement - d0, iterations=iterations,
                            residual=relaxed.residual, converged=int(relaxed.converged), wall_s=wall, **obs)
         if k in keep:
             result.fields[k] = {"u_z": relaxed.u_z, "u_x": relaxed.u_x, "gap": relaxed.gap,
                                 "t_n": relaxed.t_z, "t_t": relaxed.t_x}
+        state.step, state.u_hat, state.u_prev = k, u_hat, u_prev
+        if checkpoint is not None:
+            checkpoint(result, state)
         if progress is not None:
             progress(k, scene.loading.steps)
     return result.finalize()

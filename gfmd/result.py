@@ -29,8 +29,14 @@ class Result:
     h: np.ndarray  # indenter profile (m)
     curve: dict = field(default_factory=lambda: {c: [] for c in CURVE_COLUMNS})
     fields: dict = field(default_factory=dict)  # step -> {name: array}
-    messages: list = field(default_factory=list)  # e.g. non-converged steps
+    messages: list = field(default_factory=list)  # failures, e.g. non-converged steps
+    notes: list = field(default_factory=list)  # facts of the run that are not failures, e.g. an early stop
     reasons: tuple = ()
+
+    @property
+    def seed(self):
+        """The random seed of this realization's profile: surface.seed + realization."""
+        return self.scene.surface.seed + self.realization
 
     def append_step(self, **row):
         for c in CURVE_COLUMNS:

@@ -253,7 +253,7 @@ def test_snapshot_defaults_to_the_first_realization_and_shows_its_seed(tmp_path,
     run = write_synthetic_run(tmp_path / "run", curves={r: CURVES[r] for r in (1, 2)})
     plots.plot_run(run)
     title = saved["interface_snapshot.png"].axes[0].get_title()
-    assert "realization 1" in title and "seed" not in title
+    assert "realization 1" in title and "random seed 2" in title  # read_run passes curve.csv's seed on
     scene, curves, fields, meta = read_run(run)
     for r, c in curves.items():  # a curve.csv with the seed column (surface.seed + realization)
         c["seed"] = np.full(len(c["step"]), scene.surface.seed + r, float)
