@@ -254,7 +254,8 @@ def build_parser():
     scene.set_defaults(func=_cmd_scene)
     verify = sub.add_parser("verify", help="run the verification suite (pytest verification) and write reports/")
     verify.add_argument("--full", action="store_true", help="include the expensive studies")
-    verify.add_argument("pytest_args", nargs="*", help="passed to pytest (after --, e.g. gfmd verify -- -x -k westergaard)")
+    verify.add_argument("pytest_args", nargs="*",
+                        help="passed to pytest (after --, e.g. gfmd verify -- -x -k westergaard)")
     verify.set_defaults(func=_cmd_verify)
     return parser
 

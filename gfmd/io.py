@@ -228,8 +228,9 @@ def prepare_run_dir(out, scene, method, *, resume=False, overwrite=False, comman
             d["output"].pop("workers", None)
         diff = _differences(a, b)
         if diff:
-            raise RunDirError(f"--resume: {out} holds a run of another scene ({'; '.join(diff)}); resume with the "
-                              "same scene (or omit the scene file to take it from the directory), or choose another --out")
+            raise RunDirError(f"--resume: {out} holds a run of another scene ({'; '.join(diff)}); resume with "
+                              "the same scene (or omit the scene file to take it from the directory), or choose "
+                              "another --out")
         meta = json.loads((out / "meta.json").read_text()) if (out / "meta.json").is_file() else {}
         if meta.get("run_method", method) != method:
             raise RunDirError(f"--resume: {out} holds a run with --method {meta['run_method']!r}, not {method!r}")
@@ -240,8 +241,8 @@ def prepare_run_dir(out, scene, method, *, resume=False, overwrite=False, comman
     if existing and not overwrite:
         what = "an unfinished run" if (out / PARTIAL).is_dir() else "files"
         raise RunDirError(f"--out {out} is not empty (it holds {what}: {', '.join(existing[:6])}"
-                          f"{', …' if len(existing) > 6 else ''}): add --resume to continue a run there, --overwrite to "
-                          "replace it, or choose another --out")
+                          f"{', …' if len(existing) > 6 else ''}): add --resume to continue a run there, "
+                          "--overwrite to replace it, or choose another --out")
     if existing:
         foreign = [n for n in existing if n not in RUN_ENTRIES and not n.startswith(".")]
         if foreign:
@@ -377,7 +378,8 @@ def load_part(out, scene, realization):
 def read_run(out_dir):
     """Read a run directory: (scene, curves, fields, meta).
 
-    curves: {realization: {column: array}} (CURVE_COLUMNS and the realization's "seed"); fields: the npz as a dict of arrays. An
+    curves: {realization: {column: array}} (CURVE_COLUMNS and the realization's "seed");
+    fields: the npz as a dict of arrays. An
     unfinished run (meta "complete": false) is read from its partial/ files: the steps
     done so far.
     """

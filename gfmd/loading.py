@@ -45,8 +45,10 @@ def indenter_surface(h, initial_separation, displacement):
 
 
 #: a half-plane realization is loaded up to (1 − FULL_CONTACT_MARGIN) of its own full-contact limit
-#: δ_max = mean(h) − min(h): the mean pressure diverges at δ_max, so the last 5 % are left out
-FULL_CONTACT_MARGIN = 0.05
+#: δ_max = mean(h) − min(h): at δ_max the mean pressure diverges and no equilibrium exists; just below
+#: it one does, and the hard wall converges there (verification/test_analytic_westergaard.py loads the
+#: sinusoid to 0.995 δ_max, P = p̄/p* ≈ 0.85), so only the last 0.2 % are left out
+FULL_CONTACT_MARGIN = 0.002
 
 
 def realization_label(scene, realization):

@@ -49,7 +49,7 @@ import scipy.linalg
 import scipy.optimize
 
 from gfmd import surfaces
-from gfmd.loading import displacement_steps, field_step_indices
+from gfmd.loading import displacement_steps, field_step_indices, realization_label
 from gfmd.observables import rms_gradient, step_observables
 from gfmd.result import Result
 
@@ -200,6 +200,7 @@ def _run(scene, realization, order, progress, mesh_kw, tolerance):
     result.fallback_steps = []
     result.solutions = {}
     result.wall_forces = {}
+    label = realization_label(scene, realization)
     for k, displacement in enumerate(displacement_steps(scene.loading)):
         start = time.perf_counter()
         z_ind = prob.indenter(d0, displacement)
@@ -208,11 +209,11 @@ def _run(scene, realization, order, progress, mesh_kw, tolerance):
         res = prob.residual(u_new, mu_new, z_ind)
         if how != "pdas":
             result.fallback_steps.append(k)
-            result.messages.append(f"realization {realization}, step {k} (δ = {displacement - d0:.4g} m): {how}")
+            result.messages.append(f"{label}, step {k} (δ = {displacement - d0:.4g} m): {how}")
         if not ok:
-            result.messages.append(f"realization {realization}, step {k}: not converged, KKT residual {res:.3g} p_ref")
+            result.messages.append(f"{label}, step {k}: not converged, KKT residual {res:.3g} p_ref")
         if not np.all(np.isfinite(u_new)):
-            raise FloatingPointError(f"realization {realization}, step {k}: non-finite hard-wall solution")
+            raise FloatingPointError(f"{label}, step {k}: non-finite hard-wall solution")
         u, mu = u_new, mu_new
         gap = np.maximum(z_ind - u, 0.0)  # round-off penetration (≤ tol) shown as contact
         t_n = prob.node_traction(mu)

@@ -47,7 +47,7 @@ import scipy.linalg
 import scipy.sparse as sp
 
 from gfmd import laws, surfaces
-from gfmd.loading import displacement_steps, field_step_indices, indenter_surface, slip_warning
+from gfmd.loading import displacement_steps, field_step_indices, indenter_surface, realization_label, slip_warning
 from gfmd.model import WARNING
 from gfmd.observables import rms_gradient, step_observables
 from gfmd.result import Result
@@ -418,6 +418,7 @@ def _run(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=N
     result.solutions = {}
     slipped = None
     h_min = float(np.min(h))
+    label = realization_label(scene, realization)
     for k, displacement in enumerate(displacement_steps(scene.loading)):
         start = time.perf_counter()
         z_ind = surface_indenter(prob.h_surface, h_min, d0, displacement)
@@ -426,9 +427,9 @@ def _run(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=N
         wall = time.perf_counter() - start
         if how != "newton":
             result.fallback_steps.append(k)
-            result.messages.append(f"realization {realization}, step {k} (δ = {displacement - d0:.4g} m): {how}")
+            result.messages.append(f"{label}, step {k} (δ = {displacement - d0:.4g} m): {how}")
         if not ok:
-            result.messages.append(f"realization {realization}, step {k}: not converged, residual {res:.3g}")
+            result.messages.append(f"{label}, step {k}: not converged, residual {res:.3g}")
         if ok:
             u_prev, u = u, u_new
             sol = u_new
