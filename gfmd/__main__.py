@@ -1,5 +1,5 @@
 import sys
 
-from .cli import main
+from workbench.cli import main  # the app layer's CLI; `python -m gfmd` as documented
 
 sys.exit(main())

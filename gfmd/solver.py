@@ -1,6 +1,6 @@
 """Static equilibrium of one load step by damped dynamics in Fourier space.
 
-Units: SI (see `gfmd.conventions`). Unknowns are the rfft coefficients û of the
+Units: SI (see `contact.conventions`). Unknowns are the rfft coefficients û of the
 surface displacement (components (x, z), or z alone). The force on mode q is
 
     f̂ = rfft(t_interface(u)) − K(q) û          (traction units, Pa)
@@ -37,7 +37,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import scipy.fft
 
-from . import laws
+from contact import laws
 
 
 @dataclass(frozen=True)

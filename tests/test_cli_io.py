@@ -1,4 +1,4 @@
-"""Result files, ensembles and the command line (gfmd.io, gfmd.ensemble, gfmd.cli)."""
+"""Result files, ensembles and the command line (workbench.io, workbench.ensemble, workbench.cli)."""
 
 import json
 import tomllib
@@ -6,11 +6,11 @@ import tomllib
 import numpy as np
 import pytest
 
-from gfmd.cli import main
-from gfmd.ensemble import ensemble_average, mean_standard_error, run_ensemble
-from gfmd.io import read_run, write_run
-from gfmd.result import CURVE_COLUMNS, FIELD_NAMES
-from gfmd.scene import default_scene, scene_from_dict, scene_to_toml
+from workbench.cli import main
+from workbench.ensemble import ensemble_average, mean_standard_error, run_ensemble
+from workbench.io import read_run, write_run
+from contact.result import CURVE_COLUMNS, FIELD_NAMES
+from contact.scene import default_scene, scene_from_dict, scene_to_toml
 
 
 def small_scene(**extra):

@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 import gfmd.loading as gl
-from gfmd import surfaces
+from contact import surfaces
 from reference import fem
 from reference.fem.export import SERIES_NAME, step_mesh
 from verification.test_fe_cohesive import scene as cohesive_scene

@@ -52,7 +52,7 @@ import pytest
 from scipy.optimize import brentq
 
 import gfmd.loading as gl
-from gfmd.scene import default_scene
+from contact.scene import default_scene
 from gfmd.solver import Settings
 from reference import fem
 from reference.analytic.westergaard import full_contact_pressure, mean_gap

@@ -1,7 +1,7 @@
 """GFMD equilibria satisfy the discrete force balance, recomputed independently.
 
 For every load step of an adhesive sinusoid pushed through contact, the test
-rebuilds — without gfmd.kernels, gfmd.laws or gfmd.solver — the indenter
+rebuilds — without contact.kernels, contact.laws or gfmd.solver — the indenter
 z_ind = h − min h + δ0 − U, the gap Δn = z_ind − u_z, the elastic traction
 t_el = −irfft(K rfft(u)) with the kernel written out from reference-formulas §1,
 and the CZ traction T(Δ) from seed Eqs. 2–3, and checks
@@ -24,9 +24,10 @@ import numpy as np
 import pytest
 import scipy.fft
 
-from gfmd import surfaces
-from gfmd.loading import displacement_steps, run_realization
-from gfmd.scene import default_scene
+from contact import surfaces
+from contact.loading import displacement_steps
+from gfmd.loading import run_realization
+from contact.scene import default_scene
 from gfmd.solver import Settings
 
 TOL = 1e-9
@@ -128,7 +129,7 @@ def check_equilibrium(sc, settings=None):
     worst = 0.0
     for k in range(1, sc.loading.steps + 1):
         f = result.fields[k]
-        if sc.material.half_plane:  # clamped mean (gfmd.conventions)
+        if sc.material.half_plane:  # clamped mean (contact.conventions)
             assert abs(np.mean(f["u_z"])) <= 1e-12 * H0 and abs(np.mean(f["u_x"])) <= 1e-12 * H0
         r, t_n, gap = force_residual(sc, h, U[k], f["u_z"], f["u_x"])
         worst = max(worst, r / p_ref)

@@ -1,6 +1,6 @@
-"""Tests of gfmd.laws: the exponential cohesive-zone law (seed Eqs. 2–3, reference-formulas §4.0).
+"""Tests of contact.laws: the exponential cohesive-zone law (seed Eqs. 2–3, reference-formulas §4.0).
 
-Conventions (gfmd/conventions.py): Δ = indenter − body, T_n > 0 is tension.
+Conventions (contact/conventions.py): Δ = indenter − body, T_n > 0 is tension.
 Quantities are drawn over many decades (δ from 1e-12 to 1e-6 m, φ from 1e-4 to 1e3 J/m²)
 and compared in the scaled variables s = Δ/δ, so every tolerance below is relative.
 """
@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 from scipy.integrate import quad
 
-from gfmd import laws
+from contact import laws
 
 EPS = np.finfo(float).eps
 

@@ -1,4 +1,4 @@
-"""Tests of gfmd.observables: seed Eqs. 5–6 (rms gradient), contact rules, pressure sign."""
+"""Tests of contact.observables: seed Eqs. 5–6 (rms gradient), contact rules, pressure sign."""
 
 import math
 
@@ -7,8 +7,8 @@ import pytest
 from hypothesis import given, settings, strategies as st
 from hypothesis.extra.numpy import arrays
 
-from gfmd import laws, observables
-from gfmd.scene import Interface, scene_from_dict
+from contact import laws, observables
+from contact.scene import Interface, scene_from_dict
 
 EPS = np.finfo(float).eps
 

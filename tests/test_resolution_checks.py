@@ -1,4 +1,4 @@
-"""Scene checks of gfmd.model / gfmd.loading: under-resolved δn, unstable start, forced full model.
+"""Scene checks of contact.model / contact.loading: under-resolved δn, unstable start, forced full model.
 
 Flat-surface tests are exact (a flat indenter only moves the uniform mode of a layer,
 stiffness M/D, so the jump-in separation of `jump_in_separation` is the true one).
@@ -9,11 +9,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gfmd import kernels
-from gfmd.loading import run_realization, start_warning
-from gfmd.model import (MIN_LENGTH_NORMAL_NODES, ModelCheckError, build_model, jump_in_separation,
+from contact import kernels
+from gfmd.loading import run_realization
+from contact.loading import start_warning
+from contact.model import (MIN_LENGTH_NORMAL_NODES, ModelCheckError, build_model, jump_in_separation,
                         softest_normal_stiffness, warnings_in)
-from gfmd.scene import Scene, SceneError, default_scene
+from contact.scene import Scene, SceneError, default_scene
 
 E, NU, DN, PHI = 70e9, 0.3, 1e-9, 0.15
 
@@ -124,7 +125,7 @@ def test_forced_coupled_unknowns():
 
 
 def test_slip_warning_flags_compressed_slipping_nodes_only():
-    from gfmd.loading import SLIP_LIMIT, slip_warning
+    from contact.loading import SLIP_LIMIT, slip_warning
     sc = default_scene().replace(**{"interface.tangential_ratio": 0.5})
     dt = sc.interface.length_tangential
     gap = np.array([-1e-9, -1e-9, 2e-9])

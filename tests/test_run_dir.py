@@ -1,4 +1,4 @@
-"""Run directories that never lose work: written as the run goes, interrupt, resume, refusals (gfmd.io, gfmd.cli).
+"""Run directories that never lose work: written as the run goes, interrupt, resume, refusals (workbench.io, workbench.cli).
 
 The resumed files must equal an uninterrupted run's: every column of curve.csv but
 wall_s, every array of fields.npz, mean_curve.csv and meta.json but timings, date,
@@ -19,11 +19,11 @@ import time
 import numpy as np
 import pytest
 
-import gfmd.io
-from gfmd import surfaces
-from gfmd.cli import main
-from gfmd.loading import FULL_CONTACT_MARGIN, displacement_steps
-from gfmd.scene import default_scene, scene_to_toml
+import workbench.io
+from contact import surfaces
+from workbench.cli import main
+from contact.loading import FULL_CONTACT_MARGIN, displacement_steps
+from contact.scene import default_scene, scene_to_toml
 
 
 def scene(**extra):
@@ -71,15 +71,15 @@ def test_run_writes_every_step_as_it_goes(tmp_path, monkeypatch):
     sc = scene()
     out = tmp_path / "out"
     seen = []
-    original = gfmd.io.save_step
+    original = workbench.io.save_step
 
     def spy(out_dir, result, state):
         original(out_dir, result, state)
         if result.realization == 1 and state.step == 4:
             meta = json.loads((out / "meta.json").read_text())
-            seen.append((meta["complete"], gfmd.io.load_part(out, sc, 0), gfmd.io.load_part(out, sc, 1)))
+            seen.append((meta["complete"], workbench.io.load_part(out, sc, 0), workbench.io.load_part(out, sc, 1)))
 
-    monkeypatch.setattr(gfmd.io, "save_step", spy)
+    monkeypatch.setattr(workbench.io, "save_step", spy)
     assert main(["run", str(write_scene(tmp_path, sc)), "--out", str(out), "--quiet", "--no-plot"]) == 0
     (complete, part0, part1), = seen
     assert complete is False
@@ -97,7 +97,7 @@ def test_resume_equals_uninterrupted_run(tmp_path, monkeypatch, stop_after):
     path = write_scene(tmp_path, sc)
     ref = tmp_path / "ref"
     assert main(["run", str(path), "--out", str(ref), "--quiet", "--no-plot"]) == 0
-    original = gfmd.io.save_step
+    original = workbench.io.save_step
 
     def interrupt(out_dir, result, state):
         original(out_dir, result, state)
@@ -105,11 +105,11 @@ def test_resume_equals_uninterrupted_run(tmp_path, monkeypatch, stop_after):
             raise KeyboardInterrupt
 
     out = tmp_path / "out"
-    monkeypatch.setattr(gfmd.io, "save_step", interrupt)
+    monkeypatch.setattr(workbench.io, "save_step", interrupt)
     assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"]) == 130
     assert json.loads((out / "meta.json").read_text())["complete"] is False
     assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"]) == 2  # not without --resume
-    monkeypatch.setattr(gfmd.io, "save_step", original)
+    monkeypatch.setattr(workbench.io, "save_step", original)
     assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot", "--resume"]) == 0
     assert_same_run(ref, out)
     i, k = stop_after
@@ -123,7 +123,7 @@ def test_resume_restarts_a_row_cut_short(tmp_path, monkeypatch):
     path = write_scene(tmp_path, sc)
     ref = tmp_path / "ref"
     assert main(["run", str(path), "--out", str(ref), "--quiet", "--no-plot"]) == 0
-    original = gfmd.io.save_step
+    original = workbench.io.save_step
 
     def killed(out_dir, result, state):
         if state.step == 5:  # the row is written, then "killed" before the state
@@ -133,9 +133,9 @@ def test_resume_restarts_a_row_cut_short(tmp_path, monkeypatch):
         original(out_dir, result, state)
 
     out = tmp_path / "out"
-    monkeypatch.setattr(gfmd.io, "save_step", killed)
+    monkeypatch.setattr(workbench.io, "save_step", killed)
     assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"]) == 130
-    monkeypatch.setattr(gfmd.io, "save_step", original)
+    monkeypatch.setattr(workbench.io, "save_step", original)
     assert main(["run", "--out", str(out), "--quiet", "--no-plot", "--resume"]) == 0  # scene taken from --out
     assert_same_run(ref, out)
     assert json.loads((out / "meta.json").read_text())["resume"]["steps_reused"] == 5
@@ -173,7 +173,7 @@ def test_sigint_to_a_pooled_run_then_resume(tmp_path):
     assert last.startswith("gfmd: interrupted:") and "--resume" in last and str(out) in last
     meta = json.loads((out / "meta.json").read_text())
     assert meta["complete"] is False and not (out / "curve.csv").exists()
-    parts = [gfmd.io.load_part(out, sc, i) for i in range(4)]
+    parts = [workbench.io.load_part(out, sc, i) for i in range(4)]
     assert any(p is not None for p in parts) and not all(p is not None and p[2] for p in parts)
     saved = sum(len(p[0].curve["step"]) for p in parts if p is not None)
     assert saved >= 11
@@ -190,7 +190,7 @@ def test_out_guards_before_any_compute(tmp_path, capsys, monkeypatch):
     sc = scene(**{"surface.realizations": 1})
     path = write_scene(tmp_path, sc)
     calls = []
-    monkeypatch.setattr("gfmd.ensemble.run_to_directory", lambda *a, **k: calls.append(1))
+    monkeypatch.setattr("workbench.ensemble.run_to_directory", lambda *a, **k: calls.append(1))
     a_file = tmp_path / "file.txt"
     a_file.write_text("x")
     assert main(["run", str(path), "--out", str(a_file)]) == 2
@@ -331,10 +331,10 @@ def test_bad_flags_name_the_flag(argv, capsys):
 
 
 def test_verify_runs_from_any_directory(tmp_path, monkeypatch):
-    import gfmd.cli
+    import workbench.cli
 
     calls = []
-    monkeypatch.setattr(gfmd.cli.subprocess, "call", lambda cmd, cwd=None: calls.append((cmd, cwd)) or 0)
+    monkeypatch.setattr(workbench.cli.subprocess, "call", lambda cmd, cwd=None: calls.append((cmd, cwd)) or 0)
     monkeypatch.chdir(tmp_path)
     assert main(["verify", "--", "-x"]) == 0
     (cmd, cwd), = calls

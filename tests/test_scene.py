@@ -1,4 +1,4 @@
-"""Tests of gfmd.scene: TOML scenes, validation messages, round trip, Scene.replace."""
+"""Tests of contact.scene: TOML scenes, validation messages, round trip, Scene.replace."""
 
 import dataclasses
 import math
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from gfmd.scene import (Interface, Material, Scene, SceneError, Surface, default_scene, example_scene_text,
+from contact.scene import (Interface, Material, Scene, SceneError, Surface, default_scene, example_scene_text,
                         load_scene, scene_from_dict, scene_to_dict, scene_to_toml)
 
 
@@ -33,7 +33,7 @@ def test_default_scene_is_valid_and_round_trips(tmp_path):
 
 
 def test_example_scene_loads(tmp_path):
-    path = Path(resources.files("gfmd").joinpath("example_scene.toml"))
+    path = Path(resources.files("contact").joinpath("example_scene.toml"))
     scene = load_scene(path)
     assert scene.name == "example_scene"
     assert scene.surface.kind == "self-affine" and scene.surface.nodes >= 8
@@ -494,13 +494,13 @@ def test_largest_allowed_values_are_valid():
 def _shipped(name):
     if name == "default":
         return default_scene()
-    return load_scene(Path(resources.files("gfmd").joinpath("example_scene.toml")))
+    return load_scene(Path(resources.files("contact").joinpath("example_scene.toml")))
 
 
 @pytest.mark.parametrize("name", ["default", "example"])
 def test_shipped_scenes_start_stable_and_stay_below_full_contact(name):
-    from gfmd import surfaces
-    from gfmd.model import build_model, jump_in_separation, softest_normal_stiffness
+    from contact import surfaces
+    from contact.model import build_model, jump_in_separation, softest_normal_stiffness
 
     scene = _shipped(name)
     h0 = surfaces.profile(scene.surface, 0)

@@ -1,6 +1,6 @@
 """Scenes and measurements shared by the `verification/test_analytic_*.py` cases.
 
-Units: SI (see `gfmd.conventions`). Every function here runs GFMD on one scene
+Units: SI (see `contact.conventions`). Every function here runs GFMD on one scene
 and reduces the saved fields to the observables that the analytic references
 (`reference.analytic`) predict. No tolerance lives here; each test module
 states its convergence study and the tolerance derived from it.
@@ -24,7 +24,7 @@ import time
 import numpy as np
 
 from gfmd.loading import run_realization
-from gfmd.scene import default_scene
+from contact.scene import default_scene
 from gfmd.solver import Settings
 
 TOL = 1e-10  # solver tolerance (× p_ref) used by every analytic case

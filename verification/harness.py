@@ -8,7 +8,7 @@ Plain functions and dataclasses, no pytest dependency (the pytest glue is
   and resolution it compares, the cost (wall time, peak memory) and plots.
 * `Case`: a scene + methods + metrics + tolerance "declared as data";
   `run_case(case)` runs every method on it through the method registry
-  `METHODS` (name -> callable(scene) -> `gfmd.result.Result`), so adding a case
+  `METHODS` (name -> callable(scene) -> `contact.result.Result`), so adding a case
   is a few lines and adding a method is one `register_method` call.
 * `Meter`: wall time (`time.perf_counter`) and peak memory of a block.
   Memory is measured as the delta of the process's resident-set high-water
@@ -22,7 +22,7 @@ Plain functions and dataclasses, no pytest dependency (the pytest glue is
   `write_results` / `load_results`.
 
 Units: whatever the record says (values are usually dimensionless relative
-errors; SI otherwise, see `gfmd.conventions`).
+errors; SI otherwise, see `contact.conventions`).
 """
 
 from __future__ import annotations
@@ -72,7 +72,7 @@ class Measurement:
     test: str = ""  # pytest node id, filled by the fixture
     test_outcome: str = ""  # passed/failed/skipped/error, filled at session end
     provenance: dict = field(default_factory=dict)
-    scene: str = ""  # the scene measured, as TOML (`gfmd.scene.scene_to_toml`); "" if not given
+    scene: str = ""  # the scene measured, as TOML (`contact.scene.scene_to_toml`); "" if not given
 
     def __post_init__(self):
         self.methods = tuple(self.methods or ())
@@ -81,8 +81,8 @@ class Measurement:
         for plot in self.plots:
             validate_plot(plot)
         self.passed = verdict(self.value, self.tolerance) if self.passed is None else bool(self.passed)
-        if not isinstance(self.scene, str):  # a gfmd.scene.Scene
-            from gfmd.scene import scene_to_toml
+        if not isinstance(self.scene, str):  # a contact.scene.Scene
+            from contact.scene import scene_to_toml
             self.scene = scene_to_toml(self.scene)
 
     def to_dict(self):
@@ -349,7 +349,7 @@ def _gfmd(method):
     return run
 
 
-#: method name -> callable(scene, realization=0) -> gfmd.result.Result
+#: method name -> callable(scene, realization=0) -> contact.result.Result
 METHODS: dict[str, Callable] = {"gfmd-fire": _gfmd("fire"), "gfmd-verlet": _gfmd("verlet")}
 
 
@@ -363,7 +363,7 @@ def register_method(name, run):
 class Case:
     """A verification case declared as data.
 
-    scene: a `gfmd.scene.Scene` or a zero-argument callable returning one (so
+    scene: a `contact.scene.Scene` or a zero-argument callable returning one (so
     building it costs nothing at import); methods: names in `METHODS`;
     metrics: names of the numbers the test records; tolerance: one float for
     all metrics or {metric: float}; tolerance_source: which convergence study
@@ -390,7 +390,7 @@ class Case:
 
 @dataclass
 class MethodRun:
-    result: Any  # gfmd.result.Result
+    result: Any  # contact.result.Result
     wall_s: float
     peak_memory_bytes: int
     memory_method: str

@@ -8,7 +8,7 @@ corners several. δn/l is swept by N at fixed physics; δ0 at fixed ΔU; N at fi
 L = N·l, λr = L/8 (the seed's ratio), h_rms = 10 nm.
 
 Each cell is one load ramp. Status: ok (all steps converged, no warning), warn (all
-converged, but a check of `gfmd.model.scene_warnings` / `gfmd.loading.start_warning`
+converged, but a check of `contact.model.scene_warnings` / `contact.loading.start_warning`
 fired: its message is shown) or fail (refused with a specific message, or a step did
 not converge: the solver's message). Asserted for every cell: no NaN in p, a_rel, the
 residuals or the fields (ḡ_r is NaN by definition when nothing is in contact and is not
@@ -85,8 +85,8 @@ import numpy as np
 import pytest
 
 import gfmd.loading as gl
-from gfmd.model import warnings_in
-from gfmd.scene import Scene
+from contact.model import warnings_in
+from contact.scene import Scene
 from verification import harness
 
 CASE = "extremes/sweep"
@@ -347,12 +347,12 @@ def test_gfmd_vs_fe_grid(verification_record):
 
 # --------------------------------------------------------------------------- the δn/l threshold
 def test_length_normal_resolution_threshold(verification_record):
-    """The study behind gfmd.model.MIN_LENGTH_NORMAL_NODES (its docstring, φn* = 0.15, λs,H = 8 nm):
+    """The study behind contact.model.MIN_LENGTH_NORMAL_NODES (its docstring, φn* = 0.15, λs,H = 8 nm):
     the same continuum profile on N = 64 … 4096 (δn/l = 0.25 … 16), N = 4096 the reference.
     Bounds: for δn ≥ 2 l, |Δp|/max|p| ≤ 3 × 0.0022 and |Δa_rel| ≤ 3 × 0.0056 (the largest measured
-    values of the gfmd.model table); at δn = l the pressure error must be > 3× the δn = 2 l one
+    values of the contact.model table); at δn = l the pressure error must be > 3× the δn = 2 l one
     (measured 16×), i.e. the threshold separates two regimes."""
-    from gfmd.model import MIN_LENGTH_NORMAL_NODES
+    from contact.model import MIN_LENGTH_NORMAL_NODES
 
     runs = {}
     for n in (64, 128, 256, 512, 1024, 2048, 4096):
@@ -375,7 +375,7 @@ def test_length_normal_resolution_threshold(verification_record):
     verification_record(case="extremes/length-normal-resolution", metric="max |Δp|/max|p| for δn ≥ 2 l",
                         value=max(err[k][0] for k in resolved), tolerance=3 * 0.0022,
                         methods=("gfmd-fire",), resolution={"N": list(runs), "reference N": 4096},
-                        tolerance_source="3× the largest measured value (gfmd.model docstring)",
+                        tolerance_source="3× the largest measured value (contact.model docstring)",
                         plots=[harness.table_plot(["δn/l", "N", "|Δp|/max|p|", "|Δa_rel|", "check"], rows,
                                                   title="error vs δn/l against N = 4096"),
                                harness.convergence_plot([1 / k for k in err if k < 16],
@@ -383,6 +383,6 @@ def test_length_normal_resolution_threshold(verification_record):
                                                         xlabel="l/δn", ylabel="|Δp|/max|p| vs N = 4096")])
     verification_record(case="extremes/length-normal-resolution", metric="max |Δa_rel| for δn ≥ 2 l",
                         value=max(err[k][1] for k in resolved), tolerance=3 * 0.0056, methods=("gfmd-fire",),
-                        tolerance_source="3× the largest measured value (gfmd.model docstring)")
+                        tolerance_source="3× the largest measured value (contact.model docstring)")
     assert all(err[k][0] <= 3 * 0.0022 and err[k][1] <= 3 * 0.0056 for k in resolved), err
     assert err[1.0][0] > 3 * err[2.0][0], err

@@ -5,7 +5,7 @@ E = 70 GPa, ν = 0.3, normal-only CZ (c = 0), φn* = 0.01, δn = 1 nm,
 δ0 = 2 nm, δ from −2 nm to 60 nm in 20 steps (a_rel from 0.17 to 0.46).
 GFMD: `gfmd.loading.run_realization` (FIRE, tolerance 1e-8); FE: `reference.fem`
 P2 (Newton, tolerance 1e-10). Same nodes, same z_ind, observables from
-`gfmd.observables.step_observables`.
+`contact.observables.step_observables`.
 
 Metrics (max over the recorded field steps 4, 8, …, 20, resp. over all steps):
 * t_n(x): ‖t_n^FE − t_n^GFMD‖₂ / ‖t_n^GFMD‖₂
@@ -34,7 +34,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gfmd.scene import Scene
+from contact.scene import Scene
 from verification import harness
 
 METHODS = ("gfmd-fire", "fe-p2")

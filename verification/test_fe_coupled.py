@@ -116,7 +116,7 @@ def compare(n, nu):
     rf, rg, fe_s, gfmd_s = harness.run_fe_and_gfmd(sc)
     assert rf.all_converged, f"FE N={n} ν={nu}: {rf.messages}"
     assert rg.all_converged, f"GFMD N={n} ν={nu}: {rg.messages}"
-    for r in (rf, rg):  # the verified range stays below gfmd.loading.SLIP_LIMIT
+    for r in (rf, rg):  # the verified range stays below contact.loading.SLIP_LIMIT
         assert not any("slip regime" in w for w in r.reasons), (r.method, r.reasons)
     traction_scale = sc.work_normal / sc.interface.length_normal  # φn/δn (Pa)
     tn, tn_max = _field_differences(rf, rg, "t_n", traction_scale)
@@ -239,7 +239,7 @@ def test_gfmd_coupled_slip_regime(verification_record):
     assert rg.all_converged, f"GFMD in the slip regime: {rg.messages}"
     fallback = [k for k, it in enumerate(rg.curve["iterations"]) if it > COUPLED_FIRE_BUDGET]
     assert fallback, "no step needed the Verlet fallback: the case no longer reaches the slip regime"
-    for r in (rf, rg):  # both methods say that the run left the verified range (gfmd.loading.SLIP_LIMIT)
+    for r in (rf, rg):  # both methods say that the run left the verified range (contact.loading.SLIP_LIMIT)
         assert any("slip regime" in w for w in r.reasons), (r.method, r.reasons)
     k = max(rf.fields)
     tn, tt = (harness.relative_l2(rf.fields[k][f], rg.fields[k][f], rg.fields[k][f]) for f in ("t_n", "t_t"))

@@ -3,7 +3,7 @@
 A normal traction t_z = cos(q_n x + 0.7) (phase: not symmetric in x) on the periodic
 bonded layer L = 1, D = L/2, E = 1: the surface response of the condensed FE cell
 (`Cell.schur`, the operator the nonlinear FE solve uses) is compared with the exact
-layer kernel (`gfmd.kernels.layer_normal` for u_z with t_x = 0, `layer_coupled`
+layer kernel (`contact.kernels.layer_normal` for u_z with t_x = 0, `layer_coupled`
 for u_x): relative compliance error of mode n.
 
 Study (N = 64 top nodes, measured when the tolerances were set):
@@ -27,7 +27,7 @@ import time
 import numpy as np
 import pytest
 
-from gfmd import kernels
+from contact import kernels
 from reference.fem._blas import single_thread
 from reference.fem.assembly import build_cell
 

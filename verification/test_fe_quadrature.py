@@ -7,7 +7,7 @@ with quadrature="nodal" (f_i = W_i T(Δ_i), Simpson weights) and "gauss"
 (f = Bᵀ(w_g T(Δ_g)), 4 Gauss points per facet, z_ind from the Fourier
 interpolant of h; `reference.fem.quadrature`); GFMD (FIRE, nodal forces l T_i).
 Outputs are nodal for every method: t_n is T at the GFMD nodes' gaps, p =
-−⟨t_z⟩ over the nodes (`gfmd.observables.step_observables`).
+−⟨t_z⟩ over the nodes (`contact.observables.step_observables`).
 
 Metrics: t_n = max over the field steps 4, 8, …, 20 of ‖t_n^a − t_n^b‖₂/‖t_n^b‖₂;
 p = max_k |p_a − p_b| / max_k |p_GFMD|; p_force: the same with the FE pressure
@@ -62,6 +62,7 @@ import numpy as np
 import pytest
 
 import gfmd.loading as gl
+from contact.loading import field_step_indices
 from reference import fem
 from verification import harness
 from verification.test_fe_cohesive import scene as cohesive_scene
@@ -84,7 +85,7 @@ _CACHE = {}
 
 def field_steps(result):
     """The steps compared in test_fe_cohesive (4, 8, …, 20), for comparable t_n numbers."""
-    return gl.field_step_indices(result.scene.loading, 5)
+    return field_step_indices(result.scene.loading, 5)
 
 
 def t_n_difference(a, b):

@@ -5,7 +5,7 @@ the same 32 modes: refining N refines the discretisation only, the continuum pro
 seed 3; layer D = L on a rigid base, E = 70 GPa, ν = 0.3; normal-only CZ (c = 0), φn* = 0.01, δn = 1 nm;
 δ0 = 2 nm, δ from −2 nm to 10 nm in 15 steps (a_rel from ≈ 0.1 to ≈ 0.7). GFMD: FIRE, tolerance 1e-8; FE:
 P2, Newton (dense surface solve), tolerance 1e-10; same nodes, same z_ind, observables from
-`gfmd.observables.step_observables`.
+`contact.observables.step_observables`.
 
 Metrics (max over the field steps 5, 10, 15, resp. over all 16 steps):
 * t_n(x): ‖t_n^FE − t_n^GFMD‖₂ / ‖t_n^GFMD‖₂
@@ -41,7 +41,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gfmd.scene import Scene
+from contact.scene import Scene
 from verification import harness
 
 METHODS = ("gfmd-fire", "fe-p2")

@@ -31,9 +31,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gfmd import surfaces
-from gfmd.model import build_model
-from gfmd.scene import default_scene
+from contact import surfaces
+from contact.model import build_model
+from contact.scene import default_scene
 from verification import harness
 
 SAFETY = 10.0

@@ -57,8 +57,8 @@ import numpy as np
 import pytest
 
 import gfmd.loading as gl
-from gfmd.kernels import constrained_modulus
-from gfmd.observables import reduced_pressure
+from contact.kernels import constrained_modulus
+from contact.observables import reduced_pressure
 from verification import harness
 from verification.test_extremes import scene as base_scene
 

@@ -85,8 +85,8 @@ import numpy as np
 import pytest
 
 from gfmd.loading import run_realization as gfmd_run
-from gfmd.observables import contact_mask
-from gfmd.scene import Scene
+from contact.observables import contact_mask
+from contact.scene import Scene
 from gfmd.solver import Settings
 from reference import fem
 from verification import harness
@@ -113,7 +113,7 @@ def centred_self_affine_path(n):
     import shutil
     import tempfile
     from pathlib import Path
-    from gfmd import surfaces
+    from contact import surfaces
     if not _PROFILE_DIR:  # one folder per process, removed at exit (the profile is rebuilt from _SELF_AFFINE)
         _PROFILE_DIR.append(Path(tempfile.mkdtemp(prefix="speed_accuracy_profiles_")))
         atexit.register(shutil.rmtree, _PROFILE_DIR[0], ignore_errors=True)
@@ -163,7 +163,7 @@ def adhesive_self_affine(n):
     N ≥ 64), seed 3, lowest point on the node x = 0 (`centred_self_affine_path`), layer D = L, normal CZ
     φn* = 0.01, δn = 1 nm, δ from −5 nm to 10 nm in 15 steps.
 
-    δ0 = 5 nm > δ_jump = 4.0 δn (gfmd.model.jump_in_separation): started at δ0 = 2 nm, inside the jump-in
+    δ0 = 5 nm > δ_jump = 4.0 δn (contact.model.jump_in_separation): started at δ0 = 2 nm, inside the jump-in
     range, the jump at the first steps picked N-dependent equilibria: GFMD N = 512 and 1024 agreed to 1e-11
     in p(δ), 2048…8192 to 1e-14, but the two groups differed by 1.9e-4 (rel. L2), growing along the ramp."""
     return Scene().replace(**_MATERIAL, **_self_affine_surface(n), **{

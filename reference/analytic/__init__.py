@@ -1,7 +1,7 @@
 """Closed-form plane-strain line-contact solutions (shared/reference-formulas.md §2–§4).
 
 Plain numpy functions, SI units per unit length, p > 0 compressive
-(see gfmd.conventions). One module per classical solution:
+(see contact.conventions). One module per classical solution:
 
 * hertz           – rigid cylinder on a half-plane (§2)
 * westergaard     – periodic sinusoid, no adhesion (§3)

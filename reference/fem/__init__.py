@@ -1,6 +1,6 @@
 """Plane-strain finite-element reference for the periodic bonded-layer cell (issue #4).
 
-Units: SI (see `gfmd.conventions`). Shares scene, surfaces, laws, observables,
+Units: SI (see `contact.conventions`). Shares scene, surfaces, laws, observables,
 result and loading's geometry helpers with GFMD, but no solver code:
 
 * `mesh`      graded triangle mesh (numpy → skfem.MeshTri), top nodes = GFMD nodes
@@ -15,7 +15,7 @@ result and loading's geometry helpers with GFMD, but no solver code:
 * `export`    VTU output (meshio): one file per recorded step + a PVD series
 
 `run_realization(scene, realization=0, order=2, progress=None, linear="auto")` returns a
-`gfmd.result.Result` with method "fe-p2" / "fe-p1".
+`contact.result.Result` with method "fe-p2" / "fe-p1".
 """
 
 from .export import export_vtu

@@ -1,6 +1,6 @@
 """Frictionless, non-adhesive hard wall on the condensed FE surface (issue #4 prerequisite of #5).
 
-Units: SI (see `gfmd.conventions`). The linear cell is condensed once onto the
+Units: SI (see `contact.conventions`). The linear cell is condensed once onto the
 normal surface displacements u_z (`Cell.schur(("z",))`: u_x of the surface is
 free, t_x = 0, the interior follows linearly). Each load step is the convex QP
 
@@ -11,7 +11,7 @@ midpoints from the band-limited interpolant of h, as `reference.fem.solver`).
 KKT: S u + μ = 0, μ ≥ 0 (wall force per unit length out of plane, N/m),
 Δn ≥ 0, μ_i Δn_i = 0. The contact traction on the body at surface point i is
 t_z = −μ_i/W_i (W the FacetBasis nodal weights, m), so −t_z ≥ 0 only where
-Δn = 0 (gfmd.conventions "Hard wall"). On the N GFMD nodes the Result reports
+Δn = 0 (contact.conventions "Hard wall"). On the N GFMD nodes the Result reports
 t_z = −(nodal wall force)/l, the P2 midpoint forces lumped onto their vertices
 (`HardWallProblem.node_traction`), so that p = −⟨t_z⟩ is the exact Σμ/L.
 
@@ -48,10 +48,10 @@ import numpy as np
 import scipy.linalg
 import scipy.optimize
 
-from gfmd import surfaces
-from gfmd.loading import displacement_steps, field_step_indices, realization_label
-from gfmd.observables import rms_gradient, step_observables
-from gfmd.result import Result
+from contact import surfaces
+from contact.loading import displacement_steps, field_step_indices, realization_label
+from contact.observables import rms_gradient, step_observables
+from contact.result import Result
 
 from ._blas import single_thread
 from .assembly import build_cell
@@ -61,7 +61,7 @@ from .solver import fourier_interpolate, surface_indenter  # shared z_ind (P2 mi
 class HardWallProblem:
     """Condensed normal surface system of one scene for the hard wall (see module docstring).
 
-    scene: a hard-wall `gfmd.scene.Scene` with finite material.thickness; h: the
+    scene: a hard-wall `contact.scene.Scene` with finite material.thickness; h: the
     profile (m) on the N nodes; order: 1 (P1) or 2 (P2).
     """
 
@@ -114,7 +114,7 @@ class HardWallProblem:
         return -force / spacing
 
     def indenter(self, initial_separation, displacement):
-        """z_ind = h − min_nodes h + δ0 − U (m) at all surface points (gfmd.conventions)."""
+        """z_ind = h − min_nodes h + δ0 − U (m) at all surface points (contact.conventions)."""
         return surface_indenter(self.h_surface, self.h_min, initial_separation, displacement)
 
     def state(self, active, z_ind):
@@ -165,7 +165,7 @@ class HardWallProblem:
 
 
 def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None):
-    """FE hard-wall reference for one realization of `scene`; a `gfmd.result.Result` (method "fe-p<order>").
+    """FE hard-wall reference for one realization of `scene`; a `contact.result.Result` (method "fe-p<order>").
 
     Same steps (`displacement_steps`), same z_ind at the N nodes and same
     observables (`step_observables` on the GFMD nodes) as GFMD. tolerance: KKT

@@ -1,6 +1,6 @@
 """Nonlinear surface solve of the FE cell and the displacement-controlled load ramp.
 
-Units: SI (see `gfmd.conventions`). Two linear paths, chosen by
+Units: SI (see `contact.conventions`). Two linear paths, chosen by
 `run_realization(linear=...)`: "dense" condenses the linear interior once onto
 the top surface (dense Schur complement S from `reference.fem.assembly`);
 "sparse" / "sparse-lagged" (`reference.fem.sparse`) never forms S and solves
@@ -32,7 +32,7 @@ energy Σ w_g V(Δ_g)), with z_ind at the Gauss points from the Fourier
 interpolant of h. Everything else is unchanged: the nodal weights W still scale
 the residual measure, the continuation mass and the stability test (damping
 W u̇ = −R), and the outputs are nodal, i.e. the fields t_n, t_t are T at the
-GFMD nodes' gaps and p = −⟨t_z⟩ over the nodes (`gfmd.observables`), for both
+GFMD nodes' gaps and p = −⟨t_z⟩ over the nodes (`contact.observables`), for both
 quadratures, as for GFMD.
 """
 
@@ -46,11 +46,11 @@ import scipy.fft
 import scipy.linalg
 import scipy.sparse as sp
 
-from gfmd import laws, surfaces
-from gfmd.loading import displacement_steps, field_step_indices, indenter_surface, realization_label, slip_warning
-from gfmd.model import WARNING
-from gfmd.observables import rms_gradient, step_observables
-from gfmd.result import Result
+from contact import laws, surfaces
+from contact.loading import displacement_steps, field_step_indices, indenter_surface, realization_label, slip_warning
+from contact.model import WARNING
+from contact.observables import rms_gradient, step_observables
+from contact.result import Result
 
 from ._blas import single_thread
 from .assembly import build_cell
@@ -101,7 +101,7 @@ def locally_stable(jacobian, weights, symmetric):
 
 
 def surface_indenter(h_surface, h_min, initial_separation, displacement):
-    """z_ind = h − min h + δ0 − U (m, gfmd.conventions) at every FE surface point.
+    """z_ind = h − min h + δ0 − U (m, contact.conventions) at every FE surface point.
 
     h_surface: the profile at the surface points (Fourier interpolant of the nodal h);
     h_min: the *nodal* minimum of h (m), so that z_ind at the vertices is exactly GFMD's.
@@ -169,7 +169,7 @@ class SurfaceProblem:
         """(Δn, Δt) (m) where the boundary term evaluates the law: surface points (nodal) or Gauss points.
 
         z_ind: indenter at the surface points; z_ind − h_surface is a constant
-        (`gfmd.loading.indenter_surface`), added to h at the Gauss points.
+        (`contact.loading.indenter_surface`), added to h at the Gauss points.
         """
         ux, uz = self.split(u)
         if self.quadrature == "nodal":
@@ -379,7 +379,7 @@ def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, 
 
 def _run(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None, linear="auto",
          quadrature="nodal"):
-    """FE reference for one realization of `scene`; returns a `gfmd.result.Result` (method "fe-p<order>").
+    """FE reference for one realization of `scene`; returns a `contact.result.Result` (method "fe-p<order>").
 
     Same steps (`displacement_steps`), same z_ind, same observables as GFMD.
     tolerance: max |R/W|/p_ref per step (default min(scene.solver.tolerance, 1e-10)).
@@ -437,7 +437,7 @@ def _run(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=N
             sol = u_new if np.all(np.isfinite(u_new)) else u
         tt, tn, gap = prob.tractions(sol, z_ind)
         ux, uz = prob.split(sol)
-        if prob.tangential and not slipped:  # same check as GFMD (gfmd.loading.slip_warning)
+        if prob.tangential and not slipped:  # same check as GFMD (contact.loading.slip_warning)
             slipped = slip_warning(scene, k, displacement - d0, gap[vp], ux[vp])
             if slipped:
                 result.reasons = tuple(result.reasons) + (WARNING + slipped,)

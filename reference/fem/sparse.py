@@ -1,6 +1,6 @@
 """Sparse Newton for the FE surface problem: the full reduced system, SuperLU (issue #4, large N).
 
-Units: SI (see `gfmd.conventions`). `SurfaceProblem` condenses the linear
+Units: SI (see `contact.conventions`). `SurfaceProblem` condenses the linear
 interior onto the surface with a dense Schur complement S and factors a dense
 tangent every Newton iteration: for P2 at N = 4096 (8192 surface points) that is
 a 8192² matrix (0.5 GB) and ~4·10¹¹ flops per factorization.

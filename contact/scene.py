@@ -1,6 +1,6 @@
 """Scenes: what the user describes, as frozen dataclasses read from TOML.
 
-Units: SI (see `gfmd.conventions`). `load_scene(path)` reads and validates a TOML
+Units: SI (see `contact.conventions`). `load_scene(path)` reads and validates a TOML
 file; `scene_from_dict` does the same for a dict; `scene_to_toml` writes the
 fully resolved scene back. Every error names the key, the value and the
 allowed range. [surface] takes only the keys of its kind (every kind: kind,
@@ -88,9 +88,9 @@ class Loading:
 class Solver:
     """Solver settings.
 
-    unknowns: "auto" (only what the scene requires, `gfmd.model`) or "coupled" (always
+    unknowns: "auto" (only what the scene requires, `contact.model`) or "coupled" (always
     u_x and u_z, to compare the reduced model with the full one; cohesive law only).
-    checks: "warn" (resolution/stability findings of `gfmd.model.scene_warnings` are
+    checks: "warn" (resolution/stability findings of `contact.model.scene_warnings` are
     recorded in the model's reasons and the run goes on) or "error" (such a scene is
     refused before any work).
     """
@@ -428,7 +428,7 @@ def load_scene(path):
 
 def default_scene():
     """The built-in default scene (a small version of the seed's Fig. 3/4 case)."""
-    text = resources.files("gfmd").joinpath("default_scene.toml").read_text()
+    text = resources.files("contact").joinpath("default_scene.toml").read_text()
     return scene_from_dict(tomllib.loads(text), name="default")
 
 
@@ -474,4 +474,4 @@ def scene_to_toml(scene):
 
 def example_scene_text():
     """Fully commented example scene (TOML text)."""
-    return resources.files("gfmd").joinpath("example_scene.toml").read_text()
+    return resources.files("contact").joinpath("example_scene.toml").read_text()

@@ -1,6 +1,6 @@
 """Observables computed from fields, in one place for every method.
 
-Units: SI (see `gfmd.conventions`). Each method (GFMD, FE, ...) produces, per load
+Units: SI (see `contact.conventions`). Each method (GFMD, FE, ...) produces, per load
 step, the surface fields u_z, u_x, t_z, t_x and the normal gap Δn on the same N
 nodes; `step_observables` turns them into p, a_rel, ḡ_r. No method computes
 these quantities any other way.
@@ -40,7 +40,7 @@ def rms_gradient_contact(h, spacing, contact):
 def contact_mask(interface, gap, traction_z):
     """Boolean contact set per the seed's rule (see module docstring).
 
-    interface: a `gfmd.scene.Interface`; gap Δn (m) and traction t_z (Pa) on the nodes.
+    interface: a `contact.scene.Interface`; gap Δn (m) and traction t_z (Pa) on the nodes.
     """
     if interface.law == "hard-wall":
         return -np.asarray(traction_z) > 0.0

@@ -1,11 +1,11 @@
 """Ensembles: independent realizations in a local process pool, and their averages.
 
-Units: SI (see `gfmd.conventions`). Every realization i uses the seed
+Units: SI (see `contact.conventions`). Every realization i uses the seed
 `surface.seed + i`; all realizations share the same load steps, so averages are
 taken step by step (at equal δ).
 
 `run_ensemble` returns the results in memory; `run_to_directory` writes every load
-step of every realization to a run directory as it is computed (gfmd.io) and
+step of every realization to a run directory as it is computed (workbench.io) and
 continues an interrupted run there. Both are interruptible: on KeyboardInterrupt
 (SIGINT; the CLI maps SIGTERM to it) the worker processes are terminated at once
 and the exception propagates; the workers themselves ignore SIGINT, so a Ctrl-C in
@@ -24,7 +24,7 @@ import numpy as np
 from tqdm import tqdm
 
 from . import io
-from .loading import run_realization
+from gfmd.loading import run_realization
 
 #: curve columns averaged over realizations (mean and standard error)
 AVERAGED = ("p", "a_rel", "g_r", "g")
@@ -121,7 +121,7 @@ def _run_into(job, progress):
 
 
 def run_to_directory(scene, out, workers=None, progress=True):
-    """Run every realization into the prepared run directory `out` (gfmd.io.prepare_run_dir).
+    """Run every realization into the prepared run directory `out` (workbench.io.prepare_run_dir).
 
     Every load step is on disk as soon as it is computed; realizations already done
     there are reused and an interrupted one continues from its last saved step (so a

@@ -1,6 +1,6 @@
 """Fourier-space surface stiffness of a periodic elastic body, plane strain.
 
-Units: SI (see `gfmd.conventions`): q in 1/m, moduli in Pa, thickness in m,
+Units: SI (see `contact.conventions`): q in 1/m, moduli in Pa, thickness in m,
 stiffness K(q) in Pa/m, so that t̂ = K(q) û with û, t̂ transformed alike.
 Formulas: reference-formulas §1 (Convention A: u_z up, tractions on the body).
 

@@ -1,6 +1,6 @@
 """Rigid indenter profiles h(x) on the periodic grid (m).
 
-Units: SI (see `gfmd.conventions`). Grid x_j = (j − N/2) l, l = L/N.
+Units: SI (see `contact.conventions`). Grid x_j = (j − N/2) l, l = L/N.
 Random profiles use the seed's spectral method (seed Eq. 4, reference-formulas §6):
 deterministic amplitudes √((2π/L) C(q_n)), random phases from an explicit seed,
 zero mean, and h_rms exact after a final rescaling.
@@ -81,7 +81,7 @@ def from_file(path, nodes):
     (any other suffix) with one column of heights (whitespace-separated numbers, '#' comments).
 
     Anything else (a missing, unreadable, corrupt, empty, comma-separated or 2-D file, non-numeric
-    or non-finite values, the wrong count) raises a `gfmd.scene.SceneError` naming surface.path,
+    or non-finite values, the wrong count) raises a `contact.scene.SceneError` naming surface.path,
     the file and what is expected.
     """
     from .scene import SceneError
@@ -142,7 +142,7 @@ def _first_line(exc, limit=120):
 
 
 def profile(surface, realization=0):
-    """Profile h(x) (m) for a `gfmd.scene.Surface` spec; realization i uses seed + i."""
+    """Profile h(x) (m) for a `contact.scene.Surface` spec; realization i uses seed + i."""
     n, length = surface.nodes, surface.length
     if surface.kind == "self-affine":
         return self_affine(n, length, surface.hurst, surface.h_rms, surface.rolloff_wavelength,

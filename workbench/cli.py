@@ -1,6 +1,6 @@
 """Command line: `gfmd run | plot | scene | verify` (also `python -m gfmd`).
 
-Units: SI everywhere (see gfmd.conventions); scenes are TOML files (gfmd.scene).
+Units: SI everywhere (see contact.conventions); scenes are TOML files (contact.scene).
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ import sys
 import time
 from pathlib import Path
 
-from .scene import SceneError, default_scene, example_scene_text, load_scene
+from contact.scene import SceneError, default_scene, example_scene_text, load_scene
 
 
 def _fe_problem_check(scene):
@@ -25,8 +25,8 @@ def _fe_problem_check(scene):
 
 
 def _checks(scene, method):
-    """Every check `gfmd run` makes before compute (gfmd.loading.preflight + the method's); (warnings, notes)."""
-    from .loading import preflight
+    """Every check `gfmd run` makes before compute (contact.loading.preflight + the method's); (warnings, notes)."""
+    from contact.loading import preflight
 
     if method == "fe":
         _fe_problem_check(scene)
@@ -35,7 +35,7 @@ def _checks(scene, method):
 
 def _run_fe(scene, out, quiet=False):
     """FE reference on every realization (serial, progress bar per load step), each saved when done
-    (gfmd.io.save_realization; realizations done by an earlier, interrupted run are reused);
+    (workbench.io.save_realization; realizations done by an earlier, interrupted run are reused);
     VTU + PVD per realization under out/vtu/realization<i>/ (reference.fem.export_vtu)."""
     from tqdm import tqdm
 

@@ -1,7 +1,7 @@
 """Units, signs and Fourier conventions: stated once, used everywhere.
 
 Every module of `gfmd`, `reference` and `verification` follows this page;
-docstrings elsewhere only say "units: SI (see gfmd.conventions)" and name the
+docstrings elsewhere only say "units: SI (see contact.conventions)" and name the
 quantities. It follows `shared/reference-formulas.md` §0 ("Convention A").
 
 Units

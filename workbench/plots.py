@@ -7,7 +7,7 @@ What is drawn:
 * realizations are stacked step by step (`stack_curves`): a realization that
   stopped early (ragged curves, interrupted runs) is padded with NaN, and every
   point is the mean over the realizations that have a value there, with its
-  standard error (`gfmd.ensemble.mean_standard_error`); the legend says so and
+  standard error (`workbench.ensemble.mean_standard_error`); the legend says so and
   gives the realization count n (a range where it differs between points);
 * points averaged over fewer than all realizations (a realization stopped
   early, or ḡ_r is undefined without contact) are drawn as open markers: the
@@ -32,7 +32,7 @@ from matplotlib.figure import Figure
 
 from .ensemble import mean_standard_error
 from .io import read_run
-from .observables import fit_kappa, reduced_pressure
+from contact.observables import fit_kappa, reduced_pressure
 
 #: output formats of `plot_run` (and `gfmd plot --format`)
 FORMATS = ("png", "svg", "pdf")
@@ -63,7 +63,7 @@ class Stacked:
 
 
 def stack_curves(curves):
-    """Stack `curves` ({realization: {column: array}}, as from `gfmd.io.read_run`) by their `step` column.
+    """Stack `curves` ({realization: {column: array}}, as from `workbench.io.read_run`) by their `step` column.
 
     Curves may differ in length (a realization stopped early, an interrupted run):
     missing steps are NaN. δ of each step comes from the longest curve (from the

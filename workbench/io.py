@@ -1,8 +1,8 @@
 """Result files of a run directory: written as the run goes, assembled at its end.
 
-Units: SI (see `gfmd.conventions`). A finished run directory holds
+Units: SI (see `contact.conventions`). A finished run directory holds
   curve.csv       one row per (realization, step): realization, seed + CURVE_COLUMNS (SI)
-  mean_curve.csv  per step: δ, U and, for each of gfmd.ensemble.AVERAGED, the mean over
+  mean_curve.csv  per step: δ, U and, for each of workbench.ensemble.AVERAGED, the mean over
                   realizations, its standard error and the count n of realizations with a value
   fields.npz      x, h_r<i> and, for the saved steps, r<i>_s<k>_<field> (FIELD_NAMES)
   scene.toml      the fully resolved scene
@@ -13,7 +13,7 @@ Units: SI (see `gfmd.conventions`). A finished run directory holds
 While a run goes, scene.toml and meta.json ("complete": false) are written before any
 compute, and every realization writes into partial/ after each load step
 (`save_step`): realization<i>.csv (its rows, appended), realization<i>_step<k>.npz
-(saved fields) and realization<i>.state.npz (the `gfmd.loading.RampState` warm start,
+(saved fields) and realization<i>.state.npz (the `contact.loading.RampState` warm start,
 messages, reasons, notes; "done" once the realization ends). `load_part` reads them
 back to continue an interrupted run (`gfmd run --resume`); `write_run` assembles the
 final files and removes partial/. Every file is written to a temporary name and
@@ -38,9 +38,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import surfaces
-from .result import CURVE_COLUMNS, FIELD_NAMES, Result
-from .scene import load_scene, scene_to_dict, scene_to_toml
+from contact import surfaces
+from contact.result import CURVE_COLUMNS, FIELD_NAMES, Result
+from contact.scene import load_scene, scene_to_dict, scene_to_toml
 
 #: files and folders a run directory may hold (what --overwrite removes)
 RUN_ENTRIES = ("curve.csv", "mean_curve.csv", "fields.npz", "scene.toml", "meta.json", "plots", "vtu", "partial")
@@ -108,14 +108,14 @@ def _meta_base(scene, method, command):
         "numpy": np.__version__,
         "date": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
         "command": command or " ".join(sys.argv),
-        "units": "SI: m, Pa, J/m^2; see gfmd/conventions.py",
+        "units": "SI: m, Pa, J/m^2; see contact/conventions.py",
     }
 
 
 def mean_curve(results):
     """Columns of mean_curve.csv: per step δ, U and mean, standard error, count of each averaged observable.
 
-    Realizations are matched by step index; one that stopped early (gfmd.loading.realization_steps)
+    Realizations are matched by step index; one that stopped early (contact.loading.realization_steps)
     or has no value (ḡ_r without contact) is left out of that step's mean, and n says so.
     """
     from .ensemble import AVERAGED, mean_standard_error
@@ -319,7 +319,7 @@ def start_part(out, realization, result=None):
 def save_realization(out, result):
     """Put a finished realization on disk at once (methods without step checkpoints, e.g. FE)
     and mark it done; a realization already checkpointed step by step is only marked done."""
-    from .loading import RampState
+    from contact.loading import RampState
 
     rows = len(result.curve["step"])
     path = _part(out, result.realization, ".csv")
@@ -339,10 +339,10 @@ def load_part(out, scene, realization):
     """(result, state, done) of a realization found in out/partial, or None if it has no state.
 
     result holds the steps up to state.step (lists, ready to be continued), its saved
-    fields, messages, reasons and notes; state is the `gfmd.loading.RampState` to
+    fields, messages, reasons and notes; state is the `contact.loading.RampState` to
     resume from (its arrays None when done).
     """
-    from .loading import RampState
+    from contact.loading import RampState
 
     path = _part(out, realization, ".state.npz")
     if not path.is_file():

@@ -1,7 +1,7 @@
 """One Result shape for every method (GFMD, FE, analytic): per-step curve + selected fields.
 
-Units: SI (see `gfmd.conventions`). The curve holds, per load step, the columns
-`CURVE_COLUMNS` (U, δ and the observables from `gfmd.observables`); `fields`
+Units: SI (see `contact.conventions`). The curve holds, per load step, the columns
+`CURVE_COLUMNS` (U, δ and the observables from `contact.observables`); `fields`
 maps a step index to the surface fields `FIELD_NAMES` on the N nodes.
 """
 
@@ -21,7 +21,7 @@ FIELD_NAMES = ("u_z", "u_x", "gap", "t_n", "t_t")
 class Result:
     """Outcome of one method on one realization of a scene."""
 
-    scene: object  # gfmd.scene.Scene
+    scene: object  # contact.scene.Scene
     method: str  # e.g. "gfmd-fire", "gfmd-verlet", "fe-p2"
     model: str  # the model actually solved, in words
     realization: int

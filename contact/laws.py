@@ -1,6 +1,6 @@
 """Interface traction–separation laws (seed Eqs. 2–3; reference-formulas §4.0).
 
-Units: SI (see `gfmd.conventions`): gaps Δn, Δt and lengths δn, δt in m, works of
+Units: SI (see `contact.conventions`): gaps Δn, Δt and lengths δn, δt in m, works of
 separation φn, φt in J/m², tractions in Pa. T_n > 0 is tension; the law acts on
 the body as t_z = T_n, t_x = T_t, with Δ = indenter − body.
 

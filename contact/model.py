@@ -1,6 +1,6 @@
 """Model choice: only what a scene requires (unknowns, kernel, law), and why.
 
-Units: SI (see `gfmd.conventions`). `build_model(scene)` returns a `Model`
+Units: SI (see `contact.conventions`). `build_model(scene)` returns a `Model`
 holding the Fourier-space stiffness on the rfft half-spectrum and a
 human-readable statement of the model solved, with the reasons.
 
@@ -233,7 +233,7 @@ def scene_warnings(scene, model):
             f"under-resolved δn: cohesive length δn = {ratio:.3g} l is under-resolved (l = L/N = {s.spacing:.3g} m, "
             f"δn = {i.length_normal:.3g} m): refine to δn ≥ {MIN_LENGTH_NORMAL_NODES:g} l, e.g. surface.nodes = "
             f"{nodes} (measured on a rough scene: pressure error ≈ 3 % at δn = l against 0.2 % at δn = 2 l, "
-            "gfmd.model docstring)")
+            "contact.model docstring)")
     k_min = softest_normal_stiffness(model)
     gap = jump_in_separation(k_min, i.work_normal, i.length_normal)
     d0 = scene.loading.initial_separation
@@ -245,5 +245,5 @@ def scene_warnings(scene, model):
             f"softening slope e^-2 φn/δn² = {np.exp(-2) * i.work_normal / i.length_normal**2:.3g} Pa/m: a flat surface "
             f"jumps into contact from δ_jump = {gap / i.length_normal:.3g} δn, so the first step may already jump "
             f"(the approach is then not recorded). Pick δ0 ≥ {gap / i.length_normal:.3g} δn = {gap:.3g} m "
-            "(gfmd.model.jump_in_separation)")
+            "(contact.model.jump_in_separation)")
     return found

@@ -1,0 +1,160 @@
+"""The loading protocol every method shares (seed §2): load steps, indenter position, stops, warnings.
+
+Units: SI (see `contact.conventions`). The indenter starts with its closest point
+δ0 above the undeformed surface; U goes from 0 to δ0 + final_penetration in
+`steps` equal increments (step 0 is U = 0), each step warm-started from the
+previous equilibrium (`RampState`). A half-plane realization stops early below its
+own full-contact limit (`realization_steps`). Warnings of the protocol: a start
+inside the contact range (`start_warning`) and the coupled law's slip regime
+(`slip_warning`); `preflight` makes every check before a run.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import surfaces
+from .model import build_model, jump_in_separation, softest_normal_stiffness
+
+
+def displacement_steps(loading):
+    """Imposed indenter displacements U_k (m), k = 0 … steps, equal increments from 0."""
+    total = loading.initial_separation + loading.final_penetration
+    return np.linspace(0.0, total, loading.steps + 1)
+
+
+def field_step_indices(loading, count):
+    """Indices of the `count` evenly spaced steps whose fields are saved (last step included)."""
+    if count <= 0:
+        return set()
+    return set(np.unique(np.round(np.linspace(0, loading.steps, count + 1)[1:]).astype(int)).tolist())
+
+
+def indenter_surface(h, initial_separation, displacement):
+    """z_ind(x) = h − min h + δ0 − U (m), contact.conventions."""
+    return h - np.min(h) + initial_separation - displacement
+
+
+#: a half-plane realization is loaded up to (1 − FULL_CONTACT_MARGIN) of its own full-contact limit
+#: δ_max = mean(h) − min(h): at δ_max the mean pressure diverges and no equilibrium exists; just below
+#: it one does, and the hard wall converges there (verification/test_analytic_westergaard.py loads the
+#: sinusoid to 0.995 δ_max, P = p̄/p* ≈ 0.85), so only the last 0.2 % are left out
+FULL_CONTACT_MARGIN = 0.002
+
+
+def realization_label(scene, realization):
+    """How a realization is named in messages: its index and, for random profiles, its seed."""
+    if scene.surface.kind != "self-affine":
+        return f"realization {realization}"
+    return f"realization {realization} (seed {scene.surface.seed + realization})"
+
+
+def realization_steps(scene, h, realization=0):
+    """(U_k (m), note): the load steps this realization runs, and why it stops early (None if it does not).
+
+    On a half-plane δ is measured from the mean plane (contact.conventions): the indenter's
+    mean height above it is ⟨h⟩ − min h − δ, so full contact, and an unbounded pressure,
+    is reached at δ_max = ⟨h⟩ − min h (m), which differs between realizations. A
+    realization whose δ_max·(1 − FULL_CONTACT_MARGIN) lies below loading.final_penetration
+    runs the common steps up to that δ and stops there; a layer has no such limit.
+    """
+    steps = displacement_steps(scene.loading)
+    if not scene.material.half_plane:
+        return steps, None
+    limit = float(np.mean(h) - np.min(h))
+    stop = (1.0 - FULL_CONTACT_MARGIN) * limit
+    d0 = scene.loading.initial_separation
+    if scene.loading.final_penetration <= stop:
+        return steps, None
+    kept = steps[steps - d0 <= stop]
+    note = (f"{realization_label(scene, realization)} stops at step {kept.size - 1} (δ = {kept[-1] - d0:.4g} m) of "
+            f"{steps.size - 1}: its full-contact limit mean(h) − min(h) = {limit:.4g} m lies below "
+            f"loading.final_penetration = {scene.loading.final_penetration:.4g} m; a half-plane realization is "
+            f"loaded to at most {1 - FULL_CONTACT_MARGIN:g} of its own limit (contact.loading.FULL_CONTACT_MARGIN)")
+    return kept, note
+
+
+def preflight(scene):
+    """Every check made before a run: (warnings, notes), the same for `gfmd run` and `gfmd scene --check`.
+
+    warnings: the model's check findings (contact.model.scene_warnings; with
+    solver.checks = "error" build_model raises ModelCheckError instead); notes: the
+    realizations that stop early below their full-contact limit (`realization_steps`).
+    """
+    warnings, notes = [], []
+    for i in range(scene.surface.realizations):
+        h = surfaces.profile(scene.surface, i)
+        if i == 0:
+            warnings = list(build_model(scene, h).warnings)
+        _, note = realization_steps(scene, h, i)
+        if note:
+            notes.append(note)
+    return warnings, notes
+
+
+def start_warning(scene, model, min_gap):
+    """Warning (str) if step 0 did not start out of contact on the stable branch, else None.
+
+    min_gap: smallest normal gap Δn (m) of the relaxed step 0 (U = 0). With δ0 < δn the
+    indenter starts on the rising branch of the law (in contact); with δ0 ≥ δn and a
+    relaxed gap below δn (past the traction peak) the surface jumped into contact
+    during the first relaxation.
+    """
+    i = scene.interface
+    if i.law != "cohesive":
+        return None
+    d0, dn = scene.loading.initial_separation, i.length_normal
+    safe = max(jump_in_separation(softest_normal_stiffness(model), i.work_normal, dn), 2 * dn)
+    fix = f"raise loading.initial_separation to ≥ {safe / dn:.3g} δn = {safe:.3g} m"
+    if d0 < dn:
+        return (f"start in contact: loading.initial_separation δ0 = {d0 / dn:.3g} δn < δn puts the closest point on "
+                f"the law's rising branch at step 0; the approach is not recorded: {fix}")
+    if min_gap < dn:
+        return (f"jump at start: the surface jumped into contact during step 0 (U = 0): smallest gap "
+                f"{min_gap / dn:.3g} δn after relaxation, δ0 = {d0 / dn:.3g} δn; the approach and the jump are not "
+                f"recorded: {fix}")
+    return None
+
+
+#: |Δt|/δt beyond which the coupled law (seed Eq. 2) is flagged under compression. Measured in
+#: verification/test_fe_coupled.py: GFMD–FE agree (t_n ≤ 4e-4, N = 128) up to slip 2.0 δt; from
+#: 2.2–3.2 δt the factor e^{−Δt²/δt²} collapses the repulsion, the body passes into the indenter
+#: and the methods part (9e-3 at 3.0 δt, ν = 0.1; 9e-2 at 3.2 δt, ν = 0.3, N = 64).
+SLIP_LIMIT = 2.5
+
+
+def slip_warning(scene, step, delta, gap, u_x):
+    """Warning (str) if the coupled law is in its slip regime at this step, else None.
+
+    gap: normal gaps Δn (m); u_x: tangential displacements (m), Δt = −u_x. Flags nodes
+    under compression (Δn < 0) with |Δt| > SLIP_LIMIT·δt, where Eq. 2's normal repulsion
+    is scaled down by e^{−Δt²/δt²}: results there are set by the law, not verified.
+    """
+    i = scene.interface
+    if i.law != "cohesive" or i.tangential_ratio <= 0:
+        return None
+    slip = np.abs(np.asarray(u_x)) / i.length_tangential
+    bad = (np.asarray(gap) < 0) & (slip > SLIP_LIMIT)
+    if not np.any(bad):
+        return None
+    return (f"coupled law in its slip regime from step {step} (δ = {delta:.4g} m): {int(bad.sum())} compressed "
+            f"nodes slip |Δt| > {SLIP_LIMIT:g} δt (max {slip[bad].max():.3g} δt, min gap {np.min(gap):.3g} m); "
+            f"Eq. 2 scales their repulsion by e^(−Δt²/δt²) ≤ {np.exp(-SLIP_LIMIT**2):.2g}, the body may pass into "
+            "the indenter and GFMD–FE agreement is verified only to slip ≤ 2 δt (verification/test_fe_coupled.py)")
+
+
+@dataclass
+class RampState:
+    """What the load ramp carries from one step to the next: enough to continue it exactly.
+
+    step: the last completed step; u_hat, u_prev: the converged rfft displacements of the
+    last two converged steps (the warm start extrapolates from them); slip_warned: the
+    slip-regime warning has been given.
+    """
+
+    step: int
+    u_hat: np.ndarray
+    u_prev: np.ndarray
+    slip_warned: bool = False
