@@ -11,9 +11,19 @@ The repulsive branch (Δn < 0) grows like |Δn| e^{|Δn|/δn}. Every function is
 finite for Δn/δn ≥ −MAX_COMPRESSION; beyond that the exponential would leave
 double precision and a `CompressionOverflowError` is raised instead of
 returning inf/NaN.
+
+The equations are module functions (`traction_normal`, `traction_coupled`, ...; the FE
+reference calls them). The laws as a solver or check sees them are objects, one per law,
+built once from the scene by `law_from_scene`: `HardWall`, `NormalCohesive` (Eq. 3),
+`CoupledCohesive` (Eq. 2). Callers ask the object (its contact rule, peak traction,
+jump-in separation, whether u_x is needed, ...) instead of branching on the law's name.
 """
 
 from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 from scipy.special import lambertw
@@ -116,3 +126,270 @@ def contact_gap_threshold(contact_tolerance, length_normal):
         )
     s = -lambertw(-contact_tolerance, k=-1).real
     return s * length_normal
+
+
+def jump_in_separation(stiffness, work_normal, length_normal):
+    """Largest indenter separation δ_jump (m) at which a surface of normal stiffness k jumps into contact.
+
+    stiffness k in Pa/m, work_normal φn in J/m², length_normal δn in m. The energy's
+    Hessian is K + diag(∂T_n/∂Δn), and the law's slope ∂T_n/∂Δn = (φn/δn²)(1 − s)e^{−s}
+    (s = Δn/δn) has its steepest softening −e^{−2}φn/δn² at s = 2. If
+    k ≥ e^{−2}φn/δn² every state is stable, nothing jumps, and 0 is returned. Otherwise
+    a flat surface on a spring k (the worst case: any other shape is stiffer) loses
+    stability at the gap s*·δn where k = −∂T_n/∂Δn, i.e. (s* − 1)e^{−s*} = k δn²/φn,
+    s* = 1 − W₋₁(−e k δn²/φn) > 2 (Lambert W, branch −1); its displacement there is
+    u = T_n/k = δn s*/(s* − 1), so the indenter stands at δ_jump = δn s*²/(s* − 1).
+    A run that starts closer (δ0 < δ_jump) may jump during its first step.
+    """
+    ratio = stiffness * length_normal**2 / work_normal
+    if ratio >= np.exp(-2.0):
+        return 0.0
+    s = float(1.0 - lambertw(-np.e * ratio, k=-1).real)
+    return s * s / (s - 1.0) * length_normal
+
+
+# ---------------------------------------------------------------- the laws as objects
+#
+# One object per interface law, built once from the scene (`law_from_scene`). Callers ask the
+# object instead of branching on the law's name; adding a law means a class here, an entry in
+# `_BUILDERS`, and its name and parameters in the scene schema (contact.scene `_LAWS`, Interface).
+# The objects are frozen dataclasses: equal parameters, equal laws; picklable.
+#
+# Every law answers:
+#   name, description        short name (in the model's description) and a longer one
+#   constraint               True: Δn ≥ 0 is a constraint without a traction function (the
+#                            solver projects); False: tractions(...) and tangent(...) exist
+#   adhesive                 the law carries tension (a cohesive zone): the start and
+#                            resolution checks of its length δn apply
+#   tangential               the law has a tangential traction T_t(Δn, Δt)
+#   peak_traction            largest tensile normal traction (Pa)
+#   reference_traction(E*)   the residual scale p_ref of a flat profile (Pa)
+#   contact_gap              Δtol (m): a node with Δn ≤ Δtol is in contact (None: contact is
+#                            compressive traction instead)
+#   in_contact(gap, t_z)     the contact rule of `contact.observables` on the nodes
+#   jump_in_separation(k)    δ_jump (m) for a surface of normal stiffness k (Pa/m)
+#   steepest_softening       max −∂T_n/∂Δn (Pa/m) at Δt = 0; 0 if the law never softens
+#   needs_tangential(body)   whether u_x must be solved on this body (`contact.scene.Material`)
+#   tangential_reason(body)  why (or why not), in words
+# and, where not a constraint: tractions(Δn, Δt) → (T_n, T_t), tangent(Δn, Δt) →
+# (∂Tn/∂Δn, ∂Tn/∂Δt, ∂Tt/∂Δn, ∂Tt/∂Δt), initial_stiffness (k_t, k_n) at Δ = 0,
+# length_scale (the shortest length over which the tractions change), and
+# forced_tangential_reason() (what solving u_x anyway, solver.unknowns = "coupled", means).
+
+
+def _body_couples(material):
+    """Whether the elastic body couples normal and tangential surface motion (G_xz ≠ 0): a bonded
+    layer always, a half-plane unless ν = 1/2 (reference-formulas §1; `contact.kernels`)."""
+    return not (material.half_plane and material.poisson_ratio == 0.5)
+
+
+_NO_FRICTION = "c = φt*/φn* = 0: no tangential traction, u_x decouples (normal-only CZ, seed Eq. 3)"
+_FORCED_C0 = ("c = 0 with u_x solved: the coupled law (seed Eq. 2) with φt = 0, whose T_n keeps the "
+              "factor exp(−Δt²/δt²); not Eq. 3, which the normal-only model solves")
+
+
+@dataclass(frozen=True)
+class HardWall:
+    """Frictionless hard wall: the constraint Δn ≥ 0, compressive reaction only, no CZ parameter."""
+
+    name: ClassVar[str] = "hard wall"
+    description: ClassVar[str] = "hard wall (frictionless, Δn ≥ 0)"
+    constraint: ClassVar[bool] = True
+    adhesive: ClassVar[bool] = False
+    tangential: ClassVar[bool] = False
+    peak_traction: ClassVar[float] = 0.0  # no tension
+    contact_gap: ClassVar[None] = None  # contact is compressive traction, not a gap
+    steepest_softening: ClassVar[float] = 0.0
+
+    def reference_traction(self, contact_modulus):
+        """E* (Pa): the pressure scale of a flat profile pressed against the wall."""
+        return contact_modulus
+
+    def in_contact(self, gap, traction_z):
+        """Nodes carrying compressive traction (−t_z > 0); the gap does not enter."""
+        return -np.asarray(traction_z) > 0.0
+
+    def jump_in_separation(self, stiffness):
+        """0: nothing attracts the surface, so nothing jumps."""
+        return 0.0
+
+    def needs_tangential(self, material):
+        return False
+
+    def tangential_reason(self, material):
+        return "hard wall: frictionless, no tangential traction, CZ parameters unused"
+
+
+@dataclass(frozen=True)
+class _ExponentialCohesive:
+    """What the normal part of the exponential CZ law (seed Eqs. 2–3 at Δt = 0) implies.
+
+    work_normal φn (J/m²), length_normal δn (m), contact_tolerance: Δtol solves
+    T_n(Δtol) = contact_tolerance·φn/δn on the decaying branch.
+    """
+
+    work_normal: float
+    length_normal: float
+    contact_tolerance: float
+
+    constraint: ClassVar[bool] = False
+    adhesive: ClassVar[bool] = True
+
+    @property
+    def peak_traction(self):
+        """φn/(e δn) (Pa), at Δn = δn."""
+        return self.work_normal / (np.e * self.length_normal)
+
+    def reference_traction(self, contact_modulus):
+        """The peak traction φn/(e δn) (Pa): a flat profile has no elastic pressure scale E* ḡ."""
+        return self.peak_traction
+
+    @property
+    def contact_gap(self):
+        """Δtol (m), `contact_gap_threshold`: 9.12 δn at contact_tolerance = 1e-3."""
+        return contact_gap_threshold(self.contact_tolerance, self.length_normal)
+
+    def in_contact(self, gap, traction_z):
+        """Nodes with Δn ≤ Δtol, compressed and tensile alike; the traction does not enter."""
+        return np.asarray(gap) <= self.contact_gap
+
+    def jump_in_separation(self, stiffness):
+        """δ_jump (m) of a surface of normal stiffness k (Pa/m): module function `jump_in_separation`."""
+        return jump_in_separation(stiffness, self.work_normal, self.length_normal)
+
+    @property
+    def steepest_softening(self):
+        """e^{−2} φn/δn² (Pa/m): −∂T_n/∂Δn at Δn = 2δn."""
+        return np.exp(-2) * self.work_normal / self.length_normal**2
+
+
+@dataclass(frozen=True)
+class NormalCohesive(_ExponentialCohesive):
+    """Normal-only exponential cohesive zone: T_n(Δn) of seed Eq. 3, T_t ≡ 0 (c = 0, or Δt ≡ 0)."""
+
+    name: ClassVar[str] = "normal-only CZ"
+    description: ClassVar[str] = "normal-only CZ (seed Eq. 3)"
+    tangential: ClassVar[bool] = False
+
+    def tractions(self, delta_n, delta_t=None):
+        """(T_n, T_t) in Pa: Eq. 3, and 0; delta_t is not used."""
+        return traction_normal(delta_n, self.work_normal, self.length_normal), 0.0
+
+    def tangent(self, delta_n, delta_t=None):
+        """(∂Tn/∂Δn, ∂Tn/∂Δt, ∂Tt/∂Δn, ∂Tt/∂Δt) in Pa/m; only the first is non-zero."""
+        return stiffness_normal(delta_n, self.work_normal, self.length_normal), 0.0, 0.0, 0.0
+
+    @property
+    def initial_stiffness(self):
+        """(k_t, k_n) = (0, φn/δn²) (Pa/m): the slopes at Δ = 0."""
+        return 0.0, self.work_normal / self.length_normal**2
+
+    @property
+    def length_scale(self):
+        """δn (m)."""
+        return self.length_normal
+
+    def needs_tangential(self, material):
+        return False
+
+    def tangential_reason(self, material):
+        return _NO_FRICTION
+
+    def forced_tangential_reason(self):
+        """Why u_x solved anyway (solver.unknowns = coupled) means Eq. 2 with φt = 0, not this law."""
+        return _FORCED_C0
+
+
+@dataclass(frozen=True)
+class CoupledCohesive(_ExponentialCohesive):
+    """Coupled exponential cohesive zone: (T_n, T_t)(Δn, Δt) of seed Eq. 2 (no potential).
+
+    Besides the normal parameters: work_tangential φt = c φn* δt E (J/m²), length_tangential
+    δt (m), tangential_ratio c = φt*/φn*. At Δt = 0, T_n is Eq. 3 and T_t = 0.
+    """
+
+    work_tangential: float
+    length_tangential: float
+    tangential_ratio: float
+
+    name: ClassVar[str] = "coupled CZ"
+    description: ClassVar[str] = "coupled CZ (seed Eq. 2)"
+    tangential: ClassVar[bool] = True
+
+    def tractions(self, delta_n, delta_t):
+        """(T_n, T_t) in Pa, seed Eq. 2."""
+        return traction_coupled(delta_n, delta_t, self.work_normal, self.length_normal, self.work_tangential,
+                                self.length_tangential)
+
+    def tangent(self, delta_n, delta_t):
+        """(∂Tn/∂Δn, ∂Tn/∂Δt, ∂Tt/∂Δn, ∂Tt/∂Δt) in Pa/m, `jacobian_coupled` (non-symmetric)."""
+        return jacobian_coupled(delta_n, delta_t, self.work_normal, self.length_normal, self.work_tangential,
+                                self.length_tangential)
+
+    @property
+    def initial_stiffness(self):
+        """(k_t, k_n) = (2φt/δt², φn/δn²) (Pa/m): the slopes at Δ = 0."""
+        return 2 * self.work_tangential / self.length_tangential**2, self.work_normal / self.length_normal**2
+
+    @property
+    def length_scale(self):
+        """min(δn, δt) (m)."""
+        return min(self.length_normal, self.length_tangential)
+
+    def needs_tangential(self, material):
+        """c > 0 on a body that couples normal and tangential motion."""
+        return self.tangential_ratio > 0 and _body_couples(material)
+
+    def tangential_reason(self, material):
+        if self.tangential_ratio == 0:
+            return _NO_FRICTION
+        if not _body_couples(material):
+            return "ν = 0.5 half-plane: kernel uncoupled, u_x ≡ 0 is exact (T_t(Δt=0) = 0)"
+        return (f"c = {self.tangential_ratio:g} > 0 and ν = {material.poisson_ratio:g} couples u_x and u_z: "
+                "coupled CZ (seed Eq. 2)")
+
+    def forced_tangential_reason(self):
+        """None where c > 0 (the law solved with u_x is this law); with c = 0 it is not Eq. 3."""
+        return _FORCED_C0 if self.tangential_ratio == 0 else None
+
+
+def _hard_wall(interface, work_normal, work_tangential, tangential):
+    if tangential:
+        raise ValueError("the hard wall is frictionless and always normal-only: no tangential unknowns")
+    return HardWall()
+
+
+def _cohesive(interface, work_normal, work_tangential, tangential):
+    i = interface
+    coupled = i.tangential_ratio > 0 if tangential is None else tangential
+    if not coupled:
+        return NormalCohesive(work_normal=work_normal, length_normal=i.length_normal,
+                              contact_tolerance=i.contact_tolerance)
+    return CoupledCohesive(work_normal=work_normal, length_normal=i.length_normal,
+                           contact_tolerance=i.contact_tolerance, work_tangential=work_tangential,
+                           length_tangential=i.length_tangential, tangential_ratio=i.tangential_ratio)
+
+
+#: interface.law (the scene's name of a law) → builder(interface, φn, φt, tangential) of its object
+_BUILDERS = {"hard-wall": _hard_wall, "cohesive": _cohesive}
+
+
+def law_from_scene(scene, tangential=None):
+    """The interface law of `scene` as an object (HardWall, NormalCohesive or CoupledCohesive).
+
+    tangential=None: the law the scene describes (cohesive: c = 0 → Eq. 3, c > 0 → Eq. 2).
+    True / False: the law as solved with / without the tangential unknowns u_x, which
+    `contact.model` decides: Eq. 2 with φt = c φn* δt E (also for c = 0, when
+    solver.unknowns = "coupled" forces u_x), or Eq. 3 (u_x ≡ 0, so Δt = 0). φn and φt are
+    the scene's (`Scene.work_normal`, `Scene.work_tangential`).
+    """
+    return _BUILDERS[scene.interface.law](scene.interface, scene.work_normal, scene.work_tangential, tangential)
+
+
+def law_from_interface(interface):
+    """The law of a scene's `Interface` alone, for what needs no elastic modulus: the contact
+    rule (`in_contact`, `contact_gap`), names, `constraint`/`adhesive`/`tangential`.
+
+    φn = φn* δn E needs E, so its works of separation are NaN: use `law_from_scene` for tractions.
+    """
+    return _BUILDERS[interface.law](interface, math.nan, math.nan, None)

@@ -16,7 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import surfaces
-from .model import build_model, jump_in_separation, softest_normal_stiffness
+from .laws import law_from_scene
+from .model import build_model, softest_normal_stiffness
 
 
 def displacement_steps(loading):
@@ -102,11 +103,11 @@ def start_warning(scene, model, min_gap):
     relaxed gap below δn (past the traction peak) the surface jumped into contact
     during the first relaxation.
     """
-    i = scene.interface
-    if i.law != "cohesive":
+    law = law_from_scene(scene)
+    if not law.adhesive:  # nothing to jump to, no rising branch to start on
         return None
-    d0, dn = scene.loading.initial_separation, i.length_normal
-    safe = max(jump_in_separation(softest_normal_stiffness(model), i.work_normal, dn), 2 * dn)
+    d0, dn = scene.loading.initial_separation, law.length_normal
+    safe = max(law.jump_in_separation(softest_normal_stiffness(model)), 2 * dn)
     fix = f"raise loading.initial_separation to ≥ {safe / dn:.3g} δn = {safe:.3g} m"
     if d0 < dn:
         return (f"start in contact: loading.initial_separation δ0 = {d0 / dn:.3g} δn < δn puts the closest point on "
@@ -132,10 +133,10 @@ def slip_warning(scene, step, delta, gap, u_x):
     under compression (Δn < 0) with |Δt| > SLIP_LIMIT·δt, where Eq. 2's normal repulsion
     is scaled down by e^{−Δt²/δt²}: results there are set by the law, not verified.
     """
-    i = scene.interface
-    if i.law != "cohesive" or i.tangential_ratio <= 0:
+    law = law_from_scene(scene)
+    if not law.tangential:  # the scene's law has no slip (hard wall, or c = 0)
         return None
-    slip = np.abs(np.asarray(u_x)) / i.length_tangential
+    slip = np.abs(np.asarray(u_x)) / law.length_tangential
     bad = (np.asarray(gap) < 0) & (slip > SLIP_LIMIT)
     if not np.any(bad):
         return None

@@ -6,9 +6,10 @@ human-readable statement of the model solved, with the reasons.
 
 Rules
 -----
-* Tangential unknowns u_x only if the law is cohesive with c = φt*/φn* > 0
-  *and* the kernel couples normal and tangential motion (half-plane: ν < 1/2;
-  bonded layer: always). Otherwise u_x ≡ 0 solves the tangential equations
+* Tangential unknowns u_x only if the law needs them (`needs_tangential` of the law
+  object, `contact.laws`): the coupled cohesive law with c = φt*/φn* > 0 *and* a kernel
+  that couples normal and tangential motion (half-plane: ν < 1/2; bonded layer:
+  always). Otherwise u_x ≡ 0 solves the tangential equations
   exactly (T_t(Δt = 0) = 0, and with c = 0 no tangential traction exists),
   and the normal problem uses the effective normal stiffness 1/G_zz.
 * Half-plane (thickness "inf"): q = 0 clamped. Layer: bonded-base kernel with
@@ -22,10 +23,10 @@ Rules
   still carries exp(−Δt²/δt²), so it differs from Eq. 3 by that factor (measured
   2.7e-4 E*ḡ at ν = 0.45, 2.7e-3 at ν = 0.3); at ν = 1/2 the reduction is exact.
 
-Checks (`scene_warnings`): a cohesive scene is checked before any work for
+Checks (`scene_warnings`): a scene with an adhesive law is checked before any work for
 
 * resolution of the cohesive length, δn ≥ MIN_LENGTH_NORMAL_NODES·l (l = L/N);
-* a start inside the jump-in range, δ0 < δ_jump (`jump_in_separation`).
+* a start inside the jump-in range, δ0 < δ_jump (the law's `jump_in_separation`).
 
 They are warnings by default (`solver.checks = "warn"`): the model's reasons carry
 them (printed by the CLI, written to meta.json, tagged in the description) and the
@@ -64,9 +65,9 @@ import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.special import lambertw
 
 from . import kernels
+from .laws import jump_in_separation, law_from_scene  # noqa: F401 (jump_in_separation: kept importable here)
 from .observables import rms_gradient
 
 #: smallest δn/l (cohesive length in node spacings) that counts as resolved (module docstring)
@@ -83,7 +84,7 @@ class ModelCheckError(ValueError):
 class Model:
     nodes: int
     length: float
-    law: str  # "hard-wall" | "cohesive"
+    law: object  # the law object solved (contact.laws: HardWall, NormalCohesive or CoupledCohesive)
     tangential: bool  # u_x solved?
     half_plane: bool  # q = 0 clamped?
     q: np.ndarray  # rfft wavenumbers (1/m)
@@ -106,8 +107,11 @@ def build_model(scene, h=None):
     """Choose and assemble the model for `scene`; `h` (m) sets the residual scale.
 
     reference_traction p_ref = E* ḡ (ḡ of the profile, seed Eq. 5–6), the scale of
-    contact pressures in full contact; for a flat profile the law's peak traction
-    φn/(e δn) (cohesive) or E* (hard wall).
+    contact pressures in full contact; for a flat profile the law's `reference_traction`:
+    its peak traction φn/(e δn) (cohesive) or E* (hard wall).
+
+    Model.law is the law object as solved on the chosen unknowns (`contact.laws.law_from_scene`
+    with tangential = Model.tangential): Eq. 2 where u_x is solved, else Eq. 3 or the hard wall.
     """
     s, m, i = scene.surface, scene.material, scene.interface
     n, length = s.nodes, s.length
@@ -115,25 +119,18 @@ def build_model(scene, h=None):
     e, nu, thick = m.youngs_modulus, m.poisson_ratio, m.thickness
     half_plane = m.half_plane
     reasons = []
-    if i.law == "hard-wall":
-        tangential = False
-        reasons.append("hard wall: frictionless, no tangential traction, CZ parameters unused")
-    elif scene.solver.unknowns == "coupled":
+    law = law_from_scene(scene)
+    if scene.solver.unknowns == "coupled":  # a method choice (the scene refuses it for a hard wall)
         tangential = True
         reasons.append(f"solver.unknowns = coupled: u_x and u_z solved although c = {i.tangential_ratio:g}, "
                        f"ν = {nu:g} would allow the normal-only model (full model, for comparison)")
-        if i.tangential_ratio == 0:
-            reasons.append("c = 0 with u_x solved: the coupled law (seed Eq. 2) with φt = 0, whose T_n keeps the "
-                           "factor exp(−Δt²/δt²); not Eq. 3, which the normal-only model solves")
-    elif i.tangential_ratio == 0:
-        tangential = False
-        reasons.append("c = φt*/φn* = 0: no tangential traction, u_x decouples (normal-only CZ, seed Eq. 3)")
-    elif half_plane and nu == 0.5:
-        tangential = False
-        reasons.append("ν = 0.5 half-plane: kernel uncoupled, u_x ≡ 0 is exact (T_t(Δt=0) = 0)")
+        note = law.forced_tangential_reason()
+        if note:
+            reasons.append(note)
     else:
-        tangential = True
-        reasons.append(f"c = {i.tangential_ratio:g} > 0 and ν = {nu:g} couples u_x and u_z: coupled CZ (seed Eq. 2)")
+        tangential = law.needs_tangential(m)
+        reasons.append(law.tangential_reason(m))
+    solved = law_from_scene(scene, tangential=tangential)
     if half_plane:
         reasons.append("thickness = inf: half-plane kernel, mean displacement clamped (δ from the mean plane)")
         if tangential:
@@ -150,17 +147,11 @@ def build_model(scene, h=None):
             k_zz = kernels.layer_normal(q, e, nu, thick)
     e_star = m.contact_modulus
     g = rms_gradient(h, s.spacing) if h is not None else 0.0
-    if g > 0:
-        p_ref = e_star * g
-    elif i.law == "cohesive":
-        p_ref = i.work_normal / (np.e * i.length_normal)
-    else:
-        p_ref = e_star
-    law_text = {"hard-wall": "hard wall", "cohesive": "coupled CZ" if tangential else "normal-only CZ"}[i.law]
+    p_ref = e_star * g if g > 0 else solved.reference_traction(e_star)
     body = "half-plane" if half_plane else f"layer D = {thick:g} m"
     unknowns = "u_x, u_z" if tangential else "u_z"
-    description = f"{law_text}, {body}, {n} nodes, unknowns {unknowns}"
-    model = Model(nodes=n, length=length, law=i.law, tangential=tangential, half_plane=half_plane, q=q,
+    description = f"{solved.name}, {body}, {n} nodes, unknowns {unknowns}"
+    model = Model(nodes=n, length=length, law=solved, tangential=tangential, half_plane=half_plane, q=q,
                   k_xx=k_xx, k_xz=k_xz, k_zz=np.asarray(k_zz), contact_modulus=e_star, reference_traction=p_ref,
                   description=description, reasons=tuple(reasons))
     found = scene_warnings(scene, model)
@@ -196,54 +187,35 @@ def softest_normal_stiffness(model):
     return float(np.min(k))
 
 
-def jump_in_separation(stiffness, work_normal, length_normal):
-    """Largest indenter separation δ_jump (m) at which a surface of normal stiffness k jumps into contact.
-
-    stiffness k in Pa/m, work_normal φn in J/m², length_normal δn in m. The energy's
-    Hessian is K + diag(∂T_n/∂Δn), and the law's slope ∂T_n/∂Δn = (φn/δn²)(1 − s)e^{−s}
-    (s = Δn/δn) has its steepest softening −e^{−2}φn/δn² at s = 2. If
-    k ≥ e^{−2}φn/δn² every state is stable, nothing jumps, and 0 is returned. Otherwise
-    a flat surface on a spring k (the worst case: any other shape is stiffer) loses
-    stability at the gap s*·δn where k = −∂T_n/∂Δn, i.e. (s* − 1)e^{−s*} = k δn²/φn,
-    s* = 1 − W₋₁(−e k δn²/φn) > 2 (Lambert W, branch −1); its displacement there is
-    u = T_n/k = δn s*/(s* − 1), so the indenter stands at δ_jump = δn s*²/(s* − 1).
-    A run that starts closer (δ0 < δ_jump) may jump during its first step.
-    """
-    ratio = stiffness * length_normal**2 / work_normal
-    if ratio >= np.exp(-2.0):
-        return 0.0
-    s = float(1.0 - lambertw(-np.e * ratio, k=-1).real)
-    return s * s / (s - 1.0) * length_normal
-
-
 def scene_warnings(scene, model):
     """Resolution / stability findings of a scene (list of messages; empty when none).
 
     Each message starts with a short tag ("under-resolved δn", "unstable start")
     followed by a colon, names the values, and says how to fix it.
     """
-    i, s = scene.interface, scene.surface
-    if i.law != "cohesive":
+    law, s = model.law, scene.surface
+    if not law.adhesive:  # nothing attracts the surface, and no cohesive length to resolve
         return []
     found = []
-    ratio = i.length_normal / s.spacing
+    dn = law.length_normal
+    ratio = dn / s.spacing
     if ratio < MIN_LENGTH_NORMAL_NODES:
-        nodes = int(2 ** np.ceil(np.log2(MIN_LENGTH_NORMAL_NODES * s.length / i.length_normal)))
+        nodes = int(2 ** np.ceil(np.log2(MIN_LENGTH_NORMAL_NODES * s.length / dn)))
         found.append(
             f"under-resolved δn: cohesive length δn = {ratio:.3g} l is under-resolved (l = L/N = {s.spacing:.3g} m, "
-            f"δn = {i.length_normal:.3g} m): refine to δn ≥ {MIN_LENGTH_NORMAL_NODES:g} l, e.g. surface.nodes = "
+            f"δn = {dn:.3g} m): refine to δn ≥ {MIN_LENGTH_NORMAL_NODES:g} l, e.g. surface.nodes = "
             f"{nodes} (measured on a rough scene: pressure error ≈ 3 % at δn = l against 0.2 % at δn = 2 l, "
             "contact.model docstring)")
     k_min = softest_normal_stiffness(model)
-    gap = jump_in_separation(k_min, i.work_normal, i.length_normal)
+    gap = law.jump_in_separation(k_min)
     d0 = scene.loading.initial_separation
     if d0 < gap:
         mode = "half-plane: longest wave, k(2π/L)" if model.half_plane else "layer: min over q, uniform mode M/D included"
         found.append(
-            f"unstable start: loading.initial_separation δ0 = {d0 / i.length_normal:.3g} δn lies inside the jump-in "
+            f"unstable start: loading.initial_separation δ0 = {d0 / dn:.3g} δn lies inside the jump-in "
             f"range: the softest surface mode ({mode}, k = {k_min:.3g} Pa/m) is softer than the law's steepest "
-            f"softening slope e^-2 φn/δn² = {np.exp(-2) * i.work_normal / i.length_normal**2:.3g} Pa/m: a flat surface "
-            f"jumps into contact from δ_jump = {gap / i.length_normal:.3g} δn, so the first step may already jump "
-            f"(the approach is then not recorded). Pick δ0 ≥ {gap / i.length_normal:.3g} δn = {gap:.3g} m "
+            f"softening slope e^-2 φn/δn² = {law.steepest_softening:.3g} Pa/m: a flat surface "
+            f"jumps into contact from δ_jump = {gap / dn:.3g} δn, so the first step may already jump "
+            f"(the approach is then not recorded). Pick δ0 ≥ {gap / dn:.3g} δn = {gap:.3g} m "
             "(contact.model.jump_in_separation)")
     return found

@@ -5,16 +5,16 @@ step, the surface fields u_z, u_x, t_z, t_x and the normal gap Δn on the same N
 nodes; `step_observables` turns them into p, a_rel, ḡ_r. No method computes
 these quantities any other way.
 
-Contact rule (seed §2): hard wall — nodes carrying compressive traction
-(−t_z > 0); cohesive — nodes with Δn ≤ Δtol, where T_n(Δtol) =
-contact_tolerance·φn/δn on the decaying branch (tension included).
+Contact rule (seed §2), the law's `in_contact` (`contact.laws`): hard wall — nodes
+carrying compressive traction (−t_z > 0); cohesive — nodes with Δn ≤ Δtol, where
+T_n(Δtol) = contact_tolerance·φn/δn on the decaying branch (tension included).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .laws import contact_gap_threshold
+from .laws import law_from_interface, law_from_scene
 
 
 def local_gradient_squared(h, spacing):
@@ -37,15 +37,15 @@ def rms_gradient_contact(h, spacing, contact):
     return float(np.sqrt(np.mean(local_gradient_squared(h, spacing)[contact])))
 
 
-def contact_mask(interface, gap, traction_z):
+def contact_mask(law, gap, traction_z):
     """Boolean contact set per the seed's rule (see module docstring).
 
-    interface: a `contact.scene.Interface`; gap Δn (m) and traction t_z (Pa) on the nodes.
+    law: a law object of `contact.laws` (`law_from_scene`), or a scene's `contact.scene.Interface`
+    (the rule needs no E); gap Δn (m) and traction t_z (Pa) on the nodes.
     """
-    if interface.law == "hard-wall":
-        return -np.asarray(traction_z) > 0.0
-    threshold = contact_gap_threshold(interface.contact_tolerance, interface.length_normal)
-    return np.asarray(gap) <= threshold
+    if not hasattr(law, "in_contact"):
+        law = law_from_interface(law)
+    return law.in_contact(gap, traction_z)
 
 
 def mean_pressure(traction_z):
@@ -55,7 +55,7 @@ def mean_pressure(traction_z):
 
 def step_observables(scene, h, gap, traction_z):
     """Per-step observables dict: p (Pa), a_rel (1), g_r (1), g (1)."""
-    contact = contact_mask(scene.interface, gap, traction_z)
+    contact = contact_mask(law_from_scene(scene), gap, traction_z)
     spacing = scene.surface.spacing
     return {
         "p": mean_pressure(traction_z),

@@ -81,18 +81,25 @@ class Relaxed:
 
 
 class InterfaceLaw:
-    """Interface tractions on the body for a model and a scene's interface (SI)."""
+    """The interface law on the solver's unknowns: tractions on the body for displacements (SI).
 
-    def __init__(self, model, interface, work_tangential):
+    The law is `model.law` (`contact.laws`: the law object `contact.model.build_model` chose for
+    the model's unknowns; Eq. 2 where u_x is solved). `interface` and `work_tangential` are
+    accepted for the callers that pass them and not used: the law object already holds the
+    scene's φn, δn, φt, δt. This class only maps displacements u (c, N) to gaps, Δn = z_ind − u_z
+    and Δt = −u_x, and the law's tractions back onto the components solved.
+    """
+
+    def __init__(self, model, interface=None, work_tangential=None):
         self.model = model
-        self.hard_wall = interface.law == "hard-wall"
-        self.phi_n = interface.work_normal
-        self.delta_n = interface.length_normal
-        self.phi_t = work_tangential
-        self.delta_t = interface.length_tangential
+        self.law = model.law
+        # a constraint (the hard wall) has no traction function: `relax` projects instead
+        self.constraint = self.law.constraint
         # initial slopes of the law (Pa/m): the interface stiffness in Verlet's mode frequencies
-        self.k_int_z = 0.0 if self.hard_wall else self.phi_n / self.delta_n**2
-        self.k_int_x = 2 * self.phi_t / self.delta_t**2 if model.tangential else 0.0
+        self.k_int_x, self.k_int_z = (0.0, 0.0) if self.constraint else self.law.initial_stiffness
+
+    def _gaps(self, u, z_ind):
+        return z_ind - u[-1], (-u[0] if self.model.tangential else None)
 
     def mean_stiffness(self, u, z_ind):
         """Spatial means (k_x, k_z) of the law's local tangent stiffness ∂T_t/∂Δt, ∂T_n/∂Δn (Pa/m).
@@ -101,26 +108,21 @@ class InterfaceLaw:
         so M_q = K(q) + ⟨k_loc⟩ keeps those modes at the elastic frequency; out of contact
         ⟨k_loc⟩ ≈ 0 and M_q = K(q).
         """
-        if self.hard_wall:
+        if self.constraint:
             return 0.0, 0.0
-        gap = z_ind - u[-1]
-        if self.model.tangential:
-            dn_dn, _, _, dt_dt = laws.jacobian_coupled(gap, -u[0], self.phi_n, self.delta_n, self.phi_t,
-                                                        self.delta_t)
-            return float(np.mean(np.maximum(dt_dt, 0))), float(np.mean(np.maximum(dn_dn, 0)))
-        return 0.0, float(np.mean(np.maximum(laws.stiffness_normal(gap, self.phi_n, self.delta_n), 0)))
+        dn_dn, _, _, dt_dt = self.law.tangent(*self._gaps(u, z_ind))
+        return float(np.mean(np.maximum(dt_dt, 0))), float(np.mean(np.maximum(dn_dn, 0)))
 
     def traction(self, u, z_ind):
         """(t, Δn): tractions (c, N) on the body and the normal gap, for displacements u (c, N)."""
-        gap = z_ind - u[-1]
+        gap, slip = self._gaps(u, z_ind)
         t = np.zeros_like(u)
-        if self.hard_wall:
+        if self.constraint:  # zero off the wall; the wall's reaction is `_finish`'s
             return t, gap
+        t_n, t_t = self.law.tractions(gap, slip)
+        t[-1] = t_n
         if self.model.tangential:
-            t_n, t_t = laws.traction_coupled(gap, -u[0], self.phi_n, self.delta_n, self.phi_t, self.delta_t)
-            t[0], t[1] = t_t, t_n
-        else:
-            t[-1] = laws.traction_normal(gap, self.phi_n, self.delta_n)
+            t[0] = t_t
         return t, gap
 
 
@@ -227,7 +229,7 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
     z_ind: indenter surface z_ind(x) (m) at this step; wall_tolerance (m): gap
     below which a hard-wall node counts as touching the wall.
     """
-    if law.hard_wall:
+    if law.constraint:  # the hard wall: a constraint, projected (no traction function to relax)
         return _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance)
     if settings.method == "fire" and model.tangential:
         return _relax_coupled_fire(model, law, z_ind, u_hat, settings, wall_tolerance)
@@ -290,7 +292,7 @@ def _relax_cohesive(model, law, z_ind, u_hat, settings, wall_tolerance):
     message = ""
     converged = False
     it = 0
-    max_move = settings.max_move * min(law.delta_n, law.delta_t if model.tangential else law.delta_n)
+    max_move = settings.max_move * law.law.length_scale  # min(δn, δt) where u_x is solved, else δn
     u_hat_prev = u_hat.copy()
     _last_finite = u_hat.copy()
     u_prev = scipy.fft.irfft(u_hat, n=n, axis=-1)
@@ -495,7 +497,7 @@ def _wall_net_force(model, k, u, on_wall, n):
 def _finish(model, law, z_ind, u_hat, iterations, residual, converged, message, wall_tolerance):
     n = model.nodes
     u = scipy.fft.irfft(u_hat, n=n, axis=-1)
-    if law.hard_wall:
+    if law.constraint:
         gap = z_ind - u[-1]
         on_wall = gap <= wall_tolerance
         gap = np.maximum(gap, 0.0)

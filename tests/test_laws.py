@@ -5,14 +5,19 @@ Quantities are drawn over many decades (δ from 1e-12 to 1e-6 m, φ from 1e-4 to
 and compared in the scaled variables s = Δ/δ, so every tolerance below is relative.
 """
 
+import dataclasses
 import math
+import pickle
 
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 from scipy.integrate import quad
+from scipy.optimize import brentq
 
 from contact import laws
+from contact.model import jump_in_separation as model_jump_in_separation  # the old entry point, kept
+from contact.scene import default_scene
 
 EPS = np.finfo(float).eps
 
@@ -293,3 +298,203 @@ def test_contact_gap_threshold_seed_value():
 def test_contact_gap_threshold_rejects(tol):
     with pytest.raises(ValueError, match="contact_tolerance"):
         laws.contact_gap_threshold(tol, 1e-9)
+
+
+# ---------------------------------------------------------------- the laws as objects (contact.laws.law_from_scene)
+
+def _scene(**kw):
+    base = {"surface.kind": "flat", "surface.nodes": 64, "surface.length": 1e-6, "interface.phi_n_star": 0.05,
+            "interface.length_normal": 2e-9, "interface.length_tangential": 3e-9}
+    return default_scene().replace(**{**base, **kw})
+
+
+HARD = {"interface.law": "hard-wall"}
+NORMAL = {"interface.law": "cohesive", "interface.tangential_ratio": 0.0}
+COUPLED = {"interface.law": "cohesive", "interface.tangential_ratio": 0.7}
+
+
+def _tt(sn, st, phi_t, dt):
+    """Independent transcription of T_t of seed Eq. 2 in scaled gaps."""
+    return 2 * phi_t / dt * st * math.exp(-sn - st * st)
+
+
+def test_law_from_scene_picks_the_class_and_its_parameters():
+    hard, normal, coupled = (laws.law_from_scene(_scene(**kw)) for kw in (HARD, NORMAL, COUPLED))
+    assert type(hard) is laws.HardWall and type(normal) is laws.NormalCohesive
+    assert type(coupled) is laws.CoupledCohesive
+    sc = _scene(**COUPLED)
+    e = sc.material.youngs_modulus
+    # φn = φn* δn E and φt = c φn* δt E, the scene's own values
+    assert coupled.work_normal == sc.work_normal == 0.05 * 2e-9 * e
+    assert coupled.work_tangential == sc.work_tangential == 0.7 * 0.05 * 3e-9 * e
+    assert (coupled.length_normal, coupled.length_tangential, coupled.tangential_ratio) == (2e-9, 3e-9, 0.7)
+    assert coupled.contact_tolerance == normal.contact_tolerance == sc.interface.contact_tolerance
+    assert normal.work_normal == _scene(**NORMAL).work_normal
+
+
+def test_law_as_solved_on_the_unknowns():
+    # tangential=True: Eq. 2 (φt = 0 when c = 0: solver.unknowns = coupled); False: Eq. 3 (Δt ≡ 0)
+    forced = laws.law_from_scene(_scene(**NORMAL), tangential=True)
+    assert type(forced) is laws.CoupledCohesive and forced.work_tangential == 0.0
+    reduced = laws.law_from_scene(_scene(**COUPLED), tangential=False)
+    assert reduced == laws.law_from_scene(_scene(**NORMAL))  # same φn, δn, tolerance: equal objects
+    assert laws.law_from_scene(_scene(**HARD), tangential=False) == laws.HardWall()
+    with pytest.raises(ValueError, match="frictionless"):
+        laws.law_from_scene(_scene(**HARD), tangential=True)
+
+
+def test_flags_and_descriptions():
+    hard, normal, coupled = (laws.law_from_scene(_scene(**kw)) for kw in (HARD, NORMAL, COUPLED))
+    assert [(x.constraint, x.adhesive, x.tangential) for x in (hard, normal, coupled)] == [
+        (True, False, False), (False, True, False), (False, True, True)]
+    assert [x.name for x in (hard, normal, coupled)] == ["hard wall", "normal-only CZ", "coupled CZ"]
+    assert "Eq. 3" in normal.description and "Eq. 2" in coupled.description and "hard wall" in hard.description
+
+
+@pytest.mark.parametrize("sn", [-30.0, -2.0, -0.3, 0.0, 0.4, 1.0, 2.0, 7.5, 40.0])
+def test_normal_law_object_is_seed_eq3(sn):
+    law = laws.law_from_scene(_scene(**NORMAL))
+    phi, dn = law.work_normal, law.length_normal
+    t_n, t_t = law.tractions(np.array([sn * dn]))
+    assert float(t_n[0]) == pytest.approx(_tn(sn, phi, dn), rel=8 * EPS * (2 + abs(sn)), abs=1e-300)
+    assert t_t == 0.0
+    slope = phi / dn**2 * (1 - sn) * math.exp(-sn)  # dT_n/dΔn of Eq. 3
+    jac = law.tangent(np.array([sn * dn]))
+    assert float(jac[0][0]) == pytest.approx(slope, rel=8 * EPS * (2 + abs(sn)), abs=1e-300 + 8 * EPS * phi / dn**2)
+    assert jac[1:] == (0.0, 0.0, 0.0)
+
+
+@pytest.mark.parametrize("sn, st", [(-2.0, 0.5), (0.0, 0.0), (0.3, -1.2), (1.0, 0.7), (3.0, 2.0), (-0.5, -3.0)])
+def test_coupled_law_object_is_seed_eq2(sn, st):
+    law = laws.law_from_scene(_scene(**COUPLED))
+    pn, dn, pt, dt = law.work_normal, law.length_normal, law.work_tangential, law.length_tangential
+    t_n, t_t = law.tractions(sn * dn, st * dt)
+    tol = 8 * EPS * (2 + abs(sn) + st * st)
+    assert float(t_n) == pytest.approx(_tn(sn, pn, dn) * math.exp(-st * st), rel=tol, abs=1e-300)
+    assert float(t_t) == pytest.approx(_tt(sn, st, pt, dt), rel=tol, abs=1e-300)
+    # the tangent is the derivative of these tractions (central differences in the scaled gaps)
+    eta = 1e-6
+    jac = law.tangent(sn * dn, st * dt)
+    for col, (a, b) in enumerate([(eta * dn, 0.0), (0.0, eta * dt)]):
+        plus, minus = law.tractions(sn * dn + a, st * dt + b), law.tractions(sn * dn - a, st * dt - b)
+        step = 2 * (a or b)
+        scale = (pn / dn**2 + pt / dt**2) * 50
+        assert float(jac[col]) == pytest.approx((float(plus[0]) - float(minus[0])) / step, abs=1e-7 * scale)
+        assert float(jac[2 + col]) == pytest.approx((float(plus[1]) - float(minus[1])) / step, abs=1e-7 * scale)
+    # at Δt = 0 the normal traction is Eq. 3, bit for bit
+    normal = laws.law_from_scene(_scene(**COUPLED), tangential=False)
+    assert float(law.tractions(sn * dn, 0.0)[0]) == float(normal.tractions(sn * dn)[0])
+
+
+def test_initial_stiffness_and_length_scale():
+    normal, coupled = laws.law_from_scene(_scene(**NORMAL)), laws.law_from_scene(_scene(**COUPLED))
+    assert normal.initial_stiffness == (0.0, normal.work_normal / normal.length_normal**2)
+    jac = coupled.tangent(0.0, 0.0)
+    assert coupled.initial_stiffness == pytest.approx((float(jac[3]), float(jac[0])), rel=4 * EPS)
+    assert coupled.initial_stiffness[0] == 2 * coupled.work_tangential / coupled.length_tangential**2
+    assert normal.length_scale == 2e-9 and coupled.length_scale == 2e-9
+    assert laws.law_from_scene(_scene(**COUPLED, **{"interface.length_tangential": 1e-9})).length_scale == 1e-9
+
+
+def test_peak_reference_traction_and_softening():
+    law = laws.law_from_scene(_scene(**NORMAL))
+    phi, dn = law.work_normal, law.length_normal
+    s = np.linspace(-1, 20, 210001)  # step 1e-4: s = 1 and s = 2 are on the grid
+    t = law.tractions(s * dn)[0]
+    assert law.peak_traction == pytest.approx(phi / (math.e * dn), rel=4 * EPS)
+    assert law.peak_traction == pytest.approx(float(t.max()), rel=1e-12)  # the grid's maximum, at s = 1
+    assert law.reference_traction(123.0) == law.peak_traction  # a flat profile: the law's own scale
+    assert laws.HardWall().reference_traction(123.0) == 123.0  # E*
+    assert laws.HardWall().peak_traction == 0.0
+    slope = law.tangent(s * dn)[0]
+    assert law.steepest_softening == pytest.approx(float(-slope.min()), rel=1e-12)  # at s = 2
+    assert law.steepest_softening == pytest.approx(math.exp(-2) * phi / dn**2, rel=4 * EPS)
+    coupled = laws.law_from_scene(_scene(**COUPLED))
+    assert (coupled.peak_traction, coupled.steepest_softening) == (law.peak_traction, law.steepest_softening)
+    assert laws.HardWall().steepest_softening == 0.0
+
+
+@pytest.mark.parametrize("tol", [1e-9, 1e-3, 0.05, 0.3])
+def test_contact_gap_is_the_closed_form_threshold(tol):
+    law = laws.law_from_scene(_scene(**NORMAL, **{"interface.contact_tolerance": tol}))
+    dn = law.length_normal
+    s = brentq(lambda x: x * math.exp(-x) - tol, 1.0, 200.0, xtol=1e-15, rtol=4 * EPS)  # decaying branch
+    assert law.contact_gap == pytest.approx(s * dn, rel=1e-13)
+    assert law.contact_gap == laws.contact_gap_threshold(tol, dn)
+    gaps = np.array([-3 * dn, 0.0, law.contact_gap, law.contact_gap * (1 + 1e-12), 1e3 * dn])
+    assert law.in_contact(gaps, np.full(5, 1e9)).tolist() == [True, True, True, False, False]
+    coupled = laws.law_from_scene(_scene(**COUPLED, **{"interface.contact_tolerance": tol}))
+    assert coupled.contact_gap == law.contact_gap
+
+
+def test_seed_contact_gap_value():
+    law = laws.law_from_scene(_scene(**NORMAL, **{"interface.contact_tolerance": 1e-3}))
+    assert law.contact_gap == pytest.approx(9.118006470 * law.length_normal, rel=1e-9)
+
+
+def test_hard_wall_contact_rule():
+    wall = laws.HardWall()
+    assert wall.contact_gap is None
+    t_z = np.array([-1.0, -1e-300, 0.0, -0.0, 2.0])
+    assert wall.in_contact(np.zeros(5), t_z).tolist() == [True, True, False, False, False]
+    assert wall.in_contact(np.full(5, 1.0), t_z).tolist() == [True, True, False, False, False]  # gap ignored
+
+
+@pytest.mark.parametrize("fraction", [0.999999, 0.9, 0.5, 0.1, 1e-3, 1e-6])
+def test_jump_in_separation_of_the_law(fraction):
+    law = laws.law_from_scene(_scene(**NORMAL))
+    phi, dn = law.work_normal, law.length_normal
+    k = fraction * math.exp(-2) * phi / dn**2
+    d = law.jump_in_separation(k)
+    assert d == model_jump_in_separation(k, phi, dn) == laws.jump_in_separation(k, phi, dn)
+    # independently: stability is lost at s* > 2 where k = −dT_n/dΔn, and δ_jump = δn s*²/(s* − 1)
+    s = brentq(lambda x: (x - 1) * math.exp(-x) - k * dn**2 / phi, 2.0, 800.0, xtol=1e-14, rtol=4 * EPS)
+    assert d == pytest.approx(dn * s * s / (s - 1), rel=1e-9)
+    assert laws.law_from_scene(_scene(**COUPLED)).jump_in_separation(k) == d
+    # stiffer than the steepest softening: nothing jumps; the hard wall never jumps
+    assert law.jump_in_separation(1.000001 * law.steepest_softening) == 0.0
+    assert laws.HardWall().jump_in_separation(k) == 0.0
+
+
+@pytest.mark.parametrize("law_kw, material, expected", [
+    (HARD, {"material.poisson_ratio": 0.3}, False),
+    (HARD, {"material.thickness": 1e-6}, False),
+    (NORMAL, {"material.poisson_ratio": 0.3}, False),
+    (NORMAL, {"material.thickness": 1e-6}, False),
+    (COUPLED, {"material.poisson_ratio": 0.3}, True),  # half-plane, ν < 1/2: coupled kernel
+    (COUPLED, {"material.poisson_ratio": 0.5}, False),  # half-plane, ν = 1/2: G_xz = 0
+    (COUPLED, {"material.poisson_ratio": 0.3, "material.thickness": 1e-6}, True),  # bonded layer: always
+    (COUPLED, {"material.poisson_ratio": -0.5, "material.thickness": 1e-6}, True),
+])
+def test_needs_tangential_truth_table(law_kw, material, expected):
+    sc = _scene(**law_kw, **material)
+    law = laws.law_from_scene(sc)
+    assert law.needs_tangential(sc.material) is expected
+    assert isinstance(law.tangential_reason(sc.material), str)
+
+
+def test_needs_tangential_of_the_forced_coupled_form_with_c_zero():
+    # Eq. 2 with φt = 0 (c = 0) needs no u_x by itself: only solver.unknowns = coupled solves it
+    sc = _scene(**NORMAL, **{"material.poisson_ratio": 0.3})
+    forced = laws.law_from_scene(sc, tangential=True)
+    assert forced.needs_tangential(sc.material) is False
+    assert "c = φt*/φn* = 0" in forced.tangential_reason(sc.material)
+    assert forced.forced_tangential_reason() is not None  # says it is not Eq. 3
+    assert laws.law_from_scene(_scene(**COUPLED)).forced_tangential_reason() is None
+
+
+def test_law_from_interface_answers_the_contact_rule_without_E():
+    sc = _scene(**COUPLED, **{"interface.contact_tolerance": 0.01})
+    full, bare = laws.law_from_scene(sc), laws.law_from_interface(sc.interface)
+    assert type(bare) is type(full) and bare.contact_gap == full.contact_gap
+    assert math.isnan(bare.work_normal)  # φn needs E: not guessed
+    assert laws.law_from_interface(_scene(**HARD).interface) == laws.HardWall()
+
+
+def test_law_objects_are_frozen_equal_and_picklable():
+    for kw in (HARD, NORMAL, COUPLED):
+        law = laws.law_from_scene(_scene(**kw))
+        assert pickle.loads(pickle.dumps(law)) == law == laws.law_from_scene(_scene(**kw))
+        if dataclasses.fields(law):
+            with pytest.raises(dataclasses.FrozenInstanceError):
+                setattr(law, dataclasses.fields(law)[0].name, 1.0)

@@ -118,6 +118,19 @@ def test_seed_contact_tolerance_threshold_value():
     assert np.array_equal(observables.contact_mask(interface, gap, np.zeros(2)), [True, False])
 
 
+def test_contact_mask_asks_the_law_object():
+    # the rule is the law's (contact.laws: in_contact); an Interface gives the same mask as the scene's law
+    gap = np.array([-1.0, 0.0, 5.0, 9.1, 9.2, 30.0]) * 1e-9
+    t_z = np.array([-3.0, 0.0, 2.0, 1.0, -1.0, 0.0]) * 1e6
+    for law_name, expected in (("hard-wall", [True, False, False, False, True, False]),
+                               ("cohesive", [True, True, True, True, False, False])):
+        scene = scene_from_dict({"interface": {"law": law_name, "length_normal": 1e-9, "contact_tolerance": 1e-3}})
+        law = laws.law_from_scene(scene)
+        assert observables.contact_mask(law, gap, t_z).tolist() == expected
+        assert observables.contact_mask(scene.interface, gap, t_z).tolist() == expected
+        assert law.in_contact(gap, t_z).tolist() == expected
+
+
 # ---------------------------------------------------------------- pressure and per-step observables
 
 def test_mean_pressure_sign():

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from contact import kernels
+from contact import kernels, laws
 from gfmd.loading import run_realization
 from contact.loading import start_warning
 from contact.model import (MIN_LENGTH_NORMAL_NODES, ModelCheckError, build_model, jump_in_separation,
@@ -122,6 +122,37 @@ def test_forced_coupled_unknowns():
         sc.replace(**{"solver.unknowns": "everything"})
     with pytest.raises(SceneError, match="solver.checks"):
         sc.replace(**{"solver.checks": "ignore"})
+
+
+@pytest.mark.parametrize("extra, law, tangential, text", [
+    ({"interface.law": "hard-wall"}, laws.HardWall, False, "hard wall, half-plane"),
+    ({}, laws.NormalCohesive, False, "normal-only CZ, half-plane"),
+    ({"interface.tangential_ratio": 0.5}, laws.CoupledCohesive, True, "coupled CZ, half-plane"),
+    ({"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.5}, laws.NormalCohesive, False,
+     "normal-only CZ, half-plane"),  # ν = 1/2: Eq. 2 at Δt ≡ 0 is Eq. 3
+    ({"solver.unknowns": "coupled"}, laws.CoupledCohesive, True, "coupled CZ, half-plane"),  # Eq. 2, φt = 0
+    ({"interface.tangential_ratio": 0.5, "material.thickness": 1e-6}, laws.CoupledCohesive, True,
+     "coupled CZ, layer"),
+])
+def test_model_holds_the_law_object_it_solves(extra, law, tangential, text):
+    # Model.law is the law on the chosen unknowns (contact.laws.law_from_scene(scene, tangential)),
+    # and the description names it
+    sc = flat_layer(float("inf"), 10 * DN, **extra)
+    model = build_model(sc)
+    assert type(model.law) is law and model.tangential is tangential
+    assert model.law == laws.law_from_scene(sc, tangential=tangential)
+    assert model.description.startswith(text) and model.description.startswith(model.law.name)
+    p_ref = model.law.reference_traction(sc.material.contact_modulus)  # flat profile: the law's own scale
+    assert model.reference_traction == p_ref
+    assert p_ref == (sc.material.contact_modulus if law is laws.HardWall else sc.work_normal / (np.e * DN))
+
+
+def test_start_warning_asks_the_law():
+    # a hard wall has nothing to jump to: no start warning however close the start; a cohesive law warns
+    wall = flat_layer(200e-9, 0.1 * DN, **{"interface.law": "hard-wall"})
+    assert start_warning(wall, build_model(wall), 0.0) is None
+    cz = flat_layer(200e-9, 0.1 * DN)
+    assert start_warning(cz, build_model(cz), 0.0).startswith("start in contact")
 
 
 def test_slip_warning_flags_compressed_slipping_nodes_only():

@@ -26,9 +26,10 @@ def test_default_scene_is_valid_and_round_trips(tmp_path):
     scene = default_scene()
     assert isinstance(scene, Scene) and scene.name == "default"
     assert scene.surface.kind == "self-affine" and scene.material.half_plane
-    # the resolved work of separation is φn = φn* δn E
+    # the work of separation is derived: φn = φn* δn E (the interface stores φn* only)
     i = scene.interface
-    assert i.work_normal == i.phi_n_star * i.length_normal * scene.material.youngs_modulus
+    assert scene.work_normal == i.phi_n_star * i.length_normal * scene.material.youngs_modulus
+    assert not hasattr(i, "work_normal")
     assert _round_trip(scene, tmp_path) == scene
 
 
@@ -44,7 +45,7 @@ def test_example_scene_loads(tmp_path):
 def test_dataclass_defaults_are_a_valid_scene(tmp_path):
     scene = scene_from_dict({})
     assert scene.surface == Surface() and scene.material == Material()
-    assert scene.interface == dataclasses.replace(Interface(), work_normal=0.15 * 1e-9 * 70e9)
+    assert scene.interface == Interface() and scene.work_normal == 0.15 * 1e-9 * 70e9
     assert _round_trip(scene, tmp_path) == scene
 
 
@@ -93,13 +94,18 @@ def scene_dicts(draw):
 @given(scene_dicts())
 def test_round_trip_is_exact(d):
     # scene_to_toml → load_scene must reproduce the scene bit for bit (repr of floats is exact);
-    # this includes scenes given by work_normal, whose φn* = w/(δn E) must not drift by an ulp
+    # this includes scenes given by work_normal, stored (and written) as φn* = w/(δn E)
     scene = scene_from_dict(d, name="rt")
     with tempfile.TemporaryDirectory() as directory:
         back = _round_trip(scene, directory)
     assert back == scene
     if "work_normal" in d["interface"]:
-        assert scene.interface.work_normal == d["interface"]["work_normal"]
+        w = d["interface"]["work_normal"]
+        e = scene.material.youngs_modulus
+        assert scene.interface.phi_n_star == w / (scene.interface.length_normal * e)
+        # φn derived back from φn* is w up to the roundings of w/(δn E) and φn* δn E: |Δ| ≤ 4 ε w
+        # (contact.scene docstring; the bound is the rounding analysis, not a fit)
+        assert abs(scene.work_normal - w) <= 4 * 2**-53 * w * (1 + 1e-12)
     else:
         assert scene.interface.phi_n_star == d["interface"]["phi_n_star"]
 
@@ -305,6 +311,30 @@ def test_replace_rederives_work_of_separation():
     assert c.work_tangential == 0.5 * c.interface.phi_n_star * c.interface.length_tangential * e
 
 
+def test_one_phi_state_work_normal_is_an_input_key_only(tmp_path):
+    # φn* is the stored state: a scene given φn = 0.7 J/m² (δn = 1 nm, E = 70 GPa) stores
+    # φn* = 0.7/70 and writes it back; φn* δn E is then 0.7 + 1 ulp: the documented last-bit change
+    scene = scene_from_dict({"interface": {"work_normal": 0.7}})
+    assert scene.interface.phi_n_star == 0.7 / (1e-9 * 70e9)
+    assert scene.work_normal == math.nextafter(0.7, 1.0)
+    text = scene_to_toml(scene)
+    assert "work_normal" not in text and f"phi_n_star = {scene.interface.phi_n_star!r}" in text
+    assert "work_normal" not in scene_to_dict(scene)["interface"]
+    assert _round_trip(scene, tmp_path) == scene
+    # φn* stays primary: a new E rederives φn, as for a scene given φn*
+    stiffer = scene.replace(**{"material.youngs_modulus": 140e9})
+    assert stiffer.interface.phi_n_star == scene.interface.phi_n_star
+    assert stiffer.work_normal == scene.interface.phi_n_star * 1e-9 * 140e9
+    # replace() takes either key, never both (as a scene file)
+    assert scene.replace(**{"interface.work_normal": 1.4}).interface.phi_n_star == 1.4 / (1e-9 * 70e9)
+    with pytest.raises(SceneError, match="either"):
+        scene.replace(**{"interface.work_normal": 1.4, "interface.phi_n_star": 0.02})
+    # a φn whose φn* would leave [1e-30, 1e30] is refused, naming the key given (its φn* could not be read back)
+    with pytest.raises(SceneError, match="interface.work_normal"):
+        scene_from_dict({"interface": {"work_normal": 1e25, "length_normal": 1e-12},
+                         "material": {"youngs_modulus": 1e3}})
+
+
 def test_replace_rejects_bad_keys_and_values():
     base = default_scene()
     with pytest.raises(SceneError, match="dotted"):
@@ -506,8 +536,7 @@ def test_shipped_scenes_start_stable_and_stay_below_full_contact(name):
     h0 = surfaces.profile(scene.surface, 0)
     model = build_model(scene, h0)
     assert model.warnings == ()  # neither under-resolved δn nor a start inside the jump-in separation
-    gap = jump_in_separation(softest_normal_stiffness(model), scene.interface.work_normal,
-                             scene.interface.length_normal)
+    gap = jump_in_separation(softest_normal_stiffness(model), scene.work_normal, scene.interface.length_normal)
     assert scene.loading.initial_separation >= 1.2 * gap  # with a margin, as the comments say
     for i in range(scene.surface.realizations):
         h = surfaces.profile(scene.surface, i)
