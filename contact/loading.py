@@ -150,12 +150,13 @@ def slip_warning(scene, step, delta, gap, u_x):
 class RampState:
     """What the load ramp carries from one step to the next: enough to continue it exactly.
 
-    step: the last completed step; u_hat, u_prev: the converged rfft displacements of the
-    last two converged steps (the warm start extrapolates from them); slip_warned: the
-    slip-regime warning has been given.
+    step: the last completed step; current, previous: the method's unknowns of the last two
+    converged steps (an array each: GFMD's rfft displacements, the FE's surface
+    unknowns; the warm start extrapolates from them); slip_warned: the slip-regime
+    warning has been given.
     """
 
     step: int
-    u_hat: np.ndarray
-    u_prev: np.ndarray
+    current: np.ndarray
+    previous: np.ndarray
     slip_warned: bool = False

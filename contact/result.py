@@ -13,13 +13,29 @@ import numpy as np
 
 #: per-step columns (SI; converged is 0/1, wall_s in seconds)
 CURVE_COLUMNS = ("step", "U", "delta", "p", "a_rel", "g_r", "g", "iterations", "residual", "converged", "wall_s")
+#: the keys Result.diagnostics may hold (see Result)
+DIAGNOSTICS = ("problem", "setup_s", "solutions", "wall_forces", "fallback_steps")
 #: per-node fields saved for selected steps: u_z, u_x, gap Δn (m), t_n = t_z, t_t = t_x (Pa)
 FIELD_NAMES = ("u_z", "u_x", "gap", "t_n", "t_t")
 
 
 @dataclass
 class Result:
-    """Outcome of one method on one realization of a scene."""
+    """Outcome of one method on one realization of a scene.
+
+    diagnostics holds what only some methods produce, under declared keys (absent
+    where a method has none):
+
+    ==============  ===========================================================
+    key             meaning
+    ==============  ===========================================================
+    problem         FE: the assembled cell (reference.fem), for export and checks
+    setup_s         FE: mesh, assembly and factorisation time (s)
+    solutions       FE: {step: surface-unknowns vector} at the saved steps
+    wall_forces     FE hard wall: {step: wall forces μ (N/m)} at the saved steps
+    fallback_steps  FE: the steps at which the fallback solver ran (list)
+    ==============  ===========================================================
+    """
 
     scene: object  # contact.scene.Scene
     method: str  # e.g. "gfmd-fire", "gfmd-verlet", "fe-p2"
@@ -32,6 +48,7 @@ class Result:
     messages: list = field(default_factory=list)  # failures, e.g. non-converged steps
     notes: list = field(default_factory=list)  # facts of the run that are not failures, e.g. an early stop
     reasons: tuple = ()
+    diagnostics: dict = field(default_factory=dict)  # method-specific extras, DIAGNOSTICS keys
 
     @property
     def seed(self):

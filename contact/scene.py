@@ -27,9 +27,9 @@ from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 
+from .errors import SceneError
 
-class SceneError(ValueError):
-    """Invalid scene input: the message names the key, the value and what is allowed."""
+
 
 
 @dataclass(frozen=True)
@@ -116,6 +116,22 @@ class Output:
 
 
 @dataclass(frozen=True)
+class Method:
+    """Which method solves the scene, and its options.
+
+    name: "gfmd" (the production solver; its integrator is solver.method) or "fe" (the
+    finite-element reference, a finite layer only). FE options (fe only): order 1 or 2
+    (P1/P2 elements), linear "auto" | "dense" | "sparse" | "sparse-lagged" (reference.fem),
+    quadrature "nodal" | "gauss" (the cohesive boundary term; gauss needs linear dense).
+    """
+
+    name: str = "gfmd"
+    order: int = 2
+    linear: str = "auto"
+    quadrature: str = "nodal"
+
+
+@dataclass(frozen=True)
 class Scene:
     surface: Surface = field(default_factory=Surface)
     material: Material = field(default_factory=Material)
@@ -123,6 +139,7 @@ class Scene:
     loading: Loading = field(default_factory=Loading)
     solver: Solver = field(default_factory=Solver)
     output: Output = field(default_factory=Output)
+    method: Method = field(default_factory=Method)
     name: str = "scene"
 
     @property
@@ -146,6 +163,8 @@ class Scene:
         deterministic kind gets surface.realizations = 1 unless that is given too.
         """
         d = scene_to_dict(self)
+        if sections.get("method.name", self.method.name) != self.method.name:  # the old method's options go
+            d["method"] = {k: v for k, v in d["method"].items() if f"method.{k}" in sections}
         for key, value in sections.items():
             section, _, name = key.partition(".")
             if not name:
@@ -167,7 +186,11 @@ class Scene:
 
 
 _SECTIONS = {"surface": Surface, "material": Material, "interface": Interface,
-             "loading": Loading, "solver": Solver, "output": Output}
+             "loading": Loading, "solver": Solver, "output": Output, "method": Method}
+#: the methods a scene can name, and the [method] keys each takes besides name
+METHOD_KEYS = {"gfmd": (), "fe": ("order", "linear", "quadrature")}
+_FE_LINEAR = ("auto", "dense", "sparse", "sparse-lagged")
+_FE_QUADRATURE = ("nodal", "gauss")
 _KINDS = ("self-affine", "sinusoid", "cylinder", "flat", "file")
 #: [surface] keys of every kind, and the keys that apply to one kind only
 _COMMON_KEYS = ("kind", "length", "nodes", "seed", "realizations")
@@ -398,6 +421,31 @@ def _output(d):
     return Output(field_steps=fs, workers=workers)
 
 
+def _method(d):
+    _check_keys(d, "method", Method)
+    m = Method()
+    name = d.get("name", m.name)
+    if name not in METHOD_KEYS:
+        _fail("method.name", name, f"must be one of {list(METHOD_KEYS)} (gfmd: the production solver; fe: the "
+              "finite-element reference)")
+    for key in d:
+        if key != "name" and key not in METHOD_KEYS[name]:
+            _fail(f"method.{key}", d[key], f"does not apply to method.name = {name!r} (its keys: "
+                  f"{', '.join(('name',) + METHOD_KEYS[name])})")
+    order = _number(d, "method", "order", m.order, integer=True)
+    if order not in (1, 2):
+        _fail("method.order", order, "must be 1 (P1) or 2 (P2)")
+    linear = d.get("linear", m.linear)
+    if linear not in _FE_LINEAR:
+        _fail("method.linear", linear, f"must be one of {list(_FE_LINEAR)}")
+    quadrature = d.get("quadrature", m.quadrature)
+    if quadrature not in _FE_QUADRATURE:
+        _fail("method.quadrature", quadrature, f"must be one of {list(_FE_QUADRATURE)}")
+    if quadrature == "gauss" and linear not in ("dense", "auto"):
+        _fail("method.quadrature", quadrature, f"needs method.linear = \"dense\" (got {linear!r})")
+    return Method(name=name, order=order, linear=linear, quadrature=quadrature)
+
+
 def scene_from_dict(d, name="scene"):
     """Validated `Scene` from a nested dict (TOML tables); raises SceneError."""
     if not isinstance(d, dict):
@@ -412,7 +460,8 @@ def scene_from_dict(d, name="scene"):
         _fail("solver.unknowns", solver.unknowns, f"needs interface.law = \"cohesive\" (got {interface.law!r}: "
               "the hard wall is frictionless and always normal-only); use \"auto\"")
     return Scene(surface=_surface(d.get("surface", {})), material=material, interface=interface,
-                 loading=_loading(d.get("loading", {})), solver=solver, output=_output(d.get("output", {})), name=name)
+                 loading=_loading(d.get("loading", {})), solver=solver, output=_output(d.get("output", {})),
+                 method=_method(d.get("method", {})), name=name)
 
 
 def load_scene(path):
@@ -452,6 +501,7 @@ def scene_to_dict(scene):
     if kind in _KIND_KEYS:
         d["surface"] = {k: v for k, v in d["surface"].items() if k in _COMMON_KEYS + _KIND_KEYS[kind]}
     d["material"]["thickness"] = "inf" if scene.material.half_plane else scene.material.thickness
+    d["method"] = {k: v for k, v in d["method"].items() if k == "name" or k in METHOD_KEYS[scene.method.name]}
     return d
 
 

@@ -14,6 +14,8 @@ from pathlib import Path
 import numpy as np
 import scipy.fft
 
+from .errors import SceneError
+
 
 def grid(nodes, length):
     """Node positions x_j = (j − N/2)·L/N (m); x = 0 is node N/2."""
@@ -81,11 +83,9 @@ def from_file(path, nodes):
     (any other suffix) with one column of heights (whitespace-separated numbers, '#' comments).
 
     Anything else (a missing, unreadable, corrupt, empty, comma-separated or 2-D file, non-numeric
-    or non-finite values, the wrong count) raises a `contact.scene.SceneError` naming surface.path,
+    or non-finite values, the wrong count) raises a `SceneError` naming surface.path,
     the file and what is expected.
     """
-    from .scene import SceneError
-
     path = Path(path)
     expected = (f"expected a 1-D .npy array or a text file with one column of surface.nodes = {nodes} "
                 "heights in m")

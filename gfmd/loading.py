@@ -1,99 +1,83 @@
-"""GFMD load ramp of one realization (seed §2), on the shared protocol of `contact.loading`.
+"""GFMD on the one load ramp (`contact.ramp.run_ramp`): the cell that relaxes one load step.
 
-Units: SI (see `contact.conventions`). Each step relaxes the GFMD model
-(`gfmd.solver.relax`) warm-started from the previous equilibrium (linearly
-extrapolated from the last two steps). Warnings: the model's check findings
-(`contact.model.scene_warnings`) are carried in `Result.reasons`, with the
-protocol's start and slip warnings; solver failures go to `Result.messages`.
+Units: SI (see `contact.conventions`). `prepare` builds the model of the scene
+(`contact.model.build_model`: unknowns, kernel, checks) and the interface law once
+per realization; `GfmdCell.solve` relaxes one step (`gfmd.solver.relax`) from the
+ramp's warm start. `run_realization` runs a whole realization.
 """
 
 from __future__ import annotations
 
-import time
+from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 
-from contact import surfaces
 from contact.laws import CompressionOverflowError
-from contact.loading import (RampState, field_step_indices, indenter_surface, realization_label, realization_steps,
-                             slip_warning, start_warning)
-from contact.model import WARNING, build_model
-from contact.observables import step_observables
-from contact.result import Result
+from contact.loading import indenter_surface
+from contact.model import build_model
+from contact.ramp import StepSolution, run_ramp
 
 from .solver import InterfaceLaw, Settings, relax
 
 
-def run_realization(scene, realization=0, settings=None, progress=None, method_name=None, *, checkpoint=None,
-                    resume=None):
-    """Run the whole load ramp for one realization; returns a `Result`.
+@dataclass
+class GfmdCell:
+    """One realization's GFMD problem: model, law and settings (see contact.ramp for the protocol)."""
 
-    settings: `gfmd.solver.Settings` (default from scene.solver); progress: optional
-    callable(step, steps) called after every step. checkpoint: optional callable(result,
-    state) called after every step with the steps so far and the `RampState` (how
-    workbench.io writes a run while it runs). resume: a (result, state) pair such a checkpoint
-    saw: the ramp continues after state.step from that exact warm start, so the final
-    Result equals an uninterrupted run's (wall times aside). A half-plane realization
-    stops early below its own full-contact limit (`realization_steps`, a note in
-    `Result.notes`).
-    """
-    h = surfaces.profile(scene.surface, realization)
-    model = build_model(scene, h)
-    law = InterfaceLaw(model, scene.interface, scene.work_tangential)
+    scene: object
+    h: np.ndarray
+    physics: object  # contact.model.Model
+    law: InterfaceLaw
+    settings: Settings
+    method: str
+    extrapolate: bool = True
+    diagnostics: dict = field(default_factory=dict)
+
+    @property
+    def model(self):
+        return self.physics.description
+
+    @property
+    def reasons(self):
+        return self.physics.reasons
+
+    def initial_state(self):
+        """u_hat = 0: the undeformed surface, rfft modes of each solved component."""
+        return np.zeros((self.physics.components, self.physics.nodes // 2 + 1), complex)
+
+    def solve(self, displacement, guess, fallback):
+        """Relax the load step at indenter displacement U (m) from the rfft displacements `guess`."""
+        loading = self.scene.loading
+        z_ind = indenter_surface(self.h, loading.initial_separation, displacement)
+        wall_tolerance = 1e-12 * max(float(np.ptp(self.h)), self.scene.interface.length_normal)
+        try:
+            r = relax(self.physics, self.law, z_ind, guess, self.settings, wall_tolerance)
+        except CompressionOverflowError as exc:  # the extrapolated guess left the law's range
+            return StepSolution(state=guess, converged=False, iterations=0, residual=np.inf, gap=z_ind,
+                                t_n=np.zeros_like(z_ind), fields=dict, messages=(str(exc),))
+        fields = {"u_z": r.u_z, "u_x": r.u_x, "gap": r.gap, "t_n": r.t_z, "t_t": r.t_x}
+        return StepSolution(state=r.u_hat, converged=r.converged, iterations=r.iterations, residual=r.residual,
+                            gap=r.gap, t_n=r.t_z, fields=lambda: fields,
+                            u_x=r.u_x if self.physics.tangential else None,
+                            messages=() if r.converged else (r.message,))
+
+
+def prepare(scene, h, realization=0, settings=None, method_name=None):
+    """The GFMD cell of `scene` with profile h (m); settings default from scene.solver."""
+    physics = build_model(scene, h)
     if settings is None:
         settings = Settings(method=scene.solver.method, tolerance=scene.solver.tolerance,
                             max_iterations=scene.solver.max_iterations)
-    steps, stop_note = realization_steps(scene, h, realization)
-    label = realization_label(scene, realization)
-    if resume is None:
-        result = Result(scene=scene, method=method_name or f"gfmd-{settings.method}", model=model.description,
-                        realization=realization, x=surfaces.grid(model.nodes, model.length), h=h,
-                        reasons=model.reasons, notes=[stop_note] if stop_note else [])
-        nq = model.nodes // 2 + 1
-        state = RampState(step=-1, u_hat=np.zeros((model.components, nq), complex),
-                          u_prev=np.zeros((model.components, nq), complex))
-    else:
-        result, state = resume
-    keep = field_step_indices(scene.loading, scene.output.field_steps)
-    wall_tolerance = 1e-12 * max(float(np.ptp(h)), scene.interface.length_normal)
-    d0 = scene.loading.initial_separation
-    u_hat, u_prev = state.u_hat, state.u_prev
-    for k in range(state.step + 1, steps.size):
-        displacement = steps[k]
-        start = time.perf_counter()
-        z_ind = indenter_surface(h, d0, displacement)
-        guess = 2 * u_hat - u_prev if k >= 2 else u_hat
-        try:
-            relaxed = relax(model, law, z_ind, guess, settings, wall_tolerance)
-            iterations = relaxed.iterations
-        except CompressionOverflowError:  # the extrapolated guess left the law's range
-            relaxed, iterations = None, 0
-        if (relaxed is None or not relaxed.converged) and k >= 2:  # retry without extrapolation
-            relaxed = relax(model, law, z_ind, u_hat, settings, wall_tolerance)
-            iterations += relaxed.iterations
-        wall = time.perf_counter() - start
-        if not relaxed.converged:
-            result.messages.append(f"{label}, step {k} (δ = {displacement - d0:.4g} m): {relaxed.message}")
-        else:
-            u_prev, u_hat = u_hat, relaxed.u_hat
-        if k == 0:
-            warning = start_warning(scene, model, float(np.min(relaxed.gap)))
-            if warning:
-                result.reasons = tuple(result.reasons) + (WARNING + warning,)
-        if model.tangential and not state.slip_warned:
-            slipped = slip_warning(scene, k, displacement - d0, relaxed.gap, relaxed.u_x)
-            if slipped:
-                result.reasons = tuple(result.reasons) + (WARNING + slipped,)
-                state.slip_warned = True
-        obs = step_observables(scene, h, relaxed.gap, relaxed.t_z)
-        result.append_step(step=k, U=displacement, delta=displacement - d0, iterations=iterations,
-                           residual=relaxed.residual, converged=int(relaxed.converged), wall_s=wall, **obs)
-        if k in keep:
-            result.fields[k] = {"u_z": relaxed.u_z, "u_x": relaxed.u_x, "gap": relaxed.gap,
-                                "t_n": relaxed.t_z, "t_t": relaxed.t_x}
-        state.step, state.u_hat, state.u_prev = k, u_hat, u_prev
-        if checkpoint is not None:
-            checkpoint(result, state)
-        if progress is not None:
-            progress(k, scene.loading.steps)
-    return result.finalize()
+    return GfmdCell(scene=scene, h=h, physics=physics, law=InterfaceLaw(physics), settings=settings, method=method_name or f"gfmd-{settings.method}")
+
+
+def run_realization(scene, realization=0, settings=None, progress=None, method_name=None, *, checkpoint=None,
+                    resume=None):
+    """Run the whole load ramp of one realization with GFMD; returns a `contact.result.Result`.
+
+    settings: `gfmd.solver.Settings` (default from scene.solver); progress, checkpoint,
+    resume: the hooks of `contact.ramp.run_ramp`.
+    """
+    return run_ramp(scene, realization, partial(prepare, settings=settings, method_name=method_name),
+                    progress=progress, checkpoint=checkpoint, resume=resume)

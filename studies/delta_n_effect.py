@@ -36,7 +36,7 @@ import numpy as np
 from workbench.io import code_version
 from contact.laws import contact_gap_threshold
 from gfmd.loading import run_realization
-from contact.model import build_model, jump_in_separation, softest_normal_stiffness
+from contact.model import build_model, softest_normal_stiffness
 from contact.scene import default_scene, scene_to_toml
 
 HERE = Path(__file__).resolve().parent
@@ -98,8 +98,7 @@ def main(argv=None):
         scene = case_scene(law, phi, dn, nodes, args)
         e_star = scene.material.contact_modulus
         model = build_model(scene, None)
-        jump = jump_in_separation(softest_normal_stiffness(model), scene.interface.work_normal, dn) \
-            if law == "cohesive" else 0.0
+        jump = model.law.jump_in_separation(softest_normal_stiffness(model))
         per = {d: {"p": [], "a": [], "a_tol": {dn_: [] for dn_ in (1e-9, 0.25e-9)}} for d in DELTAS_NM}
         wall0, cpu0 = time.perf_counter(), time.process_time()
         warnings, unconverged = set(), 0

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from workbench.cli import main
-from workbench.ensemble import ensemble_average, mean_standard_error, run_ensemble
+from workbench.averages import ensemble_average, mean_standard_error
+from workbench.ensemble import run_ensemble
 from workbench.io import read_run, write_run
 from contact.result import CURVE_COLUMNS, FIELD_NAMES
 from contact.scene import default_scene, scene_from_dict, scene_to_toml

@@ -27,11 +27,11 @@ import gfmd.loading as gl
 from contact import surfaces
 from reference import fem
 from reference.fem.export import SERIES_NAME, step_mesh
-from verification.test_fe_cohesive import scene as cohesive_scene
+from verification.scenes import cohesive_sinusoid as cohesive_scene
 
 
 def small_scene(steps=4, field_steps=2, law="cohesive"):
-    """N = 8 sinusoid of verification/test_fe_cohesive.py (h0 = 50 nm, D = L = 1 µm), a short ramp to
+    """N = 8 sinusoid of verification.scenes.cohesive_sinusoid (h0 = 50 nm, D = L = 1 µm), a short ramp to
     δ = 58 nm; law "hard-wall" keeps the geometry (contact from the first loaded step)."""
     return cohesive_scene(8).replace(**{"loading.steps": steps, "output.field_steps": field_steps,
                                         "interface.law": law})
@@ -56,8 +56,8 @@ def _series(directory):
 
 def test_vtu_round_trip_is_exact(run, tmp_path):
     paths = fem.export_vtu(run, tmp_path)
-    assert [p.name for p in paths] == [f"fe_step{k}.vtu" for k in sorted(run.solutions)]
-    for k, path in zip(sorted(run.solutions), paths):
+    assert [p.name for p in paths] == [f"fe_step{k}.vtu" for k in sorted(run.diagnostics["solutions"])]
+    for k, path in zip(sorted(run.diagnostics["solutions"]), paths):
         written, back = step_mesh(run, k), meshio.read(path)
         assert np.array_equal(back.points, written.points)
         assert [c.type for c in back.cells] == [c.type for c in written.cells]
@@ -72,7 +72,7 @@ def test_vtu_round_trip_is_exact(run, tmp_path):
 def test_exported_surface_displacement_is_the_recorded_field(run, tmp_path):
     paths = fem.export_vtu(run, tmp_path)
     x_nodes = surfaces.grid(run.scene.surface.nodes, run.scene.surface.length)
-    for k, path in zip(sorted(run.solutions), paths):
+    for k, path in zip(sorted(run.diagnostics["solutions"]), paths):
         m = meshio.read(path)
         top = np.flatnonzero(m.points[:, 1] == 0.0)
         distance = np.abs(m.points[top, 0][None, :] - x_nodes[:, None])  # (N, top points)
@@ -85,8 +85,8 @@ def test_exported_surface_displacement_is_the_recorded_field(run, tmp_path):
 @pytest.mark.parametrize("run", [("cohesive", 2), ("hard-wall", 2)], ids=["cohesive-P2", "hard-wall-P2"],
                          indirect=True)  # P1 writes linear triangles: no midside nodes
 def test_p2_midside_nodes_follow_vtk_order(run):
-    assert run.problem.cell.order == 2
-    m = step_mesh(run, max(run.solutions))
+    assert run.diagnostics["problem"].cell.order == 2
+    m = step_mesh(run, max(run.diagnostics["solutions"]))
     (block,) = m.cells
     assert block.type == "triangle6"
     c = m.points[block.data]  # (n_cells, 6, 3)
@@ -98,7 +98,7 @@ def test_p2_midside_nodes_follow_vtk_order(run):
 def test_series_lists_every_step(run, tmp_path):
     fem.export_vtu(run, tmp_path)
     entries = _series(tmp_path)
-    steps = sorted(run.solutions)
+    steps = sorted(run.diagnostics["solutions"])
     assert [name for _, name in entries] == [f"fe_step{k}.vtu" for k in steps]
     assert all((tmp_path / name).is_file() for _, name in entries)
     assert [t for t, _ in entries] == [float(run.curve["delta"][k]) for k in steps]

@@ -86,13 +86,13 @@ def test_kkt_and_independent_dual_solver(order):
         "loading.steps": 5, "output.field_steps": 5})
     r = fem.run_realization(sc, order=order)
     assert r.all_converged, r.messages
-    assert r.fallback_steps == [], r.messages
+    assert r.diagnostics["fallback_steps"] == [], r.messages
     assert np.max(r.curve["iterations"]) <= 15
     assert 0.05 < r.curve["a_rel"][-1] < 0.9  # partial contact: the test exercises both sets
-    prob = r.problem
-    assert sorted(r.solutions) == sorted(r.wall_forces) == sorted(r.fields)
-    for k, u in r.solutions.items():
-        mu, z = r.wall_forces[k], prob.indenter(sc.loading.initial_separation, r.curve["U"][k])
+    prob = r.diagnostics["problem"]
+    assert sorted(r.diagnostics["solutions"]) == sorted(r.diagnostics["wall_forces"]) == sorted(r.fields)
+    for k, u in r.diagnostics["solutions"].items():
+        mu, z = r.diagnostics["wall_forces"][k], prob.indenter(sc.loading.initial_separation, r.curve["U"][k])
         scale = prob.p_ref * prob.w  # N/m, a nodal force at the reference traction
         assert np.max(np.abs(prob.S @ u + mu) / scale) < 1e-10, f"step {k}: equilibrium"
         assert np.min(mu / scale) >= -1e-12, f"step {k}: wall pulls"
@@ -108,8 +108,8 @@ def test_warm_start_needs_no_iterations_when_nothing_changes():
     """Re-solving a converged step from its own (u, μ) takes one PDAS iteration."""
     sc = sinusoid_scene(32, 1e-6)
     r = fem.run_realization(sc, order=1)
-    z_ind = r.problem.indenter(sc.loading.initial_separation, r.curve["U"][STEPS])
-    u, mu, its, ok, how = r.problem.solve_step(z_ind, r.solutions[STEPS], r.wall_forces[STEPS], 1e-10)
+    z_ind = r.diagnostics["problem"].indenter(sc.loading.initial_separation, r.curve["U"][STEPS])
+    u, mu, its, ok, how = r.diagnostics["problem"].solve_step(z_ind, r.diagnostics["solutions"][STEPS], r.diagnostics["wall_forces"][STEPS], 1e-10)
     assert ok and how == "pdas" and its == 1
 
 

@@ -41,8 +41,8 @@ from contact import surfaces
 from reference import fem
 from reference.fem import sparse
 from reference.fem.solver import SurfaceProblem
-from verification.test_fe_cohesive import scene as normal_scene
-from verification.test_fe_coupled import scene as coupled_scene
+from verification.scenes import cohesive_sinusoid as normal_scene
+from verification.scenes import coupled_sinusoid as coupled_scene
 
 RELATIVE = 1e-8  # converged fields, see docstring
 OPERATOR = 1e-11  # S·v and tangent solves, see docstring
@@ -62,7 +62,7 @@ def _worst_difference(dense, other):
 def _assert_same_run(dense, other):
     assert dense.all_converged and other.all_converged, (dense.messages, other.messages)
     assert list(dense.fields) == list(other.fields)
-    assert list(dense.fallback_steps) == list(other.fallback_steps)
+    assert list(dense.diagnostics["fallback_steps"]) == list(other.diagnostics["fallback_steps"])
     assert dense.messages == other.messages
     worst = _worst_difference(dense, other)
     assert worst < RELATIVE, f"dense and sparse runs differ by {worst:.3g} (relative), bound {RELATIVE}"
@@ -80,11 +80,11 @@ def test_sparse_run_reproduces_dense(name):
     dense = fem.run_realization(sc, linear="dense")
     for linear in ("sparse", "sparse-lagged"):
         other = fem.run_realization(sc, linear=linear)
-        assert isinstance(other.problem, sparse.SparseSurfaceProblem)
+        assert isinstance(other.diagnostics["problem"], sparse.SparseSurfaceProblem)
         _assert_same_run(dense, other)
         if linear == "sparse":  # exact linear solves: the same Newton iterates
             assert np.array_equal(dense.curve["iterations"], other.curve["iterations"])
-    assert other.problem.stats["gmres_solves"] > 0, "lagged mode never used GMRES"
+    assert other.diagnostics["problem"].stats["gmres_solves"] > 0, "lagged mode never used GMRES"
 
 
 def test_sparse_reproduces_dense_pseudo_transient_fallback():
@@ -92,7 +92,7 @@ def test_sparse_reproduces_dense_pseudo_transient_fallback():
     sc = normal_scene(8).replace(**{"interface.phi_n_star": 0.15, "loading.initial_separation": 10e-9,
                                     "loading.final_penetration": 0.0, "loading.steps": 5})
     dense = fem.run_realization(sc, linear="dense")
-    assert dense.fallback_steps == [3], dense.messages  # the scene must exercise the fallback
+    assert dense.diagnostics["fallback_steps"] == [3], dense.messages  # the scene must exercise the fallback
     other = fem.run_realization(sc, linear="sparse-lagged")
     _assert_same_run(dense, other)
 

@@ -86,16 +86,16 @@ def test_coupled_fe_equilibria_accepted_without_fallback():
     those steps to pseudo-transient continuation. Newton's roots must now be accepted."""
     from contact.loading import displacement_steps, indenter_surface
     from reference import fem
-    from verification.test_fe_cohesive import scene
+    from verification.scenes import cohesive_sinusoid as scene
 
     sc = scene(64).replace(**{"interface.tangential_ratio": 0.5, "loading.final_penetration": 30e-9,
                               "loading.steps": 16, "output.field_steps": 1})
     result = fem.run_realization(sc, order=2)
     assert result.all_converged, result.messages
-    assert result.fallback_steps == [], result.messages
-    prob, k = result.problem, max(result.solutions)
+    assert result.diagnostics["fallback_steps"] == [], result.messages
+    prob, k = result.diagnostics["problem"], max(result.diagnostics["solutions"])
     z_ind = indenter_surface(prob.h_surface, sc.loading.initial_separation, displacement_steps(sc.loading)[k])
     z_ind = z_ind + (np.min(prob.h_surface) - np.min(result.h))
-    jacobian = prob.jacobian(result.solutions[k], z_ind)
+    jacobian = prob.jacobian(result.diagnostics["solutions"][k], z_ind)
     assert np.linalg.eigvalsh(0.5 * (jacobian + jacobian.T)).min() < 0, "the case no longer exercises the eigenvalue path"
     assert decays(jacobian, prob.wt)

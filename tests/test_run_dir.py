@@ -1,4 +1,4 @@
-"""Run directories that never lose work: written as the run goes, interrupt, resume, refusals (workbench.io, workbench.cli).
+"""Run directories that never lose work: written as the run goes, interrupt, resume, refusals (workbench.io, .cli).
 
 The resumed files must equal an uninterrupted run's: every column of curve.csv but
 wall_s, every array of fields.npz, mean_curve.csv and meta.json but timings, date,
@@ -339,3 +339,38 @@ def test_verify_runs_from_any_directory(tmp_path, monkeypatch):
     assert main(["verify", "--", "-x"]) == 0
     (cmd, cwd), = calls
     assert cmd[-2:] == ["verification", "-x"] and (cwd / "verification" / "conftest.py").is_file()
+
+
+@pytest.mark.parametrize("law", ["hard-wall", "cohesive"])
+def test_fe_run_resumes_step_by_step(tmp_path, monkeypatch, law):
+    """The FE reference runs on the same ramp and checkpoints: interrupted after step 2 and
+    resumed, its result files and VTU series equal an uninterrupted FE run's."""
+    import meshio
+
+    from test_cli_fe import fe_scene
+
+    sc = fe_scene(law, "self-affine").replace(**{"method.name": "fe", "loading.steps": 5})
+    path = write_scene(tmp_path, sc)
+    ref = tmp_path / "ref"
+    assert main(["run", str(path), "--out", str(ref), "--quiet", "--no-plot"]) == 0
+    original = workbench.io.save_step
+
+    def interrupt(out_dir, result, state):
+        original(out_dir, result, state)
+        if state.step == 2:
+            raise KeyboardInterrupt
+
+    out = tmp_path / "out"
+    monkeypatch.setattr(workbench.io, "save_step", interrupt)
+    assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"]) == 130
+    monkeypatch.setattr(workbench.io, "save_step", original)
+    assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot", "--resume"]) == 0
+    assert_same_run(ref, out)
+    assert json.loads((out / "meta.json").read_text())["resume"]["steps_reused"] == 3
+    vtu = sorted(p.name for p in (ref / "vtu" / "realization0").iterdir())
+    assert vtu == sorted(p.name for p in (out / "vtu" / "realization0").iterdir()) and "fe.pvd" in vtu
+    for name in vtu:
+        if name.endswith(".vtu"):
+            a, b = (meshio.read(d / "vtu" / "realization0" / name) for d in (ref, out))
+            np.testing.assert_array_equal(a.point_data["displacement"], b.point_data["displacement"])
+            np.testing.assert_array_equal(a.cell_data["stress"][0], b.cell_data["stress"][0])

@@ -355,7 +355,7 @@ def test_scene_to_dict_and_properties():
     scene = scene_from_dict({"material": {"thickness": 3e-6, "poisson_ratio": 0.25},
                              "surface": {"kind": "flat", "nodes": 64, "length": 1e-6}})
     d = scene_to_dict(scene)
-    assert set(d) == {"surface", "material", "interface", "loading", "solver", "output"}
+    assert set(d) == {"surface", "material", "interface", "loading", "solver", "output", "method"}
     assert d["material"]["thickness"] == 3e-6
     assert scene_to_dict(default_scene())["material"]["thickness"] == "inf"
     assert scene.surface.spacing == 1e-6 / 64

@@ -15,49 +15,24 @@ from pathlib import Path
 from contact.scene import SceneError, default_scene, example_scene_text, load_scene
 
 
-def _fe_problem_check(scene):
-    """What the FE reference refuses, said before any work (reference.fem builds a finite layer)."""
-    if scene.material.half_plane:
-        raise SceneError("--method fe: the FE reference models a finite layer only; material.thickness = \"inf\" "
-                         "(half-plane) cannot be meshed: give a finite material.thickness (e.g. the period L)")
-    if scene.surface.nodes % 2:
-        raise SceneError(f"--method fe: surface.nodes = {scene.surface.nodes}: the FE mesh needs an even number")
-
-
-def _checks(scene, method):
-    """Every check `gfmd run` makes before compute (contact.loading.preflight + the method's); (warnings, notes)."""
+def _checks(scene):
+    """Every check `gfmd run` makes before compute: contact.loading.preflight and the method's
+    refusals (workbench.methods); (warnings, notes)."""
     from contact.loading import preflight
 
-    if method == "fe":
-        _fe_problem_check(scene)
+    from .methods import method_of
+
+    method_of(scene).refuse(scene)
     return preflight(scene)
 
 
-def _run_fe(scene, out, quiet=False):
-    """FE reference on every realization (serial, progress bar per load step), each saved when done
-    (workbench.io.save_realization; realizations done by an earlier, interrupted run are reused);
-    VTU + PVD per realization under out/vtu/realization<i>/ (reference.fem.export_vtu)."""
-    from tqdm import tqdm
-
-    from reference.fem import export_vtu, run_realization as run_fe  # optional reference method
-
-    from . import io
-
-    reused = 0
-    for i in range(scene.surface.realizations):
-        part = io.load_part(out, scene, i)
-        if part is not None and part[2]:
-            reused += 1
-            continue
-        with tqdm(total=scene.loading.steps + 1, desc=f"FE realization {i}", unit="step", disable=quiet) as bar:
-            result = run_fe(scene, i, progress=lambda k, steps: bar.update(1))
-        if result.fields:
-            files = export_vtu(result, out / "vtu" / f"realization{i}")
-            print(f"wrote {len(files)} VTU files and fe.pvd to {out / 'vtu' / f'realization{i}'}", file=sys.stderr)
-        io.start_part(out, i)
-        io.save_realization(out, result)
-    results = [io.load_part(out, scene, i)[0].finalize() for i in range(scene.surface.realizations)]
-    return results, {"realizations_reused": reused, "steps_reused": 0}
+def _method_overrides(args):
+    """--method as scene keys: fe → method.name; fire/verlet → GFMD with that integrator."""
+    if args.method == "fe":
+        return {"method.name": "fe"}
+    if args.method in ("fire", "verlet"):
+        return {"method.name": "gfmd", "solver.method": args.method}
+    return {}
 
 
 def _interrupted(signum, frame):
@@ -100,19 +75,16 @@ def _cmd_run(args):
     from . import io
 
     scene = _scene_from_args(args)
-    overrides = {}
+    overrides = _method_overrides(args)
     if args.realizations is not None:
         overrides["surface.realizations"] = args.realizations
-    if args.method in ("fire", "verlet"):
-        overrides["solver.method"] = args.method
     if overrides:
         scene = scene.replace(**overrides)
     if args.resume and not args.scene and args.out and (Path(args.out) / "meta.json").is_file():
         name = json.loads((Path(args.out) / "meta.json").read_text()).get("scene_name", scene.name)
         scene = dataclasses.replace(scene, name=name)
-    method = "fe" if args.method == "fe" else "gfmd"
-    warnings, notes = _checks(scene, method)  # refusals happen here, before any file is touched
-    out = io.prepare_run_dir(Path(args.out or f"results/{scene.name}"), scene, method, resume=args.resume,
+    warnings, notes = _checks(scene)  # refusals happen here, before any file is touched
+    out = io.prepare_run_dir(Path(args.out or f"results/{scene.name}"), scene, resume=args.resume,
                              overwrite=args.overwrite)
     if args.resume and io.run_complete(out):
         print(f"{out}: this run is complete; nothing to resume", file=sys.stderr)
@@ -121,18 +93,15 @@ def _cmd_run(args):
         print(f"WARNING: {w}", file=sys.stderr)
     for n in notes:
         print(f"note: {n}", file=sys.stderr)
+    method = "FE" if scene.method.name == "fe" else f"GFMD {scene.solver.method}"
     print(f"scene {scene.name!r}: {scene.surface.realizations} realization(s), {scene.loading.steps} load steps, "
-          f"method {'FE' if method == 'fe' else 'GFMD ' + scene.solver.method}; results go to {out}/ as they are "
-          "computed", file=sys.stderr)
+          f"method {method}; results go to {out}/ as they are computed", file=sys.stderr)
     start = time.perf_counter()
     previous = signal.signal(signal.SIGTERM, _interrupted)
     try:
-        if method == "fe":
-            results, resume = _run_fe(scene, out, quiet=args.quiet)
-        else:
-            from .ensemble import run_to_directory
+        from .ensemble import run_to_directory
 
-            results, resume = run_to_directory(scene, out, workers=args.workers, progress=not args.quiet)
+        results, resume = run_to_directory(scene, out, workers=args.workers, progress=not args.quiet)
     except KeyboardInterrupt:
         print(f"\ngfmd: interrupted: {_on_disk(scene, out)}; continue with: {_resume_command(args, out)}",
               file=sys.stderr)
@@ -140,7 +109,7 @@ def _cmd_run(args):
     finally:
         signal.signal(signal.SIGTERM, previous)
     elapsed = time.perf_counter() - start
-    io.write_run(out, scene, results, timings={"total_s": elapsed, "workers": args.workers}, method=method,
+    io.write_run(out, scene, results, timings={"total_s": elapsed, "workers": args.workers},
                  resume=resume)
     if resume["realizations_reused"] or resume["steps_reused"]:
         print(f"resumed: {resume['realizations_reused']} realization(s) and {resume['steps_reused']} load steps "
@@ -177,7 +146,8 @@ def _cmd_scene(args):
         if Path(args.check).is_dir():
             raise SceneError(f"scene {args.check!r} is a directory, not a TOML scene file")
         scene = load_scene(args.check)
-        warnings, notes = _checks(scene, args.method or "gfmd")  # the same checks as `gfmd run`
+        scene = scene.replace(**_method_overrides(args)) if args.method else scene
+        warnings, notes = _checks(scene)  # the same checks as `gfmd run`
         for w in warnings:
             print(f"WARNING: {w}", file=sys.stderr)
         for n in notes:

@@ -20,14 +20,10 @@ import signal
 import threading
 from functools import partial
 
-import numpy as np
 from tqdm import tqdm
 
 from . import io
-from gfmd.loading import run_realization
-
-#: curve columns averaged over realizations (mean and standard error)
-AVERAGED = ("p", "a_rel", "g_r", "g")
+from .methods import method_of, run_realization
 
 _progress_queue = None  # set in each worker process by _init_worker
 
@@ -66,14 +62,15 @@ def _pool_map(fn, jobs, workers, bar):
     pool = ctx.Pool(workers, initializer=_init_worker, initargs=(queue,))
     try:
         yield from pool.imap_unordered(partial(fn, progress=_report_step), jobs)
-        pool.close()
     except BaseException:
+        # a worker killed here may hold the queue's lock: the daemon listener is left as it is
         pool.terminate()
-        raise
-    finally:
         pool.join()
-        queue.put(None)
-        listener.join(timeout=5)
+        raise
+    pool.close()
+    pool.join()
+    queue.put(None)  # every worker has ended: the lock is free
+    listener.join(timeout=5)
 
 
 def _workers(scene, workers, count):
@@ -105,7 +102,8 @@ def run_ensemble(scene, workers=None, progress=True):
 def _run_into(job, progress):
     """Worker: run (or continue) one realization, checkpointing every step into the run directory.
 
-    Returns (realization, steps reused from an interrupted run, steps it ran).
+    Returns (realization, steps reused from an interrupted run, steps it ran). A method's own
+    files of the finished realization (FE: VTU/PVD) go to out/vtu/realization<i>/.
     """
     scene, realization, out = job
     part = io.load_part(out, scene, realization)
@@ -116,6 +114,9 @@ def _run_into(job, progress):
     reused = resume[1].step + 1 if resume else 0
     result = run_realization(scene, realization, progress=progress, resume=resume,
                              checkpoint=partial(io.save_step, out))
+    export = method_of(scene).export
+    if export is not None:
+        export(result, out / "vtu" / f"realization{realization}")
     io.save_realization(out, result)
     return realization, reused, len(result.curve["step"]) - reused
 
@@ -142,40 +143,3 @@ def run_to_directory(scene, out, workers=None, progress=True):
             bar.update(max(0, scene.loading.steps + 1 - reused - ran))  # a realization that stopped early
     results = [io.load_part(out, scene, i)[0].finalize() for i in range(count)]
     return results, resume
-
-
-def mean_standard_error(values):
-    """Column-wise mean and standard error of `values` (realizations × steps), ignoring NaN.
-
-    Returns (mean, se, count); mean is NaN where no realization has a value, se is 0
-    where fewer than two have one.
-    """
-    values = np.asarray(values, dtype=float)
-    valid = np.isfinite(values)
-    count = valid.sum(axis=0)
-    mean = np.divide(np.where(valid, values, 0.0).sum(axis=0), count, out=np.full(values.shape[1], np.nan),
-                     where=count > 0)
-    dev = np.where(valid, values - mean, 0.0)
-    var = np.divide((dev**2).sum(axis=0), count - 1, out=np.zeros(values.shape[1]), where=count > 1)
-    return mean, np.sqrt(var / np.maximum(count, 1)), count
-
-
-def ensemble_average(results):
-    """Step-wise mean and standard error over realizations.
-
-    Returns dict with "delta" (m), and for each of `AVERAGED`: "<name>" (mean) and
-    "<name>_se" (standard error, 0 for one realization). ḡ_r is averaged over the
-    realizations where it is defined (contact present); "g_r_count" says how many.
-    """
-    delta = np.asarray(results[0].curve["delta"])
-    for r in results[1:]:
-        if not np.allclose(r.curve["delta"], delta, rtol=0, atol=1e-15):
-            raise ValueError("realizations do not share the same load steps")
-    out = {"delta": delta, "U": np.asarray(results[0].curve["U"])}
-    for name in AVERAGED:
-        mean, se, count = mean_standard_error([r.curve[name] for r in results])
-        out[name] = mean
-        out[name + "_se"] = se
-        if name == "g_r":
-            out["g_r_count"] = count
-    return out

@@ -2,7 +2,7 @@
 
 Units: SI (see `contact.conventions`). A finished run directory holds
   curve.csv       one row per (realization, step): realization, seed + CURVE_COLUMNS (SI)
-  mean_curve.csv  per step: δ, U and, for each of workbench.ensemble.AVERAGED, the mean over
+  mean_curve.csv  per step: δ, U and, for each of workbench.averages.AVERAGED, the mean over
                   realizations, its standard error and the count n of realizations with a value
   fields.npz      x, h_r<i> and, for the saved steps, r<i>_s<k>_<field> (FIELD_NAMES)
   scene.toml      the fully resolved scene
@@ -41,6 +41,8 @@ import numpy as np
 from contact import surfaces
 from contact.result import CURVE_COLUMNS, FIELD_NAMES, Result
 from contact.scene import load_scene, scene_to_dict, scene_to_toml
+
+from .averages import ensemble_average
 
 #: files and folders a run directory may hold (what --overwrite removes)
 RUN_ENTRIES = ("curve.csv", "mean_curve.csv", "fields.npz", "scene.toml", "meta.json", "plots", "vtu", "partial")
@@ -112,34 +114,11 @@ def _meta_base(scene, method, command):
     }
 
 
-def mean_curve(results):
-    """Columns of mean_curve.csv: per step δ, U and mean, standard error, count of each averaged observable.
-
-    Realizations are matched by step index; one that stopped early (contact.loading.realization_steps)
-    or has no value (ḡ_r without contact) is left out of that step's mean, and n says so.
-    """
-    from .ensemble import AVERAGED, mean_standard_error
-
-    longest = max(results, key=lambda r: len(r.curve["step"]))
-    steps = np.asarray(longest.curve["step"], int)
-    cols = {"step": steps, "delta": np.asarray(longest.curve["delta"], float),
-            "U": np.asarray(longest.curve["U"], float)}
-    for name in AVERAGED:
-        table = np.full((len(results), steps.size), np.nan)
-        for row, r in zip(table, results):
-            k = np.asarray(r.curve["step"], int)
-            row[k] = r.curve[name]
-        mean, se, count = mean_standard_error(table)
-        cols[name], cols[name + "_se"], cols[name + "_n"] = mean, se, count
-    return cols
-
-
-def write_run(out_dir, scene, results, timings=None, command=None, method=None, resume=None):
+def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
     """Write the final files of a run (module docstring) for `results` (list of Result) and
     remove partial/; returns the directory.
 
-    method: the run's method as the CLI names it (default results[0].method); resume: the
-    reuse counts of `gfmd run --resume` (default none reused).
+    resume: the reuse counts of `gfmd run --resume` (default none reused).
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -151,7 +130,7 @@ def write_run(out_dir, scene, results, timings=None, command=None, method=None, 
         for k in range(len(r.curve["step"])):
             writer.writerow([r.realization, r.seed] + [_fmt(r.curve[c][k]) for c in CURVE_COLUMNS])
     _atomic_write(out / "curve.csv", buf.getvalue())
-    cols = mean_curve(results)
+    cols = ensemble_average(results)
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(list(cols))
@@ -166,11 +145,9 @@ def write_run(out_dir, scene, results, timings=None, command=None, method=None, 
                 arrays[f"r{r.realization}_s{step}_{name}"] = fields[name]
     _atomic_write(out / "fields.npz", _npz_bytes(arrays), binary=True)
     _atomic_write(out / "scene.toml", scene_to_toml(scene))
-    meta = _meta_base(scene, method or results[0].method, command)
+    meta = _meta_base(scene, results[0].method, command)
     meta.update({
         "complete": True,
-        "run_method": method or results[0].method,
-        "method": results[0].method,
         "model": results[0].model,
         "model_reasons": list(results[0].reasons),
         "realizations": [r.realization for r in results],
@@ -208,13 +185,13 @@ def _differences(a, b, prefix=""):
     return out
 
 
-def prepare_run_dir(out, scene, method, *, resume=False, overwrite=False, command=None):
+def prepare_run_dir(out, scene, *, resume=False, overwrite=False, command=None):
     """Check `out` before any compute and start the run there; returns the directory (Path).
 
     Refused (RunDirError): `out` is a file; without resume, a non-empty `out` (overwrite
     clears the entries a run writes, RUN_ENTRIES, and refuses if anything else is there);
-    with resume, a directory holding another scene (the differing keys named; output.workers
-    may differ) or another method. Then scene.toml and meta.json ("complete": false) are
+    with resume, a directory holding another scene (the differing keys named, the method
+    included; output.workers may differ). Then scene.toml and meta.json ("complete": false) are
     written, so an interrupted run is recognisable and resumable.
     """
     out = Path(out)
@@ -231,9 +208,6 @@ def prepare_run_dir(out, scene, method, *, resume=False, overwrite=False, comman
             raise RunDirError(f"--resume: {out} holds a run of another scene ({'; '.join(diff)}); resume with "
                               "the same scene (or omit the scene file to take it from the directory), or choose "
                               "another --out")
-        meta = json.loads((out / "meta.json").read_text()) if (out / "meta.json").is_file() else {}
-        if meta.get("run_method", method) != method:
-            raise RunDirError(f"--resume: {out} holds a run with --method {meta['run_method']!r}, not {method!r}")
         return out
     if existing and resume:
         raise RunDirError(f"--resume: {out} is not empty but holds no scene.toml ({', '.join(existing)}): it is not a "
@@ -253,8 +227,7 @@ def prepare_run_dir(out, scene, method, *, resume=False, overwrite=False, comman
             shutil.rmtree(path) if path.is_dir() else path.unlink()
     (out / PARTIAL).mkdir(parents=True, exist_ok=True)
     _atomic_write(out / "scene.toml", scene_to_toml(scene))
-    meta = _meta_base(scene, method, command)
-    meta["run_method"] = method
+    meta = _meta_base(scene, scene.method.name, command)
     _atomic_write(out / "meta.json", json.dumps(meta, indent=2))
     return out
 
@@ -273,10 +246,19 @@ def _save_state(out, result, state, done):
     arrays = {"step": np.int64(state.step), "done": np.bool_(done), "slip_warned": np.bool_(state.slip_warned),
               "text": np.array(json.dumps({"method": result.method, "model": result.model,
                                            "reasons": list(result.reasons), "messages": list(result.messages),
-                                           "notes": list(result.notes)}))}
+                                           "notes": list(result.notes),
+                                           "fallback_steps": list(result.diagnostics.get("fallback_steps", []))}))}
     if not done:
-        arrays.update(u_hat=state.u_hat, u_prev=state.u_prev)
+        arrays.update(current=state.current, previous=state.previous)
     _atomic_write(_part(out, result.realization, ".state.npz"), _npz_bytes(arrays), binary=True)
+
+
+def _save_fields(out, result, k):
+    """Step k's saved fields, and the method's per-step diagnostics of that step (diag_<name>)."""
+    arrays = dict(result.fields[k])
+    arrays.update({f"diag_{name}": per_step[k] for name, per_step in result.diagnostics.items()
+                   if isinstance(per_step, dict) and k in per_step})
+    _atomic_write(_part(out, result.realization, f"_step{k}.npz"), _npz_bytes(arrays), binary=True)
 
 
 def save_step(out, result, state):
@@ -298,7 +280,7 @@ def save_step(out, result, state):
     if new:
         os.chmod(path, _file_mode())
     if k in result.fields:
-        _atomic_write(_part(out, result.realization, f"_step{k}.npz"), _npz_bytes(result.fields[k]), binary=True)
+        _save_fields(out, result, k)
     _save_state(out, result, state, done=False)
 
 
@@ -329,10 +311,10 @@ def save_realization(out, result):
         for k in range(rows):
             buf.write(",".join(_fmt(result.curve[c][k]) for c in CURVE_COLUMNS) + "\n")
         _atomic_write(path, buf.getvalue())
-        for k, fields in result.fields.items():
-            _atomic_write(_part(out, result.realization, f"_step{k}.npz"), _npz_bytes(fields), binary=True)
+        for k in result.fields:
+            _save_fields(out, result, k)
     last = int(result.curve["step"][-1]) if rows else -1
-    _save_state(out, result, RampState(step=last, u_hat=None, u_prev=None), done=True)
+    _save_state(out, result, RampState(step=last, current=None, previous=None), done=True)
 
 
 def load_part(out, scene, realization):
@@ -350,12 +332,14 @@ def load_part(out, scene, realization):
     with np.load(path) as z:
         step, done, slip = int(z["step"]), bool(z["done"]), bool(z["slip_warned"])
         text = json.loads(str(z["text"]))
-        u_hat = z["u_hat"] if "u_hat" in z else None
-        u_prev = z["u_prev"] if "u_prev" in z else None
+        current = z["current"] if "current" in z else None
+        previous = z["previous"] if "previous" in z else None
     h = surfaces.profile(scene.surface, realization)
     result = Result(scene=scene, method=text["method"], model=text["model"], realization=realization,
                     x=surfaces.grid(scene.surface.nodes, scene.surface.length), h=h,
                     reasons=tuple(text["reasons"]), messages=text["messages"], notes=text["notes"])
+    if text.get("fallback_steps"):
+        result.diagnostics["fallback_steps"] = [k for k in text["fallback_steps"] if k <= step]
     with open(_part(out, realization, ".csv")) as fh:
         rows = [row for row in csv.DictReader(fh) if None not in row.values() and row.get(CURVE_COLUMNS[-1])]
     for row in rows:
@@ -372,7 +356,10 @@ def load_part(out, scene, realization):
         if f.is_file():
             with np.load(f) as z:
                 result.fields[k] = {name: z[name] for name in FIELD_NAMES}
-    return result, RampState(step=step, u_hat=u_hat, u_prev=u_prev, slip_warned=slip), done
+                for name in z.files:
+                    if name.startswith("diag_"):
+                        result.diagnostics.setdefault(name[5:], {})[k] = z[name]
+    return result, RampState(step=step, current=current, previous=previous, slip_warned=slip), done
 
 
 def read_run(out_dir):

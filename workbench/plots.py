@@ -7,7 +7,7 @@ What is drawn:
 * realizations are stacked step by step (`stack_curves`): a realization that
   stopped early (ragged curves, interrupted runs) is padded with NaN, and every
   point is the mean over the realizations that have a value there, with its
-  standard error (`workbench.ensemble.mean_standard_error`); the legend says so and
+  standard error (`workbench.averages.mean_standard_error`); the legend says so and
   gives the realization count n (a range where it differs between points);
 * points averaged over fewer than all realizations (a realization stopped
   early, or ḡ_r is undefined without contact) are drawn as open markers: the
@@ -30,8 +30,9 @@ from matplotlib import rc_context
 from matplotlib.container import ErrorbarContainer
 from matplotlib.figure import Figure
 
-from .ensemble import mean_standard_error
+from .averages import mean_standard_error
 from .io import read_run
+from contact.laws import law_from_scene
 from contact.observables import fit_kappa, reduced_pressure
 
 #: output formats of `plot_run` (and `gfmd plot --format`)
@@ -168,7 +169,7 @@ def _load_area(scene, st, e_star, label, nc):
     for i, a in enumerate((ax, zoom) if zoom else (ax,)):
         first = i == 0
         a.axvline(0.0, color="0.45", lw=0.8, ls=":", gid="p=0",
-                  label=("p = 0 (left: tensile mean pressure, adhesive branch)" if scene.interface.cohesive
+                  label=("p = 0 (left: tensile mean pressure, adhesive branch)" if law_from_scene(scene).adhesive
                          else "p = 0") if first else None)
         a.errorbar(mx[ok], my[ok], xerr=sx[ok], yerr=sy[ok], gid="mean",
                    label=f"{label}\n{error_bar_label(cx[ok], cy[ok])}" if first else None, **style)
@@ -176,7 +177,7 @@ def _load_area(scene, st, e_star, label, nc):
         _mark_nonconverged(a, mx, my, nc, st.realizations, ok, label=first)
         a.set(xlabel=r"reduced pressure $p_r^* = p\,/\,(\bar g_r E^*)$")
         _sci(a, "x")
-    if not scene.interface.cohesive:  # seed Eq. 1 holds for non-adhesive contact only
+    if not law_from_scene(scene).adhesive:  # seed Eq. 1 holds for non-adhesive contact only
         try:
             kappa, npts = fit_kappa(mx, my)
             xs = np.linspace(0, np.nanmax(mx[ok & (mx > 0)]), 50)
@@ -243,7 +244,7 @@ def _snapshot(scene, curves, fields, realization, snapshot_delta):
     span = top - min(np.min(z_ind), np.min(u_z))
     ax.fill_between(x, z_ind, top + 0.15 * span, color="0.75", lw=0, label="rigid indenter")
     ax.plot(x, z_ind, color="0.35", lw=0.6)
-    ax.plot(x, u_z, color="tab:green" if scene.interface.cohesive else "tab:red", lw=0.8,
+    ax.plot(x, u_z, color="tab:green" if law_from_scene(scene).adhesive else "tab:red", lw=0.8,
             label=r"elastic surface $u_z$")
     ax.set_xlim(x.min(), x.max())
     ax.set_ylim(min(np.min(z_ind), np.min(u_z)) - 0.05 * span, top + 0.15 * span)
@@ -279,12 +280,11 @@ def make_figures(run_dir, snapshot_delta=None, realization=None):
                          f"realizations with saved fields: {', '.join(str(r) for r in with_fields)}")
     st = stack_curves(curves)
     e_star = scene.material.contact_modulus
-    label = "hard wall" if scene.interface.law == "hard-wall" else (
-        f"cohesive law, $\\varphi_n^* = {scene.interface.phi_n_star:g}$" if scene.interface.cohesive
-        else scene.interface.law)
+    law = law_from_scene(scene)
+    label = f"{law.name}, $\\varphi_n^* = {scene.interface.phi_n_star:g}$" if law.adhesive else law.name
     nc = nonconverged(st)
     figs = {"area_vs_reduced_pressure": _load_area(scene, st, e_star, label, nc)}
-    adhesive = scene.interface.cohesive
+    adhesive = law.adhesive
     for name, values, ylabel, title in (
             ("pressure_vs_delta", st["p"] / e_star, r"mean pressure $p/E^*$", "Mean pressure vs penetration"),
             ("area_vs_delta", st["a_rel"], r"relative contact area $a_\mathrm{rel}$", "Contact area vs penetration"),

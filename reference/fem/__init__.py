@@ -19,6 +19,6 @@ result and loading's geometry helpers with GFMD, but no solver code:
 """
 
 from .export import export_vtu
-from .solver import run_realization
+from .run import run_realization
 
 __all__ = ["export_vtu", "run_realization"]

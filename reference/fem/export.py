@@ -4,11 +4,11 @@ Units: SI (see `contact.conventions`): coordinates and displacement in m, stress
 the PVD time value is the indenter displacement δ = U − δ0 in m.
 
 The input is a `Result` of `reference.fem.run_realization` (cohesive or hard
-wall, dense or sparse): `Result.problem` is the FE problem and
-`Result.solutions[k]` the vector of its surface unknowns at step k, which
+wall, dense or sparse): its diagnostics "problem" is the FE problem and
+"solutions"[k] the vector of its surface unknowns at step k, which
 `problem.solve_interior` extends to every DOF; both FE paths store that.
 
-One `fe_step<k>.vtu` per recorded step k (`Result.solutions`) and a ParaView
+One `fe_step<k>.vtu` per recorded step k (diagnostics "solutions") and a ParaView
 collection `fe.pvd` that lists them in step order. Cells: "triangle" for P1,
 "triangle6" (VTK quadratic triangle: 3 vertices, then the midpoints of the edges
 01, 12, 20) for P2, so the P2 displacement is written at every node. Data:
@@ -31,7 +31,7 @@ SERIES_NAME = "fe.pvd"
 
 
 def _problem(result):
-    prob = getattr(result, "problem", None)
+    prob = getattr(result, "diagnostics", {}).get("problem")
     if prob is None or not hasattr(prob, "cell"):
         raise ValueError("export_vtu needs a Result from reference.fem.run_realization (it carries the FE problem); "
                          f"got method {getattr(result, 'method', type(result).__name__)!r}")
@@ -68,11 +68,12 @@ def step_mesh(result, step):
     import meshio
 
     prob = _problem(result)
-    if step not in result.solutions:
-        raise ValueError(f"step {step!r} has no stored FE solution; recorded steps: {sorted(result.solutions)} "
+    solutions = result.diagnostics.get("solutions", {})
+    if step not in solutions:
+        raise ValueError(f"step {step!r} has no stored FE solution; recorded steps: {sorted(solutions)} "
                          "(scene.output.field_steps chooses them)")
     cell = prob.cell
-    full = cell.full(prob.solve_interior(result.solutions[step]))
+    full = cell.full(prob.solve_interior(solutions[step]))
     points, cells, kind, dofs = _nodes_and_cells(cell)
     disp = np.zeros((points.shape[0], 3))
     disp[:, 0], disp[:, 1] = full[dofs[0]], full[dofs[1]]
@@ -102,11 +103,11 @@ def export_vtu(result, directory, steps=None):
     """Write `<directory>/fe_step<k>.vtu` for the recorded steps (default: all) and `fe.pvd`.
 
     result: a `Result` of `reference.fem.run_realization`; steps: iterable of step
-    indices among `result.solutions`. Returns the list of VTU paths (step order);
+    indices among the result's diagnostics "solutions". Returns the list of VTU paths (step order);
     the PVD collection lists the same files with time value δ (m).
     """
     _problem(result)
-    chosen = sorted(result.solutions if steps is None else steps)
+    chosen = sorted(result.diagnostics.get("solutions", {}) if steps is None else steps)
     if not chosen:
         raise ValueError("nothing to export: the result has no stored FE solutions (scene.output.field_steps = 0)")
     directory = Path(directory)

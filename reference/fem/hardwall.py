@@ -41,21 +41,19 @@ max over the points of |S u + μ|/W, max(0, −μ)/W and max(0, u − z)·S_ii/W
 
 from __future__ import annotations
 
-import math
 import time
+from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
 import scipy.optimize
 
-from contact import surfaces
-from contact.loading import displacement_steps, field_step_indices, realization_label
-from contact.observables import rms_gradient, step_observables
-from contact.result import Result
+from contact.model import build_model
+from contact.observables import rms_gradient
+from contact.ramp import StepSolution
 
-from ._blas import single_thread
 from .assembly import build_cell
-from .solver import fourier_interpolate, surface_indenter  # shared z_ind (P2 midpoints: Fourier interpolant)
+from .geometry import fourier_interpolate, surface_indenter  # shared z_ind (P2 midpoints: Fourier interpolant)
 
 
 class HardWallProblem:
@@ -164,69 +162,62 @@ class HardWallProblem:
         return -self.C @ mu, mu
 
 
-def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None):
-    """FE hard-wall reference for one realization of `scene`; a `contact.result.Result` (method "fe-p<order>").
+@dataclass
+class HardWallCell:
+    """One realization's FE hard-wall problem (see contact.ramp for the protocol). The state is
+    the stacked (u_z at the surface points, wall forces μ): the active set warm-starts from the
+    previous step, never from an extrapolation (a constraint, not a smooth law)."""
 
-    Same steps (`displacement_steps`), same z_ind at the N nodes and same
-    observables (`step_observables` on the GFMD nodes) as GFMD. tolerance: KKT
-    residual bound per step (default min(scene.solver.tolerance, 1e-10)); a step
-    above it is reported as not converged, with a message.
-    """
-    with single_thread():
-        return _run(scene, realization, order, progress, mesh_kw, tolerance)
+    scene: object
+    prob: HardWallProblem
+    physics: object  # contact.model.Model
+    tolerance: float
+    method: str
+    model: str
+    reasons: tuple
+    diagnostics: dict
+    extrapolate: bool = False
+
+    def initial_state(self):
+        return np.zeros((2, self.prob.ns))
+
+    def solve(self, displacement, guess, fallback):
+        prob, vp = self.prob, self.prob.cell.vertex_points
+        z_ind = prob.indenter(self.scene.loading.initial_separation, displacement)
+        u, mu, its, ok, how = prob.solve_step(z_ind, guess[0], guess[1], self.tolerance)
+        if not np.all(np.isfinite(u)):
+            raise FloatingPointError(f"step at U = {displacement:.4g} m: non-finite hard-wall solution")
+        res = prob.residual(u, mu, z_ind)
+        gap = np.maximum(z_ind - u, 0.0)  # round-off penetration (≤ tol) shown as contact
+        t_n = prob.node_traction(mu)
+        messages = (() if how == "pdas" else (how,)) + (() if ok else (f"not converged, KKT residual {res:.3g} p_ref",))
+
+        def fields():
+            ux = prob.solve_interior(u)[prob.cell.surface_dofs[0]]
+            return {"u_z": u[vp].copy(), "u_x": ux[vp].copy(), "gap": gap[vp].copy(), "t_n": t_n.copy(),
+                    "t_t": np.zeros(vp.size)}
+
+        return StepSolution(state=np.vstack([u, mu]), converged=ok, iterations=its, residual=res, gap=gap[vp],
+                            t_n=t_n, fields=fields, messages=messages,
+                            keep={"solutions": u.copy(), "wall_forces": mu.copy()}, fallback=how != "pdas")
 
 
-def _run(scene, realization, order, progress, mesh_kw, tolerance):
-    h = surfaces.profile(scene.surface, realization)
+def prepare(scene, h, realization=0, order=2, mesh_kw=None, tolerance=None):
+    """The FE hard-wall cell of `scene` with profile h (m). tolerance: KKT residual bound per step
+    (default min(scene.solver.tolerance, 1e-10)); a step above it is reported as not converged."""
+    physics = build_model(scene, h)
     t0 = time.perf_counter()
     prob = HardWallProblem(scene, h, order=order, mesh_kw=mesh_kw)
     setup = time.perf_counter() - t0
-    tol = tolerance if tolerance is not None else min(scene.solver.tolerance, 1e-10)
     cell = prob.cell
     model = (f"FE P{order} plane strain, periodic cell L = {scene.surface.length:g} m, bonded layer "
              f"D = {scene.material.thickness:g} m, {cell.basis.N} DOFs ({cell.mesh.t.shape[1]} triangles, graded), "
              f"frictionless hard wall (u_x free, t_x = 0) on {prob.ns} surface points"
              + (", z_ind at facet midpoints from the Fourier interpolant of h" if order == 2 else "")
-             + f"; primal–dual active set on the condensed surface (setup {setup:.1f} s)")
-    result = Result(scene=scene, method=f"fe-p{order}", model=model, realization=realization,
-                    x=surfaces.grid(scene.surface.nodes, scene.surface.length), h=h,
-                    reasons=("finite layer, bonded base, periodic cell: same model as GFMD with material.thickness",
-                             "hard wall: frictionless, no tangential traction"))
-    result.setup_s = setup
-    keep = field_step_indices(scene.loading, scene.output.field_steps)
-    d0 = scene.loading.initial_separation
-    vp = cell.vertex_points
-    u, mu = np.zeros(prob.ns), np.zeros(prob.ns)
-    result.fallback_steps = []
-    result.solutions = {}
-    result.wall_forces = {}
-    label = realization_label(scene, realization)
-    for k, displacement in enumerate(displacement_steps(scene.loading)):
-        start = time.perf_counter()
-        z_ind = prob.indenter(d0, displacement)
-        u_new, mu_new, its, ok, how = prob.solve_step(z_ind, u, mu, tol)
-        wall = time.perf_counter() - start
-        res = prob.residual(u_new, mu_new, z_ind)
-        if how != "pdas":
-            result.fallback_steps.append(k)
-            result.messages.append(f"{label}, step {k} (δ = {displacement - d0:.4g} m): {how}")
-        if not ok:
-            result.messages.append(f"{label}, step {k}: not converged, KKT residual {res:.3g} p_ref")
-        if not np.all(np.isfinite(u_new)):
-            raise FloatingPointError(f"{label}, step {k}: non-finite hard-wall solution")
-        u, mu = u_new, mu_new
-        gap = np.maximum(z_ind - u, 0.0)  # round-off penetration (≤ tol) shown as contact
-        t_n = prob.node_traction(mu)
-        obs = step_observables(scene, h, gap[vp], t_n)
-        result.append_step(step=k, U=displacement, delta=displacement - d0, iterations=its,
-                           residual=res if math.isfinite(res) else 1e300, converged=int(ok), wall_s=wall, **obs)
-        if k in keep:
-            ux = prob.solve_interior(u)[cell.surface_dofs[0]]
-            result.fields[k] = {"u_z": u[vp].copy(), "u_x": ux[vp].copy(), "gap": gap[vp].copy(),
-                                "t_n": t_n.copy(), "t_t": np.zeros(vp.size)}
-            result.solutions[k] = u.copy()  # the problem's unknowns, as the cohesive FE: solve_interior(u)
-            result.wall_forces[k] = mu.copy()
-        if progress is not None:
-            progress(k, scene.loading.steps)
-    result.problem = prob
-    return result.finalize()
+             + "; primal–dual active set on the condensed surface")
+    reasons = ("FE mesh of the finite layer on its bonded base, periodic cell; the model choice and checks of "
+               "contact.model, as for every method",) + physics.reasons
+    return HardWallCell(scene=scene, prob=prob, physics=physics,
+                        tolerance=tolerance if tolerance is not None else min(scene.solver.tolerance, 1e-10),
+                        method=f"fe-p{order}", model=model, reasons=reasons,
+                        diagnostics={"problem": prob, "setup_s": setup, "fallback_steps": []})

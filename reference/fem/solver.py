@@ -39,35 +39,21 @@ quadratures, as for GFMD.
 from __future__ import annotations
 
 import math
-import time
+from dataclasses import dataclass
 
 import numpy as np
-import scipy.fft
 import scipy.linalg
 import scipy.sparse as sp
 
-from contact import laws, surfaces
-from contact.loading import displacement_steps, field_step_indices, indenter_surface, realization_label, slip_warning
-from contact.model import WARNING
-from contact.observables import rms_gradient, step_observables
-from contact.result import Result
+from contact import laws
+from contact.observables import rms_gradient
+from contact.ramp import StepSolution
 
-from ._blas import single_thread
 from .assembly import build_cell
+from .geometry import fourier_interpolate, surface_indenter
 from .quadrature import fourier_evaluate, gauss_surface_quadrature
 
 QUADRATURES = ("nodal", "gauss")  # boundary-term quadrature (module docstring)
-
-
-def fourier_interpolate(h, factor):
-    """Band-limited interpolant of periodic nodal values h on a grid `factor` times finer."""
-    n = h.size
-    if factor == 1:
-        return h.copy()
-    spec = scipy.fft.rfft(h)
-    if n % 2 == 0:
-        spec[-1] *= 0.5  # split the Nyquist mode between ±q
-    return scipy.fft.irfft(spec, n * factor) * factor
 
 
 def locally_stable(jacobian, weights, symmetric):
@@ -100,15 +86,6 @@ def locally_stable(jacobian, weights, symmetric):
     return bool(np.all(np.isfinite(eigenvalues)) and np.min(eigenvalues.real) > 0.0)
 
 
-def surface_indenter(h_surface, h_min, initial_separation, displacement):
-    """z_ind = h − min h + δ0 − U (m, contact.conventions) at every FE surface point.
-
-    h_surface: the profile at the surface points (Fourier interpolant of the nodal h);
-    h_min: the *nodal* minimum of h (m), so that z_ind at the vertices is exactly GFMD's.
-    """
-    return indenter_surface(h_surface, initial_separation, displacement) + (np.min(h_surface) - h_min)
-
-
 class SurfaceProblem:
     """Condensed surface system of one scene (see module docstring).
 
@@ -118,7 +95,7 @@ class SurfaceProblem:
 
     linear_solver = "dense LU"
 
-    def __init__(self, scene, h, order=2, mesh_kw=None, quadrature="nodal"):
+    def __init__(self, scene, h, order=2, mesh_kw=None, quadrature="nodal", tangential=None):
         if quadrature not in QUADRATURES:
             raise ValueError(f"quadrature = {quadrature!r}: one of {', '.join(map(repr, QUADRATURES))}")
         self.quadrature = quadrature
@@ -132,7 +109,9 @@ class SurfaceProblem:
             raise NotImplementedError(f"interface.law = {i.law!r}: SurfaceProblem solves the cohesive law; the hard "
                                       "wall is reference.fem.hardwall (run_realization routes it there)")
         self.scene = scene
-        self.tangential = i.tangential_ratio > 0
+        # u_x solved: the core's model choice (contact.model) when given, else wherever c > 0
+        self.tangential = i.tangential_ratio > 0 if tangential is None else bool(tangential)
+        self.h_min = float(np.min(h))
         self.cell = build_cell(scene.surface.nodes, scene.surface.length, m.thickness, m.youngs_modulus,
                                m.poisson_ratio, order=order, **(mesh_kw or {}))
         comps = ("x", "z") if self.tangential else ("z",)
@@ -364,94 +343,39 @@ class SurfaceProblem:
         return u, res, it, ok, how
 
 
-def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None, linear="auto",
-                    quadrature="nodal"):
-    """FE reference for one realization (see `_run`); dense solves use single-threaded BLAS."""
-    if scene.interface.law == "hard-wall":  # a constraint, not a law: primal–dual active set
-        if quadrature != "nodal":
-            raise ValueError(f"quadrature = {quadrature!r}: the hard wall is a nodal constraint, "
-                             "only quadrature='nodal' applies")
-        from .hardwall import run_realization as run_hard_wall
-        return run_hard_wall(scene, realization, order, progress, mesh_kw, tolerance)
-    with single_thread():
-        return _run(scene, realization, order, progress, mesh_kw, tolerance, linear, quadrature)
+@dataclass
+class FeCell:
+    """One realization's FE cohesive problem (see contact.ramp for the protocol): Newton with
+    the problem's own fallbacks per step, warm-started from the ramp's extrapolation."""
 
+    scene: object
+    prob: object  # SurfaceProblem (dense) or its sparse subclass
+    physics: object  # contact.model.Model: the model choice and checks shared with every method
+    tolerance: float
+    method: str
+    model: str
+    reasons: tuple
+    diagnostics: dict
+    extrapolate: bool = True
 
-def _run(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None, linear="auto",
-         quadrature="nodal"):
-    """FE reference for one realization of `scene`; returns a `contact.result.Result` (method "fe-p<order>").
+    def initial_state(self):
+        return np.zeros(self.prob.S.shape[0])
 
-    Same steps (`displacement_steps`), same z_ind, same observables as GFMD.
-    tolerance: max |R/W|/p_ref per step (default min(scene.solver.tolerance, 1e-10)).
-    linear: "dense" (Schur complement S, dense LU), "sparse" (SuperLU on the full reduced
-    system, `reference.fem.sparse`), "sparse-lagged" (SuperLU reused as GMRES preconditioner)
-    or "auto" (`sparse.choose_linear`: dense up to N = 2048, coupled law 1024); same equations.
-    quadrature: "nodal" (default) or "gauss" (dense path only; `SurfaceProblem`, module docstring).
-    """
-    from .sparse import make_problem  # sparse.py subclasses SurfaceProblem: import here, not at the top
-
-    h = surfaces.profile(scene.surface, realization)
-    t0 = time.perf_counter()
-    prob = make_problem(linear, scene, h, order=order, mesh_kw=mesh_kw, quadrature=quadrature)
-    setup = time.perf_counter() - t0
-    tol = tolerance if tolerance is not None else min(scene.solver.tolerance, 1e-10)
-    cell = prob.cell
-    law = "coupled CZ (seed Eq. 2)" if prob.tangential else "normal-only CZ (seed Eq. 3), u_x free (t_x = 0)"
-    model = (f"FE P{order} plane strain, periodic cell L = {scene.surface.length:g} m, bonded layer "
-             f"D = {scene.material.thickness:g} m, {cell.basis.N} DOFs ({cell.mesh.t.shape[1]} triangles, graded), "
-             f"{law}, "
-             + (f"nodal (FacetBasis-weight) quadrature on {prob.ns} surface points" if quadrature == "nodal" else
-                f"Gauss–Legendre quadrature ({prob.gauss.x.size // cell.nodes} points per facet; "
-                f"outputs at the {prob.ns} surface points)")
-             + (", z_ind at facet midpoints from the Fourier interpolant of h" if order == 2 else "")
-             + f"; Newton on the condensed surface, {prob.linear_solver} (setup {setup:.1f} s)")
-    result = Result(scene=scene, method=f"fe-p{order}", model=model, realization=realization,
-                    x=surfaces.grid(scene.surface.nodes, scene.surface.length), h=h,
-                    reasons=("finite layer, bonded base, periodic cell: same model as GFMD with material.thickness",))
-    keep = field_step_indices(scene.loading, scene.output.field_steps)
-    d0 = scene.loading.initial_separation
-    nu = prob.S.shape[0]
-    u = np.zeros(nu)
-    u_prev = u.copy()
-    vp = cell.vertex_points
-    result.fallback_steps = []
-    result.solutions = {}
-    slipped = None
-    h_min = float(np.min(h))
-    label = realization_label(scene, realization)
-    for k, displacement in enumerate(displacement_steps(scene.loading)):
-        start = time.perf_counter()
-        z_ind = surface_indenter(prob.h_surface, h_min, d0, displacement)
-        guess = 2 * u - u_prev if k >= 2 else u
-        u_new, res, its, ok, how = prob.solve_step(guess, z_ind, tol, fallback_from=u)
-        wall = time.perf_counter() - start
-        if how != "newton":
-            result.fallback_steps.append(k)
-            result.messages.append(f"{label}, step {k} (δ = {displacement - d0:.4g} m): {how}")
-        if not ok:
-            result.messages.append(f"{label}, step {k}: not converged, residual {res:.3g}")
-        if ok:
-            u_prev, u = u, u_new
-            sol = u_new
-        else:
-            sol = u_new if np.all(np.isfinite(u_new)) else u
+    def solve(self, displacement, guess, fallback):
+        prob, vp = self.prob, self.prob.cell.vertex_points
+        loading = self.scene.loading
+        z_ind = surface_indenter(prob.h_surface, prob.h_min, loading.initial_separation, displacement)
+        u_new, res, its, ok, how = prob.solve_step(guess, z_ind, self.tolerance, fallback_from=fallback)
+        sol = u_new if ok or np.all(np.isfinite(u_new)) else fallback
         tt, tn, gap = prob.tractions(sol, z_ind)
         ux, uz = prob.split(sol)
-        if prob.tangential and not slipped:  # same check as GFMD (contact.loading.slip_warning)
-            slipped = slip_warning(scene, k, displacement - d0, gap[vp], ux[vp])
-            if slipped:
-                result.reasons = tuple(result.reasons) + (WARNING + slipped,)
-        obs = step_observables(scene, h, gap[vp], tn[vp])
-        result.append_step(step=k, U=displacement, delta=displacement - d0, iterations=its,
-                           residual=float(res) if np.isfinite(res) else 1e300, converged=int(ok), wall_s=wall, **obs)
-        if k in keep:
-            if not prob.tangential:  # u_x of the surface from the condensed interior
-                ux = prob.solve_interior(sol)[cell.surface_dofs[0]]
-            result.fields[k] = {"u_z": uz[vp].copy(), "u_x": ux[vp].copy(), "gap": gap[vp].copy(),
-                                "t_n": tn[vp].copy(), "t_t": tt[vp].copy()}
-            result.solutions[k] = sol.copy()
-        if progress is not None:
-            progress(k, scene.loading.steps)
-    result.problem = prob
-    return result.finalize()
+        messages = (() if how == "newton" else (how,)) + (() if ok else (f"not converged, residual {res:.3g}",))
 
+        def fields():
+            u_x = ux if prob.tangential else prob.solve_interior(sol)[prob.cell.surface_dofs[0]]
+            return {"u_z": uz[vp].copy(), "u_x": u_x[vp].copy(), "gap": gap[vp].copy(), "t_n": tn[vp].copy(),
+                    "t_t": tt[vp].copy()}
+
+        return StepSolution(state=u_new, converged=ok, iterations=its, residual=res, gap=gap[vp], t_n=tn[vp],
+                            fields=fields, u_x=ux[vp] if prob.tangential else None, messages=messages,
+                            keep={"solutions": sol.copy()}, fallback=how != "newton")

@@ -69,18 +69,22 @@ def choose_linear(linear, nodes, components=1):
     return linear
 
 
-def make_problem(linear, scene, h, order=2, mesh_kw=None, quadrature="nodal"):
+def make_problem(linear, scene, h, order=2, mesh_kw=None, quadrature="nodal", tangential=None):
     """The surface problem of `scene` with heights h (m) for the linear-solver choice `linear`.
 
     quadrature="gauss" (`SurfaceProblem`) is implemented on the dense path only: ValueError otherwise.
+    tangential: u_x solved (default: wherever c > 0; `contact.model` decides in run_realization).
     """
-    kind = choose_linear(linear, scene.surface.nodes, 2 if scene.interface.tangential_ratio > 0 else 1)
+    if tangential is None:
+        tangential = scene.interface.tangential_ratio > 0
+    kind = choose_linear(linear, scene.surface.nodes, 2 if tangential else 1)
     if kind == "dense":
-        return SurfaceProblem(scene, h, order=order, mesh_kw=mesh_kw, quadrature=quadrature)
+        return SurfaceProblem(scene, h, order=order, mesh_kw=mesh_kw, quadrature=quadrature, tangential=tangential)
     if quadrature != "nodal":
         raise ValueError(f"quadrature = {quadrature!r} needs linear='dense' (the sparse path, here {kind!r} from "
                          f"linear={linear!r}, assumes the nodal quadrature's block-diagonal law tangent)")
-    return SparseSurfaceProblem(scene, h, order=order, mesh_kw=mesh_kw, lagged=kind == "sparse-lagged")
+    return SparseSurfaceProblem(scene, h, order=order, mesh_kw=mesh_kw, lagged=kind == "sparse-lagged",
+                                tangential=tangential)
 
 
 def _factor(matrix, diag_pivot_thresh=DIAGONAL_PIVOT_THRESHOLD):
@@ -119,13 +123,13 @@ class SparseSurfaceProblem(SurfaceProblem):
 
     linear_solver = "SuperLU on the full reduced system"
 
-    def __init__(self, scene, h, order=2, mesh_kw=None, lagged=False):
+    def __init__(self, scene, h, order=2, mesh_kw=None, lagged=False, tangential=None):
         self.lagged = lagged
         self._lu = None  # (matrix, SuperLU) of the last factored tangent
         self.stats = {"factorizations": 0, "direct_solves": 0, "gmres_solves": 0, "gmres_iterations": 0}
         if lagged:
             self.linear_solver += " (lagged factorization + GMRES)"
-        super().__init__(scene, h, order=order, mesh_kw=mesh_kw)
+        super().__init__(scene, h, order=order, mesh_kw=mesh_kw, tangential=tangential)
 
     def condense(self, comps):
         """(S as a LinearOperator, solve_interior) without forming S; sets the reduced-system blocks."""

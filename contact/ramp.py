@@ -1,0 +1,133 @@
+"""The one load ramp: a realization under displacement control, for any method (seed §2).
+
+Units: SI (see `contact.conventions`). `run_ramp` does what every method shares:
+profile → the method's cell → for each load step of `contact.loading` (cut at the
+realization's own full-contact limit): warm start (linear extrapolation from the
+last two converged states, or the last one), one retry from the last converged
+state if the extrapolated start fails, the protocol's warnings, the observables
+of `contact.observables` on the N nodes, the saved fields, then the progress and
+checkpoint hooks. A method supplies only a `Cell`: how to solve one step.
+
+A `Cell` has
+    method       name of the method and variant, e.g. "gfmd-fire", "fe-p2"
+    model        the model solved, in words; reasons: why (tuple of str)
+    physics      the `contact.model.Model` of the scene (law, unknowns, checks)
+    extrapolate  whether a warm start may be extrapolated (state must then be an array)
+    diagnostics  method-specific extras for `Result.diagnostics` (dict)
+    initial_state()                          the state at U = 0 before relaxation
+    solve(displacement, guess, fallback)     → `StepSolution`
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+
+from . import surfaces
+from .loading import (RampState, field_step_indices, realization_label, realization_steps, slip_warning,
+                      start_warning)
+from .model import WARNING
+from .observables import step_observables
+from .result import Result
+
+
+@dataclass
+class StepSolution:
+    """One load step as a method solved it (arrays on the N surface nodes, SI).
+
+    state: what the next step starts from (the method's unknowns); gap Δn (m) and t_n (Pa,
+    tension > 0) give the observables; u_x (m) is needed for the slip check of a coupled
+    law (None if the method has no tangential unknowns); fields() returns the saved
+    fields {u_z, u_x, gap, t_n, t_t} (called only at saved steps); messages: what went
+    wrong or which fallback ran (each becomes a Result message); keep: per-step extras
+    stored at saved steps under Result.diagnostics[name][step]; fallback: the method's
+    fallback solver ran (the step goes to Result.diagnostics["fallback_steps"]).
+    """
+
+    state: Any
+    converged: bool
+    iterations: int
+    residual: float
+    gap: np.ndarray
+    t_n: np.ndarray
+    fields: Callable[[], dict]
+    u_x: np.ndarray | None = None
+    messages: tuple = ()
+    keep: dict = field(default_factory=dict)
+    fallback: bool = False
+
+
+def _extrapolated(state, previous):
+    return 2 * state - previous
+
+
+def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, resume=None):
+    """Run the load ramp of one realization with the cell `prepare(scene, h, realization)` returns.
+
+    progress: callable(step, steps) after every step; checkpoint: callable(result, state)
+    after every step (the steps so far and the `RampState`, what gfmd-style checkpoints
+    write); resume: a (result, state) pair such a checkpoint saw: the ramp continues after
+    state.step from that exact state, so the final Result equals an uninterrupted run's
+    (wall times aside). Returns the `Result`.
+    """
+    h = surfaces.profile(scene.surface, realization)
+    cell = prepare(scene, h, realization)
+    steps, stop_note = realization_steps(scene, h, realization)
+    label = realization_label(scene, realization)
+    if resume is None:
+        result = Result(scene=scene, method=cell.method, model=cell.model, realization=realization,
+                        x=surfaces.grid(scene.surface.nodes, scene.surface.length), h=h, reasons=tuple(cell.reasons),
+                        notes=[stop_note] if stop_note else [])
+        start = cell.initial_state()
+        state = RampState(step=-1, current=start, previous=start)
+    else:
+        result, state = resume
+    # the cell's extras; lists (fallback_steps) continue those of a resumed run
+    result.diagnostics.update({k: v for k, v in cell.diagnostics.items()
+                               if not (isinstance(v, list) and k in result.diagnostics)})
+    keep = field_step_indices(scene.loading, scene.output.field_steps)
+    d0 = scene.loading.initial_separation
+    current, previous = state.current, state.previous
+    for k in range(state.step + 1, steps.size):
+        displacement = steps[k]
+        t0 = time.perf_counter()
+        extrapolate = cell.extrapolate and k >= 2
+        guess = _extrapolated(current, previous) if extrapolate else current
+        solved = cell.solve(displacement, guess, current)
+        iterations = solved.iterations
+        if not solved.converged and extrapolate:  # retry from the last converged state
+            solved = cell.solve(displacement, current, current)
+            iterations += solved.iterations
+        wall = time.perf_counter() - t0
+        where = f"{label}, step {k} (δ = {displacement - d0:.4g} m)"
+        result.messages.extend(f"{where}: {m}" for m in solved.messages)
+        if solved.fallback:
+            result.diagnostics.setdefault("fallback_steps", []).append(k)
+        if solved.converged:
+            previous, current = current, solved.state
+        if k == 0 and cell.physics is not None:
+            warning = start_warning(scene, cell.physics, float(np.min(solved.gap)))
+            if warning:
+                result.reasons = tuple(result.reasons) + (WARNING + warning,)
+        if solved.u_x is not None and not state.slip_warned:
+            slipped = slip_warning(scene, k, displacement - d0, solved.gap, solved.u_x)
+            if slipped:
+                result.reasons = tuple(result.reasons) + (WARNING + slipped,)
+                state.slip_warned = True
+        obs = step_observables(scene, h, solved.gap, solved.t_n)
+        result.append_step(step=k, U=displacement, delta=displacement - d0, iterations=iterations,
+                           residual=float(solved.residual) if np.isfinite(solved.residual) else 1e300,
+                           converged=int(solved.converged), wall_s=wall, **obs)
+        if k in keep:
+            result.fields[k] = solved.fields()
+            for name, value in solved.keep.items():
+                result.diagnostics.setdefault(name, {})[k] = value
+        state.step, state.current, state.previous = k, current, previous
+        if checkpoint is not None:
+            checkpoint(result, state)
+        if progress is not None:
+            progress(k, scene.loading.steps)
+    return result.finalize()

@@ -1,0 +1,71 @@
+"""The FE reference on the one load ramp: which FE problem a scene needs, and its cell.
+
+Units: SI (see `contact.conventions`). The only FE module that knows every
+problem kind: the cohesive law (`solver.SurfaceProblem`, dense, or its sparse
+subclass in `sparse`) and the hard wall (`hardwall`).
+"""
+
+from __future__ import annotations
+
+import time
+from functools import partial
+
+from contact.model import build_model
+from contact.ramp import run_ramp
+
+from ._blas import single_thread
+from .hardwall import prepare as prepare_hard_wall
+from .solver import FeCell
+from .sparse import make_problem
+
+
+def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None, linear="auto",
+                    quadrature="nodal", *, checkpoint=None, resume=None):
+    """FE reference for one realization on the one load ramp (`contact.ramp.run_ramp`).
+
+    Same steps, same z_ind, same observables as GFMD; a `contact.result.Result` with
+    method "fe-p<order>" and diagnostics problem, setup_s, solutions (and wall_forces
+    for the hard wall). tolerance: max |R/W|/p_ref per step (default
+    min(scene.solver.tolerance, 1e-10)). linear: "dense" (Schur complement S, dense
+    LU), "sparse" (SuperLU on the full reduced system, `reference.fem.sparse`),
+    "sparse-lagged" (SuperLU reused as GMRES preconditioner) or "auto"
+    (`sparse.choose_linear`); quadrature: "nodal" (default) or "gauss" (dense path
+    only). A hard wall is solved by `reference.fem.hardwall` (a constraint, not a law).
+    Dense solves use single-threaded BLAS.
+    """
+    if scene.interface.law == "hard-wall":  # a constraint, not a law: primal–dual active set
+        if quadrature != "nodal":
+            raise ValueError(f"quadrature = {quadrature!r}: the hard wall is a nodal constraint, "
+                             "only quadrature='nodal' applies")
+        prepare = partial(prepare_hard_wall, order=order, mesh_kw=mesh_kw, tolerance=tolerance)
+    else:
+        prepare = partial(prepare_cohesive, order=order, mesh_kw=mesh_kw, tolerance=tolerance, linear=linear,
+                          quadrature=quadrature)
+    with single_thread():
+        return run_ramp(scene, realization, prepare, progress=progress, checkpoint=checkpoint, resume=resume)
+
+
+def prepare_cohesive(scene, h, realization=0, order=2, mesh_kw=None, tolerance=None, linear="auto",
+                     quadrature="nodal"):
+    """The FE cell of a cohesive `scene` with profile h (m): mesh, assembly, condensation."""
+    physics = build_model(scene, h)  # the same model choice and checks as every method
+    t0 = time.perf_counter()
+    prob = make_problem(linear, scene, h, order=order, mesh_kw=mesh_kw, quadrature=quadrature,
+                        tangential=physics.tangential)
+    setup = time.perf_counter() - t0
+    cell = prob.cell
+    law = ("coupled CZ (seed Eq. 2)" if prob.tangential else "normal-only CZ (seed Eq. 3), u_x free (t_x = 0)")
+    model = (f"FE P{order} plane strain, periodic cell L = {scene.surface.length:g} m, bonded layer "
+             f"D = {scene.material.thickness:g} m, {cell.basis.N} DOFs ({cell.mesh.t.shape[1]} triangles, graded), "
+             f"{law}, "
+             + (f"nodal (FacetBasis-weight) quadrature on {prob.ns} surface points" if quadrature == "nodal" else
+                f"Gauss–Legendre quadrature ({prob.gauss.x.size // cell.nodes} points per facet; "
+                f"outputs at the {prob.ns} surface points)")
+             + (", z_ind at facet midpoints from the Fourier interpolant of h" if order == 2 else "")
+             + f"; Newton on the condensed surface, {prob.linear_solver}")
+    reasons = ("FE mesh of the finite layer on its bonded base, periodic cell; the model choice and checks of "
+               "contact.model, as for every method",) + physics.reasons
+    return FeCell(scene=scene, prob=prob, physics=physics,
+                  tolerance=tolerance if tolerance is not None else min(scene.solver.tolerance, 1e-10),
+                  method=f"fe-p{order}", model=model, reasons=reasons,
+                  diagnostics={"problem": prob, "setup_s": setup, "fallback_steps": []})

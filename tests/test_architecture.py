@@ -1,0 +1,114 @@
+"""The layering holds: core (contact) ← methods (gfmd, reference.fem, reference.analytic) ← app (workbench).
+
+Read from the source with `ast` (every import, top-level or inside a function):
+the core imports no method and no app module; a method imports the core and
+itself only, never another method or the app; nothing below the app imports it;
+and no package has an import circle between its modules.
+"""
+
+import ast
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+LAYER = {"contact": "core", "gfmd": "gfmd", "reference.fem": "fem", "reference.analytic": "analytic",
+         "workbench": "app"}
+#: which groups each group may import (besides itself)
+ALLOWED = {"core": set(), "gfmd": {"core"}, "fem": {"core"}, "analytic": set(),
+           "app": {"core", "gfmd", "fem", "analytic"}}
+
+
+def group(module):
+    for prefix, name in sorted(LAYER.items(), key=lambda kv: -len(kv[0])):
+        if module == prefix or module.startswith(prefix + "."):
+            return name
+    return None
+
+
+def module_name(path):
+    rel = path.relative_to(ROOT).with_suffix("")
+    parts = rel.parts[:-1] if rel.name == "__init__" else rel.parts
+    return ".".join(parts)
+
+
+def imports(path):
+    """Absolute names of the project modules `path` imports (relative imports resolved)."""
+    name = module_name(path)
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            found.update(a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")[: len(package.split(".")) - node.level + 1]
+                mod = ".".join(base + ([node.module] if node.module else []))
+            else:
+                mod = node.module
+            found.add(mod)
+            found.update(f"{mod}.{a.name}" for a in node.names)  # `from pkg import module`
+    return {m for m in found if group(m) is not None}
+
+
+def sources():
+    for top in ("contact", "gfmd", "reference", "workbench"):
+        yield from sorted((ROOT / top).rglob("*.py"))
+
+
+def known_modules():
+    return {module_name(p) for p in sources()}
+
+
+def test_layers_import_downward_only():
+    wrong = []
+    for path in sources():
+        mine = group(module_name(path))
+        if mine is None or path.name == "__main__.py":  # `python -m gfmd` starts the app: an entry point
+            continue
+        for target in imports(path):
+            theirs = group(target)
+            if theirs != mine and theirs not in ALLOWED[mine]:
+                wrong.append(f"{module_name(path)} ({mine}) imports {target} ({theirs})")
+    assert not wrong, "\n".join(wrong)
+
+
+@pytest.mark.parametrize("package", ["contact", "gfmd", "reference.fem", "workbench"])
+def test_no_import_circles(package):
+    modules = known_modules()
+    graph = {}
+    for path in sources():
+        name = module_name(path)
+        if name.startswith(package) and path.name != "__init__.py":
+            graph[name] = {t for t in imports(path) if t in modules and t.startswith(package)
+                           and not (ROOT / Path(*t.split(".")) / "__init__.py").is_file()} - {name}
+    seen, stack = {}, []
+
+    def visit(node):
+        seen[node] = "active"
+        stack.append(node)
+        for nxt in sorted(graph.get(node, ())):
+            if seen.get(nxt) == "active":
+                raise AssertionError("import circle: " + " → ".join(stack[stack.index(nxt):] + [nxt]))
+            if nxt not in seen:
+                visit(nxt)
+        stack.pop()
+        seen[node] = "done"
+
+    for node in sorted(graph):
+        if node not in seen:
+            visit(node)
+    assert graph, f"no modules found for {package}"
+
+
+def test_the_check_sees_a_violation(tmp_path, monkeypatch):
+    """The import reader resolves relative and in-function imports (else the tests above prove nothing)."""
+    fake = ROOT / "contact" / "_probe_for_test.py"
+    fake.write_text("def f():\n    from gfmd import solver\n\nfrom .scene import Scene\n")
+    try:
+        found = imports(fake)
+        assert "gfmd.solver" in found and "contact.scene" in found
+        with pytest.raises(AssertionError, match="contact._probe_for_test"):
+            test_layers_import_downward_only()
+    finally:
+        fake.unlink()

@@ -1,0 +1,84 @@
+"""The one registry of methods: a scene's `method.name` → how one realization is run.
+
+Units: SI (see `contact.conventions`). Every caller that runs a method (the CLI,
+the ensembles, the verification harness, the benchmarks) goes through
+`run_realization(scene, realization)`; the scene says which method runs with which
+options (`[method]`, contact.scene.Method), so a run's scene.toml reproduces it.
+
+A `MethodSpec` has
+    run(scene, realization, progress=, checkpoint=, resume=)  → contact.result.Result
+    refuse(scene)     raises SceneError if the method cannot solve the scene, saying why
+    export(result, directory)   optional: method-specific files of a finished realization
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+from contact.laws import law_from_scene
+from contact.scene import METHOD_KEYS, SceneError
+
+
+@dataclass(frozen=True)
+class MethodSpec:
+    name: str
+    run: Callable
+    refuse: Callable
+    export: Callable | None = None
+
+
+def _run_gfmd(scene, realization=0, progress=None, checkpoint=None, resume=None):
+    from gfmd.loading import run_realization
+
+    return run_realization(scene, realization, progress=progress, checkpoint=checkpoint, resume=resume)
+
+
+def _refuse_nothing(scene):
+    return None
+
+
+def _run_fe(scene, realization=0, progress=None, checkpoint=None, resume=None):
+    from reference.fem import run_realization
+
+    m = scene.method
+    return run_realization(scene, realization, order=m.order, linear=m.linear, quadrature=m.quadrature,
+                           progress=progress, checkpoint=checkpoint, resume=resume)
+
+
+def _refuse_fe(scene):
+    """What the FE reference cannot mesh or solve, said before any work."""
+    if scene.material.half_plane:
+        raise SceneError("method.name = \"fe\": the FE reference models a finite layer only; material.thickness = "
+                         "\"inf\" (half-plane) cannot be meshed: give a finite material.thickness (e.g. 2L: the "
+                         "fundamental mode then matches the half-plane's compliance to ~1e-9)")
+    if scene.surface.nodes % 2:
+        raise SceneError(f"method.name = \"fe\": surface.nodes = {scene.surface.nodes}: the FE mesh needs an even "
+                         "number of surface nodes")
+    if scene.method.quadrature != "nodal" and law_from_scene(scene).constraint:
+        raise SceneError(f"method.quadrature = {scene.method.quadrature!r}: the hard wall is a nodal constraint, "
+                         "only \"nodal\" applies")
+
+
+def _export_fe(result, directory):
+    """VTU files of the saved steps and the fe.pvd series (reference.fem.export_vtu); [] if none saved."""
+    from reference.fem import export_vtu
+
+    return export_vtu(result, directory) if result.diagnostics.get("solutions") else []
+
+
+METHODS = {
+    "gfmd": MethodSpec("gfmd", _run_gfmd, _refuse_nothing),
+    "fe": MethodSpec("fe", _run_fe, _refuse_fe, _export_fe),
+}
+assert set(METHODS) == set(METHOD_KEYS), "the registry and the scene schema name the same methods"
+
+
+def method_of(scene):
+    """The `MethodSpec` of scene.method.name."""
+    return METHODS[scene.method.name]
+
+
+def run_realization(scene, realization=0, progress=None, checkpoint=None, resume=None):
+    """Run one realization of `scene` with the method its [method] section names; a Result."""
+    return method_of(scene).run(scene, realization, progress=progress, checkpoint=checkpoint, resume=resume)
