@@ -6,7 +6,7 @@ Full: N = 256, 1024, 2048, 4096 (about 15 min on 2 shared cores); --quick: N = 2
 1024 (about 1 min). Output: benchmarks/results/bench_fe_vs_gfmd[_quick].md and .json
 (with --sizes: a _N<sizes> suffix).
 
-Scene: the cohesive sinusoid of verification/test_fe_cohesive.py (a = 50 nm,
+Scene: the cohesive sinusoid `verification.scenes.cohesive_sinusoid` (a = 50 nm,
 L = 1 µm, layer D = L, E = 70 GPa, ν = 0.3, normal CZ φn* = 0.01, δn = 1 nm,
 δ0 = 2 nm) with the verification's increment ΔU = 62 nm / 20 = 3.1 nm, cut to
 S load steps (default 5: U = 0 … 15.5 nm). Steps 0 and 1 are not timed (no
@@ -56,7 +56,7 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-INCREMENT = 62e-9 / 20  # m, ΔU of verification/test_fe_cohesive.py
+INCREMENT = 62e-9 / 20  # m, ΔU of verification.scenes.cohesive_sinusoid
 FE_METHODS = (("fe-p2", "dense"), ("fe-p2", "sparse"), ("fe-p2", "sparse-lagged"), ("fe-p1", "dense"),
               ("fe-p1", "sparse"))
 GFMD_METHODS = (("gfmd-fire", "1e-10"), ("gfmd-fire", "1e-8"))
@@ -66,7 +66,7 @@ SIZES_QUICK = (256, 1024)
 
 def bench_scene(nodes, steps):
     """The verification scene with `steps` increments of INCREMENT."""
-    from verification.test_fe_cohesive import scene
+    from verification.scenes import cohesive_sinusoid as scene
 
     sc = scene(nodes)
     return sc.replace(**{"loading.steps": steps,
@@ -86,7 +86,7 @@ def run_one(nodes, method, variant, steps):
         from reference import fem
 
         result = fem.run_realization(sc, order=int(method[-1]), linear=variant)
-        prob = result.problem
+        prob = result.diagnostics["problem"]
         system = prob.reduced.shape[0] if hasattr(prob, "reduced") else prob.S.shape[0]
         dofs = prob.cell.basis.N
         extra = dict(getattr(prob, "stats", {}))
@@ -103,7 +103,7 @@ def run_one(nodes, method, variant, steps):
     return {"N": nodes, "method": method, "variant": variant, "dofs": int(dofs), "system": int(system),
             "setup_s": float(total - walls.sum()), "step_s": float(np.median(walls[2:])),
             "iterations": float(np.median(iterations[2:])), "steps_timed": int(walls[2:].size),
-            "converged": bool(result.all_converged), "fallback_steps": list(getattr(result, "fallback_steps", [])),
+            "converged": bool(result.all_converged), "fallback_steps": list(result.diagnostics.get("fallback_steps", [])),
             "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0, "total_s": total,
             "p_last": float(result.curve["p"][-1]), **extra}
 
@@ -121,14 +121,6 @@ def run_child(nodes, method, variant, steps, timeout):
         return {"N": nodes, "method": method, "variant": variant, "error": f"rc {out.returncode}: {tail[0][:120]}",
                 "total_s": time.perf_counter() - start}
     return json.loads(lines[-1])
-
-
-def git_describe():
-    try:
-        return subprocess.run(["git", "describe", "--always", "--dirty"], capture_output=True, text=True,
-                              cwd=ROOT, timeout=30).stdout.strip() or "unknown"
-    except (OSError, subprocess.SubprocessError):
-        return "unknown"
 
 
 def _sha1(path):
@@ -179,7 +171,9 @@ def main():
         print(json.dumps(run_one(int(args.one[0]), args.one[1], args.one[2], args.steps)), flush=True)
         return
     sizes = args.sizes or (SIZES_QUICK if args.quick else SIZES_FULL)
-    code = git_describe()  # before the runs: the version that is timed
+    from workbench.io import code_version
+
+    code = code_version()  # before the runs: the version that is timed
     load_start = os.getloadavg()
     started = time.perf_counter()
     rows = []
@@ -201,7 +195,7 @@ def main():
               f"loadavg_start = {' '.join(f'{x:.2f}' for x in load_start)}; "
               f"loadavg_end = {' '.join(f'{x:.2f}' for x in load_end)}; "
               f"total_s = {time.perf_counter() - started:.0f}\n\n"
-              f"Scene: verification/test_fe_cohesive.py (sinusoid, D = L, φn* = 0.01, ν = 0.3), "
+              f"Scene: verification.scenes.cohesive_sinusoid (D = L, φn* = 0.01, ν = 0.3), "
               f"{args.steps} steps of ΔU = {INCREMENT * 1e9:.2f} nm; s/step = median of the warm steps k ≥ 2; "
               f"FE tolerance 1e-10; FE/GFMD = FE s/step ÷ GFMD (FIRE, tolerance 1e-10) s/step at the same N. "
               f"system = Newton system size (dense: surface unknowns, matrix system²; sparse: reduced DOFs). "

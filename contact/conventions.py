@@ -61,6 +61,3 @@ Reference point of displacement
 * Layer on a rigid base: the q = 0 mode has its stiffness (M/D normal, μ/D
   tangential, reference-formulas §1.5) and δ is measured from the undeformed top.
 """
-
-#: ordering of the displacement / traction components when both are solved
-COMPONENTS = ("x", "z")

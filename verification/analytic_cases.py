@@ -1,20 +1,15 @@
-"""Scenes and measurements shared by the `verification/test_analytic_*.py` cases.
+"""Observables and study helpers shared by the `verification/test_analytic_*.py` cases.
 
-Units: SI (see `contact.conventions`). Every function here runs GFMD on one scene
-and reduces the saved fields to the observables that the analytic references
-(`reference.analytic`) predict. No tolerance lives here; each test module
-states its convergence study and the tolerance derived from it.
+Scenes: `verification.scenes.sinusoid` / `cylinder` (SI, `contact.conventions`). Every function
+here runs GFMD on one scene or reduces its saved fields to what the analytic references
+(`reference.analytic`) predict; no tolerance lives here.
 
-Observables (why these):
-* mean pressure p̄ = −⟨t_n⟩ and mean gap ḡ = ⟨Δn⟩ of the returned fields: on a
-  half-plane the mean displacement is clamped, so p̄(ḡ) (not p̄(δ)) is the clean
-  load–displacement relation.
-* hard-wall contact half-width: (number of nodes with compressive traction)·l/2;
-  it is quantised to the grid (error ≲ l).
-* cohesive contact half-width: (number of nodes with Δn ≤ δn)·l/2 (the
-  compressive region is much smaller than a JKR contact, reference-formulas §4.3).
-* Hertz half-width from the pressure's second moment, a = 2√(∫x²p/∫p), exact for
-  the elliptic pressure and free of the node-count quantisation.
+* mean pressure p̄ = −⟨t_n⟩ and mean gap ḡ = ⟨Δn⟩: on a half-plane the mean displacement is
+  clamped, so p̄(ḡ) (not p̄(δ)) is the clean load–displacement relation;
+* hard-wall half-width: (nodes with compressive traction)·l/2, quantised to the grid (error ≲ l);
+* cohesive half-width: (nodes with Δn ≤ threshold)·l/2;
+* Hertz half-width from the pressure's second moment, a = 2√(∫x²p/∫p): exact for the elliptic
+  pressure, free of the node-count quantisation.
 """
 
 from __future__ import annotations
@@ -23,40 +18,16 @@ import time
 
 import numpy as np
 
-from gfmd.loading import run_realization
-from contact.scene import default_scene
-from gfmd.solver import Settings
-
-TOL = 1e-10  # solver tolerance (× p_ref) used by every analytic case
-
-
-def _indenter_scene(kind, shape, nodes, length, law, steps, final, initial, extra):
-    d = {"surface.kind": kind, "surface.nodes": int(nodes), "surface.length": length, "surface.realizations": 1,
-         "interface.law": law, "loading.initial_separation": initial, "loading.final_penetration": final,
-         "loading.steps": steps, "solver.tolerance": TOL, "output.field_steps": steps, **shape}
-    d.update(extra)
-    return default_scene().replace(**d)
+from verification.metrics import fitted_order
+from verification.plots import convergence_plot
+from verification.runs import run_gfmd
+from verification.scenes import ANALYTIC_TOLERANCE
 
 
-def sinusoid_scene(nodes, amplitude, length, law="hard-wall", steps=6, final=1e-9, initial=0.0, **extra):
-    """Sinusoid h = −a cos(2πx/L) on the default half-plane (E = 70 GPa, ν = 0.45)."""
-    return _indenter_scene("sinusoid", {"surface.amplitude": amplitude}, nodes, length, law, steps, final, initial,
-                           extra)
-
-
-def cylinder_scene(nodes, radius, length, law="hard-wall", steps=4, final=1e-9, initial=0.0, **extra):
-    """Parabolic cylinder h = x²/(2R) centred in a periodic cell on the default half-plane."""
-    return _indenter_scene("cylinder", {"surface.radius": radius}, nodes, length, law, steps, final, initial, extra)
-
-
-def run(scene, tolerance=TOL):
-    """(Result, wall seconds) of one realization; raises if a step did not converge."""
-    t0 = time.perf_counter()
-    result = run_realization(scene, settings=Settings(tolerance=tolerance))
-    wall = time.perf_counter() - t0
-    if not result.all_converged:
-        raise AssertionError(f"GFMD did not converge: {result.messages}")
-    return result, wall
+def run(scene, tolerance=ANALYTIC_TOLERANCE):
+    """(Result, wall seconds) of one realization (FIRE at `tolerance`); raises if a step did not converge."""
+    from gfmd.solver import Settings
+    return run_gfmd(scene, settings=Settings(tolerance=tolerance))
 
 
 def step_fields(result, k):
@@ -82,12 +53,6 @@ def half_width_second_moment(x, p):
     return 2.0 * float(np.sqrt(np.sum(x**2 * p) / np.sum(p)))
 
 
-def order(h, error):
-    """Least-squares slope of log(error) vs log(h)."""
-    h, e = np.asarray(h, float), np.asarray(error, float)
-    return float(np.polyfit(np.log(h), np.log(e), 1)[0])
-
-
 def convergence_study(measure, levels, metrics):
     """Run `measure(level)` at every refinement level.
 
@@ -99,10 +64,34 @@ def convergence_study(measure, levels, metrics):
     return data, {m: np.array([d[0][m] for d in data]) for m in metrics}, wall
 
 
+def orders_in(levels, errors, sign=1):
+    """{metric: sign × least-squares slope of log error vs log level} (sign −1 for levels = N)."""
+    return {m: sign * fitted_order(levels, e) for m, e in errors.items()}
+
+
 def print_orders(tag, axis, levels, errors, orders):
     """One line per metric: refinement levels, errors and the fitted order (shown with `pytest -s`)."""
     for m, e in errors.items():
         print(f"{tag} {m}: {axis} {[f'{v:.3g}' for v in levels]} error {[f'{x:.2e}' for x in e]} order {orders[m]:.2f}")
+
+
+def record_n_study(record, *, case, methods, nodes, length, errors, orders, labels, bounds, min_order,
+                   tolerance_source, wall, plots, notes, resolution=None):
+    """Record and assert an N-refinement study: per metric the finest-N error against its bound, with a
+    convergence plot (error vs l = length/N) after `plots` (the metric-independent ones, e.g. a profile)."""
+    h = list(length / np.asarray(nodes, float))
+    records = []
+    for m in labels:
+        conv = convergence_plot(h, list(errors[m]), order=orders[m], xlabel="node spacing l (m)", ylabel=labels[m],
+                                title=f"{m}: error vs l (observed order {orders[m]:.2f})")
+        rec = record(case=case, metric=f"{labels[m]} at N = {nodes[-1]}", value=float(errors[m][-1]),
+                     tolerance=bounds[m], methods=methods, tolerance_source=tolerance_source,
+                     resolution={"N": int(nodes[-1]), "N_study": [int(n) for n in nodes], "order": orders[m],
+                                 "min_order": min_order[m], **(resolution or {})},
+                     wall_s=wall, plots=[plots[0], conv, *plots[1:]],
+                     notes=f"{notes}; observed order {orders[m]:.2f} (asserted ≥ {min_order[m]})")
+        records.append((m, rec))
+    assert_study(records, orders, min_order, errors)
 
 
 def assert_study(records, orders, min_order, errors):

@@ -1,4 +1,4 @@
-"""pytest glue for the verification harness: the `verification_record` fixture and the report.
+"""pytest glue for verification: the `verification_record` fixture and the report.
 
 Every measurement a verification test records goes to one session-wide list;
 at session end `reports/results.json` (machine-readable) and
@@ -7,7 +7,7 @@ at session end `reports/results.json` (machine-readable) and
 if a measurement was recorded or a test under `verification/` ran. A failure
 while writing prints a clear warning and never changes the session's outcome.
 
-Fixture (see `verification.harness.Measurement` for the fields):
+Fixture (see `verification.records.Measurement` for the fields):
 
     def test_x(verification_record):
         verification_record(case="…", metric="…", value=…, tolerance=…,
@@ -30,7 +30,8 @@ from pathlib import Path
 
 import pytest
 
-from verification import harness
+from verification.provenance import MEMORY_RSS, max_rss_bytes
+from verification.records import Measurement, write_results
 
 _VERIFICATION_DIR = Path(__file__).resolve().parent
 _RECORDS_KEY = pytest.StashKey[list]()
@@ -106,22 +107,21 @@ def verification_record(request):
     """Callable that records one measurement (see module docstring); returns the Measurement."""
     records = request.config.stash[_RECORDS_KEY]
     t0 = time.perf_counter()
-    rss0 = harness.max_rss_bytes()
+    rss0 = max_rss_bytes()
 
     def record(*, case, metric, value, tolerance=None, methods=(), tolerance_source="", resolution=None,
                wall_s=None, passed=None, plots=None, peak_memory_bytes=None, memory_method=None, notes="",
                scene=""):
         if peak_memory_bytes is None:
-            peak_memory_bytes = max(0, harness.max_rss_bytes() - rss0)
-            memory_method = memory_method or harness.MEMORY_RSS + ", since test start"
+            peak_memory_bytes = max(0, max_rss_bytes() - rss0)
+            memory_method = memory_method or MEMORY_RSS + ", since test start"
         if wall_s is None:
             wall_s = time.perf_counter() - t0
-        rec = harness.Measurement(case=case, metric=metric, value=value, tolerance=tolerance,
-                                  tolerance_source=tolerance_source, methods=methods,
-                                  resolution=resolution or {}, wall_s=wall_s,
-                                  peak_memory_bytes=peak_memory_bytes, memory_method=memory_method or "",
-                                  passed=passed, plots=plots or [], notes=notes, test=request.node.nodeid,
-                                  scene=scene if scene is not None else "")
+        rec = Measurement(case=case, metric=metric, value=value, tolerance=tolerance,
+                          tolerance_source=tolerance_source, methods=methods, resolution=resolution or {},
+                          wall_s=wall_s, peak_memory_bytes=peak_memory_bytes, memory_method=memory_method or "",
+                          passed=passed, plots=plots or [], notes=notes, test=request.node.nodeid,
+                          scene=scene if scene is not None else "")
         records.append(rec)
         return rec
 
@@ -176,7 +176,7 @@ def pytest_sessionfinish(session, exitstatus):
             "args": list(config.invocation_params.args),
         }
         out = _report_dir(config)
-        harness.write_results(out / "results.json", records, session_info)
+        write_results(out / "results.json", records, session_info)
         report.write_report(out / "index.html", records, session_info)
         config.stash[_STATE_KEY]["written"] = out
     except Exception as exc:  # noqa: BLE001 - never crash the session for the report, but say so loudly

@@ -14,7 +14,7 @@ JavaScript. Layout:
 4. one section per case: each distinct scene (TOML, folded), its records (resolution, tolerance source, cost,
    notes), provenance and plots.
 
-Plot dicts (built by the helpers in `verification.harness`):
+Plot dicts (built by the helpers in `verification.plots`):
 
 * {"kind": "profile", "x", "series": {label: y}, "xlabel", "ylabel", "title"}:
   fields overlaid; with exactly two series a difference panel (second − first).
@@ -44,7 +44,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import harness
+from .metrics import fitted_order
+from .provenance import provenance as current_provenance
+from .records import Measurement, load_results
 
 CSS = """
 :root { --ok: #1a7f37; --ok-bg: #dafbe1; --fail: #b42318; --fail-bg: #ffe4e0; --warn: #9a6700;
@@ -196,7 +198,7 @@ def svg_lines(plot):
 def svg_convergence(plot):
     h, e = _arr(plot["h"]), _arr(plot["error"])
     order = plot.get("order")
-    order = harness.fitted_order(h, e) if order is None else float(order)
+    order = fitted_order(h, e) if order is None else float(order)
     fig, ax = _subplots(figsize=(6.2, 4.2))
     ok = np.isfinite(h) & np.isfinite(e) & (h > 0) & (e > 0)
     ax.loglog(h[ok], e[ok], "o-", lw=1.5, label="measured")
@@ -345,9 +347,9 @@ def summary_rows(recs):
 
 def render_html(records, session=None, provenance=None):
     """The whole page as a string."""
-    records = [r if isinstance(r, harness.Measurement) else harness.Measurement.from_dict(r) for r in records]
+    records = [r if isinstance(r, Measurement) else Measurement.from_dict(r) for r in records]
     session = session or {}
-    prov = provenance or harness.provenance()
+    prov = provenance or current_provenance()
     cases = OrderedDict()
     for r in records:
         cases.setdefault(r.case, []).append(r)
@@ -465,7 +467,7 @@ def main(argv=None):
     if not argv:
         print("usage: python -m verification.report results.json [index.html]", file=sys.stderr)
         return 2
-    doc, records = harness.load_results(argv[0])
+    doc, records = load_results(argv[0])
     out = argv[1] if len(argv) > 1 else str(Path(argv[0]).with_name("index.html"))
     write_report(out, records, doc.get("session"), doc.get("provenance"))
     print(out)

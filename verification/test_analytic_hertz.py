@@ -36,7 +36,9 @@ import pytest
 
 from reference.analytic import hertz as H
 from verification import analytic_cases as ac
-from verification import harness
+from verification.metrics import relative_l2
+from verification.plots import profile_plot, table_plot
+from verification.scenes import cylinder
 
 RADIUS = 1e-6
 LENGTH = 1e-6
@@ -52,7 +54,7 @@ LABELS = {"a(F)": "max |a − a_Hertz(F)| / a_Hertz", "p(x)": "max rel. L2 of p(
 
 
 def measure(nodes):
-    scene = ac.cylinder_scene(nodes, RADIUS, LENGTH, steps=STEPS, final=FINAL)
+    scene = cylinder(nodes, RADIUS, LENGTH, steps=STEPS, final=FINAL)
     result, wall = ac.run(scene)
     e_star = scene.material.contact_modulus
     rows, errs = [], {"a(F)": [], "p(x)": []}
@@ -63,7 +65,7 @@ def measure(nodes):
         a = ac.half_width_second_moment(x, p)
         ph = H.pressure(x, load, RADIUS, e_star)
         inside = ph > 0
-        e_a, e_p = abs(a - a_h) / a_h, harness.relative_l2(ph[inside], p[inside])
+        e_a, e_p = abs(a - a_h) / a_h, relative_l2(ph[inside], p[inside])
         errs["a(F)"].append(e_a)
         errs["p(x)"].append(e_p)
         rows.append([k, load, a_h / LENGTH, a / LENGTH, a_h / (LENGTH / nodes), e_a, e_p])
@@ -77,29 +79,17 @@ def measure(nodes):
 
 def _study(nodes, verification_record, bound_finest, tag):
     data, errors, wall = ac.convergence_study(measure, nodes, MIN_ORDER)
-    orders = {m: -ac.order(nodes, errors[m]) for m in MIN_ORDER}
+    orders = ac.orders_in(nodes, errors, sign=-1)
     ac.print_orders(tag, "N", nodes, errors, orders)
     rows, fields = data[-1][1], data[-1][2]
-    h = list(LENGTH / np.asarray(nodes, float))
-    records = []
-    for m in MIN_ORDER:
-        plots = [
-            harness.profile_plot(fields["x"], {"GFMD": fields["p"], "Hertz": fields["ph"]}, xlabel="x / a_Hertz",
-                                 ylabel="p / p0", title=f"pressure at the last load, N = {nodes[-1]}"),
-            harness.convergence_plot(h, list(errors[m]), order=orders[m], xlabel="node spacing l (m)",
-                                     ylabel=LABELS[m], title=f"{m}: error vs l (observed order {orders[m]:.2f})"),
-            harness.table_plot(["step", "F (N/m)", "a_H/L", "a_GFMD/L", "a_H/l", "err a", "err p L2"], rows,
-                               title=f"per load, N = {nodes[-1]}"),
-        ]
-        rec = verification_record(
-            case=CASE, metric=f"{LABELS[m]} at N = {nodes[-1]}", value=float(errors[m][-1]),
-            tolerance=bound_finest[m], methods=METHODS, tolerance_source=TOL_SOURCE,
-            resolution={"N": int(nodes[-1]), "N_study": [int(n) for n in nodes], "order": orders[m],
-                        "min_order": MIN_ORDER[m], "L/a": 200},
-            wall_s=wall, plots=plots,
-            notes=f"R = L = 1 µm, a ≤ L/200, 4 loads; observed order {orders[m]:.2f} (asserted ≥ {MIN_ORDER[m]})")
-        records.append((m, rec))
-    ac.assert_study(records, orders, MIN_ORDER, errors)
+    plots = [profile_plot(fields["x"], {"GFMD": fields["p"], "Hertz": fields["ph"]}, xlabel="x / a_Hertz",
+                          ylabel="p / p0", title=f"pressure at the last load, N = {nodes[-1]}"),
+             table_plot(["step", "F (N/m)", "a_H/L", "a_GFMD/L", "a_H/l", "err a", "err p L2"], rows,
+                        title=f"per load, N = {nodes[-1]}")]
+    ac.record_n_study(verification_record, case=CASE, methods=METHODS, nodes=nodes, length=LENGTH, errors=errors,
+                      orders=orders, labels=LABELS, bounds=bound_finest, min_order=MIN_ORDER,
+                      tolerance_source=TOL_SOURCE, wall=wall, plots=plots, resolution={"L/a": 200},
+                      notes="R = L = 1 µm, a ≤ L/200, 4 loads")
 
 
 def test_hertz_convergence(verification_record):

@@ -44,7 +44,8 @@ import pytest
 from reference.analytic import jkr_sinusoid as J
 from reference.analytic import westergaard as W
 from verification import analytic_cases as ac
-from verification import harness
+from verification.plots import convergence_plot, curve_plot, table_plot
+from verification.scenes import sinusoid
 
 H0 = 10e-9
 LENGTH = 1e-6
@@ -61,7 +62,7 @@ LABELS = {"p̄(a)": "max |p̄ − p̄_Johnson(a)| / p*", "ḡ(a)": "max |ḡ −
 
 
 def _e_star():
-    return ac.sinusoid_scene(64, H0, LENGTH).material.contact_modulus
+    return sinusoid(64, H0, LENGTH).material.contact_modulus
 
 
 def work():
@@ -75,7 +76,7 @@ def delta_n(d_rel):
 
 def measure(nodes, d_rel):
     w, dn, e_star = work(), delta_n(d_rel), _e_star()
-    scene = ac.sinusoid_scene(nodes, H0, LENGTH, law="cohesive", steps=STEPS, final=FINAL,
+    scene = sinusoid(nodes, H0, LENGTH, law="cohesive", steps=STEPS, final=FINAL,
                               **{"interface.work_normal": w, "interface.length_normal": dn})
     result, wall = ac.run(scene)
     ps = W.full_contact_pressure(H0, LENGTH, e_star)
@@ -93,7 +94,7 @@ def measure(nodes, d_rel):
 def _study(nodes, verification_record, bound, tag):
     data, errors, wall = ac.convergence_study(lambda d: measure(nodes, d), D_REL, MIN_RATE)
     dns = np.array([d[3] for d in data])
-    rates = {m: ac.order(dns, errors[m]) for m in MIN_RATE}
+    rates = ac.orders_in(dns, errors)
     ac.print_orders(tag, "δn", dns, errors, rates)
     e_star, w = _e_star(), work()
     a_fine = np.linspace(0.1, 0.3, 81)
@@ -103,14 +104,14 @@ def _study(nodes, verification_record, bound, tag):
     for m in MIN_RATE:
         series = {f"GFMD d/λ = {d}": data[i][2] for i, d in enumerate(D_REL)}
         plots = [
-            harness.curve_plot(list(a_fine), {"Johnson (1995)": pj_curve}, xlabel="a / λ", ylabel="p̄ / p*",
-                               title="Johnson's p̄(a) (loading branch); GFMD points in the table"),
-            harness.table_plot(["d/λ", "a/λ", "p̄/p* GFMD"], [[d, a, p] for d, c in zip(D_REL, [s for s in series.values()])
-                                                           for a, p in c], title=f"GFMD p̄(a), N = {nodes}"),
-            harness.convergence_plot(list(dns), list(errors[m]), order=rates[m], xlabel="δn (m) at fixed w",
-                                     ylabel=LABELS[m], title=f"{m}: error vs δn (rate {rates[m]:.2f})"),
-            harness.table_plot(["step", "a/λ", "p̄/p* GFMD", "p̄/p* Johnson", "ḡ/h0 GFMD", "ḡ/h0 Johnson",
-                                "err p̄", "err ḡ"], data[-1][1], title=f"per load, smallest δn, N = {nodes}"),
+            curve_plot(list(a_fine), {"Johnson (1995)": pj_curve}, xlabel="a / λ", ylabel="p̄ / p*",
+                       title="Johnson's p̄(a) (loading branch); GFMD points in the table"),
+            table_plot(["d/λ", "a/λ", "p̄/p* GFMD"], [[d, a, p] for d, c in zip(D_REL, series.values()) for a, p in c],
+                       title=f"GFMD p̄(a), N = {nodes}"),
+            convergence_plot(list(dns), list(errors[m]), order=rates[m], xlabel="δn (m) at fixed w",
+                             ylabel=LABELS[m], title=f"{m}: error vs δn (rate {rates[m]:.2f})"),
+            table_plot(["step", "a/λ", "p̄/p* GFMD", "p̄/p* Johnson", "ḡ/h0 GFMD", "ḡ/h0 Johnson",
+                        "err p̄", "err ḡ"], data[-1][1], title=f"per load, smallest δn, N = {nodes}"),
         ]
         rec = verification_record(
             case=CASE, metric=f"{LABELS[m]} at d/λ = {D_REL[-1]}", value=float(errors[m][-1]), tolerance=bound[m],

@@ -42,7 +42,8 @@ from scipy.optimize import brentq
 from reference.analytic import jkr_cylinder as JC
 from reference.analytic import maugis_dugdale as MD
 from verification import analytic_cases as ac
-from verification import harness
+from verification.plots import convergence_plot, curve_plot, table_plot
+from verification.scenes import cylinder
 
 RADIUS = 1e-6
 LENGTH = 1e-6
@@ -58,14 +59,14 @@ BANDS = {3.0: (-0.03, 0.03), 1.0: (-0.25, 0.02)}
 
 
 def _e_star():
-    return ac.cylinder_scene(64, RADIUS, LENGTH).material.contact_modulus
+    return cylinder(64, RADIUS, LENGTH).material.contact_modulus
 
 
 def measure(nodes, lam):
     e_star = _e_star()
     dn = 1e-9 * MD.maugis_parameter_from_cohesive_law(WORK, 1e-9, RADIUS, e_star) / lam  # λ ∝ 1/δn
     w, s0 = MD.dugdale_from_cohesive_law(WORK, dn)
-    scene = ac.cylinder_scene(nodes, RADIUS, LENGTH, law="cohesive", steps=STEPS, final=FINAL,
+    scene = cylinder(nodes, RADIUS, LENGTH, law="cohesive", steps=STEPS, final=FINAL,
                               **{"interface.work_normal": WORK, "interface.length_normal": dn})
     result, wall = ac.run(scene)
     ell, f_u, _ = MD.units(RADIUS, e_star, w)
@@ -92,13 +93,13 @@ def _case(lam, nodes_list, verification_record):
     lo, hi = BANDS[lam]
     h = list(LENGTH / np.asarray(nodes_list, float))
     plots = [
-        harness.curve_plot([r[1] for r in rows], {"GFMD": [r[3] for r in rows], "Maugis–Dugdale": [r[4] for r in rows]},
-                           xlabel="a_MD / ℓ (from the cohesive edge c)", ylabel="F / F_u",
-                           title=f"loading branch, λ = {lam}, N = {nodes_list[-1]}", difference=True),
-        harness.convergence_plot(h, [abs(e) for e in errors], xlabel="node spacing l (m)",
-                                 ylabel="max |F − F_MD| / F_u", title=f"λ = {lam}: error vs l (saturates: law shape)"),
-        harness.table_plot(["step", "a/ℓ", "c/ℓ", "F/F_u GFMD", "F/F_u MD", "(F − F_MD)/F_u", "(F − F_JKR)/F_u"],
-                           rows, title=f"per load, λ = {lam}, N = {nodes_list[-1]}"),
+        curve_plot([r[1] for r in rows], {"GFMD": [r[3] for r in rows], "Maugis–Dugdale": [r[4] for r in rows]},
+                   xlabel="a_MD / ℓ (from the cohesive edge c)", ylabel="F / F_u",
+                   title=f"loading branch, λ = {lam}, N = {nodes_list[-1]}", difference=True),
+        convergence_plot(h, [abs(e) for e in errors], xlabel="node spacing l (m)",
+                         ylabel="max |F − F_MD| / F_u", title=f"λ = {lam}: error vs l (saturates: law shape)"),
+        table_plot(["step", "a/ℓ", "c/ℓ", "F/F_u GFMD", "F/F_u MD", "(F − F_MD)/F_u", "(F − F_JKR)/F_u"],
+                   rows, title=f"per load, λ = {lam}, N = {nodes_list[-1]}"),
     ]
     rec = verification_record(
         case=f"{CASE}/lambda-{lam:g}", metric="worst signed (F − F_MD(a))/F_u over the loads",

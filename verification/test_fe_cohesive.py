@@ -1,9 +1,7 @@
 """GFMD (finite bonded layer) vs the FE cell on the adhesive sinusoid, normal CZ law (issue #4 (b)).
 
-Scene: h = −a cos(2πx/L), a = 50 nm, L = 1 µm, layer D = L bonded to a rigid base,
-E = 70 GPa, ν = 0.3, normal-only CZ (c = 0), φn* = 0.01, δn = 1 nm,
-δ0 = 2 nm, δ from −2 nm to 60 nm in 20 steps (a_rel from 0.17 to 0.46).
-GFMD: `gfmd.loading.run_realization` (FIRE, tolerance 1e-8); FE: `reference.fem`
+Scene: `verification.scenes.cohesive_sinusoid` (a = 50 nm, L = D = 1 µm, ν = 0.3, φn* = 0.01, δn = 1 nm,
+δ from −2 nm to 60 nm in 20 steps). GFMD: `gfmd.loading.run_realization` (FIRE, tolerance 1e-8); FE: `reference.fem`
 P2 (Newton, tolerance 1e-10). Same nodes, same z_ind, observables from
 `contact.observables.step_observables`.
 
@@ -34,8 +32,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from contact.scene import Scene
-from verification import harness
+from verification.plots import convergence_plot, curve_plot, profile_plot
+from verification.runs import fe_vs_gfmd
+from verification.scenes import cohesive_sinusoid
 
 METHODS = ("gfmd-fire", "fe-p2")
 CASE = "fe/cohesive-sinusoid-phi0.01"
@@ -43,44 +42,27 @@ SOURCE = ("GFMD–FE study in verification/test_fe_cohesive.py docstring: t_n 3.
           "order ≈ 2.5–2.8; bound = (2.5× t_n, 6× p at N = 64) × (64/N)²")
 
 
-def scene(n):
-    return Scene().replace(**{
-        "surface.kind": "sinusoid", "surface.realizations": 1, "surface.nodes": n, "surface.length": 1e-6,
-        "surface.amplitude": 50e-9, "material.youngs_modulus": 70e9, "material.poisson_ratio": 0.3,
-        "material.thickness": 1e-6, "interface.law": "cohesive", "interface.phi_n_star": 0.01,
-        "interface.length_normal": 1e-9, "interface.tangential_ratio": 0.0, "loading.initial_separation": 2e-9,
-        "loading.final_penetration": 60e-9, "loading.steps": 20, "output.field_steps": 5})
-
-
 _CACHE = {}
 
 
 def compare(n):
-    if n in _CACHE:
-        return _CACHE[n]
-    rf, rg, fe_s, gfmd_s = harness.run_fe_and_gfmd(scene(n))
-    assert rf.all_converged and rg.all_converged, (rf.messages, rg.messages)
-    tn = harness.field_difference(rf, rg, "t_n")
-    p = harness.curve_difference(rf, rg, "p")
-    a = np.max(np.abs(rf.curve["a_rel"] - rg.curve["a_rel"]))
-    out = dict(tn=tn, p=p, a=a, rf=rf, rg=rg, fe_s=fe_s, gfmd_s=gfmd_s,
-               fe_step=float(np.mean(rf.curve["wall_s"])), gfmd_step=float(np.mean(rg.curve["wall_s"])))
-    print(f"\nN={n}: t_n L2 {tn:.3g}  p {p:.3g}  a_rel {a:.3g}  FE {fe_s:.1f} s ({out['fe_step']:.3f} s/step)"
-          f"  GFMD {gfmd_s:.1f} s ({out['gfmd_step']:.3f} s/step)")
-    _CACHE[n] = out
-    return out
+    if n not in _CACHE:
+        out = _CACHE[n] = fe_vs_gfmd(cohesive_sinusoid(n))
+        print(f"\nN={n}: t_n L2 {out['tn']:.3g}  p {out['p']:.3g}  a_rel {out['a']:.3g}  FE {out['fe_s']:.1f} s "
+              f"({out['fe_step']:.3f} s/step)  GFMD {out['gfmd_s']:.1f} s ({out['gfmd_step']:.3f} s/step)")
+    return _CACHE[n]
 
 
 def _record(rec, n, out):
     rf, rg = out["rf"], out["rg"]
     k = max(rf.fields)
     res = {"N": n, "D/L": 1, "elements": "P2"}
-    plots = [{"kind": "profile", "x": rf.x, "series": {"GFMD": rg.fields[k]["t_n"], "FE": rf.fields[k]["t_n"]},
-              "xlabel": "x (m)", "ylabel": "t_n (Pa)", "title": f"t_n at the last step, N = {n}"},
-             {"kind": "curve", "x": rf.curve["delta"], "series": {"GFMD": rg.curve["p"], "FE": rf.curve["p"]},
-              "xlabel": "δ (m)", "ylabel": "p (Pa)", "title": f"p(δ), N = {n}"},
-             {"kind": "curve", "x": rf.curve["delta"], "series": {"GFMD": rg.curve["a_rel"], "FE": rf.curve["a_rel"]},
-              "xlabel": "δ (m)", "ylabel": "a_rel", "title": f"a_rel(δ), N = {n}"}]
+    plots = [profile_plot(rf.x, {"GFMD": rg.fields[k]["t_n"], "FE": rf.fields[k]["t_n"]}, xlabel="x (m)",
+                          ylabel="t_n (Pa)", title=f"t_n at the last step, N = {n}"),
+             curve_plot(rf.curve["delta"], {"GFMD": rg.curve["p"], "FE": rf.curve["p"]}, xlabel="δ (m)",
+                        ylabel="p (Pa)", title=f"p(δ), N = {n}"),
+             curve_plot(rf.curve["delta"], {"GFMD": rg.curve["a_rel"], "FE": rf.curve["a_rel"]}, xlabel="δ (m)",
+                        ylabel="a_rel", title=f"a_rel(δ), N = {n}")]
     scale = (64 / n) ** 2
     rec(case=CASE, metric="t_n relative L2 (max over field steps)", value=out["tn"], tolerance=1e-2 * scale,
         methods=METHODS, tolerance_source=SOURCE, resolution=res, wall_s=out["fe_s"] + out["gfmd_s"], plots=plots,
@@ -110,6 +92,6 @@ def test_fe_cohesive_sinusoid_convergence(verification_record):
                         tolerance=None, passed=bool(order > 1.5), methods=METHODS,
                         tolerance_source="order ≈ 2.5–2.7 measured (docstring); must exceed 1.5",
                         resolution={"N": ns},
-                        plots=[{"kind": "convergence", "h": h, "error": errs, "order": order,
-                                "xlabel": "l = L/N (m)", "ylabel": "t_n rel. L2 GFMD–FE"}])
+                        plots=[convergence_plot(h, errs, order=order, xlabel="l = L/N (m)",
+                                                ylabel="t_n rel. L2 GFMD–FE")])
     assert order > 1.5

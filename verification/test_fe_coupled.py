@@ -1,10 +1,10 @@
 """GFMD (finite bonded layer) vs the FE cell on the adhesive sinusoid, COUPLED CZ law (issue #4, case 3).
 
-Scene: the normal-law case's (verification/test_fe_cohesive.py: h = −a cos(2πx/L), a = 50 nm,
-L = 1 µm, layer D = L on a rigid base, E = 70 GPa, φn* = 0.01, δn = δt = 1 nm, δ0 = 2 nm) with
-the coupled law of seed Eq. 2, c = φt*/φn* = 0.5, ν ∈ {0.1, 0.3, 0.45, 0.49}, δ from −2 nm to
-18 nm in 10 steps (a_rel ≈ 0.17–0.30). GFMD: `gfmd.loading.run_realization` (FIRE, tolerance 1e-8;
-u_x and u_z solved); FE: `reference.fem` P2 (Newton, tolerance 1e-10). Same nodes, same z_ind.
+Scene: `verification.scenes.coupled_sinusoid` (the normal-law case's sinusoid, a = 50 nm,
+L = D = 1 µm, φn* = 0.01, δn = δt = 1 nm, δ0 = 2 nm, with the coupled law of seed Eq. 2,
+c = φt*/φn* = 0.5), ν ∈ {0.1, 0.3, 0.45, 0.49}, δ from −2 nm to 18 nm in 10 steps (a_rel ≈ 0.17–0.30).
+GFMD: `gfmd.loading.run_realization` (FIRE, tolerance 1e-8; u_x and u_z solved); FE: `reference.fem` P2
+(Newton, tolerance 1e-10). Same nodes, same z_ind.
 
 Metrics (max over the recorded field steps 2, 4, …, 10, resp. over all steps):
 * t_n(x), t_t(x): ‖t^FE − t^GFMD‖₂ / ‖t^GFMD‖₂ (also max |Δt| / (φn/δn), informational)
@@ -81,39 +81,30 @@ import numpy as np
 import pytest
 
 from gfmd.solver import COUPLED_FIRE_BUDGET
-from verification import harness
-from verification.harness import convergence_plot, curve_plot, profile_plot
-from verification.test_fe_cohesive import scene as normal_scene
+from verification.metrics import field_difference
+from verification.plots import convergence_plot, curve_plot, profile_plot
+from verification.runs import fe_vs_gfmd, run_fe_and_gfmd
+from verification.scenes import COUPLED_TANGENTIAL_RATIO as TANGENTIAL_RATIO
+from verification.scenes import coupled_sinusoid
 
 METHODS = ("gfmd-fire", "fe-p2")
-TANGENTIAL_RATIO = 0.5
-FINAL_PENETRATION = 18e-9  # m; see the docstring for why not deeper
 RATIOS = (0.1, 0.3, 0.45, 0.49)  # Poisson ratios; N = 64, 128 of all four run in CI (~1–2 s each)
-
-
-def scene(n, nu):
-    """The normal-law FE case's scene (a = 50 nm, L = D = 1 µm, E = 70 GPa, φn* = 0.01, δn = δt = 1 nm,
-    δ0 = 2 nm) with c = φt*/φn* = 0.5, Poisson ratio nu, δ up to 18 nm in 10 steps of 2 nm."""
-    return normal_scene(n).replace(**{
-        "interface.tangential_ratio": TANGENTIAL_RATIO, "material.poisson_ratio": nu,
-        "loading.final_penetration": FINAL_PENETRATION, "loading.steps": 10, "output.field_steps": 5})
-
-
 _CACHE = {}
 
 
 def _field_differences(rf, rg, name, scale):
     """(max over field steps of the relative L2 difference, of max |diff| / scale) of field `name`."""
     peak = max(np.max(np.abs(rf.fields[k][name] - rg.fields[k][name])) for k in rf.fields) / scale
-    return harness.field_difference(rf, rg, name), float(peak)
+    return field_difference(rf, rg, name), float(peak)
 
 
 def compare(n, nu):
-    """Run FE P2 and GFMD on scene(n, nu); differences (dimensionless) and times (s), cached."""
+    """Run FE P2 and GFMD on coupled_sinusoid(n, nu); differences (dimensionless) and times (s), cached."""
     if (n, nu) in _CACHE:
         return _CACHE[(n, nu)]
-    sc = scene(n, nu)
-    rf, rg, fe_s, gfmd_s = harness.run_fe_and_gfmd(sc)
+    sc = coupled_sinusoid(n, nu)
+    out = fe_vs_gfmd(sc, check=False)
+    rf, rg = out["rf"], out["rg"]
     assert rf.all_converged, f"FE N={n} ν={nu}: {rf.messages}"
     assert rg.all_converged, f"GFMD N={n} ν={nu}: {rg.messages}"
     for r in (rf, rg):  # the verified range stays below contact.loading.SLIP_LIMIT
@@ -121,16 +112,13 @@ def compare(n, nu):
     traction_scale = sc.work_normal / sc.interface.length_normal  # φn/δn (Pa)
     tn, tn_max = _field_differences(rf, rg, "t_n", traction_scale)
     tt, tt_max = _field_differences(rf, rg, "t_t", traction_scale)
-    p = harness.curve_difference(rf, rg, "p")
-    a = float(np.max(np.abs(rf.curve["a_rel"] - rg.curve["a_rel"])))
     last = max(rg.fields)
     tt_over_tn = float(np.max(np.abs(rg.fields[last]["t_t"])) / np.max(np.abs(rg.fields[last]["t_n"])))
-    out = dict(tn=tn, tn_max=tn_max, tt=tt, tt_max=tt_max, p=p, a=a, tt_over_tn=tt_over_tn, rf=rf, rg=rg,
-               fe_s=fe_s, gfmd_s=gfmd_s, fe_step=float(np.mean(rf.curve["wall_s"])),
-               gfmd_step=float(np.mean(rg.curve["wall_s"])), gfmd_iterations=int(np.max(rg.curve["iterations"])),
-               fe_fallbacks=len(rf.fallback_steps))
+    out.update(tn_max=tn_max, tt=tt, tt_max=tt_max, tt_over_tn=tt_over_tn,
+               gfmd_iterations=int(np.max(rg.curve["iterations"])),
+               fe_fallbacks=len(rf.diagnostics["fallback_steps"]))
     print(f"\nN={n} ν={nu}: t_n L2 {tn:.3g} (max {tn_max:.3g} φn/δn)  t_t L2 {tt:.3g} (max {tt_max:.3g} φn/δn)  "
-          f"p {p:.3g}  a_rel {a:.3g}  max|t_t|/max|t_n| {tt_over_tn:.3g}  FE {out['fe_step']:.3f} s/step "
+          f"p {out['p']:.3g}  a_rel {out['a']:.3g}  max|t_t|/max|t_n| {tt_over_tn:.3g}  FE {out['fe_step']:.3f} s/step "
           f"({out['fe_fallbacks']} fallback steps)  GFMD {out['gfmd_step']:.3f} s/step "
           f"(≤ {out['gfmd_iterations']} iterations)")
     _CACHE[(n, nu)] = out
@@ -233,8 +221,9 @@ def test_gfmd_coupled_slip_regime(verification_record):
     The differences there (t_n 9.5e-3, t_t 2.0e-2 at 40 nm when measured) are recorded, not asserted:
     the law's exponential sensitivity, not discretisation, sets them."""
     n, nu = 128, 0.3
-    sc = scene(n, nu).replace(**{"loading.final_penetration": 40e-9, "loading.steps": 20, "output.field_steps": 1})
-    rf, rg, _, _ = harness.run_fe_and_gfmd(sc)
+    sc = coupled_sinusoid(n, nu).replace(**{"loading.final_penetration": 40e-9, "loading.steps": 20,
+                                            "output.field_steps": 1})
+    rf, rg, _, _ = run_fe_and_gfmd(sc)
     assert rf.all_converged, f"FE in the slip regime: {rf.messages}"
     assert rg.all_converged, f"GFMD in the slip regime: {rg.messages}"
     fallback = [k for k, it in enumerate(rg.curve["iterations"]) if it > COUPLED_FIRE_BUDGET]
@@ -242,7 +231,7 @@ def test_gfmd_coupled_slip_regime(verification_record):
     for r in (rf, rg):  # both methods say that the run left the verified range (contact.loading.SLIP_LIMIT)
         assert any("slip regime" in w for w in r.reasons), (r.method, r.reasons)
     k = max(rf.fields)
-    tn, tt = (harness.relative_l2(rf.fields[k][f], rg.fields[k][f], rg.fields[k][f]) for f in ("t_n", "t_t"))
+    tn, tt = (field_difference(rf, rg, f, steps=[k]) for f in ("t_n", "t_t"))
     slip = float(np.max(np.abs(rg.fields[k]["u_x"])) / sc.interface.length_tangential)
     print(f"\nslip regime δ = 40 nm: t_n L2 {tn:.3g}, t_t L2 {tt:.3g}, max|Δt|/δt {slip:.3g}, "
           f"min Δn {np.min(rg.fields[k]['gap']):.3g} m, Verlet fallback at steps {fallback}")

@@ -1,6 +1,6 @@
 """FE boundary quadrature: nodal (lumped, default) vs Gauss–Legendre vs GFMD (issue #4).
 
-Scene: the cohesive sinusoid of verification/test_fe_cohesive.py (a = 50 nm,
+Scene: `verification.scenes.cohesive_sinusoid` with every step's fields kept (a = 50 nm,
 L = D = 1 µm, E = 70 GPa, ν = 0.3, normal CZ, φn* = 0.01, δn = 1 nm, δ0 = 2 nm,
 δ from −2 nm to 60 nm in 20 steps). FE P2, `reference.fem.run_realization`
 with quadrature="nodal" (f_i = W_i T(Δ_i), Simpson weights) and "gauss"
@@ -64,8 +64,9 @@ import pytest
 import gfmd.loading as gl
 from contact.loading import field_step_indices
 from reference import fem
-from verification import harness
-from verification.test_fe_cohesive import scene as cohesive_scene
+from verification.metrics import field_difference
+from verification.plots import convergence_plot, curve_plot, profile_plot
+from verification.scenes import cohesive_sinusoid
 
 CASE = "fe/quadrature-nodal-vs-gauss"
 METHODS = ("fe-p2 (nodal quadrature)", "fe-p2 (Gauss quadrature)", "gfmd-fire")
@@ -76,8 +77,8 @@ ORDER_MIN = 2.5
 
 
 def scene(n):
-    """The cohesive sinusoid of test_fe_cohesive with the fields of every step kept (for p_force)."""
-    return cohesive_scene(n).replace(**{"output.field_steps": 20})
+    """The cohesive sinusoid with the fields of every step kept (for p_force)."""
+    return cohesive_sinusoid(n).replace(**{"output.field_steps": 20})
 
 
 _CACHE = {}
@@ -90,14 +91,14 @@ def field_steps(result):
 
 def t_n_difference(a, b):
     """max over the field steps of ‖t_n^a − t_n^b‖₂ / ‖t_n^b‖₂."""
-    return max(harness.relative_l2(a.fields[k]["t_n"], b.fields[k]["t_n"], b.fields[k]["t_n"]) for k in field_steps(b))
+    return field_difference(a, b, "t_n", steps=field_steps(b))
 
 
 def force_pressure(result):
     """(steps, p (Pa)) from the FE equilibrium total boundary force −Σ (S u)_z / L at the stored steps."""
-    steps = np.array(sorted(result.solutions))
+    steps = np.array(sorted(result.diagnostics["solutions"]))
     length = result.scene.surface.length
-    return steps, np.array([-float(np.sum(result.problem.S @ result.solutions[k])) / length for k in steps])
+    return steps, np.array([-float(np.sum(result.diagnostics["problem"].S @ result.diagnostics["solutions"][k])) / length for k in steps])
 
 
 def compare(n):
@@ -140,12 +141,12 @@ def _record(rec, n, out):
     k = max(rn.fields)
     res = {"N": n, "D/L": 1, "elements": "P2", "Gauss points per facet": 4}
     scale = (64 / n) ** 3
-    plots = [{"kind": "profile", "x": rn.x, "xlabel": "x (m)", "ylabel": "t_n (Pa)",
-              "series": {"FE nodal": rn.fields[k]["t_n"], "FE Gauss": rq.fields[k]["t_n"], "GFMD": rg.fields[k]["t_n"]},
-              "title": f"t_n at the last step, N = {n}"},
-             {"kind": "curve", "x": rn.curve["delta"], "xlabel": "δ (m)", "ylabel": "p (Pa)",
-              "series": {"FE nodal": rn.curve["p"], "FE Gauss": rq.curve["p"], "GFMD": rg.curve["p"]},
-              "title": f"p(δ), N = {n}"}]
+    plots = [profile_plot(rn.x, {"FE nodal": rn.fields[k]["t_n"], "FE Gauss": rq.fields[k]["t_n"],
+                                 "GFMD": rg.fields[k]["t_n"]}, xlabel="x (m)", ylabel="t_n (Pa)",
+                          title=f"t_n at the last step, N = {n}"),
+             curve_plot(rn.curve["delta"], {"FE nodal": rn.curve["p"], "FE Gauss": rq.curve["p"],
+                                            "GFMD": rg.curve["p"]}, xlabel="δ (m)", ylabel="p (Pa)",
+                        title=f"p(δ), N = {n}")]
     wall = sum(out["wall"].values())
     checks = [
         ("t_n relative L2 FE nodal vs FE Gauss (max over field steps)", out["tn"]["nodal-gauss"], TN_BOUND * scale),
@@ -190,6 +191,6 @@ def test_fe_quadrature_order(verification_record):
             case=CASE, metric=f"observed order of the {label} nodal–Gauss difference (N = 64 → 128)", value=order,
             tolerance=None, passed=bool(order > ORDER_MIN), methods=METHODS[:2], resolution={"N": ns},
             tolerance_source=f"measured 3.0–3.1 (docstring); must exceed {ORDER_MIN}",
-            plots=[{"kind": "convergence", "h": h, "error": errs, "order": order, "xlabel": "l = L/N (m)",
-                    "ylabel": f"{label} FE nodal vs FE Gauss"}])
+            plots=[convergence_plot(h, errs, order=order, xlabel="l = L/N (m)",
+                                    ylabel=f"{label} FE nodal vs FE Gauss")])
         assert order > ORDER_MIN, f"{label}: nodal–Gauss difference converges with order {order:.2f} ≤ {ORDER_MIN}"

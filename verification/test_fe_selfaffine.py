@@ -1,11 +1,9 @@
 """GFMD (finite bonded layer) vs the FE cell on self-affine adhesive profiles, H = 0.8 and 0.2 (issue #4, case 2).
 
-Scene: self-affine profile (seed Eq. 4) with L = 1 µm, λr = 250 nm, λs,H = L/64 (so every N ≥ 128 samples
-the same 32 modes: refining N refines the discretisation only, the continuum profile is fixed), h_rms = 5 nm,
-seed 3; layer D = L on a rigid base, E = 70 GPa, ν = 0.3; normal-only CZ (c = 0), φn* = 0.01, δn = 1 nm;
-δ0 = 2 nm, δ from −2 nm to 10 nm in 15 steps (a_rel from ≈ 0.1 to ≈ 0.7). GFMD: FIRE, tolerance 1e-8; FE:
-P2, Newton (dense surface solve), tolerance 1e-10; same nodes, same z_ind, observables from
-`contact.observables.step_observables`.
+Scene: `verification.scenes.cohesive_self_affine` (L = 1 µm, λs,H = L/64, so every N ≥ 128 samples the same
+32 modes: refining N refines the discretisation only; layer D = L, φn* = 0.01, δn = 1 nm). GFMD: FIRE,
+tolerance 1e-8; FE: P2, Newton (dense surface solve), tolerance 1e-10; same nodes, same z_ind, observables
+from `contact.observables.step_observables`.
 
 Metrics (max over the field steps 5, 10, 15, resp. over all 16 steps):
 * t_n(x): ‖t_n^FE − t_n^GFMD‖₂ / ‖t_n^GFMD‖₂
@@ -38,11 +36,12 @@ value of each H (order-2 scaling, below the measured order); ḡ_r ≤ 3·max(e_
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 
-from contact.scene import Scene
-from verification import harness
+from verification.metrics import curve_difference, fitted_order
+from verification.plots import convergence_plot, curve_plot, profile_plot
+from verification.runs import fe_vs_gfmd
+from verification.scenes import cohesive_self_affine
 
 METHODS = ("gfmd-fire", "fe-p2")
 # N = 256 errors of the study above: {H: (t_n, p, ḡ_r)}
@@ -51,36 +50,17 @@ SOURCE = ("GFMD–FE study in verification/test_fe_selfaffine.py docstring (N = 
           "bound = 3× the N = 256 difference × (256/N)² (t_n, p), × (256/N) (ḡ_r)")
 
 
-def scene(n, hurst):
-    return Scene().replace(**{
-        "surface.kind": "self-affine", "surface.realizations": 1, "surface.nodes": n, "surface.length": 1e-6,
-        "surface.hurst": hurst, "surface.h_rms": 5e-9, "surface.rolloff_wavelength": 250e-9,
-        "surface.rollon_wavelength": 1e-6 / 64, "surface.seed": 3,
-        "material.youngs_modulus": 70e9, "material.poisson_ratio": 0.3, "material.thickness": 1e-6,
-        "interface.law": "cohesive", "interface.phi_n_star": 0.01, "interface.length_normal": 1e-9,
-        "interface.tangential_ratio": 0.0, "loading.initial_separation": 2e-9,
-        "loading.final_penetration": 10e-9, "loading.steps": 15, "output.field_steps": 3})
-
-
 _CACHE = {}
 
 
 def compare(n, hurst):
     key = (n, hurst)
-    if key in _CACHE:
-        return _CACHE[key]
-    rf, rg, fe_s, gfmd_s = harness.run_fe_and_gfmd(scene(n, hurst))
-    assert rf.all_converged and rg.all_converged, (rf.messages, rg.messages)
-    tn = harness.field_difference(rf, rg, "t_n")
-    p = harness.curve_difference(rf, rg, "p")
-    g = harness.curve_difference(rf, rg, "g_r")
-    a = float(np.max(np.abs(rf.curve["a_rel"] - rg.curve["a_rel"])))
-    out = dict(tn=tn, p=p, g=g, a=a, rf=rf, rg=rg, fe_s=fe_s, gfmd_s=gfmd_s,
-               fe_step=float(np.mean(rf.curve["wall_s"])), gfmd_step=float(np.mean(rg.curve["wall_s"])))
-    print(f"\nH={hurst} N={n}: t_n {tn:.3g}  p {p:.3g}  ḡ_r {g:.3g}  a_rel {a:.3g}  "
-          f"FE {fe_s:.1f} s  GFMD {gfmd_s:.1f} s")
-    _CACHE[key] = out
-    return out
+    if key not in _CACHE:
+        out = _CACHE[key] = fe_vs_gfmd(cohesive_self_affine(n, hurst))
+        out["g"] = curve_difference(out["rf"], out["rg"], "g_r")
+        print(f"\nH={hurst} N={n}: t_n {out['tn']:.3g}  p {out['p']:.3g}  ḡ_r {out['g']:.3g}  a_rel {out['a']:.3g}  "
+              f"FE {out['fe_s']:.1f} s  GFMD {out['gfmd_s']:.1f} s")
+    return _CACHE[key]
 
 
 def bounds(n, hurst):
@@ -100,13 +80,13 @@ def test_fe_selfaffine(n, hurst, verification_record):
     k = max(rf.fields)
     e_star = rf.scene.material.contact_modulus
     x_um = rf.x * 1e6
-    plots = [harness.profile_plot(x_um, {"GFMD": rg.fields[k]["t_n"] / e_star, "FE": rf.fields[k]["t_n"] / e_star},
-                                  xlabel="x (µm)", ylabel="t_n / E* (> 0 tensile)",
-                                  title=f"t_n at the last step, H = {hurst}, N = {n}"),
-             harness.curve_plot(rf.curve["delta"] * 1e9, {"GFMD": rg.curve["p"] / e_star, "FE": rf.curve["p"] / e_star},
-                                xlabel="δ (nm)", ylabel="p / E*", title="p(δ)", difference=True),
-             harness.curve_plot(rf.curve["delta"] * 1e9, {"GFMD": rg.curve["a_rel"], "FE": rf.curve["a_rel"]},
-                                xlabel="δ (nm)", ylabel="a_rel", title="a_rel(δ)")]
+    plots = [profile_plot(x_um, {"GFMD": rg.fields[k]["t_n"] / e_star, "FE": rf.fields[k]["t_n"] / e_star},
+                          xlabel="x (µm)", ylabel="t_n / E* (> 0 tensile)",
+                          title=f"t_n at the last step, H = {hurst}, N = {n}"),
+             curve_plot(rf.curve["delta"] * 1e9, {"GFMD": rg.curve["p"] / e_star, "FE": rf.curve["p"] / e_star},
+                        xlabel="δ (nm)", ylabel="p / E*", title="p(δ)", difference=True),
+             curve_plot(rf.curve["delta"] * 1e9, {"GFMD": rg.curve["a_rel"], "FE": rf.curve["a_rel"]},
+                        xlabel="δ (nm)", ylabel="a_rel", title="a_rel(δ)")]
     common = dict(case=case, methods=METHODS, tolerance_source=SOURCE, resolution=res, scene=rf.scene)
     verification_record(metric="t_n relative L2 (max over field steps)", value=out["tn"], tolerance=tol["tn"],
                         wall_s=out["fe_s"] + out["gfmd_s"], plots=plots, **common)
@@ -124,11 +104,11 @@ def test_fe_selfaffine(n, hurst, verification_record):
 def test_fe_selfaffine_convergence(hurst, verification_record):
     ns = [256, 512]
     errs = [compare(n, hurst)["tn"] for n in ns]
-    order = harness.fitted_order([1e-6 / n for n in ns], errs)
+    order = fitted_order([1e-6 / n for n in ns], errs)
     verification_record(case=f"fe/cohesive-self-affine-H{hurst}", metric="observed order of the t_n difference "
                         "(N = 256 → 512)", value=order, tolerance=None, passed=bool(order > 1.5), methods=METHODS,
                         tolerance_source="order 2.1 (H = 0.8), 2.6 (H = 0.2) measured (docstring); must exceed 1.5",
                         resolution={"N": ns, "H": hurst},
-                        plots=[harness.convergence_plot([1e-6 / n for n in ns], errs, order=order,
-                                                        xlabel="l = L/N (m)", ylabel="t_n rel. L2 GFMD–FE")])
+                        plots=[convergence_plot([1e-6 / n for n in ns], errs, order=order,
+                                                xlabel="l = L/N (m)", ylabel="t_n rel. L2 GFMD–FE")])
     assert order > 1.5, f"t_n difference order {order:.2f} ≤ 1.5 (H = {hurst})"

@@ -14,7 +14,7 @@ ignores (the traction depends non-locally on u through K(q); the hard-wall
 contact set and the CZ law's stiffness may shift). Any difference far above
 it means one integrator stopped on a wrong state.
 
-Cases, declared as data (add one with a `Case(...)` line):
+Cases (`verification.scenes.small_sinusoid`, one parameter set a line in CASES):
 
 * hard-wall sinusoid (the brief's case): `gfmd.solver._relax_hard_wall` runs FIRE or
   the damped Verlet (uniform mass, per-mode damping, projection) by `Settings.method`.
@@ -33,8 +33,11 @@ import pytest
 
 from contact import surfaces
 from contact.model import build_model
-from contact.scene import default_scene
-from verification import harness
+from verification.metrics import relative_l2
+from verification.plots import curve_plot, profile_plot, table_plot
+from verification.records import scene_resolution
+from verification.runs import run_methods
+from verification.scenes import small_sinusoid
 
 SAFETY = 10.0
 METHODS = ("gfmd-fire", "gfmd-verlet")
@@ -42,23 +45,12 @@ TOL_SOURCE = ("a-priori bound from the solver stopping rule max|r| < τ·p_ref: 
               "SAFETY·2τ·p_ref·√n/‖ref‖₂ with SAFETY = 10 (module docstring of "
               "verification/test_gfmd_self_consistency.py)")
 
-
-def _sinusoid(law):
-    return default_scene().replace(**{
-        "surface.kind": "sinusoid", "surface.amplitude": 5e-9, "surface.nodes": 256, "surface.length": 1e-6,
-        "surface.realizations": 1, "interface.law": law, "loading.steps": 10,
-        "loading.final_penetration": 4e-9})
-
-
-CASES = [
-    harness.Case(name="gfmd-self-consistency/hard-wall-sinusoid", scene=lambda: _sinusoid("hard-wall"),
-                 methods=METHODS, metrics=("t_n rel. L2 diff, last step", "p(δ) rel. L2 diff"),
-                 tolerance_source=TOL_SOURCE,
-                 description="FIRE vs Verlet, hard wall, sinusoid A = 5 nm, L = 1 µm, N = 256, δ to 4 nm"),
-    harness.Case(name="gfmd-self-consistency/cohesive-sinusoid", scene=lambda: _sinusoid("cohesive"),
-                 methods=METHODS, metrics=("t_n rel. L2 diff, last step", "p(δ) rel. L2 diff"),
-                 tolerance_source=TOL_SOURCE,
-                 description="FIRE vs Verlet, normal CZ φn* = 0.15, sinusoid A = 5 nm, L = 1 µm, N = 256"),
+METRICS = ("t_n rel. L2 diff, last step", "p(δ) rel. L2 diff")
+CASES = [  # (case name, law, description)
+    ("gfmd-self-consistency/hard-wall-sinusoid", "hard-wall",
+     "FIRE vs Verlet, hard wall, sinusoid A = 5 nm, L = 1 µm, N = 256, δ to 4 nm"),
+    ("gfmd-self-consistency/cohesive-sinusoid", "cohesive",
+     "FIRE vs Verlet, normal CZ φn* = 0.15, sinusoid A = 5 nm, L = 1 µm, N = 256"),
 ]
 
 
@@ -69,10 +61,10 @@ def _bound(tau, p_ref, reference):
     return SAFETY * 2 * tau * p_ref * np.sqrt(reference.size) / norm if norm > 0 else np.inf
 
 
-@pytest.mark.parametrize("case", harness.case_params(CASES))
-def test_fire_vs_verlet(case, verification_record):
-    scene = case.get_scene()
-    runs = harness.run_case(case)
+@pytest.mark.parametrize("case, law, description", [pytest.param(*c, id=c[0]) for c in CASES])
+def test_fire_vs_verlet(case, law, description, verification_record):
+    scene = small_sinusoid(law)
+    runs = run_methods(scene, METHODS)
     fire, verlet = (runs[m].result for m in METHODS)
     for m in METHODS:
         assert runs[m].result.all_converged, runs[m].result.messages
@@ -86,7 +78,7 @@ def test_fire_vs_verlet(case, verification_record):
     p_f, p_v = fire.curve["p"], verlet.curve["p"]
     same = (np.array_equal(fire.curve["iterations"], verlet.curve["iterations"])
             and np.array_equal(tn_f, tn_v))
-    notes = (f"{case.description}. p_ref = E*·ḡ = {p_ref:.4g} Pa, τ = {tau:g}. "
+    notes = (f"{description}. p_ref = E*·ḡ = {p_ref:.4g} Pa, τ = {tau:g}. "
              f"Iterations over the ramp: FIRE {int(np.sum(fire.curve['iterations']))}, "
              f"Verlet {int(np.sum(verlet.curve['iterations']))}.")
     if same:
@@ -94,35 +86,35 @@ def test_fire_vs_verlet(case, verification_record):
                   "computation, so this record says nothing about the Verlet integrator.")
     wall = sum(r.wall_s for r in runs.values())
     peak = max(r.peak_memory_bytes for r in runs.values())
-    resolution = dict(harness.scene_resolution(scene), law=scene.interface.law, safety=SAFETY, p_ref_Pa=p_ref)
+    resolution = dict(scene_resolution(scene), law=scene.interface.law, safety=SAFETY, p_ref_Pa=p_ref)
     x_um = fire.x * 1e6
     delta_rel = fire.curve["delta"] / scene.surface.amplitude
     plots_tn = [
-        harness.profile_plot(x_um, {"gfmd-fire": -tn_f / e_star, "gfmd-verlet": -tn_v / e_star},
-                             xlabel="x (µm)", ylabel="−t_n / E* (> 0 compressive)",
-                             title=f"normal traction at the last step (δ = {fire.curve['delta'][-1] * 1e9:.3g} nm)"),
+        profile_plot(x_um, {"gfmd-fire": -tn_f / e_star, "gfmd-verlet": -tn_v / e_star},
+                     xlabel="x (µm)", ylabel="−t_n / E* (> 0 compressive)",
+                     title=f"normal traction at the last step (δ = {fire.curve['delta'][-1] * 1e9:.3g} nm)"),
     ]
     plots_p = [
-        harness.curve_plot(delta_rel, {"gfmd-fire": p_f / e_star, "gfmd-verlet": p_v / e_star},
-                           xlabel="penetration δ / A", ylabel="mean pressure p / E*", title="p–δ", difference=True),
-        harness.curve_plot(delta_rel, {"gfmd-fire": fire.curve["a_rel"], "gfmd-verlet": verlet.curve["a_rel"]},
-                           xlabel="penetration δ / A", ylabel="relative contact area a_rel", title="a_rel–δ"),
-        harness.table_plot(["step", "δ (nm)", "FIRE iterations", "Verlet iterations", "FIRE residual / p_ref",
-                            "Verlet residual / p_ref"],
-                           [[k, fire.curve["delta"][k] * 1e9, fire.curve["iterations"][k],
-                             verlet.curve["iterations"][k], fire.curve["residual"][k], verlet.curve["residual"][k]]
-                            for k in range(last + 1)], title="solver record per load step"),
+        curve_plot(delta_rel, {"gfmd-fire": p_f / e_star, "gfmd-verlet": p_v / e_star},
+                   xlabel="penetration δ / A", ylabel="mean pressure p / E*", title="p–δ", difference=True),
+        curve_plot(delta_rel, {"gfmd-fire": fire.curve["a_rel"], "gfmd-verlet": verlet.curve["a_rel"]},
+                   xlabel="penetration δ / A", ylabel="relative contact area a_rel", title="a_rel–δ"),
+        table_plot(["step", "δ (nm)", "FIRE iterations", "Verlet iterations", "FIRE residual / p_ref",
+                    "Verlet residual / p_ref"],
+                   [[k, fire.curve["delta"][k] * 1e9, fire.curve["iterations"][k],
+                     verlet.curve["iterations"][k], fire.curve["residual"][k], verlet.curve["residual"][k]]
+                    for k in range(last + 1)], title="solver record per load step"),
     ]
-    common = dict(case=case.name, methods=case.methods, tolerance_source=case.tolerance_source,
-                  resolution=resolution, wall_s=wall, peak_memory_bytes=peak,
+    common = dict(case=case, methods=METHODS, tolerance_source=TOL_SOURCE, resolution=resolution, wall_s=wall,
+                  peak_memory_bytes=peak,
                   memory_method=runs[METHODS[0]].memory_method, notes=notes, scene=scene)
 
-    err_tn = harness.relative_l2(tn_f, tn_v)
+    err_tn = relative_l2(tn_f, tn_v)
     tol_tn = _bound(tau, p_ref, tn_f)
-    rec_tn = verification_record(metric=case.metrics[0], value=err_tn, tolerance=tol_tn, plots=plots_tn, **common)
-    err_p = harness.relative_l2(p_f, p_v)
+    rec_tn = verification_record(metric=METRICS[0], value=err_tn, tolerance=tol_tn, plots=plots_tn, **common)
+    err_p = relative_l2(p_f, p_v)
     tol_p = _bound(tau, p_ref, p_f)
-    rec_p = verification_record(metric=case.metrics[1], value=err_p, tolerance=tol_p, plots=plots_p, **common)
+    rec_p = verification_record(metric=METRICS[1], value=err_p, tolerance=tol_p, plots=plots_p, **common)
 
     assert not same, "FIRE and Verlet gave bit-identical runs: both went through one integrator"
     assert rec_tn.passed, f"t_n: FIRE vs Verlet rel. L2 {err_tn:.3g} > {tol_tn:.3g}"

@@ -1,6 +1,6 @@
 """Model only what a scene requires (issue #5): the reduced models against the full ones, side by side.
 
-Scene: the base scene of verification/test_extremes.py (self-affine, H = 0.8, h_rms = 4 nm,
+Scene: `verification.scenes.extremes_base` (self-affine, H = 0.8, h_rms = 4 nm,
 L = 256 nm, N = 512, φn* = 0.15, δn = 1 nm, δ0 = 8 nm) loaded further, δ to 8 nm
 (32 steps; 48 in (b)); FIRE, tolerance 1e-8; p_ref = E*ḡ.
 
@@ -59,8 +59,8 @@ import pytest
 import gfmd.loading as gl
 from contact.kernels import constrained_modulus
 from contact.observables import reduced_pressure
-from verification import harness
-from verification.test_extremes import scene as base_scene
+from verification.plots import convergence_plot, curve_plot, table_plot
+from verification.scenes import extremes_base
 
 N = 512
 TOL = 1e-8
@@ -68,7 +68,7 @@ CASE = "reduced-models"
 
 
 def run(steps=32, **overrides):
-    sc = base_scene(**{"loading.final_penetration": 8e-9, "loading.steps": steps, **overrides})
+    sc = extremes_base(**{"loading.final_penetration": 8e-9, "loading.steps": steps, **overrides})
     t0 = time.perf_counter()
     result = gl.run_realization(sc)
     wall = time.perf_counter() - t0
@@ -93,10 +93,10 @@ def relation_difference(a, b):
 
 
 def _plots(a, b, label_a, label_b, title):
-    return [harness.curve_plot(a[1].curve["delta"], {label_a: a[1].curve["a_rel"], label_b: b[1].curve["a_rel"]},
-                               xlabel="δ (m)", ylabel="a_rel", title=f"a_rel(δ): {title}", difference=True),
-            harness.curve_plot(a[1].curve["delta"], {label_a: reduced(*a[:2]), label_b: reduced(*b[:2])},
-                               xlabel="δ (m)", ylabel="p/(ḡ_r E*)", title=f"p_r*(δ): {title}", difference=True)]
+    return [curve_plot(a[1].curve["delta"], {label_a: a[1].curve["a_rel"], label_b: b[1].curve["a_rel"]},
+                       xlabel="δ (m)", ylabel="a_rel", title=f"a_rel(δ): {title}", difference=True),
+            curve_plot(a[1].curve["delta"], {label_a: reduced(*a[:2]), label_b: reduced(*b[:2])},
+                       xlabel="δ (m)", ylabel="p/(ḡ_r E*)", title=f"p_r*(δ): {title}", difference=True)]
 
 
 @pytest.mark.parametrize("nu, area_nodes, p_bound", [(0.45, 3, 0.05), (0.3, 6, None)])
@@ -191,10 +191,10 @@ def test_half_plane_vs_deep_layer(verification_record):
         case=f"{CASE}/half-plane-vs-layer", metric="max over D ≥ L of mean |Δp| / p_ref (at δ_eff)",
         value=max(out[r][0] for r in deep), tolerance=3 * floor_p, methods=("gfmd-layer", "gfmd-half-plane"),
         tolerance_source="3× the interpolation floor of this run (measured ≤ 1.8×)", resolution={"N": N, "steps": steps},
-        plots=[harness.table_plot(["comparison", "mean |Δp|/p_ref", "mean |Δa_rel|", "max ū/δn", "time (s)"], rows,
-                                  title="half-plane vs layer on a rigid base, at equal effective penetration"),
-               harness.convergence_plot(list(out), [out[r][0] for r in out], xlabel="D/L",
-                                        ylabel="mean |Δp|/p_ref vs half-plane")])
+        plots=[table_plot(["comparison", "mean |Δp|/p_ref", "mean |Δa_rel|", "max ū/δn", "time (s)"], rows,
+                          title="half-plane vs layer on a rigid base, at equal effective penetration"),
+               convergence_plot(list(out), [out[r][0] for r in out], xlabel="D/L",
+                                ylabel="mean |Δp|/p_ref vs half-plane")])
     verification_record(case=f"{CASE}/half-plane-vs-layer", metric="max over D ≥ L of mean |Δa_rel| (at δ_eff)",
                         value=max(out[r][1] for r in deep), tolerance=2 * floor_a,
                         methods=("gfmd-layer", "gfmd-half-plane"), resolution={"N": N, "steps": steps},

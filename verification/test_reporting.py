@@ -1,4 +1,4 @@
-"""Tests of the verification harness itself: records, JSON, HTML report, pytest glue (fast)."""
+"""Tests of the verification machinery itself: records, JSON, plots, HTML report, pytest glue (fast)."""
 
 from __future__ import annotations
 
@@ -13,7 +13,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from verification import harness, report
+from verification import report
+from verification import plots as P
+from verification.metrics import fitted_order, relative_l2
+from verification.records import (SCHEMA_VERSION, Measurement, load_results, results_document, to_jsonable,
+                                  write_results)
 
 VOID = {"area", "base", "br", "col", "embed", "hr", "img", "input", "link", "meta", "source", "track", "wbr"}
 
@@ -77,26 +81,26 @@ def parse(text):
 def _records():
     x = np.linspace(-0.5, 0.5, 64)
     plots = [
-        harness.profile_plot(x, {"a": np.sin(x), "b": np.sin(x) + 1e-3}, xlabel="x", ylabel="y", title="profile"),
-        harness.curve_plot(np.arange(5.0), {"a": np.arange(5.0) ** 2}, xlabel="δ", ylabel="p", title="curve"),
-        harness.convergence_plot([1 / 8, 1 / 16, 1 / 32], [1e-2, 2.5e-3, 6.25e-4], title="conv"),
-        harness.table_plot(["k", "v"], [[1, 0.5], [2, np.float64(0.25)]], title="tab"),
-        harness.pareto_plot([{"label": "N=256", "method": "gfmd-fire", "time": 0.1, "error": 1e-2},
-                             {"label": "N=512", "method": "gfmd-fire", "time": 0.3, "error": 3e-3},
-                             {"label": "P2", "method": "fe-p2", "time": 2.0, "error": 1e-3}], title="pareto"),
-        harness.grid_plot(["case", "N=64", "N=1e6", "δn/l=0.5"],
-                          [["φn* = 1e-4", {"status": "ok", "message": ""},
-                            {"status": "fail", "message": "did not converge"},
-                            {"status": "warn", "message": "under-resolved"}]],
-                          title="extremes"),
+        P.profile_plot(x, {"a": np.sin(x), "b": np.sin(x) + 1e-3}, xlabel="x", ylabel="y", title="profile"),
+        P.curve_plot(np.arange(5.0), {"a": np.arange(5.0) ** 2}, xlabel="δ", ylabel="p", title="curve"),
+        P.convergence_plot([1 / 8, 1 / 16, 1 / 32], [1e-2, 2.5e-3, 6.25e-4], title="conv"),
+        P.table_plot(["k", "v"], [[1, 0.5], [2, np.float64(0.25)]], title="tab"),
+        P.pareto_plot([{"label": "N=256", "method": "gfmd-fire", "time": 0.1, "error": 1e-2},
+                       {"label": "N=512", "method": "gfmd-fire", "time": 0.3, "error": 3e-3},
+                       {"label": "P2", "method": "fe-p2", "time": 2.0, "error": 1e-3}], title="pareto"),
+        P.grid_plot(["case", "N=64", "N=1e6", "δn/l=0.5"],
+                    [["φn* = 1e-4", {"status": "ok", "message": ""},
+                      {"status": "fail", "message": "did not converge"},
+                      {"status": "warn", "message": "under-resolved"}]],
+                    title="extremes"),
     ]
-    good = harness.Measurement(case="demo/good", metric="rel. L2", value=np.float64(1e-4), tolerance=1e-3,
-                               methods=("gfmd-fire", "fe-p2"), tolerance_source="study X",
-                               resolution={"N": 1024, "mesh": "P2, 5 rows/level"}, wall_s=0.5, plots=plots)
-    bad = harness.Measurement(case="demo/bad", metric="max error", value=0.2, tolerance=0.01,
-                              methods=("analytic-westergaard",), wall_s=1.0)
-    nan = harness.Measurement(case="demo/nan", metric="p", value=float("nan"), tolerance=1.0)
-    info = harness.Measurement(case="demo/info", metric="order", value=2.01)
+    good = Measurement(case="demo/good", metric="rel. L2", value=np.float64(1e-4), tolerance=1e-3,
+                       methods=("gfmd-fire", "fe-p2"), tolerance_source="study X",
+                       resolution={"N": 1024, "mesh": "P2, 5 rows/level"}, wall_s=0.5, plots=plots)
+    bad = Measurement(case="demo/bad", metric="max error", value=0.2, tolerance=0.01,
+                      methods=("analytic-westergaard",), wall_s=1.0)
+    nan = Measurement(case="demo/nan", metric="p", value=float("nan"), tolerance=1.0)
+    info = Measurement(case="demo/info", metric="order", value=2.01)
     return [good, bad, nan, info]
 
 
@@ -105,29 +109,29 @@ def test_default_verdicts():
     assert good.passed is True and bad.passed is False
     assert nan.passed is False  # NaN never passes
     assert info.passed is None  # no tolerance, no verdict
-    assert harness.Measurement(case="c", metric="m", value=5.0, tolerance=1.0, passed=True).passed is True
+    assert Measurement(case="c", metric="m", value=5.0, tolerance=1.0, passed=True).passed is True
 
 
 def test_json_round_trip(tmp_path):
     records = _records()
     path = tmp_path / "results.json"
-    harness.write_results(path, records, {"subset": "default", "exitstatus": 0})
+    write_results(path, records, {"subset": "default", "exitstatus": 0})
     text = path.read_text()
     doc = json.loads(text)  # strict JSON: NaN was written as null
-    assert "NaN" not in text and doc["schema"] == harness.SCHEMA_VERSION
+    assert "NaN" not in text and doc["schema"] == SCHEMA_VERSION
     assert {"code_version", "platform", "python", "date", "command"} <= set(doc["provenance"])
-    doc2, back = harness.load_results(path)
+    doc2, back = load_results(path)
     assert [r.case for r in back] == [r.case for r in records]
     assert back[0].methods == ("gfmd-fire", "fe-p2") and back[0].resolution["mesh"] == "P2, 5 rows/level"
     assert back[0].value == pytest.approx(1e-4) and back[1].passed is False
     assert back[2].value is None and back[2].passed is False
     assert back[0].plots[0]["series"]["b"][3] == pytest.approx(np.sin(np.linspace(-0.5, 0.5, 64))[3] + 1e-3)
     # and once more: the JSON of the loaded records is the same document
-    assert harness.results_document(back, doc["session"])["records"] == doc["records"]
+    assert results_document(back, doc["session"])["records"] == doc["records"]
 
 
 def test_to_jsonable():
-    out = harness.to_jsonable({"a": np.arange(3), 1: (np.int64(2), np.float32(0.5)), "inf": -math.inf,
+    out = to_jsonable({"a": np.arange(3), 1: (np.int64(2), np.float32(0.5)), "inf": -math.inf,
                                "b": np.bool_(True), "p": Path("x/y")})
     assert out == {"a": [0, 1, 2], "1": [2, 0.5], "inf": None, "b": True, "p": "x/y"}
     json.dumps(out, allow_nan=False)
@@ -159,15 +163,15 @@ def test_plot_error_is_shown_not_raised():
     html = report.render_plot({"kind": "profile", "x": [0, 1], "series": {"a": "not numbers"}})
     assert "could not be drawn" in html
     with pytest.raises(ValueError):
-        harness.validate_plot({"kind": "pie"})
+        P.validate_plot({"kind": "pie"})
 
 
 def test_helpers():
-    assert harness.fitted_order([1, 0.5, 0.25], [1, 0.25, 0.0625]) == pytest.approx(2.0)
+    assert fitted_order([1, 0.5, 0.25], [1, 0.25, 0.0625]) == pytest.approx(2.0)
     pts = [{"time": 1, "error": 1}, {"time": 2, "error": 2}, {"time": 3, "error": 0.1}]
     assert report.pareto_front(pts) == [0, 2]
-    assert harness.relative_l2([1.0, 0.0], [1.0, 0.0]) == 0.0
-    assert harness.relative_l2([3.0, 4.0], [3.0, 4.5]) == pytest.approx(0.1)
+    assert relative_l2([1.0, 0.0], [1.0, 0.0]) == 0.0
+    assert relative_l2([3.0, 4.0], [3.0, 4.5]) == pytest.approx(0.1)
 
 
 PLUGIN_TEST = textwrap.dedent("""
@@ -195,7 +199,7 @@ def test_fixture_and_session_report(tmp_path):
     out = tmp_path / "rep"
     proc = _run_pytest(tmp_path, "--report-dir", str(out))
     assert proc.returncode == 1, proc.stdout + proc.stderr  # test_two fails: outcome unchanged by the report
-    doc, records = harness.load_results(out / "results.json")
+    doc, records = load_results(out / "results.json")
     assert doc["session"]["exitstatus"] == 1 and doc["session"]["counts"]["failed"] == 1
     assert doc["session"]["counts"]["passed"] == 1 and doc["session"]["subset"] == "default"
     assert len(records) == 1 and records[0].passed is False and records[0].test_outcome == "passed"
@@ -233,20 +237,20 @@ def test_render_check_flags_a_broken_page(tmp_path):
 def test_scene_shown_once_per_case_and_round_trips(tmp_path):
     from contact.scene import default_scene, load_scene
     sc = default_scene().replace(**{"surface.nodes": 8192})
-    recs = [harness.Measurement(case="c", metric=f"m{i}", value=1e-3, tolerance=1e-2, scene=sc) for i in range(3)]
+    recs = [Measurement(case="c", metric=f"m{i}", value=1e-3, tolerance=1e-2, scene=sc) for i in range(3)]
     assert recs[0].scene.startswith("# resolved scene")  # a Scene is stored as its TOML
     text = report.render_html(recs)
     assert text.count('<details class="scene">') == 1 and "nodes = 8192" in text
-    harness.write_results(tmp_path / "r.json", recs)
-    _, back = harness.load_results(tmp_path / "r.json")
+    write_results(tmp_path / "r.json", recs)
+    _, back = load_results(tmp_path / "r.json")
     (tmp_path / "default.toml").write_text(back[0].scene)
     assert load_scene(tmp_path / "default.toml") == sc
 
 
 def test_summary_folds_long_cases_but_never_a_failure():
-    recs = [harness.Measurement(case="sweep", metric=f"cell {i}", value=1e-3, tolerance=1e-2) for i in range(20)]
-    recs[15] = harness.Measurement(case="sweep", metric="cell 15", value=1.0, tolerance=1e-2)  # a late failure
-    recs.append(harness.Measurement(case="other", metric="m", value=1e-3, tolerance=1e-2))
+    recs = [Measurement(case="sweep", metric=f"cell {i}", value=1e-3, tolerance=1e-2) for i in range(20)]
+    recs[15] = Measurement(case="sweep", metric="cell 15", value=1.0, tolerance=1e-2)  # a late failure
+    recs.append(Measurement(case="other", metric="m", value=1e-3, tolerance=1e-2))
     text = report.render_html(recs)
     c = parse(text)
     assert not c.errors and not c.stack
@@ -254,3 +258,31 @@ def test_summary_folds_long_cases_but_never_a_failure():
     assert "<td>cell 15</td>" in summary and "<td>cell 9</td>" not in summary and "<td>m</td>" in summary
     assert len(c.summary_cells) == report.SUMMARY_ROWS_PER_CASE + 1 + 1 + 1  # shown, failure, other, fold row
     assert summary.count('class="row-folded"') == 1 and "11 more measurements of this case (11 pass)" in summary
+
+
+def test_measured_data_round_trip(tmp_path, monkeypatch):
+    """Data files: entries carry their provenance, writing merges by key, a missing entry names the study."""
+    from verification import measured
+    monkeypatch.setattr(measured, "DATA_DIR", tmp_path)
+    with pytest.raises(measured.MissingMeasurement, match="python -m verification.studies.demo --write"):
+        measured.load("demo")
+    measured.write("demo", {"a": measured.make_entry({"x": [1.23456789e-7, 2.0]}, scene="scenes.demo(N)")})
+    measured.write("demo", {"b": measured.make_entry({"x": float("nan")})}, description="demo study")
+    doc = json.loads((tmp_path / "demo.json").read_text())
+    assert doc["study"] == "verification.studies.demo" and doc["description"] == "demo study"
+    assert sorted(doc["entries"]) == ["a", "b"] and doc["entries"]["b"]["values"]["x"] is None
+    assert measured.value("demo", "a", "x") == [1.235e-7, 2.0]  # stored to 4 significant digits
+    assert {"code_version", "date", "scene"} <= set(measured.entry("demo", "a"))
+    with pytest.raises(measured.MissingMeasurement, match="no measured entry 'c'"):
+        measured.entry("demo", "c")
+
+
+def test_data_files_name_their_study():
+    """Every data file under verification/data/ names its study, and every entry its code version and date."""
+    from verification import measured
+    files = sorted(measured.DATA_DIR.glob("*.json"))
+    assert {p.stem for p in files} >= {"westergaard", "speed_accuracy", "extremes"}
+    for p in files:
+        doc = measured.load(p.stem)
+        assert doc["study"] == f"verification.studies.{p.stem}" and doc["entries"], p
+        assert all({"code_version", "date", "values"} <= set(e) for e in doc["entries"].values()), p

@@ -1,0 +1,106 @@
+"""Measured numbers that tolerances are derived from: `verification/data/<study>.json`.
+
+The study that measures them writes the file (`python -m verification.studies.<study> --write`);
+the test reads it to set its bound (`value(study, key, name)`), so a bound follows the
+measurement it was derived from and the rule that derives it stays in the test. Layout:
+
+    {"study": "verification.studies.<study>", "regenerate": "<command>", "description": "…",
+     "entries": {key: {"code_version", "date", "scene", "values": {…}, …}}}
+
+Each entry carries its own code version, date (UTC) and scene (`contact.scene.scene_to_dict`, or
+the catalogue factory that builds it); writing replaces the entries measured and keeps the others.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+from pathlib import Path
+
+DATA_DIR = Path(__file__).resolve().parent / "data"
+SIGNIFICANT_DIGITS = 4  # of the measured numbers stored
+
+
+class MissingMeasurement(LookupError):
+    """A test asked for a measured number that its data file does not hold."""
+
+
+def path(study):
+    return DATA_DIR / f"{study}.json"
+
+
+def regenerate_command(study, *args):
+    return " ".join(["python -m", f"verification.studies.{study}", "--write", *args])
+
+
+def load(study):
+    """The whole document of `verification/data/<study>.json`."""
+    p = path(study)
+    if not p.exists():
+        raise MissingMeasurement(f"{p} does not exist: run `{regenerate_command(study)}`")
+    return json.loads(p.read_text(encoding="utf-8"))
+
+
+def entry(study, key):
+    """The entry `key` (a dict with its provenance and "values")."""
+    entries = load(study)["entries"]
+    if key not in entries:
+        raise MissingMeasurement(f"no measured entry {key!r} in {path(study)}: run `{regenerate_command(study)}` "
+                                 f"(with --full for the slow cells); entries: {sorted(entries)}")
+    return entries[key]
+
+
+def value(study, key, name):
+    """One measured number: entries[key]["values"][name]."""
+    values = entry(study, key)["values"]
+    if name not in values:
+        raise MissingMeasurement(f"{path(study)}: entry {key!r} has no value {name!r} ({sorted(values)})")
+    return values[name]
+
+
+def make_entry(values, scene=None, **extra):
+    """An entry measured now: code version, date, scene (a Scene is stored as its dict), values."""
+    from workbench.io import code_version
+
+    from .records import to_jsonable
+    if scene is not None and not isinstance(scene, (str, dict)):
+        from contact.scene import scene_to_dict
+        scene = scene_to_dict(scene)
+    return _rounded(to_jsonable({"code_version": code_version(),
+                                 "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),
+                                 "scene": scene, **extra, "values": values}))
+
+
+def _rounded(obj, digits=SIGNIFICANT_DIGITS):
+    """Floats to `digits` significant digits (measured numbers, not identities), recursively."""
+    if isinstance(obj, float):
+        return float(f"{obj:.{digits}g}")
+    if isinstance(obj, dict):
+        return {k: _rounded(v, digits) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_rounded(v, digits) for v in obj]
+    return obj
+
+
+def _dumps(obj, indent=0):
+    """JSON with one key a line and lists of numbers or strings on one line."""
+    pad = " " * (indent + 1)
+    if isinstance(obj, dict) and obj:
+        items = [f"{pad}{json.dumps(k, ensure_ascii=False)}: {_dumps(v, indent + 1)}" for k, v in obj.items()]
+        return "{\n" + ",\n".join(items) + "\n" + " " * indent + "}"
+    if isinstance(obj, list) and any(isinstance(v, (dict, list)) for v in obj):
+        return "[\n" + ",\n".join(pad + _dumps(v, indent + 1) for v in obj) + "\n" + " " * indent + "]"
+    return json.dumps(obj, ensure_ascii=False, allow_nan=False)
+
+
+def write(study, entries, description=""):
+    """Merge `entries` {key: make_entry(…)} into `verification/data/<study>.json`; returns its path."""
+    p = path(study)
+    doc = json.loads(p.read_text(encoding="utf-8")) if p.exists() else {}
+    merged = dict(doc.get("entries", {}))
+    merged.update(entries)
+    doc = {"study": f"verification.studies.{study}", "regenerate": regenerate_command(study),
+           "description": description or doc.get("description", ""), "entries": dict(sorted(merged.items()))}
+    p.parent.mkdir(parents=True, exist_ok=True)
+    p.write_text(_dumps(doc) + "\n", encoding="utf-8")
+    return p

@@ -1,0 +1,101 @@
+"""Running the methods on a scene, timed: the one place where verification calls a solver.
+
+* `run_fe_and_gfmd(scene, order=2)`: `reference.fem` P<order> and GFMD on one scene.
+* `run_methods(scene, names)`: the named methods of `METHODS`, each under a `Meter`.
+* `run_gfmd(scene, …)`, `run_fe(scene, order)`: one realization that must converge, with its wall time.
+* `fe_vs_gfmd(scene)`: `run_fe_and_gfmd` and the differences every FE case reports.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import numpy as np
+
+from .provenance import Meter
+
+
+def run_fe_and_gfmd(scene, order=2):
+    """(fe, gfmd, fe_s, gfmd_s): `reference.fem` P<order> and GFMD (scene.solver) on one scene, wall times (s)."""
+    from gfmd.loading import run_realization
+    from reference import fem
+    t0 = time.perf_counter()
+    fe = fem.run_realization(scene, order=order)
+    t1 = time.perf_counter()
+    gfmd = run_realization(scene)
+    return fe, gfmd, t1 - t0, time.perf_counter() - t1
+
+
+def _converged(run, label):
+    """(run(), wall s); AssertionError naming `label` if a step did not converge."""
+    t0 = time.perf_counter()
+    result = run()
+    wall = time.perf_counter() - t0
+    if not result.all_converged:
+        raise AssertionError(f"{label}: not converged: {result.messages[:3]}")
+    return result, wall
+
+
+def run_gfmd(scene, settings=None, method_name=None):
+    """(Result, wall s) of realization 0 with `gfmd.solver.Settings` (default: the scene's solver);
+    raises AssertionError if a step did not converge."""
+    from gfmd.loading import run_realization
+    kw = {} if method_name is None else {"method_name": method_name}
+    return _converged(lambda: run_realization(scene, settings=settings, **kw), method_name or "gfmd")
+
+
+def run_fe(scene, order=2):
+    """(Result, wall s, mesh and assembly included) of `reference.fem` P<order> on realization 0;
+    raises AssertionError if a step did not converge."""
+    from reference import fem
+    return _converged(lambda: fem.run_realization(scene, order=order), f"fe-p{order}")
+
+
+def _gfmd(method):
+    def run(scene, realization=0):
+        from gfmd.loading import run_realization
+        from gfmd.solver import Settings
+        settings = Settings(method=method, tolerance=scene.solver.tolerance,
+                            max_iterations=scene.solver.max_iterations)
+        return run_realization(scene, realization, settings=settings, method_name=f"gfmd-{method}")
+    return run
+
+
+#: method name -> callable(scene, realization=0) -> contact.result.Result
+METHODS: dict[str, Callable] = {"gfmd-fire": _gfmd("fire"), "gfmd-verlet": _gfmd("verlet")}
+
+
+@dataclass
+class MethodRun:
+    result: Any  # contact.result.Result
+    wall_s: float
+    peak_memory_bytes: int
+    memory_method: str
+
+
+def run_methods(scene, names, realization=0, memory="rss"):
+    """Run the methods `names` (keys of METHODS) on `scene`: {name: MethodRun}."""
+    runs = {}
+    for name in names:
+        if name not in METHODS:
+            raise KeyError(f"method {name!r} is not in verification.runs.METHODS: {sorted(METHODS)}")
+        with Meter(memory) as m:
+            result = METHODS[name](scene, realization)
+        runs[name] = MethodRun(result, m.wall_s, m.peak_memory_bytes, m.memory_method)
+    return runs
+
+
+def fe_vs_gfmd(scene, order=2, check=True):
+    """FE P<order> and GFMD on one scene, and their differences (GFMD the reference):
+    dict(rf, rg, fe_s, gfmd_s, fe_step, gfmd_step (mean s/step), tn (t_n rel. L2, max over field steps),
+    p (max |Δp| / max |p|), a (max |Δa_rel|)). check: assert that both converged."""
+    from .metrics import curve_difference, field_difference, max_abs_difference
+    rf, rg, fe_s, gfmd_s = run_fe_and_gfmd(scene, order=order)
+    if check:
+        assert rf.all_converged, f"FE: {rf.messages}"
+        assert rg.all_converged, f"GFMD: {rg.messages}"
+    return dict(rf=rf, rg=rg, fe_s=fe_s, gfmd_s=gfmd_s, fe_step=float(np.mean(rf.curve["wall_s"])),
+                gfmd_step=float(np.mean(rg.curve["wall_s"])), tn=field_difference(rf, rg, "t_n"),
+                p=curve_difference(rf, rg, "p"), a=max_abs_difference(rf, rg))
