@@ -1,0 +1,158 @@
+"""The fast hard-wall solver (projected preconditioned CG) and the FFT backends (issue 13).
+
+* CG and FIRE reach the same hard-wall equilibrium (half-plane and layer), and the CG state
+  passes an independent KKT check (elastic force recomputed with numpy.fft: no penetration,
+  zero force off the wall, no wall node pulling, within the tolerance);
+* the CG releases wall nodes that pull away: started with every node on the wall it still
+  ends at the KKT point (a CG that never released would stop with pulling nodes, or not at all);
+* the CG's fixed point is the KKT point: started there it stops at once, unchanged;
+* scipy.fft and ducc0 (when installed) give the same equilibria; the backend choice is checked;
+* cost guard by counts (not times): the CG needs at most a third of FIRE's FFT pairs on a
+  warm-started self-affine step.
+"""
+
+import numpy as np
+import pytest
+
+from contact import surfaces
+from contact.loading import indenter_surface
+from contact.model import build_model
+from contact.scene import default_scene
+from gfmd import solver as gs
+from gfmd.solver import InterfaceLaw, Settings, relax
+
+TOL = 1e-10
+
+
+def case(nodes=2048, thickness=None):
+    length = 1.28e-6
+    kw = {"surface.nodes": nodes, "surface.length": length, "surface.rolloff_wavelength": length / 8,
+          "surface.rollon_wavelength": 4 * length / nodes, "interface.law": "hard-wall"}
+    if thickness is not None:
+        kw["material.thickness"] = thickness
+    sc = default_scene().replace(**kw)
+    h = surfaces.profile(sc.surface, 0)
+    model = build_model(sc, h)
+    law = InterfaceLaw(model)
+    wall_tol = 1e-12 * float(np.ptp(h))
+    return sc, h, model, law, wall_tol
+
+
+def kkt_violation(model, z, u_z):
+    """max over the KKT conditions, in p_ref, recomputed with numpy.fft (independent of the solver)."""
+    ku = np.fft.irfft(np.real(model.k_zz) * np.fft.rfft(u_z), n=u_z.size)
+    gap = z - u_z
+    on = gap <= 1e-12 * np.ptp(z)
+    p_far = float(np.mean(ku[~on])) if model.half_plane else 0.0
+    force = p_far - ku
+    p_ref = model.reference_traction
+    penetration = max(0.0, -float(np.min(gap)))
+    return max(float(np.max(np.abs(force[~on]))) / p_ref,  # free nodes: no net force
+               max(0.0, -float(np.min(force[on], initial=0.0))) / p_ref,  # wall nodes: pushed, not pulled
+               penetration * float(np.max(np.real(model.k_zz))) / p_ref)
+
+
+def ramp(model, law, z_of, deltas, settings, wall_tol):
+    u = prev = np.zeros((1, model.nodes // 2 + 1), complex)
+    out = []
+    for k, d in enumerate(deltas):
+        guess = 2 * u - prev if k >= 2 else u
+        r = relax(model, law, z_of(d), guess, settings, wall_tol)
+        assert r.converged, r.message
+        out.append(r)
+        prev, u = u, r.u_hat
+    return out
+
+
+@pytest.mark.parametrize("thickness", [None, 0.5e-6])
+def test_cg_equals_fire_and_is_kkt(thickness):
+    sc, h, model, law, wall_tol = case(thickness=thickness)
+    d0 = sc.loading.initial_separation
+    z_of = lambda d: indenter_surface(h, d0, d0 + d)  # noqa: E731
+    deltas = 1.5e-9 * np.arange(1, 6)
+    cg = ramp(model, law, z_of, deltas, Settings(tolerance=TOL), wall_tol)
+    fire = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, hard_wall="fire"), wall_tol)
+    h_rms = float(np.std(h))
+    for d, a, b in zip(deltas, cg, fire):
+        assert a.residual < TOL
+        assert kkt_violation(model, z_of(d), a.u_z) < TOL * (1 + 1e-3)
+        assert np.max(np.abs(a.u_z - b.u_z)) < 1e-9 * h_rms
+        np.testing.assert_array_equal(a.t_z < 0, b.t_z < 0)  # same contact set
+        np.testing.assert_allclose(np.mean(a.t_z), np.mean(b.t_z), rtol=1e-8)
+        assert a.fft_pairs > 0
+
+
+def test_cg_releases_pulling_wall_nodes():
+    """Start with every node on the wall (u = z − ⟨z⟩): almost all of them pull away."""
+    sc, h, model, law, wall_tol = case()
+    d0 = sc.loading.initial_separation
+    z = indenter_surface(h, d0, d0 + 5e-9)
+    guess = np.fft.rfft(z - np.mean(z))[None, :]
+    r = relax(model, law, z, guess, Settings(tolerance=TOL), wall_tol)
+    ref = relax(model, law, z, np.zeros_like(guess), Settings(tolerance=TOL, hard_wall="fire"), wall_tol)
+    assert r.converged, r.message
+    assert np.mean(r.t_z < 0) < 0.2  # most nodes left the wall
+    assert kkt_violation(model, z, r.u_z) < TOL * (1 + 1e-3)
+    assert np.max(np.abs(r.u_z - ref.u_z)) < 1e-9 * float(np.std(h))
+
+
+def test_cg_fixed_point_is_the_kkt_point():
+    sc, h, model, law, wall_tol = case()
+    d0 = sc.loading.initial_separation
+    z = indenter_surface(h, d0, d0 + 8e-9)
+    first = relax(model, law, z, np.zeros((1, model.nodes // 2 + 1), complex), Settings(tolerance=TOL), wall_tol)
+    again = relax(model, law, z, first.u_hat, Settings(tolerance=TOL), wall_tol)
+    assert again.converged and again.iterations == 0
+    assert np.max(np.abs(again.u_z - first.u_z)) < 1e-15 * float(np.std(h))
+
+
+def test_cg_unconverged_is_reported():
+    sc, h, model, law, wall_tol = case()
+    d0 = sc.loading.initial_separation
+    r = relax(model, law, indenter_surface(h, d0, d0 + 8e-9), np.zeros((1, model.nodes // 2 + 1), complex),
+              Settings(tolerance=TOL, max_iterations=2), wall_tol)
+    assert not r.converged and "not converged" in r.message and r.iterations == 2
+
+
+def test_cg_needs_far_fewer_fft_pairs_than_fire():
+    sc, h, model, law, wall_tol = case(nodes=8192)
+    d0 = sc.loading.initial_separation
+    z_of = lambda d: indenter_surface(h, d0, d0 + d)  # noqa: E731
+    deltas = 1.5e-9 * np.arange(1, 5)
+    cg = ramp(model, law, z_of, deltas, Settings(tolerance=TOL), wall_tol)
+    fire = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, hard_wall="fire"), wall_tol)
+    cg_pairs = np.median([r.fft_pairs for r in cg])
+    fire_pairs = np.median([2 * r.iterations for r in fire])
+    assert cg_pairs < fire_pairs / 3, (cg_pairs, fire_pairs)
+
+
+@pytest.mark.skipif(gs._ducc_fft is None, reason="ducc0 not installed (the `fast` extra)")
+@pytest.mark.parametrize("law_name", ["hard-wall", "cohesive"])
+def test_fft_backends_agree(monkeypatch, law_name):
+    sc, h, _, _, wall_tol = case()
+    sc = sc.replace(**{"interface.law": law_name})
+    model = build_model(sc, h)
+    law = InterfaceLaw(model)
+    d0 = sc.loading.initial_separation
+    z = indenter_surface(h, d0, d0 + 6e-9)
+    out = {}
+    for backend in ("scipy", "ducc0"):
+        monkeypatch.setenv("GFMD_FFT", backend)
+        out[backend] = relax(model, law, z, np.zeros((1, model.nodes // 2 + 1), complex), Settings(tolerance=TOL),
+                             wall_tol)
+        assert out[backend].converged
+    assert np.max(np.abs(out["scipy"].u_z - out["ducc0"].u_z)) < 1e-9 * float(np.std(h))
+
+
+def test_fft_backend_choice(monkeypatch):
+    assert gs.fft_backend("scipy") == "scipy"
+    with pytest.raises(ValueError, match="GFMD_FFT"):
+        gs.fft_backend("fftw")
+    monkeypatch.setattr(gs, "_ducc_fft", None)
+    assert gs.fft_backend("auto") == "scipy"
+    with pytest.raises(ImportError, match="ducc0"):
+        gs.fft_backend("ducc0")
+    x = np.random.default_rng(1).standard_normal(64)
+    fft = gs._Fft(64, "scipy")
+    np.testing.assert_allclose(fft.irfft(fft.rfft(x)), x, atol=1e-14)
+    assert fft.pairs == 1
