@@ -189,7 +189,7 @@ def section_hard_wall(sizes, use_tamaas, lines):
 
 def section_cohesive(e, lines, hard_s):
     lines += ["## 2. Cohesive vs hard wall, same profile and ramp (N = 2^%d)" % e, "",
-              "Cohesive laws run FIRE (unchanged by issue 13 except the FFT backend); the first step "
+              "Cohesive laws run FIRE, unchanged by issue 13 (scipy.fft: the ducc0 backend serves the hard wall only so far); the first step "
               "starts from the flat surface at δ = 1.5 nm (jump-in). ratio = median s/step ÷ the "
               "hard-wall `cg` median s/step measured in section 1 (same process).", "",
               "| law | δn (nm) | it/step | pairs/step | s/step | ratio to hard wall | max residual | converged |",

@@ -30,8 +30,9 @@ nodes that went through the wall are projected back onto it (u_z ≤ z_ind) and 
 velocity that carried them there is removed with the same correction.
 All variants stop on the same residual (below) and have the KKT points as fixed points.
 
-FFT backend: scipy.fft, or ducc0 where installed (the ``fast`` extra; 1.4–2× faster
-pairs measured here); ``GFMD_FFT=scipy|ducc0|auto`` (default auto) chooses.
+FFT backend of the hard-wall CG: scipy.fft, or ducc0 where installed (the ``fast`` extra; 1.4–2× faster
+pairs measured here); ``GFMD_FFT=scipy|ducc0|auto`` (default auto) chooses. The cohesive
+solvers use scipy.fft.
 
 Convergence: max_j |r_j| < tolerance · p_ref, with r the nodal force residual
 (Pa) and p_ref = `Model.reference_traction`; checked every `check_every`
