@@ -19,6 +19,7 @@ from pathlib import Path
 
 DATA_DIR = Path(__file__).resolve().parent / "data"
 SIGNIFICANT_DIGITS = 4  # of the measured numbers stored
+LINE_WIDTH = 160  # of the data files
 
 
 class MissingMeasurement(LookupError):
@@ -82,15 +83,16 @@ def _rounded(obj, digits=SIGNIFICANT_DIGITS):
     return obj
 
 
-def _dumps(obj, indent=0):
-    """JSON with one key a line and lists of numbers or strings on one line."""
+def _dumps(obj, indent=0, width=LINE_WIDTH):
+    """JSON with one key (or list item) a line; whatever fits in `width` characters on one line."""
+    flat = json.dumps(obj, ensure_ascii=False, allow_nan=False)
+    if not isinstance(obj, (dict, list)) or not obj or indent + len(flat) <= width:
+        return flat
     pad = " " * (indent + 1)
-    if isinstance(obj, dict) and obj:
-        items = [f"{pad}{json.dumps(k, ensure_ascii=False)}: {_dumps(v, indent + 1)}" for k, v in obj.items()]
+    if isinstance(obj, dict):
+        items = [f"{pad}{json.dumps(k, ensure_ascii=False)}: {_dumps(v, indent + 1, width)}" for k, v in obj.items()]
         return "{\n" + ",\n".join(items) + "\n" + " " * indent + "}"
-    if isinstance(obj, list) and any(isinstance(v, (dict, list)) for v in obj):
-        return "[\n" + ",\n".join(pad + _dumps(v, indent + 1) for v in obj) + "\n" + " " * indent + "]"
-    return json.dumps(obj, ensure_ascii=False, allow_nan=False)
+    return "[\n" + ",\n".join(pad + _dumps(v, indent + 1, width) for v in obj) + "\n" + " " * indent + "]"
 
 
 def write(study, entries, description=""):
