@@ -40,7 +40,7 @@ class GfmdCell:
 
     @property
     def reasons(self):
-        return self.physics.reasons
+        return self.physics.reasons + (integrator(self.physics, self.settings),)
 
     def initial_state(self):
         """u_hat = 0: the undeformed surface, rfft modes of each solved component."""
@@ -61,6 +61,17 @@ class GfmdCell:
                             gap=r.gap, t_n=r.t_z, fields=lambda: fields,
                             u_x=r.u_x if self.physics.tangential else None,
                             messages=() if r.converged else (r.message,))
+
+
+def integrator(physics, settings):
+    """Which GFMD integrator relaxes the steps (gfmd.solver.relax), in words."""
+    if physics.law.constraint and settings.method == "fire" and settings.hard_wall == "cg":
+        return ("integrator: projected preconditioned conjugate gradients on the mass-weighted modes (hard wall; "
+                "solver.method = fire selects it, Settings.hard_wall = \"fire\" the FIRE projection)")
+    if settings.method == "verlet":
+        return "integrator: damped Störmer–Verlet (seed §2)" + (", projected onto the wall" if physics.law.constraint
+                                                                 else "")
+    return "integrator: FIRE on mass-weighted modes" + (", projected onto the wall" if physics.law.constraint else "")
 
 
 def prepare(scene, h, realization=0, settings=None, method_name=None):
