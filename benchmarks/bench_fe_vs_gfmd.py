@@ -80,21 +80,19 @@ def run_one(nodes, method, variant, steps):
 
     import numpy as np
 
+    from workbench.methods import run_realization  # the one registry: the scene's [method] says which
+
     sc = bench_scene(nodes, steps)
     t0 = time.perf_counter()
     if method.startswith("fe"):
-        from reference import fem
-
-        result = fem.run_realization(sc, order=int(method[-1]), linear=variant)
+        result = run_realization(sc.replace(**{"method.name": "fe", "method.order": int(method[-1]),
+                                               "method.linear": variant}))
         prob = result.diagnostics["problem"]
         system = prob.reduced.shape[0] if hasattr(prob, "reduced") else prob.S.shape[0]
         dofs = prob.cell.basis.N
         extra = dict(getattr(prob, "stats", {}))
     else:
-        import gfmd.loading as gl
-
-        sc = sc.replace(**{"solver.tolerance": float(variant)})
-        result = gl.run_realization(sc)
+        result = run_realization(sc.replace(**{"solver.tolerance": float(variant)}))
         system = dofs = nodes
         extra = {}
     total = time.perf_counter() - t0

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 
+from . import kernels
 from .errors import SceneError
 
 
@@ -61,8 +62,8 @@ class Material:
 
     @property
     def contact_modulus(self):
-        """E* = E/(1 − ν²) (Pa)."""
-        return self.youngs_modulus / (1.0 - self.poisson_ratio**2)
+        """E* = E/(1 − ν²) (Pa), `contact.kernels.contact_modulus`."""
+        return kernels.contact_modulus(self.youngs_modulus, self.poisson_ratio)
 
     @property
     def half_plane(self):

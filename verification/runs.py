@@ -1,4 +1,5 @@
-"""Running the methods on a scene, timed: the one place where verification calls a solver.
+"""Running the methods on a scene, timed: the one place where verification calls a solver,
+through the one registry `workbench.methods` (the scene's [method] says which runs).
 
 * `run_fe_and_gfmd(scene, order=2)`: `reference.fem` P<order> and GFMD on one scene.
 * `run_methods(scene, names)`: the named methods of `METHODS`, each under a `Meter`.
@@ -14,17 +15,22 @@ from typing import Any, Callable
 
 import numpy as np
 
+from workbench.methods import run_realization as run_method
+
 from .provenance import Meter
+
+
+def with_method(scene, name, **options):
+    """`scene` solved by method `name` (workbench.methods registry) with [method] `options`."""
+    return scene.replace(**{"method.name": name, **{f"method.{k}": v for k, v in options.items()}})
 
 
 def run_fe_and_gfmd(scene, order=2):
     """(fe, gfmd, fe_s, gfmd_s): `reference.fem` P<order> and GFMD (scene.solver) on one scene, wall times (s)."""
-    from gfmd.loading import run_realization
-    from reference import fem
     t0 = time.perf_counter()
-    fe = fem.run_realization(scene, order=order)
+    fe = run_method(with_method(scene, "fe", order=order))
     t1 = time.perf_counter()
-    gfmd = run_realization(scene)
+    gfmd = run_method(with_method(scene, "gfmd"))
     return fe, gfmd, t1 - t0, time.perf_counter() - t1
 
 
@@ -49,17 +55,12 @@ def run_gfmd(scene, settings=None, method_name=None):
 def run_fe(scene, order=2):
     """(Result, wall s, mesh and assembly included) of `reference.fem` P<order> on realization 0;
     raises AssertionError if a step did not converge."""
-    from reference import fem
-    return _converged(lambda: fem.run_realization(scene, order=order), f"fe-p{order}")
+    return _converged(lambda: run_method(with_method(scene, "fe", order=order)), f"fe-p{order}")
 
 
-def _gfmd(method):
+def _gfmd(integrator):
     def run(scene, realization=0):
-        from gfmd.loading import run_realization
-        from gfmd.solver import Settings
-        settings = Settings(method=method, tolerance=scene.solver.tolerance,
-                            max_iterations=scene.solver.max_iterations)
-        return run_realization(scene, realization, settings=settings, method_name=f"gfmd-{method}")
+        return run_method(with_method(scene, "gfmd").replace(**{"solver.method": integrator}), realization)
     return run
 
 

@@ -2,7 +2,7 @@
 
 Scene: `verification.scenes.cohesive_sinusoid` with every step's fields kept (a = 50 nm,
 L = D = 1 µm, E = 70 GPa, ν = 0.3, normal CZ, φn* = 0.01, δn = 1 nm, δ0 = 2 nm,
-δ from −2 nm to 60 nm in 20 steps). FE P2, `reference.fem.run_realization`
+δ from −2 nm to 60 nm in 20 steps). FE P2 (`method.name = "fe"`, workbench.methods)
 with quadrature="nodal" (f_i = W_i T(Δ_i), Simpson weights) and "gauss"
 (f = Bᵀ(w_g T(Δ_g)), 4 Gauss points per facet, z_ind from the Fourier
 interpolant of h; `reference.fem.quadrature`); GFMD (FIRE, nodal forces l T_i).
@@ -61,9 +61,8 @@ import time
 import numpy as np
 import pytest
 
-import gfmd.loading as gl
 from contact.loading import field_step_indices
-from reference import fem
+from verification.runs import run_method, with_method
 from verification.metrics import field_difference
 from verification.plots import convergence_plot, curve_plot, profile_plot
 from verification.scenes import cohesive_sinusoid
@@ -106,9 +105,10 @@ def compare(n):
         return _CACHE[n]
     sc = scene(n)
     runs, wall = {}, {}
-    for name, run in (("nodal", lambda: fem.run_realization(sc, order=2)),
-                      ("gauss", lambda: fem.run_realization(sc, order=2, quadrature="gauss")),
-                      ("gfmd", lambda: gl.run_realization(sc))):
+    for name, run in (("nodal", lambda: run_method(with_method(sc, "fe", order=2))),
+                      ("gauss", lambda: run_method(with_method(sc, "fe", order=2, quadrature="gauss",
+                                                               linear="dense"))),
+                      ("gfmd", lambda: run_method(with_method(sc, "gfmd")))):
         t0 = time.perf_counter()
         runs[name] = run()
         wall[name] = time.perf_counter() - t0

@@ -97,7 +97,7 @@ def names_a_key(message):
 # ----------------------------------------------------------------------------- sweep cells
 def run_cell(overrides):
     """Run one cell; a dict with status, message and the numbers (never raises for scene errors)."""
-    from gfmd.loading import run_realization
+    from workbench.methods import run_realization
     t0 = time.perf_counter()
     sc = None
     try:
@@ -218,7 +218,7 @@ def threshold_study(case):
     """The case's profile on every N of THRESHOLD_NODES, against the finest (cached): {"ratio" δn/l,
     "N", "dp" max|Δp|/max|p|, "da" max|Δa_rel|, "warned" (an under-resolved warning), "wall_s"}."""
     if case not in _THRESHOLD:
-        from gfmd.loading import run_realization
+        from workbench.methods import run_realization
         t0 = time.perf_counter()
         runs = {}
         for n in THRESHOLD_NODES:
