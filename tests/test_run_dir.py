@@ -90,10 +90,10 @@ def test_run_writes_every_step_as_it_goes(tmp_path, monkeypatch):
     assert not (out / "partial").exists()
 
 
-@pytest.mark.parametrize("stop_after", [(0, 3), (1, 0), (2, 8)])
-def test_resume_equals_uninterrupted_run(tmp_path, monkeypatch, stop_after):
-    """Interrupt after step k of realization i (KeyboardInterrupt from the checkpoint), resume: same files."""
-    sc = scene()
+def interrupted_and_resumed(tmp_path, monkeypatch, sc, stop_after):
+    """Run `sc` into ref/ uninterrupted, and into out/ interrupted after step k of realization i
+    (stop_after = (i, k); a KeyboardInterrupt from the checkpoint), refused without --resume,
+    then resumed; returns (ref, out)."""
     path = write_scene(tmp_path, sc)
     ref = tmp_path / "ref"
     assert main(["run", str(path), "--out", str(ref), "--quiet", "--no-plot"]) == 0
@@ -111,6 +111,13 @@ def test_resume_equals_uninterrupted_run(tmp_path, monkeypatch, stop_after):
     assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"]) == 2  # not without --resume
     monkeypatch.setattr(workbench.io, "save_step", original)
     assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot", "--resume"]) == 0
+    return ref, out
+
+
+@pytest.mark.parametrize("stop_after", [(0, 3), (1, 0), (2, 8)])
+def test_resume_equals_uninterrupted_run(tmp_path, monkeypatch, stop_after):
+    """Interrupt after step k of realization i (KeyboardInterrupt from the checkpoint), resume: same files."""
+    ref, out = interrupted_and_resumed(tmp_path, monkeypatch, scene(), stop_after)
     assert_same_run(ref, out)
     i, k = stop_after
     resume = json.loads((out / "meta.json").read_text())["resume"]
@@ -350,21 +357,7 @@ def test_fe_run_resumes_step_by_step(tmp_path, monkeypatch, law):
     from test_cli_fe import fe_scene
 
     sc = fe_scene(law, "self-affine").replace(**{"method.name": "fe", "loading.steps": 5})
-    path = write_scene(tmp_path, sc)
-    ref = tmp_path / "ref"
-    assert main(["run", str(path), "--out", str(ref), "--quiet", "--no-plot"]) == 0
-    original = workbench.io.save_step
-
-    def interrupt(out_dir, result, state):
-        original(out_dir, result, state)
-        if state.step == 2:
-            raise KeyboardInterrupt
-
-    out = tmp_path / "out"
-    monkeypatch.setattr(workbench.io, "save_step", interrupt)
-    assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"]) == 130
-    monkeypatch.setattr(workbench.io, "save_step", original)
-    assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot", "--resume"]) == 0
+    ref, out = interrupted_and_resumed(tmp_path, monkeypatch, sc, (0, 2))
     assert_same_run(ref, out)
     assert json.loads((out / "meta.json").read_text())["resume"]["steps_reused"] == 3
     vtu = sorted(p.name for p in (ref / "vtu" / "realization0").iterdir())

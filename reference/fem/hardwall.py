@@ -41,14 +41,12 @@ max over the points of |S u + μ|/W, max(0, −μ)/W and max(0, u − z)·S_ii/W
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
 import scipy.optimize
 
-from contact.model import build_model
 from contact.observables import rms_gradient
 from contact.ramp import StepSolution
 
@@ -200,24 +198,3 @@ class HardWallCell:
         return StepSolution(state=np.vstack([u, mu]), converged=ok, iterations=its, residual=res, gap=gap[vp],
                             t_n=t_n, fields=fields, messages=messages,
                             keep={"solutions": u.copy(), "wall_forces": mu.copy()}, fallback=how != "pdas")
-
-
-def prepare(scene, h, realization=0, order=2, mesh_kw=None, tolerance=None):
-    """The FE hard-wall cell of `scene` with profile h (m). tolerance: KKT residual bound per step
-    (default min(scene.solver.tolerance, 1e-10)); a step above it is reported as not converged."""
-    physics = build_model(scene, h)
-    t0 = time.perf_counter()
-    prob = HardWallProblem(scene, h, order=order, mesh_kw=mesh_kw)
-    setup = time.perf_counter() - t0
-    cell = prob.cell
-    model = (f"FE P{order} plane strain, periodic cell L = {scene.surface.length:g} m, bonded layer "
-             f"D = {scene.material.thickness:g} m, {cell.basis.N} DOFs ({cell.mesh.t.shape[1]} triangles, graded), "
-             f"frictionless hard wall (u_x free, t_x = 0) on {prob.ns} surface points"
-             + (", z_ind at facet midpoints from the Fourier interpolant of h" if order == 2 else "")
-             + "; primal–dual active set on the condensed surface")
-    reasons = ("FE mesh of the finite layer on its bonded base, periodic cell; the model choice and checks of "
-               "contact.model, as for every method",) + physics.reasons
-    return HardWallCell(scene=scene, prob=prob, physics=physics,
-                        tolerance=tolerance if tolerance is not None else min(scene.solver.tolerance, 1e-10),
-                        method=f"fe-p{order}", model=model, reasons=reasons,
-                        diagnostics={"problem": prob, "setup_s": setup, "fallback_steps": []})

@@ -14,7 +14,7 @@ from contact.model import build_model
 from contact.ramp import run_ramp
 
 from ._blas import single_thread
-from .hardwall import prepare as prepare_hard_wall
+from .hardwall import HardWallCell, HardWallProblem
 from .solver import FeCell
 from .sparse import make_problem
 
@@ -55,17 +55,39 @@ def prepare_cohesive(scene, h, realization=0, order=2, mesh_kw=None, tolerance=N
     setup = time.perf_counter() - t0
     cell = prob.cell
     law = ("coupled CZ (seed Eq. 2)" if prob.tangential else "normal-only CZ (seed Eq. 3), u_x free (t_x = 0)")
-    model = (f"FE P{order} plane strain, periodic cell L = {scene.surface.length:g} m, bonded layer "
-             f"D = {scene.material.thickness:g} m, {cell.basis.N} DOFs ({cell.mesh.t.shape[1]} triangles, graded), "
-             f"{law}, "
+    model = (f"{_mesh_text(scene, prob, order)}, {law}, "
              + (f"nodal (FacetBasis-weight) quadrature on {prob.ns} surface points" if quadrature == "nodal" else
                 f"Gauss–Legendre quadrature ({prob.gauss.x.size // cell.nodes} points per facet; "
                 f"outputs at the {prob.ns} surface points)")
              + (", z_ind at facet midpoints from the Fourier interpolant of h" if order == 2 else "")
              + f"; Newton on the condensed surface, {prob.linear_solver}")
+    return FeCell(**_cell_common(scene, prob, physics, order, tolerance, setup), model=model)
+
+
+def prepare_hard_wall(scene, h, realization=0, order=2, mesh_kw=None, tolerance=None):
+    """The FE hard-wall cell of `scene` with profile h (m). tolerance: KKT residual bound per step
+    (default min(scene.solver.tolerance, 1e-10)); a step above it is reported as not converged."""
+    physics = build_model(scene, h)
+    t0 = time.perf_counter()
+    prob = HardWallProblem(scene, h, order=order, mesh_kw=mesh_kw)
+    setup = time.perf_counter() - t0
+    model = (f"{_mesh_text(scene, prob, order)}, frictionless hard wall (u_x free, t_x = 0) on {prob.ns} surface "
+             "points" + (", z_ind at facet midpoints from the Fourier interpolant of h" if order == 2 else "")
+             + "; primal–dual active set on the condensed surface")
+    return HardWallCell(**_cell_common(scene, prob, physics, order, tolerance, setup), model=model)
+
+
+def _mesh_text(scene, prob, order):
+    cell = prob.cell
+    return (f"FE P{order} plane strain, periodic cell L = {scene.surface.length:g} m, bonded layer "
+            f"D = {scene.material.thickness:g} m, {cell.basis.N} DOFs ({cell.mesh.t.shape[1]} triangles, graded)")
+
+
+def _cell_common(scene, prob, physics, order, tolerance, setup):
+    """What every FE cell carries besides its model text (see contact.ramp for the protocol)."""
     reasons = ("FE mesh of the finite layer on its bonded base, periodic cell; the model choice and checks of "
                "contact.model, as for every method",) + physics.reasons
-    return FeCell(scene=scene, prob=prob, physics=physics,
-                  tolerance=tolerance if tolerance is not None else min(scene.solver.tolerance, 1e-10),
-                  method=f"fe-p{order}", model=model, reasons=reasons,
-                  diagnostics={"problem": prob, "setup_s": setup, "fallback_steps": []})
+    return dict(scene=scene, prob=prob, physics=physics,
+                tolerance=tolerance if tolerance is not None else min(scene.solver.tolerance, 1e-10),
+                method=f"fe-p{order}", reasons=reasons,
+                diagnostics={"problem": prob, "setup_s": setup, "fallback_steps": []})
