@@ -4,6 +4,7 @@ Plain functions (no pytest); each module runs from the command line and, with `-
 regenerates its data file under `verification/data/` (`verification.measured`):
 
 * `westergaard`: GFMD hard wall vs Westergaard's sinusoid, error vs N;
+* `hertz`: GFMD hard wall vs Hertz line contact, error vs N;
 * `speed_accuracy`: error vs wall time of GFMD (FIRE, Verlet) and FE (P1, P2) on three scenes;
 * `extremes`: one-parameter sweeps and corners around a base scene, GFMD vs FE on layer cells,
   and the δn/l resolution threshold.
