@@ -80,10 +80,6 @@ class Interface:
     contact_tolerance: float = 1e-3
     # φn = φn* δn E (J/m²) needs E: `Scene.work_normal`; the law objects: `contact.laws.law_from_scene`
 
-    @property
-    def cohesive(self):
-        return self.law == "cohesive"
-
 
 @dataclass(frozen=True)
 class Loading:

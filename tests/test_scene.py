@@ -359,7 +359,7 @@ def test_scene_to_dict_and_properties():
     assert d["material"]["thickness"] == 3e-6
     assert scene_to_dict(default_scene())["material"]["thickness"] == "inf"
     assert scene.surface.spacing == 1e-6 / 64
-    assert scene.interface.cohesive and not scene.replace(**{"interface.law": "hard-wall"}).interface.cohesive
+    assert scene.interface.law == "cohesive" and scene.replace(**{"interface.law": "hard-wall"}).interface.law == "hard-wall"
 
 
 # ---------------------------------------------------------------- keys that belong to another surface kind
