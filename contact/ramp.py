@@ -67,11 +67,25 @@ def _extrapolated(state, previous):
 def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, resume=None):
     """Run the load ramp of one realization with the cell `prepare(scene, h, realization)` returns.
 
-    progress: callable(step, steps) after every step; checkpoint: callable(result, state)
-    after every step (the steps so far and the `RampState`, what gfmd-style checkpoints
-    write); resume: a (result, state) pair such a checkpoint saw: the ramp continues after
-    state.step from that exact state, so the final Result equals an uninterrupted run's
-    (wall times aside). Returns the `Result`.
+    Parameters
+    ----------
+    scene : contact.scene.Scene
+    realization : int
+        Realization index i (random profile seed surface.seed + i).
+    prepare : callable(scene, h, realization) -> Cell
+        The method's cell (module docstring).
+    progress : callable(step, steps), optional
+        Called after every step.
+    checkpoint : callable(result, state), optional
+        Called after every step with the steps so far and the `RampState` (workbench.io
+        writes them to disk).
+    resume : (Result, RampState), optional
+        What a checkpoint saw: the ramp continues after state.step from that exact state,
+        so the final Result equals an uninterrupted run's (wall times aside).
+
+    Returns
+    -------
+    contact.result.Result
     """
     h = surfaces.profile(scene.surface, realization)
     cell = prepare(scene, h, realization)

@@ -462,7 +462,19 @@ def scene_from_dict(d, name="scene"):
 
 
 def load_scene(path):
-    """Read and validate a TOML scene file; a relative surface.path is taken relative to the file."""
+    """Read and validate a TOML scene file; a relative surface.path is taken relative to the file.
+
+    Parameters
+    ----------
+    path : str or Path
+        TOML scene file (`gfmd scene --example` prints a commented one).
+
+    Returns
+    -------
+    Scene
+        Named after the file's stem. Raises SceneError naming the key, the value and
+        what is allowed.
+    """
     path = Path(path)
     try:
         with open(path, "rb") as fh:

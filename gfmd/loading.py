@@ -85,10 +85,23 @@ def prepare(scene, h, realization=0, settings=None, method_name=None):
 
 def run_realization(scene, realization=0, settings=None, progress=None, method_name=None, *, checkpoint=None,
                     resume=None):
-    """Run the whole load ramp of one realization with GFMD; returns a `contact.result.Result`.
+    """Run the whole load ramp of one realization with GFMD.
 
-    settings: `gfmd.solver.Settings` (default from scene.solver); progress, checkpoint,
-    resume: the hooks of `contact.ramp.run_ramp`.
+    Parameters
+    ----------
+    scene : contact.scene.Scene
+    realization : int
+        Realization index i (random profile seed surface.seed + i).
+    settings : gfmd.solver.Settings, optional
+        Integrator settings (default: from scene.solver).
+    progress, checkpoint, resume
+        The hooks of `contact.ramp.run_ramp`.
+    method_name : str, optional
+        The Result's method label (default "gfmd-<integrator>").
+
+    Returns
+    -------
+    contact.result.Result
     """
     return run_ramp(scene, realization, partial(prepare, settings=settings, method_name=method_name),
                     progress=progress, checkpoint=checkpoint, resume=resume)

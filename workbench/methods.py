@@ -80,5 +80,19 @@ def method_of(scene):
 
 
 def run_realization(scene, realization=0, progress=None, checkpoint=None, resume=None):
-    """Run one realization of `scene` with the method its [method] section names; a Result."""
+    """Run one realization of `scene` with the method its [method] section names.
+
+    Parameters
+    ----------
+    scene : contact.scene.Scene
+        The scene; `scene.method.name` picks the method ("gfmd" or "fe") and its options.
+    realization : int
+        Realization index i (random profile seed surface.seed + i).
+    progress, checkpoint, resume
+        The hooks of `contact.ramp.run_ramp`.
+
+    Returns
+    -------
+    contact.result.Result
+    """
     return method_of(scene).run(scene, realization, progress=progress, checkpoint=checkpoint, resume=resume)
