@@ -7,6 +7,7 @@ regenerates its data file under `verification/data/` (`verification.measured`):
 * `hertz`: GFMD hard wall vs Hertz line contact, error vs N;
 * `jkr_sinusoid`: GFMD cohesive sinusoid vs Johnson's JKR-wavy solution, error vs δn;
 * `maugis_dugdale`: GFMD cohesive cylinder vs Maugis–Dugdale at λ = 3 and 1, signed error vs N;
+* `fe_cohesive`: GFMD vs FE P2 on the cohesive sinusoid (normal law), differences vs N;
 * `speed_accuracy`: error vs wall time of GFMD (FIRE, Verlet) and FE (P1, P2) on three scenes;
 * `extremes`: one-parameter sweeps and corners around a base scene, GFMD vs FE on layer cells,
   and the δn/l resolution threshold.
