@@ -8,30 +8,13 @@ GFMD: `gfmd.loading.run_realization` (FIRE, tolerance 1e-8; u_x and u_z solved);
 
 Metrics (max over the recorded field steps 2, 4, …, 10, resp. over all steps):
 * t_n(x), t_t(x): ‖t^FE − t^GFMD‖₂ / ‖t^GFMD‖₂ (also max |Δt| / (φn/δn), informational)
-* p(δ): max_k |p_FE − p_GFMD| / max_k |p_GFMD|;  a_rel: max_k |Δa_rel| (0 in every run below)
+* p(δ): max_k |p_FE − p_GFMD| / max_k |p_GFMD|;  a_rel: max_k |Δa_rel| (0 in every stored run)
 
-Study (measured when the tolerances were set; 256, 512: --full; times under load ~4 on 2 cores):
+Study and data: `verification.studies.fe_coupled` (also the differences' definitions above); its
+measured differences, orders and times per ν are in verification/data/fe_coupled.json (regenerate:
+`python -m verification.studies.fe_coupled --write`, N = 64, 128; `--full` adds 256, 512).
 
-    ν     N      t_n L2   t_t L2   p(δ)     max|Δt_n|  max|Δt_t|  (φn/δn)   FE / GFMD s/step
-    0.1   64     3.1e-3   6.7e-3   2.9e-3   2.6e-2     1.5e-2               0.012 / 0.017
-          128    5.0e-4   1.1e-3   3.4e-4   3.9e-3     2.9e-3               0.074 / 0.019
-          256    7.4e-5   1.8e-4   4.0e-5   1.0e-3     5.5e-4               0.72  / 0.018
-          512    1.7e-5   5.9e-5   6.6e-6   2.7e-4     1.9e-4               5.2   / 0.029
-    0.3   64     4.5e-3   3.7e-3   1.5e-3   2.1e-2     3.9e-3               0.008 / 0.018
-          128    8.1e-4   1.7e-3   2.7e-4   3.6e-3     8.3e-4               0.037 / 0.018
-          256    1.2e-4   2.8e-4   3.2e-5   5.4e-4     2.4e-4               0.30  / 0.024
-          512    2.0e-5   9.0e-5   2.4e-6   1.3e-4     1.0e-4               2.9   / 0.060
-    0.45  64     1.1e-2   9.4e-2   3.0e-3   6.9e-2     1.9e-2               0.007 / 0.017
-          128    1.9e-3   1.6e-2   5.2e-4   1.3e-2     2.5e-3               0.035 / 0.018
-          256    2.8e-4   2.8e-3   6.2e-5   2.0e-3     5.4e-4               0.65  / 0.052
-          512    4.4e-5   8.0e-4   5.6e-6   4.2e-4     2.7e-4               2.8   / 0.028
-    0.49  64     2.0e-2   7.9e-1   6.8e-3   1.6e-1     4.1e-2               0.007 / 0.017
-          128    3.8e-3   1.2e-1   1.1e-3   3.0e-2     7.5e-3               0.042 / 0.018
-          256    5.6e-4   2.2e-2   1.3e-4   4.6e-3     1.7e-3               0.42  / 0.051
-          512    8.5e-5   7.4e-3   2.4e-5   1.1e-3     8.0e-4               3.9   / 0.026
-
-Observed orders (64→128, 128→256, 256→512): t_n 2.4–2.6, 2.7–2.8, 2.1–2.7; t_t 1.1 (ν = 0.3) or
-2.5–2.7, 2.5–2.7, 1.6–1.8; p 2.5–3.1, 3.1, 2.4–3.7. As in the normal-law case the difference is
+As in the normal-law case the difference is
 discretisation (continuum kernel sampled at the nodes vs P2 + Simpson nodal quadrature). The last
 t_t order (~1.6) is a floor of the FE mesh: at δ ≥ 6 nm (ν = 0.3) the t_t difference stays at
 5–7e-5 from N = 256 to 512 (the max, 9e-5, is the small-t_t step δ = 2 nm); it is not the GFMD
@@ -39,9 +22,8 @@ tolerance (identical to 3 digits with 1e-11), and refining the graded FE mesh in
 not refine with N; mesh_kw max_spacing D/16 + min_segments 128, or rows_per_level 8) moves it by
 2–4e-5 at N = 256. FE cost per step grows ~N³ from N = 256 (dense condensed system, 2N unknowns;
 a non-symmetric stability check by eigenvalues, ≈ 20 solves, where sym(J) is indefinite).
-Tolerances: t_n, t_t, p ≤ 3 × (value at N = 64, per ν) × (64/N)²: the measured values sit 3×
-(N = 64), 1.7–4.9× (128), 2.4–13× (256) and 1.9–29× (512) below; the tightest is t_t at ν = 0.3
-(order 1.1 from 64 to 128). |Δa_rel| ≤ 2/N; t_n order 64 → 128 > 1.5 (measured 2.4–2.6).
+Tolerances: t_n, t_t, p ≤ 3 × (stored value at N = 64, per ν, entry "ci") × (64/N)²; the tightest is
+t_t at ν = 0.3 (observed order ≈ 1.1 from 64 to 128). |Δa_rel| ≤ 2/N; t_n order 64 → 128 > 1.5.
 
 ν → 0.5: the kernel's normalised coupling |K_xz|/√(K_xx K_zz) = (1−2ν)/(2(1−ν)) (0.44, 0.29,
 0.091, 0.020; the layer D = L is half-plane-like for every q ≠ 0) drives t_t, and
@@ -81,67 +63,36 @@ import numpy as np
 import pytest
 
 from gfmd.solver import COUPLED_FIRE_BUDGET
+from verification import measured
 from verification.metrics import field_difference
 from verification.plots import convergence_plot, curve_plot, profile_plot
-from verification.runs import fe_vs_gfmd, run_fe_and_gfmd
+from verification.runs import run_fe_and_gfmd
 from verification.scenes import COUPLED_TANGENTIAL_RATIO as TANGENTIAL_RATIO
 from verification.scenes import coupled_sinusoid
+from verification.studies import fe_coupled as fcp
 
 METHODS = ("gfmd-fire", "fe-p2")
-RATIOS = (0.1, 0.3, 0.45, 0.49)  # Poisson ratios; N = 64, 128 of all four run in CI (~1–2 s each)
-_CACHE = {}
-
-
-def _field_differences(rf, rg, name, scale):
-    """(max over field steps of the relative L2 difference, of max |diff| / scale) of field `name`."""
-    peak = max(np.max(np.abs(rf.fields[k][name] - rg.fields[k][name])) for k in rf.fields) / scale
-    return field_difference(rf, rg, name), float(peak)
+RATIOS = fcp.RATIOS  # Poisson ratios; N = 64, 128 of all four run in CI
 
 
 def compare(n, nu):
-    """Run FE P2 and GFMD on coupled_sinusoid(n, nu); differences (dimensionless) and times (s), cached."""
-    if (n, nu) in _CACHE:
-        return _CACHE[(n, nu)]
-    sc = coupled_sinusoid(n, nu)
-    out = fe_vs_gfmd(sc, check=False)
-    rf, rg = out["rf"], out["rg"]
-    assert rf.all_converged, f"FE N={n} ν={nu}: {rf.messages}"
-    assert rg.all_converged, f"GFMD N={n} ν={nu}: {rg.messages}"
-    for r in (rf, rg):  # the verified range stays below contact.loading.SLIP_LIMIT
-        assert not any("slip regime" in w for w in r.reasons), (r.method, r.reasons)
-    traction_scale = sc.work_normal / sc.interface.length_normal  # φn/δn (Pa)
-    tn, tn_max = _field_differences(rf, rg, "t_n", traction_scale)
-    tt, tt_max = _field_differences(rf, rg, "t_t", traction_scale)
-    last = max(rg.fields)
-    tt_over_tn = float(np.max(np.abs(rg.fields[last]["t_t"])) / np.max(np.abs(rg.fields[last]["t_n"])))
-    out.update(tn_max=tn_max, tt=tt, tt_max=tt_max, tt_over_tn=tt_over_tn,
-               gfmd_iterations=int(np.max(rg.curve["iterations"])),
-               fe_fallbacks=len(rf.diagnostics["fallback_steps"]))
-    print(f"\nN={n} ν={nu}: t_n L2 {tn:.3g} (max {tn_max:.3g} φn/δn)  t_t L2 {tt:.3g} (max {tt_max:.3g} φn/δn)  "
-          f"p {out['p']:.3g}  a_rel {out['a']:.3g}  max|t_t|/max|t_n| {tt_over_tn:.3g}  FE {out['fe_step']:.3f} s/step "
-          f"({out['fe_fallbacks']} fallback steps)  GFMD {out['gfmd_step']:.3f} s/step "
-          f"(≤ {out['gfmd_iterations']} iterations)")
-    _CACHE[(n, nu)] = out
-    return out
+    return fcp.compare(n, nu)
 
 
-# measured N = 64 values (docstring table) and the bound factor; the bound at N is
-# BOUND_FACTOR × value(64) × (64/N)² (observed order ≥ 2 for t_n and p, 1.1–2.8 for t_t; see docstring)
-AT_64 = {  # ν: (t_n L2, t_t L2, p)
-    0.1: (3.1e-3, 6.7e-3, 2.9e-3),
-    0.3: (4.5e-3, 3.7e-3, 1.5e-3),
-    0.45: (1.1e-2, 9.4e-2, 3.0e-3),
-    0.49: (2.0e-2, 7.9e-1, 6.8e-3),
-}
-BOUND_FACTOR = 3.0
-SOURCE = ("GFMD–FE study in verification/test_fe_coupled.py docstring: bound = 3 × (value at N = 64) × (64/N)²; "
-          "observed orders 2.1–2.8 (t_n), 1.1–2.8 (t_t), 2.5–3.7 (p)")
+BOUND_FACTOR = 3.0  # the bound at N is BOUND_FACTOR × (stored value at N = 64) × (64/N)²
+
+
+def source():
+    e = measured.entry(fcp.NAME, "ci")
+    return (f"verification.studies.fe_coupled (verification/data/fe_coupled.json, {e['code_version']}, {e['date']}): "
+            f"bound = {BOUND_FACTOR:g} × (value at N = 64, per ν) × (64/N)²")
 
 
 def bounds(n, nu):
-    """(t_n, t_t, p) tolerances at N nodes (dimensionless, see AT_64)."""
-    scale = BOUND_FACTOR * (64 / n) ** 2
-    return tuple(v * scale for v in AT_64[nu])
+    """(t_n, t_t, p) tolerances at N nodes (dimensionless) from verification/data/fe_coupled.json."""
+    errors, nodes = fcp.measured_errors(nu, "ci")
+    i = nodes.index(64)
+    return tuple(BOUND_FACTOR * errors[m][i] * (64 / n) ** 2 for m in ("tn", "tt", "p"))
 
 
 def _plots(n, nu, out):
@@ -163,16 +114,16 @@ def _record(rec, n, nu, out):
     res = {"N": n, "D/L": 1, "elements": "P2", "nu": nu, "c": TANGENTIAL_RATIO}
     tol_tn, tol_tt, tol_p = bounds(n, nu)
     rec(case=case, metric="t_n relative L2 (max over field steps)", value=out["tn"], tolerance=tol_tn,
-        methods=METHODS, tolerance_source=SOURCE, resolution=res, wall_s=out["fe_s"] + out["gfmd_s"],
+        methods=METHODS, tolerance_source=source(), resolution=res, wall_s=out["fe_s"] + out["gfmd_s"],
         plots=_plots(n, nu, out))
     rec(case=case, metric="t_t relative L2 (max over field steps)", value=out["tt"], tolerance=tol_tt,
-        methods=METHODS, tolerance_source=SOURCE, resolution=res)
+        methods=METHODS, tolerance_source=source(), resolution=res)
     rec(case=case, metric="p(δ) max diff / max|p|", value=out["p"], tolerance=tol_p, methods=METHODS,
-        tolerance_source=SOURCE, resolution=res)
+        tolerance_source=source(), resolution=res)
     rec(case=case, metric="max |Δa_rel|", value=out["a"], tolerance=2 / n, methods=METHODS,
         tolerance_source="one node per contact edge (2/N)", resolution=res)
     rec(case=case, metric="max |Δt_n|, max |Δt_t| over field steps / (φn/δn)", value=[out["tn_max"], out["tt_max"]],
-        tolerance=None, methods=METHODS, tolerance_source="informational (docstring table)", resolution=res,
+        tolerance=None, methods=METHODS, tolerance_source="informational (verification/data/fe_coupled.json)", resolution=res,
         passed=None)
     rec(case=case, metric="max|t_t| / max|t_n| at the last step (GFMD)", value=out["tt_over_tn"], tolerance=None,
         methods=METHODS, resolution=res, passed=None,
@@ -203,14 +154,14 @@ def test_fe_coupled_sinusoid_convergence(nu, verification_record):
     verification_record(
         case=case, metric="observed order of the t_n difference (N = 64 → 128)", value=orders["tn"],
         tolerance=None, passed=bool(orders["tn"] > 1.5), methods=METHODS, resolution={"N": ns, "nu": nu},
-        tolerance_source="order 2.4–2.6 measured (docstring); must exceed 1.5",
+        tolerance_source="must exceed 1.5 (measured orders: verification/data/fe_coupled.json)",
         plots=[convergence_plot(h, [o["tn"] for o in outs], xlabel="l = L/N (m)", ylabel="t_n rel. L2 GFMD–FE",
                                 title=f"t_n, ν = {nu}"),
                convergence_plot(h, [o["tt"] for o in outs], xlabel="l = L/N (m)", ylabel="t_t rel. L2 GFMD–FE",
                                 title=f"t_t, ν = {nu}")])
     verification_record(case=case, metric="observed order of the t_t, p differences (N = 64 → 128)",
                         value=[orders["tt"], orders["p"]], tolerance=None, passed=None, methods=METHODS,
-                        resolution={"N": ns, "nu": nu}, tolerance_source="informational (docstring table)")
+                        resolution={"N": ns, "nu": nu}, tolerance_source="informational (verification/data/fe_coupled.json)")
     assert orders["tn"] > 1.5, f"t_n difference converges with order {orders['tn']:.2f} ≤ 1.5 (ν = {nu})"
 
 

@@ -8,6 +8,8 @@ regenerates its data file under `verification/data/` (`verification.measured`):
 * `jkr_sinusoid`: GFMD cohesive sinusoid vs Johnson's JKR-wavy solution, error vs δn;
 * `maugis_dugdale`: GFMD cohesive cylinder vs Maugis–Dugdale at λ = 3 and 1, signed error vs N;
 * `fe_cohesive`: GFMD vs FE P2 on the cohesive sinusoid (normal law), differences vs N;
+* `fe_coupled`: the same with the coupled law (c = 0.5) at ν = 0.1 … 0.49;
+* `fe_jump`: GFMD vs FE P2 through a jump into contact (φn* = 0.15);
 * `speed_accuracy`: error vs wall time of GFMD (FIRE, Verlet) and FE (P1, P2) on three scenes;
 * `extremes`: one-parameter sweeps and corners around a base scene, GFMD vs FE on layer cells,
   and the δn/l resolution threshold.
