@@ -5,6 +5,23 @@ from __future__ import annotations
 import numpy as np
 
 
+def worst(values):
+    """The largest of `values`, NaN if any of them is NaN (Python's max drops a NaN unless it comes
+    first, so a failed measurement could pass as a small error)."""
+    v = np.asarray(list(values), float)
+    if v.size == 0:
+        raise ValueError("worst() of no values")
+    return float(np.max(v))
+
+
+def worst_signed(values):
+    """The value of largest magnitude, sign kept; NaN if any is NaN."""
+    v = np.asarray(list(values), float)
+    if v.size == 0:
+        raise ValueError("worst_signed() of no values")
+    return float(np.nan if np.isnan(v).any() else v[np.argmax(np.abs(v))])
+
+
 def relative_l2(a, b, reference=None):
     """‖a − b‖₂ / ‖reference‖₂ (reference defaults to a); 0 if both are zero, inf if only the reference is."""
     a, b = np.asarray(a, float), np.asarray(b, float)
@@ -19,8 +36,8 @@ def field_difference(result, reference, name, steps=None):
     """Max over `steps` (default: `result`'s recorded field steps) of ‖result − reference‖₂/‖reference‖₂
     of field `name`."""
     steps = result.fields if steps is None else steps
-    return max(relative_l2(result.fields[k][name], reference.fields[k][name], reference.fields[k][name])
-               for k in steps)
+    return worst(relative_l2(result.fields[k][name], reference.fields[k][name], reference.fields[k][name])
+                 for k in steps)
 
 
 def curve_difference(result, reference, column):

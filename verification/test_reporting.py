@@ -286,3 +286,16 @@ def test_data_files_name_their_study():
         doc = measured.load(p.stem)
         assert doc["study"] == f"verification.studies.{p.stem}" and doc["entries"], p
         assert all({"code_version", "date", "values"} <= set(e) for e in doc["entries"].values()), p
+
+
+def test_worst_does_not_drop_a_nan():
+    """Python's max([1e-3, nan]) is 1e-3: a failed measurement would pass as a small error."""
+    import math
+
+    from verification.metrics import worst, worst_signed
+
+    assert math.isnan(worst([1e-3, float("nan")])) and math.isnan(worst([float("nan"), 1e-3]))
+    assert worst([1e-3, 2e-3]) == 2e-3
+    assert math.isnan(worst_signed([-0.2, float("nan"), 0.1])) and worst_signed([-0.2, 0.1]) == -0.2
+    with pytest.raises(ValueError):
+        worst([])

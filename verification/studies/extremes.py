@@ -32,7 +32,7 @@ import time
 import numpy as np
 
 from contact.model import warnings_in
-from verification import measured
+from verification import measured, metrics
 from verification.runs import fe_vs_gfmd
 from verification.scenes import EXTREMES_BASE, extremes_base
 
@@ -248,7 +248,7 @@ def threshold_entry(case, out):
 def resolved_worst(values, min_ratio):
     """(max |Δp|/max|p|, max |Δa_rel|) over min_ratio ≤ δn/l < that of the reference."""
     ok = [i for i, r in enumerate(values["ratio"]) if min_ratio <= r < values["ratio"][-1]]
-    return max(values["dp"][i] for i in ok), max(values["da"][i] for i in ok)
+    return metrics.worst(values["dp"][i] for i in ok), metrics.worst(values["da"][i] for i in ok)
 
 
 def measured_threshold_worst(min_ratio):
@@ -257,7 +257,7 @@ def measured_threshold_worst(min_ratio):
     if len(entries) < len(THRESHOLD_CASES):
         measured.entry(NAME, "threshold/" + next(c for c in THRESHOLD_CASES if "threshold/" + c not in entries))
     worst = [resolved_worst(e["values"], min_ratio) for e in entries.values()]
-    return max(w[0] for w in worst), max(w[1] for w in worst), sorted(entries)
+    return metrics.worst(w[0] for w in worst), metrics.worst(w[1] for w in worst), sorted(entries)
 
 
 # ----------------------------------------------------------------------------- command line

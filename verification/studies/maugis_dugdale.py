@@ -33,6 +33,7 @@ from reference.analytic import jkr_cylinder as JC
 from reference.analytic import maugis_dugdale as MD
 from verification import analytic_cases as ac
 from verification import measured
+from verification.metrics import worst_signed
 from verification.scenes import cylinder
 
 NAME = "maugis_dugdale"
@@ -66,8 +67,7 @@ def measure(nodes, lam):
         load = pbar * LENGTH
         f_md, f_jkr = MD.load(a, RADIUS, es, w, s0), JC.load(a, RADIUS, es, w)
         rows.append([k, a / ell, c / ell, load / f_u, f_md / f_u, (load - f_md) / f_u, (load - f_jkr) / f_u])
-    worst = max((r[5] for r in rows), key=abs)
-    return worst, rows, dn, wall
+    return worst_signed(r[5] for r in rows), rows, dn, wall
 
 
 def study(lam, nodes):

@@ -30,7 +30,7 @@ import numpy as np
 
 from contact.observables import contact_mask
 from verification import measured
-from verification.metrics import max_abs_difference, relative_l2
+from verification.metrics import max_abs_difference, relative_l2, worst
 from verification.plots import pareto_plot, table_plot
 from verification.runs import run_fe, run_gfmd
 from verification.scenes import SPEED_ACCURACY as SCENES
@@ -146,8 +146,8 @@ def refinement_series(rows, method, tolerance, metric="p"):
 
 def worst_refinement_ratio(series, floor):
     """max over consecutive N of e(2N)/e(N), pairs whose finer error is below `floor` (noise) skipped."""
-    ratios = [b / a for (_, a), (_, b) in pairwise(series) if b > floor]
-    return max(ratios) if ratios else 0.0
+    ratios = [b / a for (_, a), (_, b) in pairwise(series) if not b <= floor]  # a NaN error is kept
+    return worst(ratios) if ratios else 0.0
 
 
 def agreement(rows):

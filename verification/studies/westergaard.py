@@ -22,7 +22,7 @@ from scipy.optimize import brentq
 from reference.analytic import westergaard as W
 from verification import analytic_cases as ac
 from verification import measured
-from verification.metrics import relative_l2
+from verification.metrics import relative_l2, worst
 from verification.scenes import sinusoid
 
 NAME = "westergaard"
@@ -65,7 +65,7 @@ def measure(nodes):
         rows.append([k, pbar / ps, gbar / H0, a / LENGTH, a_w / LENGTH, e_p, e_a, e_l2])
     x, p, gap, pbar, gbar = ac.step_fields(result, STEPS // 2)
     fields = dict(x=x, p=p, pw=W.pressure(x, pbar, H0, LENGTH, e_star), ps=ps, P=pbar / ps)
-    return {m: max(v) for m, v in errs.items()}, rows, fields, wall
+    return {m: worst(v) for m, v in errs.items()}, rows, fields, wall
 
 
 def study(nodes):
