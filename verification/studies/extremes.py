@@ -104,7 +104,7 @@ def run_cell(overrides):
         sc = extremes_base(**overrides)
         result = run_realization(sc)
     except ValueError as exc:  # SceneError, ModelCheckError, full-contact refusal: all ValueError
-        return {"status": "fail", "message": f"refused: {exc}", "refused": True, "wall_s": time.perf_counter() - t0,
+        return {"status": "refused", "message": f"refused: {exc}", "refused": True, "wall_s": time.perf_counter() - t0,
                 "scene": sc or "",
                 "nan": False, "residual_ok": True, "iterations": 0, "residual": float("nan"), "steps": 0}
     wall = time.perf_counter() - t0
