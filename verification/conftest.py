@@ -31,7 +31,7 @@ from pathlib import Path
 import pytest
 
 from verification.provenance import MEMORY_RSS, max_rss_bytes
-from verification.records import Measurement, write_results
+from verification.records import Measurement, failure_records, write_results
 
 _VERIFICATION_DIR = Path(__file__).resolve().parent
 _RECORDS_KEY = pytest.StashKey[list]()
@@ -92,6 +92,8 @@ def pytest_runtest_logreport(report):
         outcomes[report.nodeid] = outcome
     if outcome != "skipped" and _is_verification(report.nodeid, config):
         state["verification_ran"] = True
+        if outcome in ("failed", "error"):  # kept for the summary even if nothing was recorded
+            state.setdefault("failures", {})[report.nodeid] = (outcome, str(report.longreprtext)[-600:])
 
 
 _CONFIG = {}
@@ -160,6 +162,7 @@ def pytest_sessionfinish(session, exitstatus):
         return
     try:
         from verification import report
+        records = records + failure_records(state.get("failures", {}), records)
         for r in records:
             r.test_outcome = state["outcomes"].get(r.test, "")
         try:

@@ -136,3 +136,17 @@ def load_results(path):
     """Read results.json back: (document dict, [Measurement])."""
     doc = json.loads(Path(path).read_text(encoding="utf-8"))
     return doc, [Measurement.from_dict(d) for d in doc.get("records", [])]
+
+
+def failure_records(failures, records):
+    """A failing Measurement for every test in `failures` ({nodeid: (outcome, text)}) that
+    recorded nothing: a test that fails before its first measurement still shows in the summary."""
+    recorded = {r.test for r in records}
+    out = []
+    for nodeid, (outcome, text) in failures.items():
+        if nodeid in recorded:
+            continue
+        case = nodeid.split("::")[0].removeprefix("verification/").removesuffix(".py")
+        out.append(Measurement(case=case, metric=f"test {outcome} before it recorded a measurement", value=None,
+                               passed=False, notes=text, test=nodeid, test_outcome=outcome))
+    return out

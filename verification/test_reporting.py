@@ -299,3 +299,14 @@ def test_worst_does_not_drop_a_nan():
     assert math.isnan(worst_signed([-0.2, float("nan"), 0.1])) and worst_signed([-0.2, 0.1]) == -0.2
     with pytest.raises(ValueError):
         worst([])
+
+
+def test_a_test_that_failed_unrecorded_appears_as_a_failure():
+    from verification.records import Measurement, failure_records
+
+    recorded = [Measurement(case="a", metric="m", value=1.0, test="verification/test_a.py::test_ok")]
+    failures = {"verification/test_a.py::test_ok": ("failed", "after recording"),
+                "verification/test_b.py::test_x[1]": ("error", "Traceback ... ImportError")}
+    extra = failure_records(failures, recorded)
+    assert [r.test for r in extra] == ["verification/test_b.py::test_x[1]"]
+    assert extra[0].passed is False and extra[0].case == "test_b" and "ImportError" in extra[0].notes
