@@ -51,6 +51,9 @@ def pytest_addoption(parser):
 
 
 def pytest_configure(config):
+    # a historic hook: it also runs when this conftest is found only during collection (`pytest`
+    # from the root without a path), where pytest_sessionstart has already run and is not replayed
+    _CONFIG["config"] = config
     config.stash[_RECORDS_KEY] = []
     config.stash[_STATE_KEY] = {"outcomes": {}, "verification_ran": False, "started": time.time(),
                                 "counts": {"passed": 0, "failed": 0, "error": 0, "skipped": 0,

@@ -310,3 +310,17 @@ def test_a_test_that_failed_unrecorded_appears_as_a_failure():
     extra = failure_records(failures, recorded)
     assert [r.test for r in extra] == ["verification/test_b.py::test_x[1]"]
     assert extra[0].passed is False and extra[0].case == "test_b" and "ImportError" in extra[0].notes
+
+
+def test_report_dir_without_a_test_path_keeps_the_outcomes(tmp_path):
+    """`pytest --report-dir DIR` from the root, no test path: pytest takes DIR for a path, finds
+    verification/conftest.py only while collecting (after session start), and the outcomes of the
+    verification tests were lost (a failing case then read as its recorded verdict)."""
+    out = tmp_path / "report"
+    root = Path(__file__).resolve().parent.parent
+    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--report-dir", str(out),
+                          "-k", "test_hertz_convergence and not fine"], cwd=root, capture_output=True, text=True,
+                         timeout=300)
+    assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
+    records = json.loads((out / "results.json").read_text())["records"]
+    assert records and {r["test_outcome"] for r in records} == {"passed"}
