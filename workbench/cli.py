@@ -1,4 +1,4 @@
-"""Command line: `gfmd run | plot | scene | verify` (also `python -m gfmd`).
+"""Command line: `gfmd run | plot | scene | verify | study run` (also `python -m gfmd`).
 
 Units: SI everywhere (see contact.conventions); scenes are TOML files (contact.scene).
 """
@@ -180,6 +180,45 @@ def _cmd_verify(args):
     return subprocess.call(cmd, cwd=root)
 
 
+def _cmd_study_run(args):
+    from .study import failure_summary, load_study, run_study
+
+    study = load_study(args.study)  # every parameter set is validated here, before any compute
+    out = Path(args.out or f"results/{study.name}")
+    n_tasks = len(study.tasks)
+    where = f"the Dask scheduler at {args.scheduler}" if args.scheduler else \
+        f"a local Dask cluster of {args.workers or 'all'} worker process(es)"
+    print(f"study {study.name!r}: {len(study.sets)} parameter set(s), {n_tasks} task(s) on {where}; "
+          f"results go to {out}/", file=sys.stderr)
+    command = f"gfmd study run {args.study} --out {out}" + (f" --workers {args.workers}" if args.workers else "") \
+        + (f" --scheduler {args.scheduler}" if args.scheduler else "")
+    previous = signal.signal(signal.SIGTERM, _interrupted)
+    try:
+        record = run_study(study, out, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet,
+                           command=command)
+    except KeyboardInterrupt:
+        from .study import done_tasks
+
+        print(f"\ngfmd: interrupted: {done_tasks(study, out)} of {n_tasks} task(s) complete in {out}/tasks, the "
+              f"others keep their saved load steps; continue with: {command}", file=sys.stderr)
+        return 130
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    unconverged = [t for t in record["tasks"] if t["all_converged"] is False]
+    print(f"study {study.name!r}: {record['tasks_total']} task(s): {record['tasks_reused']} reused, "
+          f"{record['tasks_run']} run ({record['steps_reused']} saved load steps continued), "
+          f"{record['tasks_failed']} failed; {out}/study.csv, summary.csv, summary.nc, study.json",
+          file=sys.stderr)
+    for t in unconverged:
+        print(f"WARNING: set {t['set']}, realization {t['realization']} (task {t['key']}): non-converged steps: "
+              f"{'; '.join(t['messages'][:3])}", file=sys.stderr)
+    if record["tasks_failed"]:
+        print(f"{record['tasks_failed']} task(s) failed (tracebacks in {out}/study.json):", file=sys.stderr)
+        for line in failure_summary(record):
+            print(f"  - {line}", file=sys.stderr)
+    return 1 if record["tasks_failed"] or unconverged else 0
+
+
 def _count(minimum):
     def parse(text):
         try:
@@ -227,6 +266,19 @@ def build_parser():
     verify.add_argument("pytest_args", nargs="*",
                         help="passed to pytest (after --, e.g. gfmd verify -- -x -k westergaard)")
     verify.set_defaults(func=_cmd_verify)
+    study = sub.add_parser("study", help="parameter studies: a grid of scenes × realizations on Dask")
+    study_sub = study.add_subparsers(dest="study_command", required=True)
+    srun = study_sub.add_parser("run", help="run (or continue) a study file's tasks and write study.csv, "
+                                "summary.csv, summary.nc, study.json")
+    srun.add_argument("study", help="study TOML file (base scene + [axes], optional [zip])")
+    srun.add_argument("--out", help="study directory (default results/<study name>); rerun to resume")
+    srun.add_argument("--workers", type=_count(1), default=None,
+                      help="worker processes of the local Dask cluster (default: all cores)")
+    srun.add_argument("--scheduler", metavar="ADDRESS",
+                      help="send the tasks to an existing Dask cluster (e.g. tcp://HOST:8786) instead; --out must "
+                           "be on a file system every worker sees")
+    srun.add_argument("--quiet", action="store_true", help="no progress bar")
+    srun.set_defaults(func=_cmd_study_run)
     return parser
 
 
