@@ -10,6 +10,7 @@ regenerates its data file under `verification/data/` (`verification.measured`):
 * `fe_cohesive`: GFMD vs FE P2 on the cohesive sinusoid (normal law), differences vs N;
 * `fe_coupled`: the same with the coupled law (c = 0.5) at ν = 0.1 … 0.49;
 * `fe_jump`: GFMD vs FE P2 through a jump into contact (φn* = 0.15);
+* `fe_linear`: FE P1/P2 layer compliance vs the exact kernel, per ν, and P2 convergence at ν → ½;
 * `speed_accuracy`: error vs wall time of GFMD (FIRE, Verlet) and FE (P1, P2) on three scenes;
 * `extremes`: one-parameter sweeps and corners around a base scene, GFMD vs FE on layer cells,
   and the δn/l resolution threshold.
