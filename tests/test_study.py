@@ -118,6 +118,13 @@ def test_grid_and_zip_expansion(tmp_path):
                                                    "rollon_wavelength": 10e-9, "realizations": 3}},
                              "axes": {"surface.hurst": [0.8]}, "zip": {"interface.phi_n_star": [0.05]}})
     assert {t.key for t in again.tasks} < {t.key for t in two.tasks}
+    # zipped keys may repeat a value; the entries (tuples) differ
+    hard = study_from_dict({"scene": {"surface": {"nodes": 512, "length": 320e-9, "rolloff_wavelength": 160e-9,
+                                                  "rollon_wavelength": 10e-9}},
+                            "zip": {"interface.law": ["hard-wall", "cohesive", "cohesive"],
+                                    "interface.phi_n_star": [0.15, 0.001, 0.15]}})
+    assert [(s.interface.law, s.interface.phi_n_star) for s in hard.scenes] == \
+        [("hard-wall", 0.15), ("cohesive", 0.001), ("cohesive", 0.15)]
 
 
 @pytest.mark.parametrize("axes, named", [
@@ -129,6 +136,8 @@ def test_grid_and_zip_expansion(tmp_path):
     ('[zip]\n"interface.law" = ["hard-wall", "cohesive"]\n"interface.phi_n_star" = [0.15]', "interface.phi_n_star"),
     ('[axes]\n"interface.law" = ["cohesive"]\n[zip]\n"interface.law" = ["hard-wall"]', "interface.law"),
     ('[axes]\n"surface.rollon_wavelength" = [1e-9, 200e-9]', "surface.rollon_wavelength"),
+    ('[axes]\n"surface.hurst" = [0.3, 0.3]', "surface.hurst"),
+    ('[zip]\n"interface.law" = ["cohesive", "cohesive"]\n"interface.phi_n_star" = [0.1, 0.1]', "interface.law"),
 ])
 def test_bad_axes_are_refused_naming_the_key(tmp_path, capsys, axes, named):
     path = write_study(tmp_path, 'base = "base.toml"\n' + axes)

@@ -143,16 +143,16 @@ def task_key(task):
     return hashlib.sha256(scene_to_toml(task).encode()).hexdigest()[:16]
 
 
-def _values(where, key, values):
+def _values(where, key, values, unique=True):
     if not isinstance(values, list) or not values:
         raise StudyError(f"{where} {key!r} = {values!r}: must be a non-empty list of values")
     seen = []
     for v in values:
         if isinstance(v, (dict, list)):
             raise StudyError(f"{where} {key!r}: value {v!r} must be a number, string or boolean")
-        if v in seen and type(v) is type(seen[seen.index(v)]):
+        if unique and (type(v), v) in seen:
             raise StudyError(f"{where} {key!r}: value {v!r} appears twice")
-        seen.append(v)
+        seen.append((type(v), v))
     return values
 
 
@@ -200,13 +200,16 @@ def study_from_dict(d, *, path=None, text="", name=None):
             raise StudyError(f"{label}: {section} must be a table of \"section.key\" = [values]")
         for key, values in table.items():
             _check_key(f"{label}: {section}", key)
-            _values(f"{label}: {section}", key, values)
+            _values(f"{label}: {section}", key, values, unique=section == "[axes]")  # zip: entries repeat
     both = [k for k in axes if k in zipped]
     if both:
         raise StudyError(f"{label}: {both[0]!r} is both in [axes] and in [zip]: give it once")
     if zipped and len({len(v) for v in zipped.values()}) > 1:
         lengths = ", ".join(f"{k!r}: {len(v)}" for k, v in zipped.items())
         raise StudyError(f"{label}: [zip] lists must have equal lengths (they vary together); got {lengths}")
+    entries = list(zip(*([(type(x), x) for x in v] for v in zipped.values())))
+    if len(set(entries)) != len(entries):
+        raise StudyError(f"{label}: [zip] keys {', '.join(map(repr, zipped))}: an entry appears twice")
     # every value alone, so that the message names the key and the value
     for section, table in (("[axes]", axes), ("[zip]", zipped)):
         for key, values in table.items():
