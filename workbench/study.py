@@ -412,7 +412,8 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True, comman
     wall = time.perf_counter() - start
     rows, results = _collect(study, out, tasks, failures)
     _write_tables(study, out, rows, results)
-    record = _record(study, out, tasks, outcomes, failures, complete=True, wall=wall, workers=workers,
+    record = _record(study, out, tasks, outcomes, failures, complete=True, wall=wall,
+                     workers=None if scheduler else workers,
                      scheduler=scheduler, command=command)
     io._atomic_write(out / "study.json", json.dumps(record, indent=2))
     return record
