@@ -99,3 +99,53 @@ def assert_study(records, orders, min_order, errors):
     for m, rec in records:
         assert orders[m] >= min_order[m], (m, orders[m], errors[m])
         assert rec.passed, (m, errors[m])
+
+
+# ----------------------------------------------------------------------------- N-convergence studies
+# A study module (verification.studies.hertz, .westergaard) gives NAME, METRICS, NODES {"ci", "full"},
+# SCENE (how its scene is built, in words), DESCRIPTION and measure(N) -> (errors, rows, fields, wall).
+
+def n_study(study_module, nodes):
+    """{"nodes", "data" (measure's output per N), "errors" {metric: array over N}, "orders", "wall_s"}."""
+    data, errors, wall = convergence_study(study_module.measure, nodes, study_module.METRICS)
+    orders = orders_in(nodes, errors, sign=-1)
+    return {"nodes": list(nodes), "data": data, "errors": errors, "orders": orders, "wall_s": wall}
+
+
+def n_study_entry(study_module, st, subset):
+    """The data-file entry of an N-convergence study run."""
+    from verification import measured
+
+    return measured.make_entry({"N": st["nodes"], "errors": {m: list(e) for m, e in st["errors"].items()},
+                                "orders": st["orders"]}, scene=study_module.SCENE, subset=subset,
+                               wall_s=st["wall_s"])
+
+
+def stored_errors(name, subset="ci"):
+    """{metric: [error per N]} and the N list of the stored study verification/data/<name>.json."""
+    from verification import measured
+
+    values = measured.entry(name, subset)["values"]
+    return values["errors"], values["N"]
+
+
+def n_study_main(study_module, argv=None):
+    """Command line of an N-convergence study: print the errors and orders; --write stores them."""
+    import argparse
+
+    from verification import measured
+
+    nodes = study_module.NODES
+    ap = argparse.ArgumentParser(description=study_module.__doc__.splitlines()[0])
+    ap.add_argument("--full", action="store_true", help=f"N up to {nodes['full'][-1]} (entry 'full'); default "
+                                                        f"N up to {nodes['ci'][-1]} ('ci')")
+    ap.add_argument("--write", action="store_true",
+                    help=f"store the errors in verification/data/{study_module.NAME}.json")
+    args = ap.parse_args(argv)
+    subset = "full" if args.full else "ci"
+    st = n_study(study_module, np.array(nodes[subset]))
+    print_orders(subset, "N", st["nodes"], st["errors"], st["orders"])
+    print(f"{st['wall_s']:.1f} s")
+    if args.write:
+        print(measured.write(study_module.NAME, {subset: n_study_entry(study_module, st, subset)},
+                             description=study_module.DESCRIPTION))

@@ -14,18 +14,19 @@ verification/data/westergaard.json (entry "ci" or "full"), which test_analytic_w
 
 from __future__ import annotations
 
-import argparse
+import sys
 
-import numpy as np
 from scipy.optimize import brentq
 
 from reference.analytic import westergaard as W
 from verification import analytic_cases as ac
-from verification import measured
 from verification.metrics import relative_l2, worst
 from verification.scenes import sinusoid
 
 NAME = "westergaard"
+SCENE = "verification.scenes.sinusoid(N, 10e-9, 1e-6, steps=6, final=0.995 * 10e-9)"
+DESCRIPTION = ("GFMD hard wall vs Westergaard: max errors over 6 loads vs N, observed orders "
+               "(least squares over the N of the entry)")
 H0 = 10e-9
 LENGTH = 1e-6
 STEPS = 6
@@ -70,38 +71,16 @@ def measure(nodes):
 
 def study(nodes):
     """{"nodes", "data" (measure's output per N), "errors" {metric: array over N}, "orders", "wall_s"}."""
-    data, errors, wall = ac.convergence_study(measure, nodes, METRICS)
-    orders = ac.orders_in(nodes, errors, sign=-1)
-    return {"nodes": list(nodes), "data": data, "errors": errors, "orders": orders, "wall_s": wall}
-
-
-def entry(st, subset):
-    """The data-file entry of a study run."""
-    return measured.make_entry({"N": st["nodes"], "errors": {m: list(e) for m, e in st["errors"].items()},
-                                "orders": st["orders"]},
-                               scene="verification.scenes.sinusoid(N, 10e-9, 1e-6, steps=6, final=0.995 * 10e-9)",
-                               subset=subset, wall_s=st["wall_s"])
+    return ac.n_study(sys.modules[__name__], nodes)
 
 
 def measured_errors(subset="ci"):
     """{metric: [error per N]} and the N list of the stored study (verification/data/westergaard.json)."""
-    values = measured.entry(NAME, subset)["values"]
-    return values["errors"], values["N"]
+    return ac.stored_errors(NAME, subset)
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--full", action="store_true", help="N up to 8192 (entry 'full'); default N up to 1024 ('ci')")
-    ap.add_argument("--write", action="store_true", help="store the errors in verification/data/westergaard.json")
-    args = ap.parse_args(argv)
-    subset = "full" if args.full else "ci"
-    st = study(np.array(NODES[subset]))
-    ac.print_orders(subset, "N", st["nodes"], st["errors"], st["orders"])
-    print(f"{st['wall_s']:.1f} s")
-    if args.write:
-        print(measured.write(NAME, {subset: entry(st, subset)},
-                             description="GFMD hard wall vs Westergaard: max errors over 6 loads vs N, observed "
-                                         "orders (least squares over the N of the entry)"))
+    ac.n_study_main(sys.modules[__name__], argv)
 
 
 if __name__ == "__main__":
