@@ -103,3 +103,8 @@ def test_time_to_one_percent(verification_record):
                                           title="to reach 1 % error (0.1 % in p): GFMD needs X s, FE needs Y s "
                                                 "(cheapest setting, CI subset, one run)")])
     assert all(len(r) == 4 for r in rows)
+    for name in sa.SCENES:  # each method reaches 1 % in p(δ) against the other method's finest run
+        st_rows = sa.study(name, "ci")["rows"]
+        for family in ("GFMD", "FE"):
+            assert sa.cheapest_below(st_rows, family, "p_x") is not None, \
+                f"{name}: {family} never gets within 1 % of the other method's finest p(δ)"
