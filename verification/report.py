@@ -355,6 +355,7 @@ def render_html(records, session=None, provenance=None):
         cases.setdefault(r.case, []).append(r)
     n_pass = sum(verdict_of(r)[0] == "pass" for r in records)
     n_fail = sum(verdict_of(r)[0] == "fail" for r in records)
+    n_info = len(records) - n_pass - n_fail  # measured without a tolerance: informational, not a check
     subset = session.get("subset", "?")
     out = ['<!DOCTYPE html>', '<html lang="en">', "<head>", '<meta charset="utf-8">',
            '<meta name="viewport" content="width=device-width, initial-scale=1">',
@@ -368,7 +369,8 @@ def render_html(records, session=None, provenance=None):
            _session_banner(session),
            f'<p>{len(records)} measurements in {len(cases)} cases: '
            f'<span class="pass">&nbsp;{n_pass} pass&nbsp;</span> '
-           f'<span class="fail">&nbsp;{n_fail} fail&nbsp;</span></p>', "</header>"]
+           f'<span class="fail">&nbsp;{n_fail} fail&nbsp;</span> '
+           f'<span class="info">&nbsp;{n_info} no tolerance (informational)&nbsp;</span></p>', "</header>"]
 
     # summary
     out += ['<section id="summary"><h2>Summary</h2>',

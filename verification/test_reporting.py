@@ -149,6 +149,7 @@ def test_html_well_formed_self_contained():
     assert len(c.summary_cells) == len(records)
     verdicts = [row[5] for row in c.summary_cells]
     assert verdicts == ["pass", "fail", "fail", "info"]
+    assert "1 pass" in text and "2 fail" in text and "1 no tolerance (informational)" in text  # header counts all
     assert c.svg_roots == 4  # profile, curve, convergence, pareto (table and grid are HTML)
     assert c.urls == [], c.urls  # no external references of any kind
     assert "http://" not in text and "https://" not in text
