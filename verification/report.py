@@ -404,6 +404,7 @@ def render_html(records, session=None, provenance=None):
             out.append(f'<p class="muted">from case <a href="#{slug(r.case)}">{esc(r.case)}</a>, '
                        f"metric {esc(r.metric)}</p>" + render_plot(p))
         out.append("</section>")
+    out += _mutation_section()
     if grids:
         out.append('<section id="extremes"><h2>Extremes</h2>')
         for r, p in grids:
@@ -454,6 +455,30 @@ def render_html(records, session=None, provenance=None):
         out.append(_kv(session.get("counts", {})))
     out.append("</section></body></html>")
     return "\n".join(out)
+
+
+def _mutation_section(doc=None):
+    """The "Mutation score" section from verification/data/mutations.json (`verification.mutations`),
+    or nothing if no mutation run is stored."""
+    if doc is None:
+        from verification import measured
+        try:
+            doc = measured.load("mutations")
+        except measured.MissingMeasurement:
+            return []
+    out = ['<section id="mutations"><h2>Mutation score</h2>']
+    for key, e in doc.get("entries", {}).items():
+        v = e["values"]
+        out.append(f'<p>{v["caught"]} of {v["total"]} single-point physics mutations caught by '
+                   f'<code>pytest verification -x</code> alone ({esc(key)}; code {esc(e.get("code_version", "?"))}, '
+                   f'{esc(e.get("date", ""))}; <code>python -m verification.mutations --write</code>)</p>')
+        rows = "".join(f'<tr><td>{esc(r["id"])}</td><td>{esc(r["what"])}</td>'
+                       f'<td class="{"pass" if r["caught"] else "fail"}">{"caught" if r["caught"] else "not caught"}'
+                       f'</td><td>{esc(r["first_failure"])}</td><td>{fmt(r["seconds"])}</td></tr>' for r in v["rows"])
+        out.append("<table><thead><tr><th>mutation</th><th>what</th><th>verdict</th><th>first failing test</th>"
+                   f"<th>s</th></tr></thead><tbody>{rows}</tbody></table>")
+    out.append("</section>")
+    return out
 
 
 def write_report(path, records, session=None, provenance=None):

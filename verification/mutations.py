@@ -1,0 +1,168 @@
+"""Mutation score: does `pytest verification` alone catch single-point physics bugs?
+
+Each mutation (`MUTATIONS`) replaces one exact snippet of the source by a wrong one (a kernel
+1 % stiffer, the coupling sign flipped, the law's exponent changed, p scaled by 1.01, ...).
+`run` copies the working tree (tracked and untracked, not ignored files) to a temporary
+directory, applies one mutation there, runs `python -m pytest verification -x` in the copy
+(the copy's packages shadow the installed ones: the working directory comes first on sys.path)
+and records whether the suite failed (caught), which test failed first and how long it took.
+An unmutated run must pass first, or nothing is measured.
+
+    python -m verification.mutations [--only ID ...] [--write]
+
+prints the table; `--write` stores it in verification/data/mutations.json, which the report
+shows ("Mutation score"). CI runs a representative few (tests/test_mutations.py); the whole
+list takes about one verification run per mutation.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from verification import measured
+
+NAME = "mutations"
+ROOT = Path(__file__).resolve().parent.parent
+
+
+@dataclass(frozen=True)
+class Mutation:
+    id: str
+    path: str  # relative to the repository root
+    old: str  # exact snippet (must occur `count` times)
+    new: str
+    what: str
+    count: int = 1
+
+
+MUTATIONS = (
+    Mutation("kernel-scale", "contact/kernels.py",
+             "return 0.5 * contact_modulus(youngs_modulus, poisson_ratio) * np.abs(q)",
+             "return 0.505 * contact_modulus(youngs_modulus, poisson_ratio) * np.abs(q)",
+             "half-plane normal kernel 1 % stiffer"),
+    Mutation("coupling-sign", "contact/kernels.py", "    k_xz = 1j * beta * s * f", "    k_xz = -1j * beta * s * f",
+             "sign of the half-plane normal–tangential coupling flipped"),
+    Mutation("layer-q0", "contact/kernels.py", "    k[zero] = constrained_modulus(youngs_modulus, nu) / thickness",
+             "    k[zero] = 1.1 * constrained_modulus(youngs_modulus, nu) / thickness",
+             "layer's uniform-mode (q = 0) stiffness M/D 10 % off"),
+    Mutation("law-exponent", "contact/laws.py", "return (work_normal / length_normal) * s * np.exp(-s)",
+             "return (work_normal / length_normal) * s * np.exp(-1.05 * s)",
+             "normal CZ traction: exponent e^(−s) → e^(−1.05 s)"),
+    Mutation("contact-threshold", "contact/laws.py", "    s = -lambertw(-contact_tolerance, k=-1).real\n    return s * length_normal",
+             "    s = -lambertw(-contact_tolerance, k=-1).real\n    return 1.02 * s * length_normal",
+             "cohesive contact gap threshold Δtol 2 % larger"),
+    Mutation("gr-mean", "contact/observables.py",
+             "    return float(np.sqrt(np.mean(local_gradient_squared(h, spacing)[contact])))",
+             "    return float(np.mean(np.sqrt(local_gradient_squared(h, spacing)[contact])))",
+             "ḡ_r as the mean of |g| instead of the rms (seed Eq. 5)"),
+    Mutation("eq6-stencil", "contact/observables.py", "    backward = (h - np.roll(h, 1)) / spacing",
+             "    backward = (h - np.roll(h, 2)) / spacing", "seed Eq. 6: backward difference off by one node"),
+    Mutation("p-scale", "contact/observables.py", "    return float(-np.mean(traction_z))",
+             "    return float(-1.01 * np.mean(traction_z))", "mean pressure p scaled by 1.01"),
+    Mutation("stop-early-cohesive", "gfmd/solver.py",
+             "/ model.reference_traction\n            if residual < settings.tolerance:",
+             "/ model.reference_traction\n            if residual < 1e4 * settings.tolerance:",
+             "GFMD cohesive FIRE (normal and coupled law) stops at 10⁴ × its tolerance", count=2),
+    Mutation("stop-early-hard-wall", "gfmd/solver.py",
+             "residual = float(np.max(np.abs(net))) / p_ref\n            if residual < settings.tolerance:",
+             "residual = float(np.max(np.abs(net))) / p_ref\n            if residual < 1e4 * settings.tolerance:",
+             "GFMD hard-wall CG stops at 10⁴ × its tolerance"),
+    Mutation("verlet-is-fire", "gfmd/solver.py", 'fire = None if settings.method == "verlet" else _Fire(settings)',
+             "fire = _Fire(settings)", "method verlet silently runs FIRE", count=2),
+    Mutation("kappa-fit", "contact/observables.py", "return float(x @ y / (x @ x)), int(use.sum())",
+             "return 1.02 * float(x @ y / (x @ x)), int(use.sum())", "κ fit 2 % high"),
+    Mutation("wall-leak", "gfmd/loading.py", "wall_tolerance = 1e-12 * max(", "wall_tolerance = 1e-3 * max(",
+             "hard wall: nodes within 1e-3 of the profile span count as on the wall (a leak)"),
+)
+
+
+def _tree_files(root):
+    out = subprocess.run(["git", "ls-files", "--cached", "--others", "--exclude-standard", "-z"], cwd=root,
+                         capture_output=True, text=True, check=True).stdout
+    return [f for f in out.split("\0") if f and (root / f).is_file()]
+
+
+def copy_tree(root, dest):
+    """Copy the working tree's tracked and untracked (not ignored) files to `dest`."""
+    for f in _tree_files(root):
+        target = dest / f
+        target.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(root / f, target)
+    return dest
+
+
+def apply(mutation, tree):
+    """Apply `mutation` in the copied tree; ValueError if its snippet does not occur exactly `count` times."""
+    path = tree / mutation.path
+    text = path.read_text()
+    found = text.count(mutation.old)
+    if found != mutation.count:
+        raise ValueError(f"{mutation.id}: the snippet occurs {found} times in {mutation.path}, expected "
+                         f"{mutation.count} (the source moved: update verification/mutations.py)")
+    path.write_text(text.replace(mutation.old, mutation.new))
+
+
+def run_suite(tree, timeout=1800, pytest_args=()):
+    """(failed?, first failing test id or "", seconds) of `pytest verification -x` in `tree`."""
+    env = {**os.environ, "PYTHONDONTWRITEBYTECODE": "1"}
+    t0 = time.perf_counter()
+    proc = subprocess.run([sys.executable, "-m", "pytest", "verification", "-x", "-q", "-p", "no:cacheprovider",
+                           f"--report-dir={tree / 'reports'}", *pytest_args], cwd=tree, capture_output=True,
+                          text=True, timeout=timeout, env=env)
+    seconds = time.perf_counter() - t0
+    first = re.search(r"^(?:FAILED|ERROR) (\S+)", proc.stdout, re.M)
+    return proc.returncode != 0, first.group(1) if first else "", seconds
+
+
+def run(ids=None, pytest_args=(), progress=print):
+    """Rows {id, what, caught, first_failure, seconds} for the mutations `ids` (default all)."""
+    chosen = [m for m in MUTATIONS if ids is None or m.id in ids]
+    unknown = set(ids or ()) - {m.id for m in MUTATIONS}
+    if unknown:
+        raise ValueError(f"unknown mutation(s) {sorted(unknown)}; known: {[m.id for m in MUTATIONS]}")
+    with tempfile.TemporaryDirectory(prefix="gfmd-mutations-") as tmp:
+        clean = copy_tree(ROOT, Path(tmp) / "clean")
+        failed, first, seconds = run_suite(clean, pytest_args=pytest_args)
+        if failed:
+            raise RuntimeError(f"the unmutated suite fails ({first}): fix it before measuring mutations")
+        progress(f"unmutated: pass ({seconds:.0f} s)")
+        rows = []
+        for m in chosen:
+            tree = copy_tree(ROOT, Path(tmp) / m.id)
+            apply(m, tree)
+            caught, first, seconds = run_suite(tree, pytest_args=pytest_args)
+            rows.append({"id": m.id, "what": m.what, "caught": caught, "first_failure": first,
+                         "seconds": round(seconds, 1)})
+            progress(f"{m.id}: {'caught by ' + first if caught else 'NOT caught'} ({seconds:.0f} s)")
+            shutil.rmtree(tree, ignore_errors=True)
+    return rows
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--only", nargs="*", help="mutation ids (default: all)")
+    ap.add_argument("--write", action="store_true", help="store the table in verification/data/mutations.json")
+    args = ap.parse_args(argv)
+    t0 = time.perf_counter()
+    rows = run(args.only)
+    caught = sum(r["caught"] for r in rows)
+    print(f"mutation score: {caught} of {len(rows)} caught by `pytest verification` alone "
+          f"({time.perf_counter() - t0:.0f} s)")
+    if args.write:
+        print(measured.write(NAME, {"all" if not args.only else "partial": measured.make_entry(
+            {"rows": rows, "caught": caught, "total": len(rows)}, scene="each case's own scenes",
+            wall_s=time.perf_counter() - t0)},
+            description="single-point physics mutations vs `pytest verification -x` (CI subset)"))
+
+
+if __name__ == "__main__":
+    main()
