@@ -8,7 +8,7 @@ directory, applies one mutation there, runs `python -m pytest verification -x` i
 and records whether the suite failed (caught), which test failed first and how long it took.
 An unmutated run must pass first, or nothing is measured.
 
-    python -m verification.mutations [--only ID ...] [--write]
+    python -m verification.mutations [--only ID ...] [--ref REV] [--key NAME] [--write]
 
 prints the table; `--write` stores it in verification/data/mutations.json, which the report
 shows ("Mutation score"). CI runs a representative few (tests/test_mutations.py); the whole
@@ -91,8 +91,14 @@ def _tree_files(root):
     return [f for f in out.split("\0") if f and (root / f).is_file()]
 
 
-def copy_tree(root, dest):
-    """Copy the working tree's tracked and untracked (not ignored) files to `dest`."""
+def copy_tree(root, dest, ref=None):
+    """Copy the working tree's tracked and untracked (not ignored) files to `dest`, or with `ref`
+    the files of that commit (`git archive`: a reproducible tree, untouched by uncommitted work)."""
+    if ref is not None:
+        dest.mkdir(parents=True, exist_ok=True)
+        archive = subprocess.run(["git", "archive", "--format=tar", ref], cwd=root, capture_output=True, check=True)
+        subprocess.run(["tar", "-x", "-C", str(dest)], input=archive.stdout, check=True)
+        return dest
     for f in _tree_files(root):
         target = dest / f
         target.parent.mkdir(parents=True, exist_ok=True)
@@ -123,21 +129,22 @@ def run_suite(tree, timeout=1800, pytest_args=()):
     return proc.returncode != 0, first.group(1) if first else "", seconds
 
 
-def run(ids=None, pytest_args=(), progress=print):
-    """Rows {id, what, caught, first_failure, seconds} for the mutations `ids` (default all)."""
+def run(ids=None, pytest_args=(), progress=print, ref=None):
+    """Rows {id, what, caught, first_failure, seconds} for the mutations `ids` (default all), on the
+    working tree or on commit `ref`."""
     chosen = [m for m in MUTATIONS if ids is None or m.id in ids]
     unknown = set(ids or ()) - {m.id for m in MUTATIONS}
     if unknown:
         raise ValueError(f"unknown mutation(s) {sorted(unknown)}; known: {[m.id for m in MUTATIONS]}")
     with tempfile.TemporaryDirectory(prefix="gfmd-mutations-") as tmp:
-        clean = copy_tree(ROOT, Path(tmp) / "clean")
+        clean = copy_tree(ROOT, Path(tmp) / "clean", ref)
         failed, first, seconds = run_suite(clean, pytest_args=pytest_args)
         if failed:
             raise RuntimeError(f"the unmutated suite fails ({first}): fix it before measuring mutations")
         progress(f"unmutated: pass ({seconds:.0f} s)")
         rows = []
         for m in chosen:
-            tree = copy_tree(ROOT, Path(tmp) / m.id)
+            tree = copy_tree(ROOT, Path(tmp) / m.id, ref)
             apply(m, tree)
             caught, first, seconds = run_suite(tree, pytest_args=pytest_args)
             rows.append({"id": m.id, "what": m.what, "caught": caught, "first_failure": first,
@@ -150,18 +157,23 @@ def run(ids=None, pytest_args=(), progress=print):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--only", nargs="*", help="mutation ids (default: all)")
+    ap.add_argument("--ref", help="measure commit REF (git archive) instead of the working tree")
+    ap.add_argument("--key", help="entry name in the data file (default: all / partial)")
     ap.add_argument("--write", action="store_true", help="store the table in verification/data/mutations.json")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
-    rows = run(args.only)
+    rows = run(args.only, ref=args.ref, progress=lambda line: print(line, flush=True))
     caught = sum(r["caught"] for r in rows)
     print(f"mutation score: {caught} of {len(rows)} caught by `pytest verification` alone "
           f"({time.perf_counter() - t0:.0f} s)")
     if args.write:
-        print(measured.write(NAME, {"all" if not args.only else "partial": measured.make_entry(
-            {"rows": rows, "caught": caught, "total": len(rows)}, scene="each case's own scenes",
-            wall_s=time.perf_counter() - t0)},
-            description="single-point physics mutations vs `pytest verification -x` (CI subset)"))
+        key = args.key or ("all" if not args.only else "partial")
+        entries = dict(measured.load(NAME)["entries"]) if measured.path(NAME).exists() else {}
+        entries[key] = measured.make_entry({"rows": rows, "caught": caught, "total": len(rows)},
+                                           scene="each case's own scenes", ref=args.ref or "working tree",
+                                           wall_s=time.perf_counter() - t0)
+        print(measured.write(NAME, entries, description="single-point physics mutations vs `pytest verification -x` "
+                                                        "(CI subset)"))
 
 
 if __name__ == "__main__":
