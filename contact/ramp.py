@@ -5,7 +5,7 @@ profile → the method's cell → for each load step of `contact.loading` (cut a
 realization's own full-contact limit): warm start (linear extrapolation from the
 last two converged states, or the last one), one retry from the last converged
 state if the extrapolated start fails, the protocol's warnings, the observables
-of `contact.observables` on the N nodes, the saved fields, then the progress and
+of `contact.observables` on the N nodes (or the cell's own `observe`), the saved fields, then the progress and
 checkpoint hooks. A method supplies only a `Cell`: how to solve one step.
 
 A `Cell` has
@@ -16,6 +16,12 @@ A `Cell` has
     diagnostics  method-specific extras for `Result.diagnostics` (dict)
     initial_state()                          the state at U = 0 before relaxation
     solve(displacement, guess, fallback)     → `StepSolution`
+and optionally
+    observe(scene, h, gap, t_n)              → {p, a_rel, g_r, g} of a step (the observables
+                                               of `contact.result.CURVE_COLUMNS`, SI)
+A cell with `observe` computes its own observables from its own fields (the FE reference
+does, so that it checks `contact.observables` instead of sharing it); without it the ramp
+uses `contact.observables.step_observables`.
 """
 
 from __future__ import annotations
@@ -131,7 +137,8 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
             if slipped:
                 result.reasons = tuple(result.reasons) + (WARNING + slipped,)
                 state.slip_warned = True
-        obs = step_observables(scene, h, solved.gap, solved.t_n)
+        observe = getattr(cell, "observe", None) or step_observables  # the cell's own observables if it has them
+        obs = observe(scene, h, solved.gap, solved.t_n)
         result.append_step(step=k, U=displacement, delta=displacement - d0, iterations=iterations,
                            residual=float(solved.residual) if np.isfinite(solved.residual) else 1e300,
                            converged=int(solved.converged), wall_s=wall, **obs)

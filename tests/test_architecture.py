@@ -112,3 +112,50 @@ def test_the_check_sees_a_violation(tmp_path, monkeypatch):
             test_layers_import_downward_only()
     finally:
         fake.unlink()
+
+
+#: what reference.fem may import from the core. The FE is an independent cross-check of GFMD
+#: (issue 12): it shares the inputs (the scene; the profile heights of contact.surfaces), the
+#: model choice and its checks (contact.model), the one load ramp (contact.ramp) and the result
+#: and error types, and nothing it checks. Not contact.laws (the FE has reference.fem.law),
+#: contact.observables (reference.fem.observables, through Cell.observe), contact.loading
+#: (z_ind: reference.fem.geometry), nor contact.kernels: the elastic kernels are what
+#: verification/test_fe_linear checks against the FE, so the FE solver must not use them (the
+#: verification tests may).
+FE_MAY_IMPORT = {"contact", "contact.scene", "contact.surfaces", "contact.model", "contact.ramp", "contact.result",
+                 "contact.errors"}
+
+
+def fe_core_imports(root=ROOT):
+    """{FE module: core modules it imports that FE_MAY_IMPORT does not list}."""
+    modules = known_modules() | {"contact"}
+
+    def owner(name):  # contact.ramp.StepSolution → contact.ramp
+        while name not in modules and "." in name:
+            name = name.rpartition(".")[0]
+        return name
+
+    wrong = {}
+    for path in sorted((root / "reference" / "fem").rglob("*.py")):
+        bad = {owner(t) for t in imports(path) if group(t) == "core"} - FE_MAY_IMPORT
+        if bad:
+            wrong[module_name(path)] = sorted(bad)
+    return wrong
+
+
+def test_fe_reference_shares_only_its_inputs_with_gfmd():
+    wrong = fe_core_imports()
+    assert not wrong, "reference.fem imports code it checks: " + "; ".join(f"{m}: {', '.join(t)}"
+                                                                         for m, t in wrong.items())
+
+
+@pytest.mark.parametrize("source", ["from contact import laws\n", "from contact.observables import rms_gradient\n",
+                                    "def f():\n    from contact.loading import indenter_surface\n",
+                                    "import contact.kernels\n"])
+def test_the_fe_check_sees_a_violation(source):
+    fake = ROOT / "reference" / "fem" / "_probe_for_test.py"
+    fake.write_text(source)
+    try:
+        assert "reference.fem._probe_for_test" in fe_core_imports()
+    finally:
+        fake.unlink()

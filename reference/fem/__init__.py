@@ -1,7 +1,11 @@
 """Plane-strain finite-element reference for the periodic bonded-layer cell (issue #4).
 
-Units: SI (see `contact.conventions`). Shares scene, surfaces, laws, observables,
-result and loading's geometry helpers with GFMD, but no solver code:
+Units: SI (see `contact.conventions`). An independent cross-check of GFMD: it shares
+the inputs (the scene, the profile heights of `contact.surfaces`), the model choice
+(`contact.model`), the load ramp (`contact.ramp`, load steps included) and the result
+type with GFMD, and nothing it checks: the cohesive law (`law`), the indenter position
+(`geometry`) and the observables p, a_rel, ḡ_r (`observables`) are its own code, and no
+solver code is shared (tests/test_architecture.py holds this):
 
 * `mesh`      graded triangle mesh (numpy → skfem.MeshTri), top nodes = GFMD nodes
 * `assembly`  P1/P2 elasticity (skfem.models.elasticity), periodicity by an explicit
@@ -12,6 +16,9 @@ result and loading's geometry helpers with GFMD, but no solver code:
 * `sparse`    the same Newton on the full reduced system (SuperLU), for large N
 * `quadrature` Gauss–Legendre boundary term (run_realization(quadrature="gauss"); default nodal)
 * `hardwall`  frictionless hard wall: primal–dual active set on the surface compliance
+* `law`       the seed's CZ laws (Eqs. 2–3) and the contact gap Δtol, written from the paper
+* `geometry`  z_ind = h − min h + δ0 − U at the FE surface points (Fourier interpolant of h)
+* `observables` p, a_rel, ḡ_r, ḡ (seed Eqs. 5–6) from the FE's own fields (`Cell.observe`)
 * `export`    VTU output (meshio): one file per recorded step + a PVD series
 
 `run_realization(scene, realization=0, order=2, progress=None, linear="auto")` returns a

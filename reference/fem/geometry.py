@@ -9,8 +9,6 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft
 
-from contact.loading import indenter_surface
-
 
 def fourier_interpolate(h, factor):
     """Band-limited interpolant of periodic nodal values h on a grid `factor` times finer."""
@@ -28,5 +26,7 @@ def surface_indenter(h_surface, h_min, initial_separation, displacement):
 
     h_surface: the profile at the surface points (Fourier interpolant of the nodal h);
     h_min: the *nodal* minimum of h (m), so that z_ind at the vertices is exactly GFMD's.
+    Written here from the convention, not taken from `contact.loading` (the FE is an
+    independent check).
     """
-    return indenter_surface(h_surface, initial_separation, displacement) + (np.min(h_surface) - h_min)
+    return np.asarray(h_surface, dtype=float) - h_min + initial_separation - displacement

@@ -47,11 +47,11 @@ import numpy as np
 import scipy.linalg
 import scipy.optimize
 
-from contact.observables import rms_gradient
 from contact.ramp import StepSolution
 
 from .assembly import build_cell
-from .geometry import fourier_interpolate, surface_indenter  # shared z_ind (P2 midpoints: Fourier interpolant)
+from .geometry import fourier_interpolate, surface_indenter  # the FE's own z_ind (P2 midpoints: Fourier interpolant)
+from .observables import hard_wall_observables, rms_gradient
 
 
 class HardWallProblem:
@@ -178,6 +178,10 @@ class HardWallCell:
 
     def initial_state(self):
         return np.zeros((2, self.prob.ns))
+
+    def observe(self, scene, h, gap, t_n):
+        """p, a_rel, ḡ_r, ḡ of a step from the FE's own observables (contact = compressive nodes)."""
+        return hard_wall_observables(h, scene.surface.spacing, t_n)
 
     def solve(self, displacement, guess, fallback):
         prob, vp = self.prob, self.prob.cell.vertex_points

@@ -23,7 +23,7 @@ def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, 
                     quadrature="nodal", *, checkpoint=None, resume=None):
     """FE reference for one realization on the one load ramp (`contact.ramp.run_ramp`).
 
-    Same steps, same z_ind, same observables as GFMD; a `contact.result.Result` with
+    Same steps and scene as GFMD, its own z_ind, law and observables (`reference.fem`); a `contact.result.Result` with
     method "fe-p<order>" and diagnostics problem, setup_s, solutions (and wall_forces
     for the hard wall). tolerance: max |R/W|/p_ref per step (default
     min(scene.solver.tolerance, 1e-10)). linear: "dense" (Schur complement S, dense

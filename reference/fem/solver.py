@@ -32,8 +32,9 @@ energy Σ w_g V(Δ_g)), with z_ind at the Gauss points from the Fourier
 interpolant of h. Everything else is unchanged: the nodal weights W still scale
 the residual measure, the continuation mass and the stability test (damping
 W u̇ = −R), and the outputs are nodal, i.e. the fields t_n, t_t are T at the
-GFMD nodes' gaps and p = −⟨t_z⟩ over the nodes (`contact.observables`), for both
-quadratures, as for GFMD.
+GFMD nodes' gaps and p = −⟨t_z⟩ over the nodes (`FeCell.observe`, the FE's own
+`reference.fem.observables`), for both quadratures, as for GFMD. The law is the FE's
+own (`reference.fem.law`), not GFMD's.
 """
 
 from __future__ import annotations
@@ -45,12 +46,12 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
 
-from contact import laws
-from contact.observables import rms_gradient
 from contact.ramp import StepSolution
 
 from .assembly import build_cell
 from .geometry import fourier_interpolate, surface_indenter
+from .law import CohesiveZone, LawRangeError
+from .observables import cohesive_observables, rms_gradient
 from .quadrature import fourier_evaluate, gauss_surface_quadrature
 
 QUADRATURES = ("nodal", "gauss")  # boundary-term quadrature (module docstring)
@@ -119,8 +120,9 @@ class SurfaceProblem:
         self.ns = self.cell.surface_x.size
         self.h_surface = fourier_interpolate(h, self.ns // h.size)
         self.w = self.cell.weights
-        self.phi_n, self.dn = scene.work_normal, i.length_normal
-        self.phi_t, self.dt = scene.work_tangential, i.length_tangential
+        self.law = CohesiveZone.from_scene(scene)  # the FE's own law (reference.fem.law)
+        self.phi_n, self.dn = self.law.phi_n, self.law.delta_n
+        self.phi_t, self.dt = self.law.phi_t, self.law.delta_t
         g = rms_gradient(h, scene.surface.spacing)
         self.p_ref = m.contact_modulus * g if g > 0 else self.phi_n / (math.e * self.dn)
         self.wt = np.tile(self.w, 2 if self.tangential else 1)
@@ -139,16 +141,16 @@ class SurfaceProblem:
         ux, uz = self.split(u)
         gap = z_ind - uz
         if self.tangential:
-            tn, tt = laws.traction_coupled(gap, -ux, self.phi_n, self.dn, self.phi_t, self.dt)
+            tn, tt = self.law.coupled(gap, -ux)
         else:
-            tn, tt = laws.traction_normal(gap, self.phi_n, self.dn), np.zeros(self.ns)
+            tn, tt = self.law.normal(gap), np.zeros(self.ns)
         return tt, tn, gap
 
     def law_gaps(self, u, z_ind):
         """(Δn, Δt) (m) where the boundary term evaluates the law: surface points (nodal) or Gauss points.
 
         z_ind: indenter at the surface points; z_ind − h_surface is a constant
-        (`contact.loading.indenter_surface`), added to h at the Gauss points.
+        (`reference.fem.geometry.surface_indenter`), added to h at the Gauss points.
         """
         ux, uz = self.split(u)
         if self.quadrature == "nodal":
@@ -170,10 +172,10 @@ class SurfaceProblem:
         gap_n, gap_t = self.law_gaps(u, z_ind)
         w = self.law_weights()
         if self.tangential:
-            tn, tt = laws.traction_coupled(gap_n, gap_t, self.phi_n, self.dn, self.phi_t, self.dt)
+            tn, tt = self.law.coupled(gap_n, gap_t)
             f = np.concatenate([self.to_surface(w * tt), self.to_surface(w * tn)])
         else:
-            f = self.to_surface(w * laws.traction_normal(gap_n, self.phi_n, self.dn))
+            f = self.to_surface(w * self.law.normal(gap_n))
         return self.S @ u - f
 
     def condense(self, comps):
@@ -192,22 +194,22 @@ class SurfaceProblem:
         gap = z_ind - uz
         idx = np.arange(self.ns)
         if self.tangential:
-            nn, nt, tn_, tt_ = laws.jacobian_coupled(gap, -ux, self.phi_n, self.dn, self.phi_t, self.dt)
+            nn, nt, tn_, tt_ = self.law.coupled_slopes(gap, -ux)
             # f_x = w T_t, f_z = w T_n; dΔn/du_z = −1, dΔt/du_x = −1; J = S − df/du
             rows = np.concatenate([idx, idx, self.ns + idx, self.ns + idx])
             cols = np.concatenate([idx, self.ns + idx, idx, self.ns + idx])
             return rows, cols, np.concatenate([self.w * tt_, self.w * tn_, self.w * nt, self.w * nn])
-        return idx, idx, self.w * laws.stiffness_normal(gap, self.phi_n, self.dn)
+        return idx, idx, self.w * self.law.normal_slope(gap)
 
     def _gauss_tangent(self, u, z_ind):
         """`surface_tangent` for quadrature="gauss": blocks Bᵀ diag(w_g ∂T/∂Δ) B (Pa)."""
         gap_n, gap_t = self.law_gaps(u, z_ind)
         w, b = self.gauss.weights, self.gauss.interpolation
         if self.tangential:  # same block layout as the nodal coupled tangent: (x,x), (x,z), (z,x), (z,z)
-            nn, nt, tn_, tt_ = laws.jacobian_coupled(gap_n, gap_t, self.phi_n, self.dn, self.phi_t, self.dt)
+            nn, nt, tn_, tt_ = self.law.coupled_slopes(gap_n, gap_t)
             blocks = {(0, 0): tt_, (0, 1): tn_, (1, 0): nt, (1, 1): nn}
         else:
-            blocks = {(0, 0): laws.stiffness_normal(gap_n, self.phi_n, self.dn)}
+            blocks = {(0, 0): self.law.normal_slope(gap_n)}
         rows, cols, values = [], [], []
         for (r, c), slope in blocks.items():
             block = (b.T @ sp.diags(w * slope) @ b).tocoo()
@@ -233,7 +235,7 @@ class SurfaceProblem:
     def energy(self, u, z_ind):
         """Π = ½uᵀSu + Σ W V(Δn) (J/m; Σ w_g V(Δn_g) for gauss), normal law only."""
         gap_n, _ = self.law_gaps(u, z_ind)
-        return 0.5 * u @ (self.S @ u) + self.law_weights() @ laws.potential_normal(gap_n, self.phi_n, self.dn)
+        return 0.5 * u @ (self.S @ u) + self.law_weights() @ self.law.normal_potential(gap_n)
 
     def measure(self, r):
         return float(np.max(np.abs(r / self.wt)) / self.p_ref)
@@ -253,7 +255,7 @@ class SurfaceProblem:
     def _safe_residual(self, u, z_ind):
         try:
             r = self.residual(u, z_ind)
-        except laws.CompressionOverflowError:
+        except LawRangeError:
             return None
         return r if np.all(np.isfinite(r)) else None
 
@@ -360,6 +362,11 @@ class FeCell:
 
     def initial_state(self):
         return np.zeros(self.prob.S.shape[0])
+
+    def observe(self, scene, h, gap, t_n):
+        """p, a_rel, ḡ_r, ḡ of a step from the FE's own observables (`reference.fem.observables`)."""
+        contact_gap = self.prob.law.contact_gap(scene.interface.contact_tolerance)
+        return cohesive_observables(h, scene.surface.spacing, gap, t_n, contact_gap)
 
     def solve(self, displacement, guess, fallback):
         prob, vp = self.prob, self.prob.cell.vertex_points
