@@ -1,9 +1,11 @@
-"""Observables computed from fields, in one place for every method.
+"""Observables computed from fields: p, a_rel, ḡ_r, ḡ (seed Eqs. 5–6), for GFMD and the app layer.
 
-Units: SI (see `contact.conventions`). Each method (GFMD, FE, ...) produces, per load
-step, the surface fields u_z, u_x, t_z, t_x and the normal gap Δn on the same N
-nodes; `step_observables` turns them into p, a_rel, ḡ_r. No method computes
-these quantities any other way.
+Units: SI (see `contact.conventions`). A method produces, per load step, the surface
+fields u_z, u_x, t_z, t_x and the normal gap Δn on the same N nodes; `step_observables`
+turns them into p, a_rel, ḡ_r (what `contact.ramp` records unless the method's cell
+brings its own `observe`). The FE reference does: `reference.fem.observables` is an
+independent implementation of the same definitions, so that GFMD–FE comparisons check
+this module too (issue 12).
 
 Contact rule (seed §2), the law's `in_contact` (`contact.laws`): hard wall — nodes
 carrying compressive traction (−t_z > 0); cohesive — nodes with Δn ≤ Δtol, where
