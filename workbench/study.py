@@ -61,7 +61,6 @@ import hashlib
 import io as _io
 import itertools
 import json
-import math
 import os
 import sys
 import time
