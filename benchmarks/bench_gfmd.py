@@ -63,8 +63,9 @@ import numpy as np
 import scipy
 import scipy.fft
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run as a script from anywhere
 
+# the project's imports follow the thread settings and the path (noqa: E402), on purpose
 from gfmd import solver as gsolver  # noqa: E402
 from contact import surfaces  # noqa: E402
 from contact.loading import indenter_surface  # noqa: E402

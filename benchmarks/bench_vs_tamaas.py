@@ -39,6 +39,8 @@ import sys
 import time
 from pathlib import Path
 
+# imports below these lines on purpose (noqa: E402): one BLAS thread must be set before numpy loads
+# BLAS, and the script, run from anywhere, puts the repository and benchmarks/ on sys.path itself
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 

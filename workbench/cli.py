@@ -237,7 +237,8 @@ def build_parser():
     run = sub.add_parser("run", help="run a scene (default: the built-in default scene) and write results + plots")
     run.add_argument("scene", nargs="?", help="scene TOML file (omit for the built-in default scene)")
     run.add_argument("--out", help="output directory (default results/<scene name>)")
-    run.add_argument("--method", choices=("fire", "verlet", "fe"), help="override solver.method; fe = FE reference")
+    run.add_argument("--method", choices=("fire", "verlet", "fe"),
+                     help="fire/verlet: GFMD with that integrator (solver.method); fe: the FE reference (method.name)")
     run.add_argument("--realizations", type=_count(1), help="override surface.realizations (≥ 1)")
     run.add_argument("--workers", type=_count(0), default=None,
                      help="processes (default output.workers; 0 = all cores)")

@@ -299,18 +299,13 @@ def start_part(out, realization, result=None):
 
 
 def save_realization(out, result):
-    """Put a finished realization on disk at once (methods without step checkpoints, e.g. FE)
-    and mark it done; a realization already checkpointed step by step is only marked done."""
+    """Mark a finished realization done; one that was not checkpointed step by step (a run
+    without the checkpoint hook) is first put on disk at once."""
     from contact.loading import RampState
 
     rows = len(result.curve["step"])
-    path = _part(out, result.realization, ".csv")
-    if not path.is_file():
-        buf = io.StringIO()
-        buf.write(",".join(CURVE_COLUMNS) + "\n")
-        for k in range(rows):
-            buf.write(",".join(_fmt(result.curve[c][k]) for c in CURVE_COLUMNS) + "\n")
-        _atomic_write(path, buf.getvalue())
+    if not _part(out, result.realization, ".csv").is_file():
+        start_part(out, result.realization, result)
         for k in result.fields:
             _save_fields(out, result, k)
     last = int(result.curve["step"][-1]) if rows else -1
