@@ -15,14 +15,14 @@ returning inf/NaN.
 The equations are module functions (`traction_normal`, `traction_coupled`, ...; the FE
 reference calls them). The laws as a solver or check sees them are objects, one per law,
 built once from the scene by `law_from_scene`: `HardWall`, `NormalCohesive` (Eq. 3),
-`CoupledCohesive` (Eq. 2). Callers ask the object (its contact rule, peak traction,
+`CoupledCohesive` (Eq. 2), `CohesiveWall` (Eq. 3's attraction with a hard-wall repulsion). Callers ask the object (its contact rule, peak traction,
 jump-in separation, whether u_x is needed, ...) instead of branching on the law's name.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
@@ -164,8 +164,10 @@ def jump_in_separation(stiffness, work_normal, length_normal):
 #   tangential               the law has a tangential traction T_t(Δn, Δt)
 #   peak_traction            largest tensile normal traction (Pa)
 #   reference_traction(E*)   the residual scale p_ref of a flat profile (Pa)
-#   contact_gap              Δtol (m): a node with Δn ≤ Δtol is in contact (None: contact is
-#                            compressive traction instead)
+#   contact_rule             interface.contact_rule: "traction-tolerance" (the seed's, default),
+#                            "compressive" or "gap" (`CONTACT_RULES`)
+#   contact_gap              the rule's gap threshold (m): a node with Δn ≤ it is in contact (None:
+#                            contact is compressive traction instead)
 #   in_contact(gap, t_z)     the contact rule of `contact.observables` on the nodes
 #   jump_in_separation(k)    δ_jump (m) for a surface of normal stiffness k (Pa/m)
 #   steepest_softening       max −∂T_n/∂Δn (Pa/m) at Δt = 0; 0 if the law never softens
@@ -175,6 +177,29 @@ def jump_in_separation(stiffness, work_normal, length_normal):
 # (∂Tn/∂Δn, ∂Tn/∂Δt, ∂Tt/∂Δn, ∂Tt/∂Δt), initial_stiffness (k_t, k_n) at Δ = 0,
 # length_scale (the shortest length over which the tractions change), and
 # forced_tangential_reason() (what solving u_x anyway, solver.unknowns = "coupled", means).
+
+
+#: interface.contact_rule → what it counts as contact (README "Modelling assumptions"; seed §2 is the first)
+CONTACT_RULES = {
+    "traction-tolerance": "the seed's rule: hard wall — compressive nodes; cohesive laws — Δn ≤ Δtol, "
+                          "T_n(Δtol) = contact_tolerance·φn/δn on the decaying branch (tension included)",
+    "compressive": "nodes carrying compressive normal traction (−t_z > 0, T_n < 0)",
+    "gap": "nodes with Δn ≤ contact_gap·δn (δn = interface.length_normal, also for the hard wall)",
+}
+
+
+def _rule_fields():
+    """The contact-rule fields every law object carries (keyword-only, so subclasses may add fields):
+    contact_rule (a key of CONTACT_RULES) and rule_gap (m), contact_gap·δn of rule "gap" (None otherwise)."""
+    return (field(default="traction-tolerance", kw_only=True), field(default=None, kw_only=True))
+
+
+def _in_contact(law, gap, traction_z):
+    """The contact set of `law` (its contact_rule and contact_gap) on the nodes: boolean array."""
+    threshold = law.contact_gap
+    if threshold is None:  # compressive traction (rule "compressive", or the hard wall's seed rule)
+        return -np.asarray(traction_z) > 0.0
+    return np.asarray(gap) <= threshold
 
 
 def _body_couples(material):
@@ -190,7 +215,17 @@ _FORCED_C0 = ("c = 0 with u_x solved: the coupled law (seed Eq. 2) with φt = 0,
 
 @dataclass(frozen=True)
 class HardWall:
-    """Frictionless hard wall: the constraint Δn ≥ 0, compressive reaction only, no CZ parameter."""
+    """Frictionless hard wall: the constraint Δn ≥ 0, compressive reaction only, no CZ parameter.
+
+    contact_rule "traction-tolerance" (the seed's) and "compressive": the compressed nodes (a wall
+    carries no tension, so the tolerance rule is the compressive one); "gap": Δn ≤ rule_gap =
+    contact_gap·δn with δn = interface.length_normal, the only use of δn for a hard wall: it
+    counts a hard-wall solution as a cohesive one would be counted (README "Modelling assumptions").
+    """
+
+    contact_rule: str
+    rule_gap: float | None
+    contact_rule, rule_gap = _rule_fields()
 
     name: ClassVar[str] = "hard wall"
     description: ClassVar[str] = "hard wall (frictionless, Δn ≥ 0)"
@@ -198,16 +233,20 @@ class HardWall:
     adhesive: ClassVar[bool] = False
     tangential: ClassVar[bool] = False
     peak_traction: ClassVar[float] = 0.0  # no tension
-    contact_gap: ClassVar[None] = None  # contact is compressive traction, not a gap
     steepest_softening: ClassVar[float] = 0.0
+
+    @property
+    def contact_gap(self):
+        """rule_gap (m) for contact_rule "gap"; else None: contact is compressive traction."""
+        return self.rule_gap if self.contact_rule == "gap" else None
 
     def reference_traction(self, contact_modulus):
         """E* (Pa): the pressure scale of a flat profile pressed against the wall."""
         return contact_modulus
 
     def in_contact(self, gap, traction_z):
-        """Nodes carrying compressive traction (−t_z > 0); the gap does not enter."""
-        return -np.asarray(traction_z) > 0.0
+        """The contact rule (class docstring): compressed nodes (−t_z > 0), or Δn ≤ rule_gap for rule "gap"."""
+        return _in_contact(self, gap, traction_z)
 
     def jump_in_separation(self, stiffness):
         """0: nothing attracts the surface, so nothing jumps."""
@@ -225,12 +264,17 @@ class _ExponentialCohesive:
     """What the normal part of the exponential CZ law (seed Eqs. 2–3 at Δt = 0) implies.
 
     work_normal φn (J/m²), length_normal δn (m), contact_tolerance: Δtol solves
-    T_n(Δtol) = contact_tolerance·φn/δn on the decaying branch.
+    T_n(Δtol) = contact_tolerance·φn/δn on the decaying branch. contact_rule (keyword):
+    "traction-tolerance" (the seed's: Δn ≤ Δtol), "compressive" (−t_z > 0) or "gap" (Δn ≤ rule_gap,
+    = contact_gap·δn).
     """
 
     work_normal: float
     length_normal: float
     contact_tolerance: float
+    contact_rule: str
+    rule_gap: float | None
+    contact_rule, rule_gap = _rule_fields()
 
     constraint: ClassVar[bool] = False
     adhesive: ClassVar[bool] = True
@@ -246,12 +290,18 @@ class _ExponentialCohesive:
 
     @property
     def contact_gap(self):
-        """Δtol (m), `contact_gap_threshold`: 9.12 δn at contact_tolerance = 1e-3."""
+        """The rule's gap threshold (m): "traction-tolerance" Δtol (`contact_gap_threshold`: 9.12 δn at
+        contact_tolerance = 1e-3), "gap" rule_gap = contact_gap·δn; "compressive" None."""
+        if self.contact_rule == "gap":
+            return self.rule_gap
+        if self.contact_rule == "compressive":
+            return None
         return contact_gap_threshold(self.contact_tolerance, self.length_normal)
 
     def in_contact(self, gap, traction_z):
-        """Nodes with Δn ≤ Δtol, compressed and tensile alike; the traction does not enter."""
-        return np.asarray(gap) <= self.contact_gap
+        """Nodes with Δn ≤ contact_gap, compressed and tensile alike (rules "traction-tolerance", "gap"), or
+        those carrying compressive traction, −t_z > 0 (rule "compressive")."""
+        return _in_contact(self, gap, traction_z)
 
     def jump_in_separation(self, stiffness):
         """δ_jump (m) of a surface of normal stiffness k (Pa/m): module function `jump_in_separation`."""
@@ -353,10 +403,62 @@ class CoupledCohesive(_ExponentialCohesive):
         return _FORCED_C0 if self.tangential_ratio == 0 else None
 
 
+@dataclass(frozen=True)
+class CohesiveWall(_ExponentialCohesive):
+    """CZ attraction with a hard-wall repulsion: T_n(Δn) of seed Eq. 3 for Δn > 0 and the constraint
+    Δn ≥ 0 (no repulsive branch; the wall's reaction is compressive), frictionless (T_t ≡ 0).
+
+    How the FFT-BEM peers model adhesion. `constraint` is True: the solver keeps Δn ≥ 0 by
+    projection (`gfmd.solver._relax_cohesive_wall`); `tractions` is the attraction alone, Eq. 3 at
+    max(Δn, 0), which is 0 on the wall (T_n(0) = 0), so a wall node's traction is its reaction.
+    Contact rules as for the cohesive laws: "traction-tolerance" Δn ≤ Δtol (every wall node and the
+    tensile ones up to Δtol), "compressive" the nodes the wall pushes, "gap" Δn ≤ contact_gap·δn.
+    """
+
+    name: ClassVar[str] = "cohesive wall"
+    description: ClassVar[str] = "cohesive wall (seed Eq. 3 attraction for Δn > 0, hard wall Δn ≥ 0, frictionless)"
+    constraint: ClassVar[bool] = True
+    tangential: ClassVar[bool] = False
+
+    def tractions(self, delta_n, delta_t=None):
+        """(T_n, T_t) in Pa: the attraction Eq. 3 at max(Δn, 0) (tension ≥ 0; 0 on the wall), and 0."""
+        return traction_normal(np.maximum(delta_n, 0.0), self.work_normal, self.length_normal), 0.0
+
+    def tangent(self, delta_n, delta_t=None):
+        """(∂Tn/∂Δn, 0, 0, 0) in Pa/m of the attraction at max(Δn, 0)."""
+        return stiffness_normal(np.maximum(delta_n, 0.0), self.work_normal, self.length_normal), 0.0, 0.0, 0.0
+
+    @property
+    def initial_stiffness(self):
+        """(k_t, k_n) = (0, φn/δn²) (Pa/m): the attraction's slopes at Δ = 0+."""
+        return 0.0, self.work_normal / self.length_normal**2
+
+    @property
+    def length_scale(self):
+        """δn (m)."""
+        return self.length_normal
+
+    def needs_tangential(self, material):
+        return False
+
+    def tangential_reason(self, material):
+        return "cohesive wall: frictionless (c = 0), no tangential traction, u_x decouples"
+
+    def forced_tangential_reason(self):
+        return None  # the scene refuses solver.unknowns = "coupled" for it
+
+
+def _rule(interface):
+    """The contact-rule keywords of a law object from the scene's Interface."""
+    i = interface
+    return dict(contact_rule=i.contact_rule,
+                rule_gap=i.contact_gap * i.length_normal if i.contact_rule == "gap" else None)
+
+
 def _hard_wall(interface, work_normal, work_tangential, tangential):
     if tangential:
         raise ValueError("the hard wall is frictionless and always normal-only: no tangential unknowns")
-    return HardWall()
+    return HardWall(**_rule(interface))
 
 
 def _cohesive(interface, work_normal, work_tangential, tangential):
@@ -364,18 +466,25 @@ def _cohesive(interface, work_normal, work_tangential, tangential):
     coupled = i.tangential_ratio > 0 if tangential is None else tangential
     if not coupled:
         return NormalCohesive(work_normal=work_normal, length_normal=i.length_normal,
-                              contact_tolerance=i.contact_tolerance)
+                              contact_tolerance=i.contact_tolerance, **_rule(i))
     return CoupledCohesive(work_normal=work_normal, length_normal=i.length_normal,
                            contact_tolerance=i.contact_tolerance, work_tangential=work_tangential,
-                           length_tangential=i.length_tangential, tangential_ratio=i.tangential_ratio)
+                           length_tangential=i.length_tangential, tangential_ratio=i.tangential_ratio, **_rule(i))
+
+
+def _cohesive_wall(interface, work_normal, work_tangential, tangential):
+    if tangential:
+        raise ValueError("the cohesive wall is frictionless and always normal-only: no tangential unknowns")
+    return CohesiveWall(work_normal=work_normal, length_normal=interface.length_normal,
+                        contact_tolerance=interface.contact_tolerance, **_rule(interface))
 
 
 #: interface.law (the scene's name of a law) → builder(interface, φn, φt, tangential) of its object
-_BUILDERS = {"hard-wall": _hard_wall, "cohesive": _cohesive}
+_BUILDERS = {"hard-wall": _hard_wall, "cohesive": _cohesive, "cohesive-wall": _cohesive_wall}
 
 
 def law_from_scene(scene, tangential=None):
-    """The interface law of `scene` as an object (HardWall, NormalCohesive or CoupledCohesive).
+    """The interface law of `scene` as an object (HardWall, NormalCohesive, CoupledCohesive or CohesiveWall).
 
     tangential=None: the law the scene describes (cohesive: c = 0 → Eq. 3, c > 0 → Eq. 2).
     True / False: the law as solved with / without the tangential unknowns u_x, which

@@ -7,9 +7,12 @@ brings its own `observe`). The FE reference does: `reference.fem.observables` is
 independent implementation of the same definitions, so that GFMD–FE comparisons check
 this module too (issue 12).
 
-Contact rule (seed §2), the law's `in_contact` (`contact.laws`): hard wall — nodes
-carrying compressive traction (−t_z > 0); cohesive — nodes with Δn ≤ Δtol, where
-T_n(Δtol) = contact_tolerance·φn/δn on the decaying branch (tension included).
+Contact rule: the law's `in_contact` (`contact.laws`), chosen by interface.contact_rule:
+"traction-tolerance" (default, the seed's §2 rule): hard wall — nodes carrying compressive
+traction (−t_z > 0); cohesive laws (the cohesive wall included) — nodes with Δn ≤ Δtol, where
+T_n(Δtol) = contact_tolerance·φn/δn on the decaying branch (tension included);
+"compressive": nodes with −t_z > 0 for every law; "gap": nodes with Δn ≤ contact_gap·δn for
+every law (δn = interface.length_normal, also for the hard wall).
 """
 
 from __future__ import annotations

@@ -6,7 +6,10 @@ fully resolved scene back. Every error names the key, the value and the
 allowed range. [surface] takes only the keys of its kind (every kind: kind,
 length, nodes, seed, realizations; self-affine: hurst, h_rms, rolloff_wavelength,
 rollon_wavelength; sinusoid: amplitude; cylinder: radius; file: path); a key of
-another kind is an error, not ignored. Sizes are bounded (N ≤ 2^24, steps ≤ 10^6,
+another kind is an error, not ignored; so is a key of another contact rule in [interface]
+(contact_tolerance belongs to contact_rule "traction-tolerance", contact_gap to "gap"). The
+law's own parameters are not policed that way: a hard wall takes phi_n_star etc. and ignores
+them, so a study can zip interface.law with them. Sizes are bounded (N ≤ 2^24, steps ≤ 10^6,
 realizations ≤ 10^5) and positive physical quantities lie in [1e-30, 1e30] (SI).
 `example_scene_text()` is a fully commented example (`gfmd scene --example`).
 
@@ -78,6 +81,8 @@ class Interface:
     tangential_ratio: float = 0.0
     length_tangential: float = 1e-9
     contact_tolerance: float = 1e-3
+    contact_rule: str = "traction-tolerance"
+    contact_gap: float = 1.0  # rule "gap": Δn ≤ contact_gap·δn (units of δn)
     # φn = φn* δn E (J/m²) needs E: `Scene.work_normal`; the law objects: `contact.laws.law_from_scene`
 
 
@@ -157,7 +162,8 @@ class Scene:
         Example: scene.replace(**{"surface.nodes": 1024, "interface.law": "hard-wall"}).
         A new surface.kind drops the old kind's own keys (e.g. surface.hurst when a self-affine
         scene becomes a sinusoid; give the new kind's keys, e.g. surface.amplitude, with it), and a
-        deterministic kind gets surface.realizations = 1 unless that is given too.
+        deterministic kind gets surface.realizations = 1 unless that is given too. A new
+        interface.contact_rule likewise drops the old rule's own key (contact_tolerance, contact_gap).
         """
         d = scene_to_dict(self)
         if sections.get("method.name", self.method.name) != self.method.name:  # the old method's options go
@@ -177,6 +183,11 @@ class Scene:
             if (isinstance(kind, str) and kind in _KIND_KEYS and kind != "self-affine"
                     and "surface.realizations" not in sections):
                 d["surface"]["realizations"] = 1
+        rule = sections.get("interface.contact_rule", self.interface.contact_rule)
+        if rule != self.interface.contact_rule and isinstance(d.get("interface"), dict):
+            for name in _RULE_KEYS.get(self.interface.contact_rule, ()):  # the old rule's own keys go
+                if f"interface.{name}" not in sections:
+                    d["interface"].pop(name, None)
         if "interface.work_normal" in sections and "interface.phi_n_star" not in sections:
             d["interface"].pop("phi_n_star", None)  # φn given for the stored φn*: rederived from it
         return scene_from_dict(d, name=self.name)
@@ -203,7 +214,11 @@ MAX_REALIZATIONS = 10**5
 MIN_SCALE, MAX_SCALE = 1e-30, 1e30
 #: TOML integers are 64-bit signed
 _MAX_INT = 2**63 - 1
-_LAWS = ("hard-wall", "cohesive")
+_LAWS = ("hard-wall", "cohesive", "cohesive-wall")
+#: interface.contact_rule (which nodes count as contact; `contact.laws`, README "Modelling assumptions"), and
+#: the [interface] keys that apply to one rule only: a key of another rule is an error, not ignored (as
+#: surface keys of another kind), and `scene_to_dict` writes only the chosen rule's keys
+_RULE_KEYS = {"traction-tolerance": ("contact_tolerance",), "compressive": (), "gap": ("contact_gap",)}
 _METHODS = ("fire", "verlet")
 _UNKNOWNS = ("auto", "coupled")
 _CHECKS = ("warn", "error")
@@ -363,11 +378,26 @@ def _interface(d, material):
         _fail("interface.tangential_ratio", c, "must be a finite number ≥ 0 (0 = frictionless)")
     dt = _number(d, "interface", "length_tangential", i.length_tangential)
     _positive("interface.length_tangential", dt)
+    if law == "cohesive-wall" and c != 0:
+        _fail("interface.tangential_ratio", c, "must be 0 for interface.law = \"cohesive-wall\" (the CZ attraction "
+              "with a hard-wall repulsion is frictionless)")
+    rule = d.get("contact_rule", i.contact_rule)
+    if not isinstance(rule, str) or rule not in _RULE_KEYS:
+        _fail("interface.contact_rule", rule, f"must be one of {list(_RULE_KEYS)}")
+    for key in d:
+        others = [r for r, keys in _RULE_KEYS.items() if key in keys and r != rule]
+        if others and key not in _RULE_KEYS[rule]:
+            _fail(f"interface.{key}", d[key], f"does not apply to interface.contact_rule = {rule!r} (it belongs to "
+                  f"rule {' / '.join(map(repr, others))}); leave it out or choose that rule")
     tol = _number(d, "interface", "contact_tolerance", i.contact_tolerance)
     if not 0 < tol < math.exp(-1):
         _fail("interface.contact_tolerance", tol, "must lie in (0, 1/e): a fraction of φn/δn")
+    gap = _number(d, "interface", "contact_gap", i.contact_gap)
+    if not 0 < gap < math.inf:
+        _fail("interface.contact_gap", gap, "must be a finite number > 0 (units of δn = interface.length_normal: "
+              "rule \"gap\" counts the nodes with Δn ≤ contact_gap·δn)")
     return Interface(law=law, phi_n_star=phi, length_normal=dn, tangential_ratio=c, length_tangential=dt,
-                     contact_tolerance=tol)
+                     contact_tolerance=tol, contact_rule=rule, contact_gap=gap)
 
 
 def _loading(d):
@@ -455,7 +485,7 @@ def scene_from_dict(d, name="scene"):
     solver = _solver(d.get("solver", {}))
     if solver.unknowns == "coupled" and interface.law != "cohesive":
         _fail("solver.unknowns", solver.unknowns, f"needs interface.law = \"cohesive\" (got {interface.law!r}: "
-              "the hard wall is frictionless and always normal-only); use \"auto\"")
+              "the hard wall and the cohesive wall are frictionless and always normal-only); use \"auto\"")
     return Scene(surface=_surface(d.get("surface", {})), material=material, interface=interface,
                  loading=_loading(d.get("loading", {})), solver=solver, output=_output(d.get("output", {})),
                  method=_method(d.get("method", {})), name=name)
@@ -500,7 +530,8 @@ def default_scene():
 def scene_to_dict(scene):
     """Plain nested dict of the resolved scene (thickness inf written as "inf").
 
-    [surface] holds only the keys that apply to its kind (`scene_from_dict` refuses the others).
+    [surface] holds only the keys that apply to its kind, [interface] only those of its contact_rule
+    (contact_tolerance: "traction-tolerance", contact_gap: "gap"); `scene_from_dict` refuses the others.
     """
     d = {}
     for section in _SECTIONS:
@@ -511,6 +542,10 @@ def scene_to_dict(scene):
         d["surface"] = {k: v for k, v in d["surface"].items() if k in _COMMON_KEYS + _KIND_KEYS[kind]}
     d["material"]["thickness"] = "inf" if scene.material.half_plane else scene.material.thickness
     d["method"] = {k: v for k, v in d["method"].items() if k == "name" or k in METHOD_KEYS[scene.method.name]}
+    rule = scene.interface.contact_rule
+    d["interface"] = {k: v for k, v in d["interface"].items()
+                      if k == "contact_rule" or not any(k in keys for keys in _RULE_KEYS.values())
+                      or k in _RULE_KEYS.get(rule, ())}
     return d
 
 

@@ -65,6 +65,9 @@ class GfmdCell:
 
 def integrator(physics, settings):
     """Which GFMD integrator relaxes the steps (gfmd.solver.relax), in words."""
+    if physics.law.constraint and physics.law.adhesive:  # the cohesive wall (gfmd.solver._relax_cohesive_wall)
+        return ("integrator: " + ("damped Störmer–Verlet" if settings.method == "verlet" else "FIRE on mass-weighted modes")
+                + ", CZ attraction off the wall, projected onto the wall (cohesive wall)")
     if physics.law.constraint and settings.method == "fire" and settings.hard_wall == "cg":
         return ("integrator: projected preconditioned conjugate gradients on the mass-weighted modes (hard wall; "
                 "solver.method = fire selects it, Settings.hard_wall = \"fire\" the FIRE projection)")

@@ -291,6 +291,8 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
     z_ind: indenter surface z_ind(x) (m) at this step; wall_tolerance (m): gap
     below which a hard-wall node counts as touching the wall.
     """
+    if law.constraint and law.law.adhesive:  # the cohesive wall: CZ attraction + projection onto the wall
+        return _relax_cohesive_wall(model, law, z_ind, u_hat, settings, wall_tolerance)
     if law.constraint:  # the hard wall: a constraint, projected (no traction function to relax)
         if settings.method == "fire" and settings.hard_wall == "cg":
             return _relax_hard_wall_cg(model, law, z_ind, u_hat, settings, wall_tolerance)
@@ -704,4 +706,128 @@ def _finish(model, law, z_ind, u_hat, iterations, residual, converged, message, 
     u_x = u[0] if model.tangential else np.zeros(n)
     t_x = t[0] if model.tangential else np.zeros(n)
     return Relaxed(u_hat=u_hat, u_z=u[-1], u_x=u_x, gap=gap, t_z=t[-1], t_x=t_x, iterations=iterations,
+                   residual=float(residual), converged=bool(converged), message=message)
+
+
+def _relax_cohesive_wall(model, law, z_ind, u_hat, settings, wall_tolerance):
+    """Cohesive wall (`contact.laws.CohesiveWall`): Eq. 3's attraction off the wall, Δn ≥ 0 projected.
+
+    The `_relax_hard_wall` projected FIRE (or Verlet) with the attraction T_n(Δn) added to the
+    nodal force, f = T_n(Δn) + p − K u (p: the half-plane's far-field load keeping ⟨u⟩ = 0, the
+    mean of K u − T_n over the nodes off the wall; 0 on a layer). Nodes on the wall (Δn ≤
+    wall_tolerance) pushed into it (f > 0) are "stuck": the wall takes their force (reaction
+    f ≥ 0, compressive) and their preconditioned acceleration is zeroed; wall nodes pulled away keep
+    their force, capped as in `_relax_hard_wall`. After each move the nodes pushed through the
+    wall are projected back (u_z ≤ z_ind, ⟨u⟩ = 0 on a half-plane with the stuck nodes pinned)
+    and their velocity into the wall is removed. The mass M_q = K(q) + ⟨∂T_n/∂Δn⟩₊ (mean over
+    the nodes off the wall, refreshed as in `_relax_cohesive`) and a trust region of
+    `max_move`·δn per iteration follow the cohesive solver. Residual: max |net force| (stuck
+    nodes 0, pulling wall nodes and free nodes their force) / p_ref, the hard wall's semantics;
+    the fixed points are the KKT points: Δn ≥ 0, reaction ≥ 0 on the wall, f = 0 off it.
+    Returns `Relaxed` with t_z = T_n(Δn) off the wall and T_n − reaction on it (normal only).
+    """
+    if model.tangential:
+        raise ValueError("the cohesive wall is frictionless and normal-only: no tangential unknowns")
+    cz = law.law
+    n = model.nodes
+    clamp = model.half_plane
+    k = model.k_zz
+    weights = _spectral_weights(n)
+
+    def attraction(gap):
+        return cz.tractions(gap)[0]
+
+    def mean_slope(gap):
+        off = gap > wall_tolerance
+        if not off.any():
+            return 0.0
+        return float(np.sum(np.maximum(cz.tangent(gap[off])[0], 0.0))) / n
+
+    def net_force(u):
+        gap = z_ind - u
+        on_wall = gap <= wall_tolerance
+        t = attraction(gap)
+        ku = scipy.fft.irfft(k * scipy.fft.rfft(u), n=n)
+        free = ~on_wall
+        p = float(np.mean(ku[free] - t[free])) if clamp and free.any() else 0.0
+        force = t + p - ku
+        stuck = on_wall & (force > 0)
+        return np.where(stuck, 0.0, force), stuck, on_wall, force, t
+
+    u = scipy.fft.irfft(u_hat[-1], n=n)
+    shift = _mean_shift(u, z_ind) if clamp else 0.0
+    u = np.minimum(u + shift, z_ind)
+    k_mean = mean_slope(z_ind - u)
+
+    def preconditioner(k_mean):
+        inv = _Elastic(model, 0.0, k_mean).inv_mass[0]
+        return inv, float(np.sum(weights * inv)) / n  # M⁻¹ and its real-space diagonal
+
+    inv_mass, inv_mass_diag = preconditioner(k_mean)
+    fire = None if settings.method == "verlet" else _Fire(settings)
+    if fire is None:
+        rho, gdt = _verlet_coefficients(np.real(k) + cz.initial_stiffness[1], settings)
+    dt = fire.dt if fire else 1.0
+    max_move = settings.max_move * cz.length_scale
+    v = np.zeros(n)
+    residual, converged, message = np.inf, False, ""
+    it = 0
+    for it in range(1, settings.max_iterations + 1):
+        force, stuck, on_wall, _, _ = net_force(u)
+        if it % settings.check_every == 0 or it == 1:
+            residual = float(np.max(np.abs(force))) / model.reference_traction
+            if residual < settings.tolerance:
+                converged = True
+                break
+            if not np.isfinite(residual):
+                message = "diverged: non-finite force residual"
+                break
+        if fire is not None and it % settings.mass_refresh == 0:
+            k_now = mean_slope(z_ind - u)
+            if k_now > 2 * k_mean + 1e-300 or k_mean > 2 * k_now + 1e-300:
+                k_mean = k_now  # interface stiffness changed 2×: re-weight the modes, restart FIRE
+                inv_mass, inv_mass_diag = preconditioner(k_mean)
+                v[:] = 0.0
+                fire.reset()
+        if fire is None:
+            v_hat = scipy.fft.rfft(v)
+            v_hat = ((1 - gdt / 2) * v_hat + dt * scipy.fft.rfft(force) / rho) / (1 + gdt / 2)
+            if clamp:
+                v_hat[0] = 0.0
+            v = scipy.fft.irfft(v_hat, n=n)
+            v[stuck] = np.minimum(v[stuck], 0.0)
+        else:
+            acc = scipy.fft.irfft(inv_mass * scipy.fft.rfft(force), n=n)
+            acc[stuck] = 0.0  # precondition on the non-stuck subspace only
+            pulling = on_wall & (force < 0)  # must leave the wall: never let M⁻¹ smear it back in
+            acc[pulling] = np.minimum(acc[pulling], force[pulling] * inv_mass_diag)
+            restart = fire.adapt(_dot(force, v))
+            dt = fire.dt
+            if restart:
+                u -= 0.5 * dt * v
+                v[:] = 0.0
+            v += dt * acc
+            a_norm = np.sqrt(_dot(acc, acc))
+            if a_norm > 0:
+                v = (1 - fire.alpha) * v + fire.alpha * np.sqrt(_dot(v, v)) / a_norm * acc
+        move = float(np.max(np.abs(dt * v)))
+        if move > max_move:  # trust region: no node moves more than max_move per iteration
+            v *= max_move / move
+            if fire is not None:
+                fire.dt *= settings.f_dec
+        u += dt * v
+        shift = _mean_shift(u, z_ind, stuck) if clamp else 0.0
+        projected = np.where(stuck, z_ind, np.minimum(u + shift, z_ind))
+        hit = projected < u + shift
+        u = projected
+        v[hit] = np.minimum(v[hit], 0.0)
+    else:
+        message = f"not converged after {settings.max_iterations} iterations (residual {residual:.3g} p_ref)"
+    u_hat = scipy.fft.rfft(u)[None, :]
+    u = scipy.fft.irfft(u_hat[-1], n=n)
+    gap = np.maximum(z_ind - u, 0.0)
+    u = z_ind - gap
+    _, stuck, on_wall, force, t = net_force(u)
+    t_z = np.where(on_wall, t - np.maximum(force, 0.0), t)  # the wall's reaction on top of T_n (0 at Δn = 0)
+    return Relaxed(u_hat=u_hat, u_z=u, u_x=np.zeros(n), gap=gap, t_z=t_z, t_x=np.zeros(n), iterations=it,
                    residual=float(residual), converged=bool(converged), message=message)

@@ -55,6 +55,10 @@ def _refuse_fe(scene):
     if scene.surface.nodes % 2:
         raise SceneError(f"method.name = \"fe\": surface.nodes = {scene.surface.nodes}: the FE mesh needs an even "
                          "number of surface nodes")
+    from reference.fem.run import refusal
+    why = refusal(scene)  # what the FE reference does not model (the cohesive wall)
+    if why:
+        raise SceneError(f"method.name = \"fe\": {why}")
     if scene.method.quadrature != "nodal" and law_from_scene(scene).constraint:
         raise SceneError(f"method.quadrature = {scene.method.quadrature!r}: the hard wall is a nodal constraint, "
                          "only \"nodal\" applies")

@@ -180,8 +180,9 @@ class HardWallCell:
         return np.zeros((2, self.prob.ns))
 
     def observe(self, scene, h, gap, t_n):
-        """p, a_rel, ḡ_r, ḡ of a step from the FE's own observables (contact = compressive nodes)."""
-        return hard_wall_observables(h, scene.surface.spacing, t_n)
+        """p, a_rel, ḡ_r, ḡ of a step from the FE's own observables (contact: scene.interface.contact_rule;
+        the seed's is the compressive nodes)."""
+        return hard_wall_observables(h, scene.surface.spacing, t_n, gap=gap, interface=scene.interface)
 
     def solve(self, displacement, guess, fallback):
         prob, vp = self.prob, self.prob.cell.vertex_points

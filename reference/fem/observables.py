@@ -6,11 +6,14 @@ it against hand-computed cases). `FeCell.observe` / `HardWallCell.observe` retur
 to `contact.ramp.run_ramp`, under the names and units of `contact.result.CURVE_COLUMNS`:
 
     p      mean pressure −⟨t_z⟩ over the N nodes (Pa), compressive positive (reference-formulas §0)
-    a_rel  fraction of the N nodes in contact (1), by the seed's rule:
+    a_rel  fraction of the N nodes in contact (1), by the scene's interface.contact_rule
+           (`contact_set`); "traction-tolerance", the seed's rule (default):
            hard wall — nodes carrying compressive traction (t_z < 0);
            cohesive  — nodes whose normal traction is above contact_tolerance·φn/δn or that
            lie before the decaying branch, i.e. Δn ≤ Δtol with T_n(Δtol) = tolerance·φn/δn,
-           Δtol > δn (compressed and tensile nodes alike)
+           Δtol > δn (compressed and tensile nodes alike);
+           "compressive" — t_z < 0 for every law; "gap" — Δn ≤ contact_gap·δn for every law
+           (δn = interface.length_normal)
     g_r    ḡ_r = √(Σ_contact g_i² / n), n the number of contact nodes (seed Eq. 5); NaN if n = 0
     g      ḡ, the same over all N nodes
 
@@ -48,11 +51,29 @@ def observables(h, spacing, t_z, contact):
             "g": rms_gradient(h, spacing)}
 
 
-def hard_wall_observables(h, spacing, t_z):
-    """Observables of a hard-wall step: contact = compressive traction."""
-    return observables(h, spacing, t_z, np.asarray(t_z) < 0.0)
+def contact_set(interface, gap, t_z, tolerance_gap=None):
+    """Boolean contact mask of a step by interface.contact_rule (a scene's `Interface`; module docstring).
+
+    gap Δn (m), t_z (Pa, tension > 0) on the nodes; tolerance_gap: Δtol (m) of the cohesive law's
+    traction-tolerance rule (`CohesiveZone.contact_gap`), None for the hard wall (whose tolerance rule
+    is the compressive one). A scene from before the rules existed has no contact_rule: the seed's.
+    """
+    rule = getattr(interface, "contact_rule", "traction-tolerance") if interface is not None else "traction-tolerance"
+    if rule == "gap":
+        return np.asarray(gap) <= interface.contact_gap * interface.length_normal
+    if rule == "compressive" or tolerance_gap is None:
+        return np.asarray(t_z) < 0.0
+    if rule != "traction-tolerance":
+        raise ValueError(f"interface.contact_rule = {rule!r}: unknown to the FE reference")
+    return np.asarray(gap) <= tolerance_gap
 
 
-def cohesive_observables(h, spacing, gap, t_z, contact_gap):
-    """Observables of a cohesive step: contact = Δn ≤ contact_gap (Δtol, m; `CohesiveZone.contact_gap`)."""
-    return observables(h, spacing, t_z, np.asarray(gap) <= contact_gap)
+def hard_wall_observables(h, spacing, t_z, gap=None, interface=None):
+    """Observables of a hard-wall step: contact = compressive traction (or the interface's contact_rule)."""
+    return observables(h, spacing, t_z, contact_set(interface, gap, t_z))
+
+
+def cohesive_observables(h, spacing, gap, t_z, contact_gap, interface=None):
+    """Observables of a cohesive step: contact = Δn ≤ contact_gap (Δtol, m; `CohesiveZone.contact_gap`), or
+    the interface's contact_rule."""
+    return observables(h, spacing, t_z, contact_set(interface, gap, t_z, contact_gap))

@@ -31,8 +31,12 @@ def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, 
     "sparse-lagged" (SuperLU reused as GMRES preconditioner) or "auto"
     (`sparse.choose_linear`); quadrature: "nodal" (default) or "gauss" (dense path
     only). A hard wall is solved by `reference.fem.hardwall` (a constraint, not a law).
-    Dense solves use single-threaded BLAS.
+    Dense solves use single-threaded BLAS. The cohesive wall (interface.law = "cohesive-wall") is not
+    modelled: refused (`refusal`).
     """
+    why = refusal(scene)
+    if why:
+        raise ValueError(why)
     if scene.interface.law == "hard-wall":  # a constraint, not a law: primal–dual active set
         if quadrature != "nodal":
             raise ValueError(f"quadrature = {quadrature!r}: the hard wall is a nodal constraint, "
@@ -43,6 +47,17 @@ def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, 
                           quadrature=quadrature)
     with single_thread():
         return run_ramp(scene, realization, prepare, progress=progress, checkpoint=checkpoint, resume=resume)
+
+
+def refusal(scene):
+    """Why the FE reference cannot solve `scene` (a str), or None. The cohesive wall (CZ attraction with
+    a hard-wall repulsion, `contact.laws.CohesiveWall`) would need the cohesive Newton and the hard wall's
+    active set in one solver, which the FE reference does not have; GFMD solves it."""
+    if scene.interface.law == "cohesive-wall":
+        return ("interface.law = \"cohesive-wall\": the FE reference does not model the cohesive wall (CZ "
+                "attraction with a hard-wall repulsion); solve it with method.name = \"gfmd\", or use "
+                "interface.law = \"cohesive\" or \"hard-wall\" with the FE")
+    return None
 
 
 def prepare_cohesive(scene, h, realization=0, order=2, mesh_kw=None, tolerance=None, linear="auto",

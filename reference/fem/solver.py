@@ -366,7 +366,7 @@ class FeCell:
     def observe(self, scene, h, gap, t_n):
         """p, a_rel, ḡ_r, ḡ of a step from the FE's own observables (`reference.fem.observables`)."""
         contact_gap = self.prob.law.contact_gap(scene.interface.contact_tolerance)
-        return cohesive_observables(h, scene.surface.spacing, gap, t_n, contact_gap)
+        return cohesive_observables(h, scene.surface.spacing, gap, t_n, contact_gap, interface=scene.interface)
 
     def solve(self, displacement, guess, fallback):
         prob, vp = self.prob, self.prob.cell.vertex_points
