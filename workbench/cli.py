@@ -1,4 +1,4 @@
-"""Command line: `gfmd run | plot | scene | verify | study run` (also `python -m gfmd`).
+"""Command line: `gfmd run | plot | scene | verify | study run | study plot | study report` (also `python -m gfmd`).
 
 Units: SI everywhere (see contact.conventions); scenes are TOML files (contact.scene).
 """
@@ -219,6 +219,24 @@ def _cmd_study_run(args):
     return 1 if record["tasks_failed"] or unconverged else 0
 
 
+def _cmd_study_plot(args):
+    from .study_plots import plot_study
+
+    for path in plot_study(args.dir, fmt=args.format, over=args.over):
+        print(f"wrote {path}")
+    return 0
+
+
+def _cmd_study_report(args):
+    from .study_report import claims_text, write_report
+
+    path = write_report(args.dirs, out=args.out)
+    for line in claims_text(args.dirs):
+        print(line)
+    print(f"wrote {path}")
+    return 0
+
+
 def _count(minimum):
     def parse(text):
         try:
@@ -280,6 +298,19 @@ def build_parser():
                            "be on a file system every worker sees")
     srun.add_argument("--quiet", action="store_true", help="no progress bar")
     srun.set_defaults(func=_cmd_study_run)
+    splot = study_sub.add_parser("plot", help="seed-style figures of a study directory (into DIR/figures/): "
+                                 "overlays of the parameter sets, hard-wall reference, κ fit, snapshot")
+    splot.add_argument("dir", help="study directory (gfmd study run --out DIR)")
+    splot.add_argument("--format", choices=("png", "svg"), default="png", help="file format (default png)")
+    splot.add_argument("--over", metavar="AXIS",
+                       help="one panel per combination of the other varied keys, one curve per value of AXIS "
+                            "(a dotted key of the study, e.g. surface.h_rms); default: every set in one panel")
+    splot.set_defaults(func=_cmd_study_plot)
+    sreport = study_sub.add_parser("report", help="the seed's claims measured on study directories: "
+                                   "DIR/report.html (self-contained) and the claims table on stdout")
+    sreport.add_argument("dirs", nargs="+", metavar="DIR", help="study directories (several: one merged page)")
+    sreport.add_argument("--out", help="the HTML page (default: the first DIR's report.html)")
+    sreport.set_defaults(func=_cmd_study_report)
     return parser
 
 

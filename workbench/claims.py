@@ -1,0 +1,780 @@
+"""The seed paper's claims (Figs. 2–8) measured on a study directory: effect sizes, standard errors, verdicts.
+
+Units: SI in the tables (`workbench.study`); effect sizes are dimensionless (p/E*, p_r* = p/(ḡ_r E*),
+a_rel, ḡ_r/ḡ, relative differences). Everything here is a plain function over the study's
+per-realization table (study.csv, or the finished tasks' curve.csv while a study is
+incomplete), read by `read_study_dir`:
+
+* per (set, realization) a value is computed from that realization's curve alone
+  (a κ fit, a_rel at a given δ, a_rel where p_r* first reaches a target, …);
+* a set's value is the mean over its realizations, its standard error SE = s/√n
+  (s: sample standard deviation, n: realizations with a value; 0 for n = 1);
+* a difference between two sets with the same seeds is taken per realization (paired:
+  the same rough profile, scaled), otherwise SE = √(SE₁² + SE₂²);
+* the verdict compares the effect with the claim's limit at two standard errors:
+  "reproduced" when the whole interval value ± 2 SE is on the claim's side, "not reproduced"
+  when it is wholly on the other side, "inconclusive (within 2 SE)" otherwise; "not in this
+  study" when the study lacks the sets (e.g. no φn* axis); and "depends on δn / the contact
+  rule" when the study varies interface.length_normal (or a contact-rule key) and the verdict
+  differs between its values (each value's number is listed).
+
+`CLAIMS` lists the claims with their definitions (the report prints them); `evaluate(data)`
+returns one `ClaimResult` per claim.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from contact.laws import law_from_scene
+from contact.observables import fit_kappa
+from contact.scene import load_scene
+
+from .plots import Stacked, stack_curves
+
+#: the seed's κ (Fig. 2, §3)
+KAPPA_SEED = 1.75
+#: the largest δ the seed evaluates (Figs. 4, 5): 20 nm
+DELTA_SEED = 20e-9
+#: keys whose values are modelling choices, not the seed's: a claim is evaluated per value
+CONTEXT_KEYS = ("interface.length_normal", "interface.contact_rule", "interface.contact_gap")
+#: keys that make a set the non-adhesive reference or set its adhesion
+LAW_KEYS = ("interface.law", "interface.phi_n_star")
+
+REPRODUCED, NOT_REPRODUCED, INCONCLUSIVE = "reproduced", "not reproduced", "inconclusive (within 2 SE)"
+NOT_IN_STUDY, DEPENDS = "not in this study", "depends on δn / the contact rule"
+#: numeric columns of the per-realization curves
+COLUMNS = ("step", "U", "delta", "p", "a_rel", "g_r", "g", "iterations", "residual", "converged", "wall_s")
+
+
+class StudyDirError(ValueError):
+    """A directory that is not a study directory, or has no finished task."""
+
+
+# ---------------------------------------------------------------- reading a study directory
+
+@dataclass
+class SetInfo:
+    """One parameter set: index, parameters (study key → value), scene, E* (Pa), law, curves."""
+
+    index: int
+    params: dict
+    scene: object
+    e_star: float
+    hard_wall: bool
+    adhesive: bool
+    realizations: int  # the set's realizations in the study (expected)
+    stacked: Stacked | None = None  # realizations × steps (None: no finished task)
+    seeds: dict = field(default_factory=dict)  # realization → seed
+    tasks: dict = field(default_factory=dict)  # realization → task key
+
+    def value(self, key):
+        """The set's value of a dotted scene key (from its scene, so base keys work too)."""
+        section, _, name = key.partition(".")
+        return getattr(getattr(self.scene, section), name)
+
+    @property
+    def signature(self):
+        """The set's scene without its adhesion (law, φn*, c, δt): equal for a set and its hard-wall reference."""
+        import dataclasses
+
+        i = self.scene.interface
+        i = dataclasses.replace(i, law="hard-wall", phi_n_star=0.0, tangential_ratio=0.0, length_tangential=0.0)
+        return (self.scene.surface, self.scene.material, self.scene.loading, i)
+
+
+@dataclass
+class StudyData:
+    """A study directory read back: its record, base scene, varied keys, sets and counts."""
+
+    path: Path
+    name: str
+    record: dict
+    keys: list
+    sets: list  # SetInfo, every set of the study (those without a finished task have stacked None)
+    tasks_total: int
+    tasks_done: int
+    tasks_failed: int
+    source: str  # "study.csv" or "tasks" (an unfinished study: the finished tasks' curve.csv)
+
+    @property
+    def partial(self):
+        return self.tasks_done < self.tasks_total
+
+    def partial_note(self):
+        """'' for a complete study, else one line saying what is missing."""
+        if not self.partial:
+            return ""
+        empty = [s.index for s in self.sets if s.stacked is None]
+        short = [s.index for s in self.sets if s.stacked is not None and len(s.stacked.realizations) < s.realizations]
+        bits = [f"PARTIAL STUDY: {self.tasks_done} of {self.tasks_total} tasks finished"]
+        if self.tasks_failed:
+            bits.append(f"{self.tasks_failed} failed")
+        if empty:
+            bits.append(f"no data for set{'s' if len(empty) > 1 else ''} {_ranges(empty)}")
+        if short:
+            bits.append(f"fewer realizations in set{'s' if len(short) > 1 else ''} {_ranges(short)}")
+        return "; ".join(bits)
+
+    @property
+    def with_data(self):
+        return [s for s in self.sets if s.stacked is not None]
+
+
+def _ranges(ints):
+    return ", ".join(str(i) for i in ints) if len(ints) <= 8 else f"{', '.join(map(str, ints[:8]))}, …"
+
+
+def _float(text):
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def read_study_dir(path):
+    """Read a study directory (`workbench.study`): study.json, base_scene.toml and the curves.
+
+    The curves come from study.csv when the study completed; otherwise (still running,
+    interrupted) from the curve.csv of every finished task. Raises StudyDirError for a
+    directory that is not a study directory or has no finished task.
+    """
+    path = Path(path)
+    if not path.is_dir():
+        raise StudyDirError(f"{path}: no such directory")
+    if not (path / "study.json").is_file() or not (path / "base_scene.toml").is_file():
+        raise StudyDirError(f"{path} is not a study directory (no study.json / base_scene.toml; "
+                            "make one with gfmd study run STUDY.toml --out DIR)")
+    try:
+        record = json.loads((path / "study.json").read_text())
+        base = load_scene(path / "base_scene.toml")
+    except (OSError, ValueError) as exc:
+        raise StudyDirError(f"{path}: cannot read the study: {exc}") from None
+    keys = list(record.get("axes") or {}) + list(record.get("zip") or {})
+    entries = record.get("tasks", [])
+    by_set = {}
+    for t in entries:
+        by_set.setdefault(t["set"], []).append(t)
+    sets = []
+    for s in sorted(by_set):
+        params = by_set[s][0]["parameters"]
+        scene = base.replace(**params) if params else base
+        law = law_from_scene(scene)
+        info = SetInfo(index=s, params=params, scene=scene, e_star=scene.material.contact_modulus,
+                       hard_wall=scene.interface.law == "hard-wall", adhesive=bool(law.adhesive),
+                       realizations=len(by_set[s]))
+        info.seeds = {t["realization"]: t["seed"] for t in by_set[s]}
+        info.tasks = {t["realization"]: t["key"] for t in by_set[s]}
+        sets.append(info)
+    failed = sum(1 for t in entries if t.get("status") == "failed")
+    curves = {}  # set → {realization: {column: array}}
+    if record.get("complete") and (path / "study.csv").is_file():
+        source = "study.csv"
+        with open(path / "study.csv") as fh:
+            for row in csv.DictReader(fh):
+                c = curves.setdefault(int(row["set"]), {}).setdefault(int(row["realization"]),
+                                                                       {k: [] for k in COLUMNS})
+                for k in COLUMNS:
+                    c[k].append(_float(row.get(k)))
+    else:
+        source = "tasks"
+        for t in entries:
+            f = path / "tasks" / t["key"] / "curve.csv"
+            meta = path / "tasks" / t["key"] / "meta.json"
+            if not f.is_file() or not meta.is_file() or not json.loads(meta.read_text()).get("complete"):
+                continue
+            with open(f) as fh:
+                rows = list(csv.DictReader(fh))
+            curves.setdefault(t["set"], {})[t["realization"]] = {k: [_float(r.get(k)) for r in rows] for k in COLUMNS}
+    done = 0
+    for info in sets:
+        got = {r: {k: np.asarray(v, float) for k, v in c.items()} for r, c in curves.get(info.index, {}).items()
+               if c["step"]}
+        if got:
+            info.stacked = stack_curves(got)
+            done += len(got)
+    if done == 0:
+        raise StudyDirError(f"{path}: the study has no finished task yet ({len(entries)} task(s), {failed} failed)")
+    return StudyData(path=path, name=record.get("study", path.name), record=record, keys=keys, sets=sets,
+                     tasks_total=len(entries), tasks_done=done, tasks_failed=failed, source=source)
+
+
+# ---------------------------------------------------------------- per-realization quantities
+
+def reduced_pressure_of(s):
+    """(R, S) p_r* = p/(ḡ_r E*) of set `s` (NaN without contact)."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return s.stacked["p"] / (s.stacked["g_r"] * s.e_star)
+
+
+def kappa_per_realization(s, a_max=0.1):
+    """{realization: κ} of set `s`: `fit_kappa` on each realization's own curve (0 < a_rel ≤ a_max, p > 0)."""
+    pr = reduced_pressure_of(s)
+    out = {}
+    for i, r in enumerate(s.stacked.realizations):
+        try:
+            out[r] = fit_kappa(pr[i], s.stacked["a_rel"][i], a_max=a_max)[0]
+        except ValueError:
+            pass
+    return out
+
+
+def stats(values):
+    """(mean, standard error, n) of the finite values (a dict's values or a sequence)."""
+    v = np.asarray(list(values.values()) if isinstance(values, dict) else list(values), float)
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        return math.nan, math.nan, 0
+    se = float(np.std(v, ddof=1) / math.sqrt(v.size)) if v.size > 1 else 0.0
+    return float(np.mean(v)), se, int(v.size)
+
+
+def paired_difference(a, b):
+    """Mean and SE of a − b ({realization: value} of two sets): per realization where both have one
+    (same realizations = same seeds in a study), else from the two means."""
+    common = [r for r in a if r in b and np.isfinite(a[r]) and np.isfinite(b[r])]
+    if len(common) >= 2:
+        return stats([a[r] - b[r] for r in common])
+    ma, sa, na = stats(a)
+    mb, sb, nb = stats(b)
+    return ma - mb, math.hypot(sa, sb), min(na, nb)
+
+
+def max_delta(s):
+    """The largest δ (m) every realization of `s` reached."""
+    return float(np.nanmin(np.nanmax(s.stacked["delta"], axis=1)))
+
+
+def at_delta(s, column, delta):
+    """{realization: value of `column` at the step with δ nearest `delta`} (NaN if it stopped before)."""
+    st = s.stacked
+    values = column(s) if callable(column) else st[column]
+    out = {}
+    for i, r in enumerate(st.realizations):
+        d = st["delta"][i]
+        ok = np.isfinite(d)
+        if not ok.any() or np.nanmax(d) < delta - 1e-3 * abs(delta) - 1e-15:
+            out[r] = math.nan
+            continue
+        k = int(np.nanargmin(np.where(ok, np.abs(d - delta), np.inf)))
+        out[r] = float(values[i][k])
+    return out
+
+
+def at_level(x, y, target):
+    """y where x first reaches `target` along the steps (linear between the two steps); NaN if never."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    ok = np.isfinite(x) & np.isfinite(y)
+    x, y = x[ok], y[ok]
+    hit = np.nonzero(x >= target)[0]
+    if hit.size == 0:
+        return math.nan
+    k = int(hit[0])
+    if k == 0 or x[k] == x[k - 1]:
+        return float(y[k])
+    w = (target - x[k - 1]) / (x[k] - x[k - 1])
+    return float(y[k - 1] + w * (y[k] - y[k - 1]))
+
+
+def area_at(s, xname, target):
+    """{realization: a_rel where x first reaches target}, x = "p_r" (p_r*) or "p_E" (p/E*), only p > 0 steps."""
+    x = reduced_pressure_of(s) if xname == "p_r" else s.stacked["p"] / s.e_star
+    out = {}
+    for i, r in enumerate(s.stacked.realizations):
+        xi = np.where(s.stacked["p"][i] > 0, x[i], np.nan)
+        out[r] = at_level(xi, s.stacked["a_rel"][i], target)
+    return out
+
+
+def _x_at_delta(s, xname, delta):
+    col = (lambda z: reduced_pressure_of(z)) if xname == "p_r" else (lambda z: z.stacked["p"] / z.e_star)
+    return stats(at_delta(s, col, delta))[0]
+
+
+def common_target(sets, xname, delta):
+    """Half the smallest set-mean x (p_r* or p/E*) at δ: a load every set reaches on its loading branch."""
+    xs = [_x_at_delta(s, xname, delta) for s in sets]
+    xs = [x for x in xs if np.isfinite(x) and x > 0]
+    return 0.5 * min(xs) if xs else math.nan
+
+
+def eval_delta(sets):
+    """δ at which claims at a fixed δ are evaluated: min(20 nm, the largest δ every set reached)."""
+    return min([DELTA_SEED] + [max_delta(s) for s in sets])
+
+
+# ---------------------------------------------------------------- grouping sets
+
+def varying(sets, keys):
+    """The keys whose values differ between `sets`."""
+    return [k for k in keys if len({repr(s.params.get(k)) for s in sets}) > 1]
+
+
+def families(sets, keys, along):
+    """Groups of `sets` that differ only in `along` (every other study key equal), with ≥ 2 values of it."""
+    groups = {}
+    for s in sets:
+        sig = tuple((k, repr(s.params.get(k))) for k in keys if k != along)
+        groups.setdefault(sig, []).append(s)
+    return [sorted(g, key=lambda s: s.value(along)) for g in groups.values()
+            if len({repr(s.value(along)) for s in g}) > 1]
+
+
+def reference_of(s, sets):
+    """The hard-wall set with the same surface, material, loading and δn as `s`, or None."""
+    for r in sets:
+        if r.hard_wall and r is not s and r.signature == s.signature:
+            return r
+    return None
+
+
+def contexts(data):
+    """[(label, sets)]: the sets split by the values of the modelling-choice keys the study varies."""
+    ctx = [k for k in CONTEXT_KEYS if k in data.keys and len({repr(s.params.get(k)) for s in data.sets}) > 1]
+    if not ctx:
+        return [("", data.with_data)]
+    groups = {}
+    for s in data.with_data:
+        groups.setdefault(tuple(s.params.get(k) for k in ctx), []).append(s)
+    return [(", ".join(_param_text(k, v) for k, v in zip(ctx, vals)), g) for vals, g in groups.items()]
+
+
+#: short names and units of scene keys in labels: key → (symbol, scale, unit)
+KEY_LABELS = {
+    "surface.hurst": ("H", 1, ""), "surface.h_rms": ("h_rms", 1e9, " nm"),
+    "surface.rollon_wavelength": ("λ_sH", 1e9, " nm"), "surface.rolloff_wavelength": ("λ_r", 1e9, " nm"),
+    "surface.nodes": ("N", 1, ""), "material.poisson_ratio": ("ν", 1, ""),
+    "interface.phi_n_star": ("φn*", 1, ""), "interface.tangential_ratio": ("c", 1, ""),
+    "interface.length_normal": ("δn", 1e9, " nm"), "interface.length_tangential": ("δt", 1e9, " nm"),
+    "interface.law": ("law", None, ""), "interface.contact_rule": ("contact rule", None, ""),
+    "interface.contact_gap": ("contact gap", 1, " δn"),
+}
+
+
+def _param_text(key, value):
+    sym, scale, unit = KEY_LABELS.get(key, (key, 1, ""))
+    if scale is None or not isinstance(value, (int, float)) or isinstance(value, bool):
+        return f"{sym} = {value}"
+    return f"{sym} = {value * scale:g}{unit}"
+
+
+def set_label(s, keys):
+    """'H = 0.8, φn* = 0.15' for the given keys ('hard wall' for a hard-wall set, without φn*)."""
+    if s.hard_wall:
+        rest = [_param_text(k, s.params.get(k)) for k in keys if k not in LAW_KEYS]
+        return ", ".join(["hard wall"] + rest)
+    return ", ".join(_param_text(k, s.params.get(k)) for k in keys if k != "interface.law") or "cohesive"
+
+
+# ---------------------------------------------------------------- claims
+
+@dataclass
+class Measurement:
+    context: str  # '' or e.g. 'δn = 0.25 nm'
+    value: float
+    se: float
+    n: int
+    verdict: str
+    details: str
+
+
+@dataclass
+class ClaimResult:
+    id: str
+    figure: str
+    claim: str
+    definition: str
+    study: str
+    verdict: str
+    measurements: list
+
+
+def verdict_below(value, se, limit):
+    """Claim 'value ≤ limit' at 2 SE."""
+    if not np.isfinite(value):
+        return NOT_IN_STUDY
+    if value + 2 * se <= limit:
+        return REPRODUCED
+    if value - 2 * se > limit:
+        return NOT_REPRODUCED
+    return INCONCLUSIVE
+
+
+def verdict_positive(value, se):
+    """Claim 'value > 0' at 2 SE."""
+    if not np.isfinite(value):
+        return NOT_IN_STUDY
+    if value - 2 * se > 0:
+        return REPRODUCED
+    if value + 2 * se <= 0:
+        return NOT_REPRODUCED
+    return INCONCLUSIVE
+
+
+def _fmt(x, digits=3):
+    return "nan" if x is None or not np.isfinite(x) else f"{x:.{digits}g}"
+
+
+def _pm(m, se, n=None):
+    return f"{_fmt(m)} ± {_fmt(se, 2)}" + (f" (n = {n})" if n is not None else "")
+
+
+def _hw(sets):
+    return [s for s in sets if s.hard_wall]
+
+
+def _coh(sets):
+    return [s for s in sets if not s.hard_wall]
+
+
+def claim_kappa(sets, keys):
+    hw = _hw(sets)
+    if not hw:
+        return None
+    per = [(s, stats(kappa_per_realization(s))) for s in hw]
+    per = [(s, m) for s, m in per if m[2] > 0]
+    if not per:
+        return None
+    kappa = float(np.mean([m[0] for _, m in per]))
+    se = math.sqrt(sum(m[1] ** 2 for _, m in per)) / len(per)
+    dev = abs(kappa - KAPPA_SEED)
+    verdict = verdict_below(dev, se, 0.1 * KAPPA_SEED)
+    lab = varying([s for s, _ in per], keys)
+    details = "; ".join(f"{set_label(s, lab) or 'hard wall'}: κ = {_pm(*m)}" for s, m in per)
+    return Measurement("", kappa, se, min(m[2] for _, m in per), verdict, details)
+
+
+def _relative_range(values):
+    """(max − min)/mean of set means, SE from the two extreme sets: values = [(label, (m, se, n))]."""
+    ok = [(lab, m) for lab, m in values if m[2] > 0 and np.isfinite(m[0])]
+    if len(ok) < 2:
+        return None
+    hi = max(ok, key=lambda v: v[1][0])
+    lo = min(ok, key=lambda v: v[1][0])
+    mean = float(np.mean([m[0] for _, m in ok]))
+    return (hi[1][0] - lo[1][0]) / abs(mean), math.hypot(hi[1][1], lo[1][1]) / abs(mean), min(m[2] for _, m in ok)
+
+
+def claim_kappa_independent(key):
+    def measure(sets, keys):
+        fams = families(_hw(sets), keys, key)
+        if not fams:
+            return None
+        worst = None
+        parts = []
+        for fam in fams:
+            rr = _relative_range([(s, stats(kappa_per_realization(s))) for s in fam])
+            if rr is None:
+                continue
+            parts.append(", ".join(f"{_param_text(key, s.value(key))}: κ = {_pm(*stats(kappa_per_realization(s)))}"
+                                   for s in fam))
+            if worst is None or rr[0] > worst[0]:
+                worst = rr
+        if worst is None:
+            return None
+        return Measurement("", worst[0], worst[1], worst[2], verdict_below(worst[0], worst[1], 0.1),
+                           " | ".join(parts))
+    return measure
+
+
+def nonlinearity(s, delta):
+    """{realization: 2 a_rel(x_max/2)/a_rel(x_max) − 1}, x = p_r*, x_max = its p_r* at δ (0 for a_rel ∝ p_r*)."""
+    pr = reduced_pressure_of(s)
+    xmax = at_delta(s, lambda z: pr, delta)
+    amax = at_delta(s, "a_rel", delta)
+    out = {}
+    for i, r in enumerate(s.stacked.realizations):
+        x = np.where(s.stacked["p"][i] > 0, pr[i], np.nan)
+        half = at_level(x, s.stacked["a_rel"][i], 0.5 * xmax[r]) if np.isfinite(xmax[r]) and xmax[r] > 0 else math.nan
+        out[r] = 2 * half / amax[r] - 1 if amax[r] and np.isfinite(amax[r]) else math.nan
+    return out
+
+
+def _phi_family(sets, keys):
+    """Families along φn* among the cohesive sets (with their hard-wall reference first, if any)."""
+    fams = families(_coh(sets), keys, "interface.phi_n_star")
+    return [([reference_of(f[0], sets)] if reference_of(f[0], sets) else []) + f for f in fams]
+
+
+def _phi_text(s):
+    return "hard wall" if s.hard_wall else f"φn* = {s.value('interface.phi_n_star'):g}"
+
+
+def claim_nonlinearity(sets, keys):
+    fams = _phi_family(sets, keys)
+    if not fams:
+        return None
+    fam = fams[0]
+    d = eval_delta(fam)
+    vals = {s.index: nonlinearity(s, d) for s in fam}
+    coh = [s for s in fam if not s.hard_wall]
+    m, se, n = paired_difference(vals[coh[-1].index], vals[coh[0].index])
+    details = ", ".join(f"{_phi_text(s)}: {_pm(*stats(vals[s.index]))}" for s in fam) + f" (δ = {d * 1e9:.3g} nm)"
+    return Measurement("", m, se, n, verdict_positive(m, se), details)
+
+
+def claim_adhesive_branch(sets, keys):
+    coh = [s for s in _coh(sets) if s.adhesive]
+    if not coh:
+        return None
+    per = []
+    for s in coh:
+        st = s.stacked
+        v = {r: float(np.nanmax(np.where(st["p"][i] < 0, st["a_rel"][i], 0.0), initial=0.0))
+             for i, r in enumerate(st.realizations)}
+        per.append((s, stats(v)))
+    s, m = min(per, key=lambda t: t[1][0])
+    lab = varying(coh, keys)
+    details = ", ".join(f"{set_label(x, lab)}: {_pm(*mm)}" for x, mm in per)
+    return Measurement("", m[0], m[1], m[2], verdict_positive(m[0], m[1]), details)
+
+
+def claim_pressure_independent(sets, keys):
+    fams = _phi_family(sets, keys)
+    if not fams:
+        coh = [s for s in _coh(sets) if reference_of(s, sets)]
+        if not coh:
+            return None
+        fams = [[reference_of(coh[0], sets)] + [s for s in coh if s.signature == coh[0].signature]]
+    fam = fams[0]
+    d = eval_delta(fam)
+    ref = fam[0]
+    p_ref = at_delta(ref, lambda z: z.stacked["p"] / z.e_star, d)
+    scale = abs(stats(p_ref)[0])
+    worst, parts = None, []
+    for s in fam[1:]:
+        p = at_delta(s, lambda z: z.stacked["p"] / z.e_star, d)
+        m, se, n = paired_difference(p, p_ref)
+        rel = (abs(m) / scale, se / scale, n)
+        parts.append(f"{_phi_text(s)}: p/E* = {_pm(*stats(p))}, rel. diff. {_fmt(m / scale)}")
+        if worst is None or rel[0] > worst[0]:
+            worst = rel
+    details = f"{_phi_text(ref)} (reference): p/E* = {_pm(*stats(p_ref))}; " + "; ".join(parts) + \
+        f" (δ = {d * 1e9:.3g} nm)"
+    return Measurement("", worst[0], worst[1], worst[2], verdict_below(worst[0], worst[1], 0.1), details)
+
+
+def claim_area_grows(sets, keys):
+    fams = _phi_family(sets, keys)
+    if not fams:
+        return None
+    fam = fams[0]
+    d = eval_delta(fam)
+    vals = {s.index: at_delta(s, "a_rel", d) for s in fam}
+    m, se, n = paired_difference(vals[fam[-1].index], vals[fam[0].index])
+    details = ", ".join(f"{_phi_text(s)}: {_pm(*stats(vals[s.index]))}" for s in fam) + f" (δ = {d * 1e9:.3g} nm)"
+    return Measurement("", m, se, n, verdict_positive(m, se), details)
+
+
+def gr_deviation(s):
+    """{realization: mean over its steps with contact (finite ḡ_r, δ ≥ 0) of |ḡ_r/ḡ − 1|}."""
+    st = s.stacked
+    out = {}
+    for i, r in enumerate(st.realizations):
+        ratio = st["g_r"][i] / st["g"][i]
+        ok = np.isfinite(ratio) & (st["delta"][i] >= 0)
+        out[r] = float(np.mean(np.abs(ratio[ok] - 1))) if ok.any() else math.nan
+    return out
+
+
+def claim_gr_to_one(sets, keys):
+    coh = [s for s in _coh(sets) if s.adhesive]
+    if not coh:
+        return None
+    per = [(s, stats(gr_deviation(s))) for s in coh]
+    s, m = max(per, key=lambda t: t[1][0])
+    lab = varying(coh, keys)
+    hw = _hw(sets)
+    details = ", ".join(f"{set_label(x, lab)}: {_pm(*mm)}" for x, mm in per)
+    if hw:
+        details += f"; hard wall (for contrast): {_pm(*stats(gr_deviation(hw[0])))}"
+    return Measurement("", m[0], m[1], m[2], verdict_below(m[0], m[1], 0.1), details)
+
+
+def claim_hrms(sets, keys):
+    fams = families([s for s in _coh(sets) if s.adhesive], keys, "surface.h_rms")
+    if not fams:
+        return None
+    fam = fams[0]
+    d = eval_delta(fam)
+    x = common_target(fam, "p_r", d)
+    vals = {s.index: area_at(s, "p_r", x) for s in fam}
+    m, se, n = paired_difference(vals[fam[0].index], vals[fam[-1].index])
+    details = ", ".join(f"h_rms = {s.value('surface.h_rms') * 1e9:g} nm: a_rel = {_pm(*stats(vals[s.index]))}"
+                        for s in fam) + f" (at p_r* = {_fmt(x)})"
+    return Measurement("", m, se, n, verdict_positive(m, se), details)
+
+
+def claim_hurst(sets, keys):
+    fams = families([s for s in _coh(sets) if s.adhesive], keys, "surface.hurst")
+    if not fams:
+        return None
+    fam = fams[0]
+    d = eval_delta(fam + [r for r in (reference_of(s, sets) for s in fam) if r])
+    x = common_target(fam, "p_r", d)
+    effect, parts = {}, []
+    for s in fam:
+        a = area_at(s, "p_r", x)
+        ref = reference_of(s, sets)
+        if ref is not None:
+            e = paired_difference(a, area_at(ref, "p_r", x))
+        else:
+            m, se, n = stats(a)
+            e = (m - KAPPA_SEED * x, se, n)
+        effect[s.index] = e
+        parts.append(f"H = {s.value('surface.hurst'):g}: {_pm(*e)}")
+    low = fam[0]
+    others = [(s, effect[s.index]) for s in fam[1:]]
+    s2, e2 = min(others, key=lambda t: t[1][0])
+    m = e2[0] - effect[low.index][0]
+    se = math.hypot(e2[1], effect[low.index][1])
+    strongest = max(fam, key=lambda s: effect[s.index][0])
+    details = "adhesion effect a_rel(adhesive) − a_rel(hard wall): " + ", ".join(parts) + \
+        f" (at p_r* = {_fmt(x)}); strongest at H = {strongest.value('surface.hurst'):g} (seed: 0.5)"
+    return Measurement("", m, se, min(e2[2], effect[low.index][2]), verdict_positive(m, se), details)
+
+
+def _spread_at_pressure(fam):
+    d = eval_delta(fam)
+    x = common_target(fam, "p_E", d)
+    vals = [(s, stats(area_at(s, "p_E", x))) for s in fam]
+    return _relative_range(vals), vals, x
+
+
+def claim_eps_f(sets, keys):
+    coh = [s for s in _coh(sets) if s.adhesive]
+    fams = families(coh, keys, "surface.rollon_wavelength")
+    if not fams:
+        return None
+    by_h = {}
+    for fam in fams:
+        rr, vals, x = _spread_at_pressure(fam)
+        if rr is not None:
+            by_h[fam[0].value("surface.hurst")] = (rr, vals, x)
+    parts = [f"H = {h:g}: spread {_pm(*rr[:2])} [" + ", ".join(
+        f"λ_sH = {s.value('surface.rollon_wavelength') * 1e9:g} nm: {_fmt(m[0])}" for s, m in vals)
+        + f"] at p/E* = {_fmt(x)}" for h, (rr, vals, x) in sorted(by_h.items())]
+    if len(by_h) < 2:
+        return Measurement("", math.nan, math.nan, 0, NOT_IN_STUDY, "; ".join(parts) + " (needs two H)")
+    lo, hi = min(by_h), max(by_h)
+    m = by_h[lo][0][0] - by_h[hi][0][0]
+    se = math.hypot(by_h[lo][0][1], by_h[hi][0][1])
+    verdict = verdict_positive(m, se)
+    if verdict == REPRODUCED and verdict_below(by_h[hi][0][0], by_h[hi][0][1], 0.1) == NOT_REPRODUCED:
+        verdict = NOT_REPRODUCED
+    return Measurement("", m, se, min(by_h[lo][0][2], by_h[hi][0][2]), verdict, "; ".join(parts))
+
+
+def claim_negligible(key):
+    def measure(sets, keys):
+        fams = families([s for s in _coh(sets) if s.adhesive], keys, key)
+        if not fams:
+            return None
+        worst, parts = None, []
+        for fam in fams:
+            rr, vals, x = _spread_at_pressure(fam)
+            if rr is None:
+                continue
+            others = [k for k in varying(fam + [s for f in fams for s in f], keys) if k != key]
+            head = set_label(fam[0], others) if others else ""
+            parts.append((f"{head}: " if head else "") + ", ".join(
+                f"{_param_text(key, s.value(key))}: a_rel = {_pm(*m)}" for s, m in vals) + f" at p/E* = {_fmt(x)}")
+            if worst is None or rr[0] > worst[0]:
+                worst = rr
+        if worst is None:
+            return None
+        return Measurement("", worst[0], worst[1], worst[2], verdict_below(worst[0], worst[1], 0.1),
+                           " | ".join(parts))
+    return measure
+
+
+@dataclass(frozen=True)
+class Claim:
+    id: str
+    figure: str
+    claim: str
+    definition: str
+    measure: object  # (sets, keys) → Measurement or None (the study lacks the sets)
+
+
+CLAIMS = (
+    Claim("kappa", "Fig. 2", "Non-adhesive contact: a_rel = κ p_r* with κ ≈ 1.75",
+          "κ per realization: least-squares slope through the origin of a_rel vs p_r* = p/(ḡ_r E*) over its "
+          "steps with p > 0 and 0 < a_rel ≤ 0.1 (contact.observables.fit_kappa); per hard-wall set the mean ± SE "
+          "over realizations; value: the mean over hard-wall sets (SE: √Σ SE²/m). Reproduced if |κ − 1.75| ± 2 SE "
+          "≤ 0.175 (10 %).", claim_kappa),
+    Claim("kappa-nu", "Fig. 2", "κ is independent of the Poisson ratio ν",
+          "Hard-wall sets that differ only in ν: (max − min)/mean of the set κ's (largest over such groups); SE "
+          "from the two extreme sets. Reproduced if ≤ 0.1 at 2 SE.",
+          claim_kappa_independent("material.poisson_ratio")),
+    Claim("kappa-H", "Fig. 2", "κ is independent of the Hurst exponent H",
+          "As for ν, over hard-wall sets that differ only in H.", claim_kappa_independent("surface.hurst")),
+    Claim("kappa-hrms", "Fig. 2", "κ is independent of h_rms",
+          "As for ν, over hard-wall sets that differ only in h_rms.", claim_kappa_independent("surface.h_rms")),
+    Claim("nonlinearity", "Fig. 3a", "Adhesion breaks the linearity of a_rel–p_r*, the more so the larger φn*",
+          "Nonlinearity per realization: N = 2 a_rel(x/2)/a_rel(x) − 1 with x its p_r* at δ_eval = min(20 nm, "
+          "largest δ all sets reach) and a_rel(x/2) where p_r* first reaches x/2 on the loading branch (p > 0); "
+          "N = 0 for a_rel ∝ p_r*, > 0 when area grows faster at small loads. Value: N(largest φn*) − "
+          "N(smallest φn*), paired over realizations. Reproduced if > 0 at 2 SE.", claim_nonlinearity),
+    Claim("adhesive-branch", "Fig. 3b", "Adhesive contacts have a_rel > 0 at tensile mean pressure p < 0",
+          "Per realization: the largest a_rel over its steps with p < 0 (0 if none); value: the smallest set mean "
+          "over the adhesive sets. Reproduced if > 0 at 2 SE.", claim_adhesive_branch),
+    Claim("pressure-delta", "Fig. 4a", "p(δ) is nearly independent of φn* (adhesive ≈ non-adhesive)",
+          "p/E* at δ_eval = min(20 nm, largest δ all sets reach): for each adhesive set the paired difference "
+          "to the hard wall (else the smallest φn*) relative to the reference's mean p/E*; value: the largest "
+          "|relative difference| over φn*. Reproduced if ≤ 0.1 at 2 SE.", claim_pressure_independent),
+    Claim("area-delta", "Fig. 4b", "a_rel at fixed δ grows with φn*",
+          "a_rel at δ_eval (step nearest): largest φn* minus the hard wall (else the smallest φn*), paired over "
+          "realizations. Reproduced if > 0 at 2 SE.", claim_area_grows),
+    Claim("gr-over-g", "Fig. 4c", "ḡ_r/ḡ → 1 for adhesive contacts",
+          "Per realization: the mean over its steps with contact (ḡ_r defined, δ ≥ 0) of |ḡ_r/ḡ − 1|; value: "
+          "the largest set mean over the adhesive sets. Reproduced if ≤ 0.1 at 2 SE.", claim_gr_to_one),
+    Claim("hrms", "Fig. 6a", "Smaller h_rms gives more contact area at a given p_r* (adhesive)",
+          "a_rel where p_r* first reaches x* = half the smallest set-mean p_r* at δ_eval; value: a_rel(smallest "
+          "h_rms) − a_rel(largest h_rms), paired. Reproduced if > 0 at 2 SE.", claim_hrms),
+    Claim("hurst", "Fig. 6b", "The effect of adhesion is weakest at the smallest H (strongest at H = 0.5)",
+          "Adhesion effect per H: a_rel(adhesive) − a_rel(its hard-wall reference) at p_r* = x* (as for h_rms; "
+          "without a reference 1.75 x*), paired; value: the smallest effect over the larger H's minus the effect "
+          "at the smallest H. Reproduced if > 0 at 2 SE (where it is strongest is listed).", claim_hurst),
+    Claim("eps-f", "Fig. 7", "ε_f (roll-on wavelength) matters at H = 0.2, not at H = 0.8",
+          "a_rel where p/E* first reaches half the smallest set-mean p/E* at δ_eval; per H the spread (max − min)/"
+          "mean over λ_sH (SE from the two extreme sets); value: spread(smallest H) − spread(largest H). "
+          "Reproduced if > 0 at 2 SE and the largest H's spread is not > 0.1 at 2 SE.", claim_eps_f),
+    Claim("nu", "Fig. 8", "The Poisson ratio ν changes a_rel–p/E* negligibly (adhesive)",
+          "a_rel at a common p/E* (as for ε_f) over adhesive sets that differ only in ν: (max − min)/mean, "
+          "largest over groups. Reproduced if ≤ 0.1 at 2 SE.", claim_negligible("material.poisson_ratio")),
+    Claim("friction", "Fig. 8", "Interface friction c = φt*/φn* changes a_rel–p/E* negligibly",
+          "As for ν, over adhesive sets that differ only in c (interface.tangential_ratio).",
+          claim_negligible("interface.tangential_ratio")),
+)
+
+
+def evaluate(data, claims=CLAIMS):
+    """One ClaimResult per claim for a StudyData (`read_study_dir`)."""
+    out = []
+    keys = [k for k in data.keys if k not in CONTEXT_KEYS]
+    for c in claims:
+        ms = []
+        for label, sets in contexts(data):
+            try:
+                m = c.measure(sets, keys)
+            except (ValueError, ZeroDivisionError, IndexError, KeyError):
+                m = None
+            if m is not None:
+                m.context = label
+                ms.append(m)
+        verdicts = {m.verdict for m in ms if m.verdict != NOT_IN_STUDY}
+        if not verdicts:
+            verdict = NOT_IN_STUDY
+        elif len(verdicts) == 1:
+            verdict = verdicts.pop()
+        else:
+            verdict = DEPENDS
+        out.append(ClaimResult(c.id, c.figure, c.claim, c.definition, data.name, verdict, ms))
+    return out
