@@ -13,11 +13,13 @@ Fixture (see `verification.records.Measurement` for the fields):
         verification_record(case="…", metric="…", value=…, tolerance=…,
                             methods=("gfmd-fire", "fe-p2"), tolerance_source="…",
                             resolution={"N": 1024}, wall_s=…, passed=None, plots=[…],
-                            scene=scene)  # a gfmd Scene (stored as TOML, shown in the report) or ""
+                            scene=scene,  # a gfmd Scene (stored as TOML, shown in the report) or ""
+                            measured=…)  # the stored number the tolerance rests on (the list of tolerances)
 
 wall_s defaults to the time since the test started, peak memory to the
 process ru_maxrss delta since then; passed defaults to |value| ≤ tolerance.
-The fixture returns the `Measurement`; the test still asserts on its own.
+measured_source defaults to the `verification.measured` look-ups the test made so far (study → data
+file [entry].value). The fixture returns the `Measurement`; the test still asserts on its own.
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ from pathlib import Path
 
 import pytest
 
+from verification import measured as _measured
 from verification.provenance import MEMORY_RSS, max_rss_bytes
 from verification.records import Measurement, failure_records, write_results
 
@@ -113,10 +116,11 @@ def verification_record(request):
     records = request.config.stash[_RECORDS_KEY]
     t0 = time.perf_counter()
     rss0 = max_rss_bytes()
+    looked_up = _measured.reset_accesses()
 
     def record(*, case, metric, value, tolerance=None, methods=(), tolerance_source="", resolution=None,
                wall_s=None, passed=None, plots=None, peak_memory_bytes=None, memory_method=None, notes="",
-               scene=""):
+               scene="", measured=None, measured_source=None):
         if peak_memory_bytes is None:
             peak_memory_bytes = max(0, max_rss_bytes() - rss0)
             memory_method = memory_method or MEMORY_RSS + ", since test start"
@@ -126,7 +130,9 @@ def verification_record(request):
                           tolerance_source=tolerance_source, methods=methods, resolution=resolution or {},
                           wall_s=wall_s, peak_memory_bytes=peak_memory_bytes, memory_method=memory_method or "",
                           passed=passed, plots=plots or [], notes=notes, test=request.node.nodeid,
-                          scene=scene if scene is not None else "")
+                          scene=scene if scene is not None else "", measured=measured,
+                          measured_source=("\n".join(_measured.accessed_sources(looked_up))
+                                           if measured_source is None else measured_source))
         records.append(rec)
         return rec
 

@@ -22,6 +22,30 @@ SIGNIFICANT_DIGITS = 4  # of the measured numbers stored
 LINE_WIDTH = 160  # of the data files
 
 
+#: every look-up since the last `reset_accesses()`: ("study", key or None, name or None, value or None);
+#: the verification fixture turns them into a record's `measured_source` (the list of tolerances)
+ACCESSES: list = []
+
+
+def reset_accesses():
+    """Start a fresh access log; returns its start index."""
+    return len(ACCESSES)
+
+
+def accessed_sources(start=0):
+    """The look-ups since `start` as lines "verification.studies.<study> → verification/data/<study>.json
+    [key].name", in order, without repeats."""
+    out = []
+    for study, key, name, _ in ACCESSES[start:]:
+        where = f"verification.studies.{study} → verification/data/{study}.json"
+        if key is not None:
+            where += f" [{key}]" + (f".{name}" if name is not None else "")
+        if where not in out:
+            out.append(where)
+    # drop a bare "[key]" line when the same entry's ".name" is listed too
+    return [w for w in out if not any(o != w and o.startswith(w) for o in out)]
+
+
 class MissingMeasurement(LookupError):
     """A test asked for a measured number that its data file does not hold."""
 
@@ -39,12 +63,14 @@ def load(study):
     p = path(study)
     if not p.exists():
         raise MissingMeasurement(f"{p} does not exist: run `{regenerate_command(study)}`")
+    ACCESSES.append((study, None, None, None))
     return json.loads(p.read_text(encoding="utf-8"))
 
 
 def entry(study, key):
     """The entry `key` (a dict with its provenance and "values")."""
     entries = load(study)["entries"]
+    ACCESSES.append((study, key, None, None))
     if key not in entries:
         raise MissingMeasurement(f"no measured entry {key!r} in {path(study)}: run `{regenerate_command(study)}` "
                                  f"(with --full for the slow cells); entries: {sorted(entries)}")
@@ -56,6 +82,7 @@ def value(study, key, name):
     values = entry(study, key)["values"]
     if name not in values:
         raise MissingMeasurement(f"{path(study)}: entry {key!r} has no value {name!r} ({sorted(values)})")
+    ACCESSES.append((study, key, name, values[name]))
     return values[name]
 
 

@@ -45,6 +45,12 @@ class Measurement:
     test_outcome: str = ""  # passed/failed/skipped/error, filled at session end
     provenance: dict = field(default_factory=dict)
     scene: str = ""  # the scene measured, as TOML (`contact.scene.scene_to_toml`); "" if not given
+    #: the stored measured number the tolerance rests on (at this record's resolution), None if the
+    #: tolerance is a rule (round-off, one node per edge) or the test did not say
+    measured: float | None = None
+    #: where the numbers behind the tolerance were measured: "study → data file [entry].value", one per
+    #: line; filled from the `verification.measured` look-ups the test made if it does not say
+    measured_source: str = ""
 
     def __post_init__(self):
         self.methods = tuple(self.methods or ())
@@ -53,6 +59,8 @@ class Measurement:
         for plot in self.plots:
             validate_plot(plot)
         self.passed = verdict(self.value, self.tolerance) if self.passed is None else bool(self.passed)
+        if self.measured is not None:
+            self.measured = float(self.measured)
         if not isinstance(self.scene, str):  # a contact.scene.Scene
             from contact.scene import scene_to_toml
             self.scene = scene_to_toml(self.scene)
@@ -150,3 +158,40 @@ def failure_records(failures, records):
         out.append(Measurement(case=case, metric=f"test {outcome} before it recorded a measurement", value=None,
                                passed=False, notes=text, test=nodeid, test_outcome=outcome))
     return out
+
+
+# --------------------------------------------------------------------------- the list of tolerances
+LOOSE_RATIO = 10.0  # a tolerance more than this many times the number it rests on is flagged "loose"
+
+
+def _scalar(x):
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        return None
+    return v if math.isfinite(v) else None
+
+
+def tolerance_rows(records):
+    """One row per record with a tolerance: the generated list of every verification tolerance.
+
+    {"case", "metric", "test", "tolerance", "basis" ("stored": the study's measured number the test
+    derived the bound from; "this run": no stored number given, the value measured now), "measured",
+    "ratio" (tolerance / measured; inf for a measured 0), "value", "source" (tolerance_source),
+    "measured_source" (study → data file), "loose" (ratio > LOOSE_RATIO)}.
+    """
+    rows = []
+    for r in records:
+        tol = _scalar(r.tolerance)
+        if tol is None:
+            continue
+        stored = _scalar(r.measured)
+        value = _scalar(r.value)
+        basis = "stored" if stored is not None else "this run"
+        base = stored if stored is not None else value
+        ratio = None if base is None else (abs(tol) / abs(base) if base != 0 else math.inf)
+        rows.append({"case": r.case, "metric": r.metric, "test": r.test, "tolerance": tol, "basis": basis,
+                     "measured": base, "ratio": ratio, "value": value, "source": r.tolerance_source,
+                     "measured_source": r.measured_source,
+                     "loose": ratio is not None and ratio > LOOSE_RATIO})
+    return rows

@@ -325,3 +325,44 @@ def test_report_dir_without_a_test_path_keeps_the_outcomes(tmp_path):
     assert run.returncode == 0, run.stdout[-2000:] + run.stderr[-2000:]
     records = json.loads((out / "results.json").read_text())["records"]
     assert records and {r["test_outcome"] for r in records} == {"passed"}
+
+
+def test_tolerance_list_is_generated_from_the_records():
+    """Every record with a tolerance is listed with the number it rests on, the ratio, the study; > 10 is loose."""
+    from verification.records import LOOSE_RATIO, tolerance_rows
+    recs = [Measurement(case="a", metric="stored", value=1e-4, tolerance=3e-4, measured=2e-4,
+                        measured_source="verification.studies.x → verification/data/x.json [ci].p"),
+            Measurement(case="a", metric="loose", value=1e-5, tolerance=1e-3, measured=2e-5),
+            Measurement(case="b", metric="rule", value=1e-5, tolerance=1e-3),
+            Measurement(case="b", metric="informational", value=1.0)]
+    rows = tolerance_rows(recs)
+    assert [r["metric"] for r in rows] == ["stored", "loose", "rule"]
+    assert rows[0]["ratio"] == pytest.approx(1.5) and rows[0]["basis"] == "stored" and not rows[0]["loose"]
+    assert rows[1]["ratio"] == pytest.approx(50) and rows[1]["loose"] and 50 > LOOSE_RATIO
+    assert rows[2]["basis"] == "this run" and rows[2]["ratio"] == pytest.approx(100) and rows[2]["loose"]
+    page = report.render_html(recs, {})
+    assert 'id="tolerance-table"' in page and "data/x.json [ci].p" in page and page.count(" loose</td>") == 2
+    Checker().feed(page)
+
+
+def test_measured_lookups_become_the_record_source():
+    """The fixture fills measured_source from the look-ups made since the test started."""
+    from verification import measured
+    start = measured.reset_accesses()
+    measured.entry("fe_cohesive", "full")
+    measured.value("fe_cohesive", "full", "N")
+    assert measured.accessed_sources(start) == [
+        "verification.studies.fe_cohesive → verification/data/fe_cohesive.json [full].N"]
+
+
+def test_independence_section_lists_the_architecture_allow_list():
+    """The shared inputs are read from tests/test_architecture.py's FE_MAY_IMPORT, not copied."""
+    import importlib
+    from verification.independence import INDEPENDENT, PURPOSE, allowed_imports, fe_shared_inputs
+    info = fe_shared_inputs()
+    assert {m for m, _, _ in info["shared"]} == allowed_imports() and not info["not_allowed"]
+    assert all(m in PURPOSE for m in allowed_imports()), "describe every shared module"
+    for mod in INDEPENDENT.values():
+        importlib.import_module(mod)
+    page = "\n".join(report._independence_section())
+    assert all(f"<code>{m}</code>" in page for m in allowed_imports())

@@ -1,0 +1,75 @@
+"""What the FE reference shares with GFMD on purpose, read from the code (the report's "Independence" section).
+
+The allowed list is `FE_MAY_IMPORT` of tests/test_architecture.py (read with `ast`, not copied: that test
+fails on any other core import of `reference.fem`); the FE's actual core imports are read from
+reference/fem/*.py the same way.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+#: what each shared core module provides to the FE (a module missing here is shown as "not described")
+PURPOSE = {
+    "contact": "the package itself (its __init__)",
+    "contact.scene": "the scene: the one input both methods read (geometry, material, law parameters, load steps)",
+    "contact.surfaces": "the profile heights h(x) built from the scene (same nodes, same realization)",
+    "contact.model": "the model choice and its checks (which law/layer the scene asks for)",
+    "contact.ramp": "the load steps (the one δ ramp, its continuation and checkpoints)",
+    "contact.result": "the result type the FE returns (curves, fields)",
+    "contact.errors": "the error types",
+}
+
+#: what the FE computes with its own code (module of reference.fem), not shared
+INDEPENDENT = {
+    "elasticity (no contact.kernels: the half-plane/layer kernels are what the FE checks)": "reference.fem.assembly",
+    "cohesive-zone law (seed Eqs. 2-3)": "reference.fem.law",
+    "observables p, a_rel, g_r, ḡ_r, contact set": "reference.fem.observables",
+    "indenter geometry and position z_ind": "reference.fem.geometry",
+    "hard-wall contact": "reference.fem.hardwall",
+    "solver (Newton, fallback)": "reference.fem.solver",
+}
+
+
+def allowed_imports(path=None):
+    """The set FE_MAY_IMPORT of tests/test_architecture.py, read with ast."""
+    path = Path(path or ROOT / "tests" / "test_architecture.py")
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Assign) and any(getattr(t, "id", None) == "FE_MAY_IMPORT" for t in node.targets):
+            return set(ast.literal_eval(node.value))
+    raise LookupError(f"no FE_MAY_IMPORT in {path}")
+
+
+def fe_core_imports(root=None):
+    """{core module: [reference.fem modules importing it]} (imports anywhere in the file)."""
+    root = Path(root or ROOT)
+    core = {".".join(p.relative_to(root).with_suffix("").parts) for p in (root / "contact").glob("*.py")}
+    core = {c.removesuffix(".__init__") for c in core}
+    found = {}
+    for path in sorted((root / "reference" / "fem").glob("*.py")):
+        mod = "reference.fem." + path.stem
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            names = []
+            if isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+                names = [node.module] + [f"{node.module}.{a.name}" for a in node.names]
+            for n in names:
+                if n == "contact" or n.startswith("contact."):
+                    while n not in core and "." in n:
+                        n = n.rpartition(".")[0]
+                    found.setdefault(n, set()).add(mod)
+    return {k: sorted(v) for k, v in found.items()}
+
+
+def fe_shared_inputs(root=None):
+    """{"shared": [(module, what, [FE users])] for every allowed module, "independent": INDEPENDENT,
+    "not_allowed": {module: [FE users]} (core imports outside the list; empty when the architecture test passes)}."""
+    allowed = allowed_imports(Path(root) / "tests" / "test_architecture.py" if root else None)
+    used = fe_core_imports(root)
+    shared = [(m, PURPOSE.get(m, "not described"), used.get(m, [])) for m in sorted(allowed)]
+    return {"shared": shared, "independent": INDEPENDENT,
+            "not_allowed": {m: u for m, u in used.items() if m not in allowed}}
