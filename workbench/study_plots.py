@@ -33,7 +33,7 @@ from matplotlib import rc_context
 from matplotlib.figure import Figure
 
 from .averages import mean_standard_error
-from .claims import (LAW_KEYS, KEY_LABELS, kappa_per_realization, read_study_dir, reduced_pressure_of,
+from .claims import (LAW_KEYS, KEY_LABELS, _param_text, kappa_per_realization, read_study_dir, reduced_pressure_of,
                      reference_of, set_label, stats, varying)
 from .plots import _NC_STYLE, _sci, error_bar_label
 
@@ -72,7 +72,7 @@ def _panels(data, over):
         groups.setdefault(tuple(repr(s.params.get(k)) for k in rest), []).append(s)
     out = []
     for g in groups.values():
-        title = set_label(g[0], rest) if rest else ""
+        title = ", ".join(_param_text(k, g[0].params.get(k)) for k in rest)
         sig = {s.signature for s in g}
         out.append((title, g, [r for r in refs if r.signature in sig], [over]))
     return out
