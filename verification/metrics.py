@@ -58,3 +58,13 @@ def fitted_order(h, error):
     if ok.sum() < 2:
         return float("nan")
     return float(np.polyfit(np.log(h[ok]), np.log(e[ok]), 1)[0])
+
+
+def observed_orders(nodes, errors):
+    """Observed orders log(e_i/e_{i+1}) / log(N_{i+1}/N_i) between neighbouring resolutions."""
+    return [float(np.log(a / b) / np.log(n1 / n0)) for a, b, n0, n1 in zip(errors, errors[1:], nodes, nodes[1:])]
+
+
+def worst_refinement_ratio(errors):
+    """The smallest e_i / e_{i+1} between neighbouring resolutions (the worst measured convergence step)."""
+    return min(float(a / b) for a, b in zip(errors, errors[1:]))
