@@ -30,6 +30,11 @@ nodes that went through the wall are projected back onto it (u_z ≤ z_ind) and 
 velocity that carried them there is removed with the same correction.
 All variants stop on the same residual (below) and have the KKT points as fixed points.
 
+Cohesive wall (`contact.laws.CohesiveWall`: Eq. 3's attraction for Δn > 0, Δn ≥ 0 as a
+constraint): `_relax_cohesive_wall`, the hard wall's projected FIRE (or Verlet) with the
+attraction added to the nodal force, the cohesive solver's mass weighting and trust region;
+the same residual, and KKT fixed points (Δn ≥ 0, reaction ≥ 0 on the wall, zero force off it).
+
 FFT backend of the hard-wall CG: scipy.fft, or ducc0 where installed (the ``fast`` extra; 1.4–2× faster
 pairs measured here); ``GFMD_FFT=scipy|ducc0|auto`` (default auto) chooses. The cohesive
 solvers use scipy.fft.
