@@ -13,7 +13,8 @@ incomplete), read by `read_study_dir`:
   the same rough profile, scaled), otherwise SE = √(SE₁² + SE₂²);
 * the verdict compares the effect with the claim's limit at two standard errors:
   "reproduced" when the whole interval value ± 2 SE is on the claim's side, "not reproduced"
-  when it is wholly on the other side, "inconclusive (within 2 SE)" otherwise; "not in this
+  when it is wholly on the other side, "inconclusive (within 2 SE)" otherwise (and whenever fewer
+  than two realizations give the value: no standard error); "not in this
   study" when the study lacks the sets (e.g. no φn* axis); and "depends on δn / the contact
   rule" when the study varies interface.length_normal (or a contact-rule key) and the verdict
   differs between its values (each value's number is listed).
@@ -48,6 +49,7 @@ CONTEXT_KEYS = ("interface.length_normal", "interface.contact_rule", "interface.
 LAW_KEYS = ("interface.law", "interface.phi_n_star")
 
 REPRODUCED, NOT_REPRODUCED, INCONCLUSIVE = "reproduced", "not reproduced", "inconclusive (within 2 SE)"
+SINGLE = "inconclusive (n < 2: no standard error)"
 NOT_IN_STUDY, DEPENDS = "not in this study", "depends on δn / the contact rule"
 #: numeric columns of the per-realization curves
 COLUMNS = ("step", "U", "delta", "p", "a_rel", "g_r", "g", "iterations", "residual", "converged", "wall_s")
@@ -294,12 +296,13 @@ def area_at(s, xname, target):
 
 def _x_at_delta(s, xname, delta):
     col = (lambda z: reduced_pressure_of(z)) if xname == "p_r" else (lambda z: z.stacked["p"] / z.e_star)
-    return stats(at_delta(s, col, delta))[0]
+    return list(at_delta(s, col, delta).values())
 
 
 def common_target(sets, xname, delta):
-    """Half the smallest set-mean x (p_r* or p/E*) at δ: a load every set reaches on its loading branch."""
-    xs = [_x_at_delta(s, xname, delta) for s in sets]
+    """Half the smallest x (p_r* or p/E*) any realization of `sets` has at δ: a load every realization
+    reaches on its loading branch (realizations of one set can differ by 10× in p at the same δ)."""
+    xs = [x for s in sets for x in _x_at_delta(s, xname, delta)]
     xs = [x for x in xs if np.isfinite(x) and x > 0]
     return 0.5 * min(xs) if xs else math.nan
 
@@ -451,14 +454,17 @@ def claim_kappa(sets, keys):
 
 
 def _relative_range(values):
-    """(max − min)/mean of set means, SE from the two extreme sets: values = [(label, (m, se, n))]."""
-    ok = [(lab, m) for lab, m in values if m[2] > 0 and np.isfinite(m[0])]
+    """(max − min)/mean of set means; SE of the difference of the two extreme sets (paired per realization
+    where they share seeds, `paired_difference`) / mean. values = [(label, {realization: value})]."""
+    ok = [(lab, v, stats(v)) for lab, v in values]
+    ok = [t for t in ok if t[2][2] > 0 and np.isfinite(t[2][0])]
     if len(ok) < 2:
         return None
-    hi = max(ok, key=lambda v: v[1][0])
-    lo = min(ok, key=lambda v: v[1][0])
-    mean = float(np.mean([m[0] for _, m in ok]))
-    return (hi[1][0] - lo[1][0]) / abs(mean), math.hypot(hi[1][1], lo[1][1]) / abs(mean), min(m[2] for _, m in ok)
+    hi = max(ok, key=lambda t: t[2][0])
+    lo = min(ok, key=lambda t: t[2][0])
+    mean = abs(float(np.mean([t[2][0] for t in ok])))
+    diff, se, n = paired_difference(hi[1], lo[1])
+    return diff / mean, se / mean, n
 
 
 def claim_kappa_independent(key):
@@ -469,7 +475,7 @@ def claim_kappa_independent(key):
         worst = None
         parts = []
         for fam in fams:
-            rr = _relative_range([(s, stats(kappa_per_realization(s))) for s in fam])
+            rr = _relative_range([(s, kappa_per_realization(s)) for s in fam])
             if rr is None:
                 continue
             parts.append(", ".join(f"{_param_text(key, s.value(key))}: κ = {_pm(*stats(kappa_per_realization(s)))}"
@@ -643,8 +649,8 @@ def claim_hurst(sets, keys):
 def _spread_at_pressure(fam):
     d = eval_delta(fam)
     x = common_target(fam, "p_E", d)
-    vals = [(s, stats(area_at(s, "p_E", x))) for s in fam]
-    return _relative_range(vals), vals, x
+    per = [(s, area_at(s, "p_E", x)) for s in fam]
+    return _relative_range(per), [(s, stats(v)) for s, v in per], x
 
 
 def claim_eps_f(sets, keys):
@@ -711,7 +717,8 @@ CLAIMS = (
           "≤ 0.175 (10 %).", claim_kappa),
     Claim("kappa-nu", "Fig. 2", "κ is independent of the Poisson ratio ν",
           "Hard-wall sets that differ only in ν: (max − min)/mean of the set κ's (largest over such groups); SE "
-          "from the two extreme sets. Reproduced if ≤ 0.1 at 2 SE.",
+          "of the difference of the two extreme sets (paired per realization), / mean. Reproduced if ≤ 0.1 at "
+          "2 SE.",
           claim_kappa_independent("material.poisson_ratio")),
     Claim("kappa-H", "Fig. 2", "κ is independent of the Hurst exponent H",
           "As for ν, over hard-wall sets that differ only in H.", claim_kappa_independent("surface.hurst")),
@@ -736,14 +743,14 @@ CLAIMS = (
           "Per realization: the mean over its steps with contact (ḡ_r defined, δ ≥ 0) of |ḡ_r/ḡ − 1|; value: "
           "the largest set mean over the adhesive sets. Reproduced if ≤ 0.1 at 2 SE.", claim_gr_to_one),
     Claim("hrms", "Fig. 6a", "Smaller h_rms gives more contact area at a given p_r* (adhesive)",
-          "a_rel where p_r* first reaches x* = half the smallest set-mean p_r* at δ_eval; value: a_rel(smallest "
+          "a_rel where p_r* first reaches x* = half the smallest p_r* any realization has at δ_eval; value: a_rel(smallest "
           "h_rms) − a_rel(largest h_rms), paired. Reproduced if > 0 at 2 SE.", claim_hrms),
     Claim("hurst", "Fig. 6b", "The effect of adhesion is weakest at the smallest H (strongest at H = 0.5)",
           "Adhesion effect per H: a_rel(adhesive) − a_rel(its hard-wall reference) at p_r* = x* (as for h_rms; "
           "without a reference 1.75 x*), paired; value: the smallest effect over the larger H's minus the effect "
           "at the smallest H. Reproduced if > 0 at 2 SE (where it is strongest is listed).", claim_hurst),
     Claim("eps-f", "Fig. 7", "ε_f (roll-on wavelength) matters at H = 0.2, not at H = 0.8",
-          "a_rel where p/E* first reaches half the smallest set-mean p/E* at δ_eval; per H the spread (max − min)/"
+          "a_rel where p/E* first reaches half the smallest p/E* any realization has at δ_eval; per H the spread (max − min)/"
           "mean over λ_sH (SE from the two extreme sets); value: spread(smallest H) − spread(largest H). "
           "Reproduced if > 0 at 2 SE and the largest H's spread is not > 0.1 at 2 SE.", claim_eps_f),
     Claim("nu", "Fig. 8", "The Poisson ratio ν changes a_rel–p/E* negligibly (adhesive)",
@@ -768,6 +775,8 @@ def evaluate(data, claims=CLAIMS):
                 m = None
             if m is not None:
                 m.context = label
+                if m.n < 2 and m.verdict in (REPRODUCED, NOT_REPRODUCED):
+                    m.verdict = SINGLE  # one realization: no standard error to judge the effect by
                 ms.append(m)
         verdicts = {m.verdict for m in ms if m.verdict != NOT_IN_STUDY}
         if not verdicts:

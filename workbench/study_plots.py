@@ -209,25 +209,31 @@ def kappa_figure(data):
     fig, (ax,) = _figure(1, size=(6.4, 5.2))
     lab = varying(hw, data.keys)
     ax.axhspan(0, 0.1, color="0.92", lw=0, zorder=0, gid="fit-range", label="fit range 0 < a_rel ≤ 0.1 (p > 0)")
-    counts, xmax = [], 0.0
+    counts, xmax, means, part = [], 0.0, [], False
     for i, s in enumerate(hw):
         color, marker = _COLORS[i % len(_COLORS)], _MARKERS[i % len(_MARKERS)]
         k = stats(kappa_per_realization(s))
         c, _, _ = _draw_set(ax, s, "p_r", "a_rel", color, marker,
                             f"{set_label(s, lab)}: κ = {k[0]:.3f} ± {k[1]:.2g} (n = {k[2]})")
         counts.append(c)
+        part = part or (bool((c < s.realizations).any()) and s.realizations > 1)
         x, y = _series(s, "p_r", "a_rel")
         with np.errstate(invalid="ignore"):
             mx, my = mean_standard_error(x)[0], mean_standard_error(y)[0]
+        means.append((mx, my))
         fit = np.isfinite(mx) & (mx > 0) & (my > 0) & (my <= 0.1)
         if fit.any() and np.isfinite(k[0]):
             top = float(np.max(mx[fit]))
             xmax = max(xmax, top)
             xs = np.linspace(0, top, 20)
             ax.plot(xs, k[0] * xs, "-", color=color, lw=1.6, alpha=0.6, gid="kappa-fit")
-    if xmax > 0:
-        ax.set_xlim(-0.05 * 2.5 * xmax, 2.5 * xmax)
-        ax.set_ylim(-0.01, 0.3)
+    if xmax > 0:  # the fit range and as much again: the seed's Fig. 2 window
+        hi = 2.5 * xmax
+        top = max([float(np.nanmax(np.where((mx <= hi) & np.isfinite(my), my, 0.0))) for mx, my in means] + [0.0])
+        ax.set_xlim(-0.05 * hi, hi)
+        ax.set_ylim(-0.03 * (top or 0.1), 1.15 * (top or 0.1))
+    if part:
+        ax.plot([], [], "o", mfc="white", mec="0.3", ls="none", label="open: mean over fewer realizations")
     ax.plot([], [], "-", color="0.4", lw=1.6, alpha=0.6, label=r"fit $a_\mathrm{rel} = \kappa\,p_r^*$ "
             "(κ: mean ± SE of the per-realization fits)")
     ax.plot([], [], " ", gid="errorbar-label", label=error_bar_label(*counts).replace(

@@ -23,7 +23,7 @@ from . import claims as C
 from .study_plots import make_study_figures
 
 _VERDICT_COLOR = {C.REPRODUCED: "#d9f2d9", C.NOT_REPRODUCED: "#f8d0d0", C.INCONCLUSIVE: "#fff2c6",
-                  C.NOT_IN_STUDY: "#eeeeee", C.DEPENDS: "#dde6fb"}
+                  C.NOT_IN_STUDY: "#eeeeee", C.DEPENDS: "#dde6fb", C.SINGLE: "#fff2c6"}
 
 _CSS = """body{font-family:system-ui,sans-serif;max-width:1250px;margin:1.5em auto;color:#222}
 table{border-collapse:collapse;font-size:13px}td,th{border:1px solid #bbb;padding:4px 6px;vertical-align:top}
@@ -88,7 +88,7 @@ def _definitions():
             "the n realizations, from study.csv); differences between sets with the same seeds are taken per "
             "realization (paired), otherwise SE = √(SE₁² + SE₂²). Verdict: <i>reproduced</i> when value ± 2 SE lies "
             "wholly on the claim's side of its limit, <i>not reproduced</i> when wholly on the other side, "
-            "<i>inconclusive (within 2 SE)</i> otherwise; <i>not in this study</i> when the study lacks the sets; "
+            "<i>inconclusive (within 2 SE)</i> otherwise (and when fewer than two realizations give the value); <i>not in this study</i> when the study lacks the sets; "
             "<i>depends on δn / the contact rule</i> when the study varies interface.length_normal (or a "
             "contact-rule key) and the verdicts for its values differ (each value's number is listed). "
             "δ_eval = min(20 nm, the largest δ every compared set reached).")
