@@ -281,3 +281,29 @@ def test_a_failing_task_does_not_stop_the_others(reference, tmp_path, capsys):
     # the others equal the uninterrupted run's rows
     ref_rows = [r for r in without_wall(rows(reference[1] / "study.csv")) if r["task"] != victim.key]
     assert without_wall(rows(out / "study.csv")) == ref_rows
+
+
+def test_task_address_ignores_keys_at_their_default_and_a_changed_default_is_caught(reference, tmp_path):
+    """A key at its default does not enter the address (a version adding a key keeps every task);
+    a finished task whose stored scene differs from the current one is refused by name, not reused."""
+    from contact.scene import Scene
+    from workbench.study import StudyError, run_task, task_key, task_key_text
+
+    study = load_study(write_study(tmp_path))
+    task = study.tasks[0]
+    assert task_key(task.scene) == task.key
+    text = task_key_text(task.scene)
+    assert "interface.contact_tolerance" not in text and "surface.seed" not in text  # both at their defaults
+    assert "surface.seed = 2" in task_key_text(study.tasks[1].scene)
+    default = Scene().interface.contact_tolerance
+    explicit = task.scene.replace(**{"interface.contact_tolerance": default})
+    assert task_key(explicit) == task.key
+    changed = task.scene.replace(**{"interface.contact_tolerance": 2 * default})
+    assert task_key(changed) != task.key
+
+    _, out = reference
+    finished = out / "tasks" / task.key
+    assert io.run_complete(finished)
+    assert run_task(task.scene, finished)["status"] == "reused"
+    with pytest.raises(StudyError, match=r"interface\.contact_tolerance: 0\.001 there, 0\.002 now"):
+        run_task(changed, finished)

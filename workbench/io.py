@@ -185,6 +185,14 @@ def _differences(a, b, prefix=""):
     return out
 
 
+def stored_scene_differences(out, scene):
+    """The keys in which DIR/scene.toml differs from `scene` ("key: there, now"; output.workers ignored)."""
+    a, b = scene_to_dict(load_scene(Path(out) / "scene.toml")), scene_to_dict(scene)
+    for d in (a, b):
+        d["output"].pop("workers", None)
+    return _differences(a, b)
+
+
 def prepare_run_dir(out, scene, *, resume=False, overwrite=False, command=None):
     """Check `out` before any compute and start the run there; returns the directory (Path).
 
@@ -199,11 +207,7 @@ def prepare_run_dir(out, scene, *, resume=False, overwrite=False, command=None):
         raise RunDirError(f"--out {str(out)!r} is an existing file, not a directory: choose another --out")
     existing = sorted(p.name for p in out.iterdir()) if out.is_dir() else []
     if existing and resume and (out / "scene.toml").is_file():
-        there = load_scene(out / "scene.toml")
-        a, b = scene_to_dict(there), scene_to_dict(scene)
-        for d in (a, b):
-            d["output"].pop("workers", None)
-        diff = _differences(a, b)
+        diff = stored_scene_differences(out, scene)
         if diff:
             raise RunDirError(f"--resume: {out} holds a run of another scene ({'; '.join(diff)}); resume with "
                               "the same scene (or omit the scene file to take it from the directory), or choose "

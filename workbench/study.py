@@ -24,7 +24,8 @@ naming the key.
 
   DIR/tasks/<key>/   one one-realization run directory per task (workbench.io: written step
                      by step, resumable), key = the first 16 hex digits of the SHA-256 of the
-                     task scene's TOML (`contact.scene.scene_to_toml`; name "task", output.workers 1);
+                     task scene's values that differ from the scene defaults (`task_key_text`):
+                     a newer version that adds a scene key with a default keeps every address;
                      a finished task holds curve.csv, mean_curve.csv, fields.npz, scene.toml, meta.json
   DIR/study.csv      one row per (task, step): set, one column per axis named by its dotted key
                      (zip keys too), realization, seed, task (the key), then curve.csv's columns
@@ -57,6 +58,7 @@ Dask cluster; DIR must then be on a file system every worker sees (the same abso
 from __future__ import annotations
 
 import csv
+import dataclasses
 import hashlib
 import io as _io
 import itertools
@@ -74,7 +76,7 @@ import numpy as np
 
 from contact.errors import SceneError
 from contact.result import CURVE_COLUMNS
-from contact.scene import load_scene, scene_from_dict, scene_to_toml
+from contact.scene import Scene, load_scene, scene_from_dict, scene_to_dict, scene_to_toml
 
 from . import io
 from .averages import AVERAGED, ensemble_average
@@ -132,14 +134,30 @@ def task_scene(scene, realization):
     """The one-realization scene of (scene, realization): seed + realization, 1 realization, run as 0."""
     task = scene.replace(**{"surface.seed": scene.surface.seed + realization, "surface.realizations": 1,
                             "output.workers": 1})
-    import dataclasses
-
     return dataclasses.replace(task, name=TASK_NAME)
 
 
+_MISSING = object()
+_DEFAULTS = {section: dataclasses.asdict(getattr(Scene(), section)) for section in scene_to_dict(Scene())}
+_DEFAULTS["material"]["thickness"] = "inf"
+
+
+def task_key_text(task):
+    """What a task's address hashes: its resolved values that differ from `contact.scene`'s defaults.
+
+    One "section.key = value" line each, sorted. A key that a later version adds with a default
+    equal to the old behaviour leaves every address unchanged, so upgrading the code loses no
+    finished task; a reused task's stored scene.toml is compared key by key with the current
+    resolved scene (`run_task`), so a changed default is caught instead of reused.
+    """
+    d = scene_to_dict(task)
+    return "".join(f"{section}.{k} = {v!r}\n" for section, values in sorted(d.items())
+                   for k, v in sorted(values.items()) if _DEFAULTS.get(section, {}).get(k, _MISSING) != v)
+
+
 def task_key(task):
-    """Content address of a task: the first 16 hex digits of sha256(scene_to_toml(task))."""
-    return hashlib.sha256(scene_to_toml(task).encode()).hexdigest()[:16]
+    """Content address of a task: the first 16 hex digits of sha256(`task_key_text`(task))."""
+    return hashlib.sha256(task_key_text(task).encode()).hexdigest()[:16]
 
 
 def _values(where, key, values, unique=True):
@@ -291,6 +309,10 @@ def run_task(scene, task_dir, command=None, progress=_report_step):
 
     out = Path(task_dir)
     if io.run_complete(out):
+        diff = io.stored_scene_differences(out, scene)
+        if diff:
+            raise StudyError(f"{out} holds a finished task of another scene ({'; '.join(diff)}): a default "
+                             "changed since it ran; remove that task directory to recompute it")
         return {"status": "reused", "steps_reused": 0, "steps_run": 0}
     resume = (out / "scene.toml").is_file()
     io.prepare_run_dir(out, scene, resume=resume, overwrite=not resume, command=command)
