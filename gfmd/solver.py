@@ -769,18 +769,19 @@ def _relax_cohesive_wall(model, law, z_ind, u_hat, settings, wall_tolerance):
         return inv, float(np.sum(weights * inv)) / n  # M⁻¹ and its real-space diagonal
 
     inv_mass, inv_mass_diag = preconditioner(k_mean)
-    fire = None if settings.method == "verlet" else _Fire(settings)
+    fire = _Fire(settings) if settings.method != "verlet" else None
     if fire is None:
         rho, gdt = _verlet_coefficients(np.real(k) + cz.initial_stiffness[1], settings)
     dt = fire.dt if fire else 1.0
     max_move = settings.max_move * cz.length_scale
+    p_ref = model.reference_traction
     v = np.zeros(n)
     residual, converged, message = np.inf, False, ""
     it = 0
     for it in range(1, settings.max_iterations + 1):
         force, stuck, on_wall, _, _ = net_force(u)
         if it % settings.check_every == 0 or it == 1:
-            residual = float(np.max(np.abs(force))) / model.reference_traction
+            residual = float(np.max(np.abs(force))) / p_ref
             if residual < settings.tolerance:
                 converged = True
                 break
