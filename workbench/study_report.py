@@ -142,6 +142,9 @@ def claims_text(dirs):
     lines = []
     for claim, name, r, verdict in claims_rows([(d.name, C.evaluate(d)) for d in datas]):
         ms = r.measurements if r is not None else []
-        effect = "; ".join((f"{m.context}: " if m.context else "") + _num(m) + f" (n = {m.n})" for m in ms) or "—"
-        lines.append(f"{claim.figure:8} {claim.id:16} {name:18} {effect:40} {verdict}")
+        single = len(ms) == 1 and not ms[0].context
+        effect = f"{_num(ms[0])} (n = {ms[0].n})" if single else ("—" if not ms else "per context:")
+        lines.append(f"{claim.figure:8} {claim.id:16} {name:18} {effect:32} {verdict}")
+        if not single:
+            lines += [f"{'':44}{m.context}: {_num(m)} (n = {m.n}) {m.verdict}" for m in ms]
     return lines
