@@ -91,12 +91,28 @@ def run_methods(scene, names, realization=0, memory="rss"):
 def fe_vs_gfmd(scene, order=2, check=True):
     """FE P<order> and GFMD on one scene, and their differences (GFMD the reference):
     dict(rf, rg, fe_s, gfmd_s, fe_step, gfmd_step (mean s/step), tn (t_n rel. L2, max over field steps),
-    p (max |Δp| / max |p|), a (max |Δa_rel|)). check: assert that both converged."""
+    p (max |Δp| / max |p|), a (max |Δa_rel|), p_reaction, p_consistency (`reaction_differences`)).
+    check: assert that both converged."""
     from .metrics import curve_difference, field_difference, max_abs_difference
     rf, rg, fe_s, gfmd_s = run_fe_and_gfmd(scene, order=order)
     if check:
         assert rf.all_converged, f"FE: {rf.messages}"
         assert rg.all_converged, f"GFMD: {rg.messages}"
-    return dict(rf=rf, rg=rg, fe_s=fe_s, gfmd_s=gfmd_s, fe_step=float(np.mean(rf.curve["wall_s"])),
-                gfmd_step=float(np.mean(rg.curve["wall_s"])), tn=field_difference(rf, rg, "t_n"),
-                p=curve_difference(rf, rg, "p"), a=max_abs_difference(rf, rg))
+    out = dict(rf=rf, rg=rg, fe_s=fe_s, gfmd_s=gfmd_s, fe_step=float(np.mean(rf.curve["wall_s"])),
+               gfmd_step=float(np.mean(rg.curve["wall_s"])), tn=field_difference(rf, rg, "t_n"),
+               p=curve_difference(rf, rg, "p"), a=max_abs_difference(rf, rg))
+    out.update(reaction_differences(rf, rg))
+    return out
+
+
+def reaction_differences(rf, rg):
+    """{"p_reaction": max_k |p_FE,reaction − p_GFMD| / max_k |p_GFMD|, "p_consistency": max_k |p_FE,reaction −
+    p_FE| / max_k |p_GFMD|}: the FE pressure from its own nodal reaction forces (−Σ (S u)_z / L,
+    diagnostics["reaction_pressure"]) against GFMD, and against the FE's traction mean p = −⟨t_z⟩.
+    NaN if the FE result holds no reaction pressure for every step (a resumed run)."""
+    pr = np.asarray(rf.diagnostics.get("reaction_pressure", []), float)
+    scale = float(np.max(np.abs(rg.curve["p"])))
+    if pr.size != len(rf.curve["p"]):
+        return {"p_reaction": float("nan"), "p_consistency": float("nan")}
+    return {"p_reaction": float(np.max(np.abs(pr - rg.curve["p"]))) / scale,
+            "p_consistency": float(np.max(np.abs(pr - rf.curve["p"]))) / scale}

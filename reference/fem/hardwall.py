@@ -33,7 +33,8 @@ N nodes: `Result.solutions[k]` = u, the surface u_z at all surface points (the
 unknowns of the condensed problem, the same kind of vector the cohesive FE
 stores: `problem.solve_interior(u)` gives every DOF, which `reference.fem.export`
 writes), and `Result.wall_forces[k]` = μ (N/m). z_ind of step k is
-`problem.indenter(δ0, U_k)`.
+`problem.indenter(δ0, U_k)`. Every step's pressure from the nodal reaction forces, −Σ (S u)_z / L
+(= Σμ/L at equilibrium), is in `Result.diagnostics["reaction_pressure"]`.
 
 Residual reported per step (dimensionless, / p_ref, p_ref = E* ḡ as GFMD):
 max over the points of |S u + μ|/W, max(0, −μ)/W and max(0, u − z)·S_ii/W.
@@ -182,6 +183,7 @@ class HardWallCell:
     def observe(self, scene, h, gap, t_n):
         """p, a_rel, ḡ_r, ḡ of a step from the FE's own observables (contact: scene.interface.contact_rule;
         the seed's is the compressive nodes)."""
+        self.diagnostics.setdefault("reaction_pressure", []).append(self._reaction)
         return hard_wall_observables(h, scene.surface.spacing, t_n, gap=gap, interface=scene.interface)
 
     def solve(self, displacement, guess, fallback):
@@ -193,6 +195,7 @@ class HardWallCell:
         res = prob.residual(u, mu, z_ind)
         gap = np.maximum(z_ind - u, 0.0)  # round-off penetration (≤ tol) shown as contact
         t_n = prob.node_traction(mu)
+        self._reaction = float(-np.sum(prob.S @ u) / self.scene.surface.length)  # −Σ (S u)_z / L, recorded by observe()
         messages = (() if how == "pdas" else (how,)) + (() if ok else (f"not converged, KKT residual {res:.3g} p_ref",))
 
         def fields():

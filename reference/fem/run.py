@@ -105,4 +105,4 @@ def _cell_common(scene, prob, physics, order, tolerance, setup):
     return dict(scene=scene, prob=prob, physics=physics,
                 tolerance=tolerance if tolerance is not None else min(scene.solver.tolerance, 1e-10),
                 method=f"fe-p{order}", reasons=reasons,
-                diagnostics={"problem": prob, "setup_s": setup, "fallback_steps": []})
+                diagnostics={"problem": prob, "setup_s": setup, "fallback_steps": [], "reaction_pressure": []})

@@ -34,7 +34,9 @@ the residual measure, the continuation mass and the stability test (damping
 W u̇ = −R), and the outputs are nodal, i.e. the fields t_n, t_t are T at the
 GFMD nodes' gaps and p = −⟨t_z⟩ over the nodes (`FeCell.observe`, the FE's own
 `reference.fem.observables`), for both quadratures, as for GFMD. The law is the FE's
-own (`reference.fem.law`), not GFMD's.
+own (`reference.fem.law`), not GFMD's. The FE's pressure from its own nodal reaction forces,
+−Σ (S u)_z / L (`SurfaceProblem.reaction_pressure`), is kept per step in
+`Result.diagnostics["reaction_pressure"]` (one value per curve row of a run that was not resumed).
 """
 
 from __future__ import annotations
@@ -177,6 +179,18 @@ class SurfaceProblem:
         else:
             f = self.to_surface(w * self.law.normal(gap_n))
         return self.S @ u - f
+
+    def reaction_pressure(self, u):
+        """Mean pressure from the FE's own nodal reaction forces, −Σ_i (S u)_z,i / L (Pa).
+
+        S u is the elastic force the condensed body exerts at the surface points (the assembled K u at the
+        surface with the interior eliminated; by global equilibrium of the periodic cell it equals the
+        reaction at the bonded base). It involves the law only through the equilibrium solved, not through
+        the nodal tractions the observable p = −⟨t_z⟩ averages: the two agree to the quadrature of the
+        boundary term (P2: the Simpson midpoint forces the node mean omits) and the solver tolerance.
+        """
+        _, fz = self.split(self.S @ u)
+        return float(-np.sum(fz) / self.scene.surface.length)
 
     def condense(self, comps):
         """(S, solve_interior) for the surface components `comps` (dense Schur complement, `Cell.schur`)."""
@@ -364,7 +378,9 @@ class FeCell:
         return np.zeros(self.prob.S.shape[0])
 
     def observe(self, scene, h, gap, t_n):
-        """p, a_rel, ḡ_r, ḡ of a step from the FE's own observables (`reference.fem.observables`)."""
+        """p, a_rel, ḡ_r, ḡ of a step from the FE's own observables (`reference.fem.observables`); the
+        step's pressure from the nodal reaction forces goes to diagnostics["reaction_pressure"]."""
+        self.diagnostics.setdefault("reaction_pressure", []).append(self._reaction)
         contact_gap = self.prob.law.contact_gap(scene.interface.contact_tolerance)
         return cohesive_observables(h, scene.surface.spacing, gap, t_n, contact_gap, interface=scene.interface)
 
@@ -375,6 +391,7 @@ class FeCell:
         u_new, res, its, ok, how = prob.solve_step(guess, z_ind, self.tolerance, fallback_from=fallback)
         sol = u_new if ok or np.all(np.isfinite(u_new)) else fallback
         tt, tn, gap = prob.tractions(sol, z_ind)
+        self._reaction = prob.reaction_pressure(sol)  # recorded by observe(), once per step
         ux, uz = prob.split(sol)
         messages = (() if how == "newton" else (how,)) + (() if ok else (f"not converged, residual {res:.3g}",))
 

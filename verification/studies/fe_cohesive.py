@@ -2,12 +2,15 @@
 
 Scene: `verification.scenes.cohesive_sinusoid` (a = 50 nm, L = D = 1 µm, ν = 0.3, φn* = 0.01, δn = 1 nm,
 δ from −2 nm to 60 nm in 20 steps). GFMD: FIRE at the scene's tolerance (1e-8); FE: `reference.fem` P2
-(Newton, tolerance 1e-10). Same nodes, same z_ind, observables from `contact.observables.step_observables`
+(Newton, tolerance 1e-10). Same nodes and profile heights; each method its own z_ind and observables
 (`verification.runs.fe_vs_gfmd`).
 
 Differences (GFMD the reference; max over the recorded field steps 4, 8, …, 20, resp. over all steps):
 * t_n(x): ‖t_n^FE − t_n^GFMD‖₂ / ‖t_n^GFMD‖₂;  p(δ): max_k |p_FE − p_GFMD| / max_k |p_GFMD|;
-* a_rel: max_k |Δa_rel|; and the mean wall time per load step of each method (informational).
+* a_rel: max_k |Δa_rel|; and the mean wall time per load step of each method (informational);
+* p_reaction: the FE pressure from its own nodal reaction forces (−Σ (S u)_z / L, `reference.fem`
+  diagnostics["reaction_pressure"]) against GFMD's p, max_k |Δ| / max_k |p_GFMD|; p_consistency: the same
+  between the FE's two pressures (reaction forces vs the node mean of its law tractions).
 The difference is discretisation (GFMD: continuum kernel sampled at the nodes; FE: P2 elements +
 Simpson nodal quadrature): both converge to the same continuum problem.
 
@@ -32,7 +35,7 @@ from verification.scenes import cohesive_sinusoid
 
 NAME = "fe_cohesive"
 NODES = {"ci": (64, 128), "full": (64, 128, 256, 512)}
-METRICS = ("tn", "p", "a")
+METRICS = ("tn", "p", "a", "p_reaction", "p_consistency")
 _CACHE = {}
 
 
@@ -40,7 +43,8 @@ def compare(n):
     """`verification.runs.fe_vs_gfmd` on cohesive_sinusoid(n), computed once per process."""
     if n not in _CACHE:
         out = _CACHE[n] = fe_vs_gfmd(cohesive_sinusoid(n))
-        print(f"N={n}: t_n L2 {out['tn']:.3g}  p {out['p']:.3g}  a_rel {out['a']:.3g}  FE {out['fe_s']:.1f} s "
+        print(f"N={n}: t_n L2 {out['tn']:.3g}  p {out['p']:.3g}  p_reaction {out['p_reaction']:.3g}  "
+              f"p_consistency {out['p_consistency']:.3g}  a_rel {out['a']:.3g}  FE {out['fe_s']:.1f} s "
               f"({out['fe_step']:.3f} s/step)  GFMD {out['gfmd_s']:.1f} s ({out['gfmd_step']:.3f} s/step)")
     return _CACHE[n]
 
