@@ -120,7 +120,7 @@ def verification_record(request):
 
     def record(*, case, metric, value, tolerance=None, methods=(), tolerance_source="", resolution=None,
                wall_s=None, passed=None, plots=None, peak_memory_bytes=None, memory_method=None, notes="",
-               scene="", measured=None, measured_source=None):
+               scene="", measured=None, measured_source=None, lower_bound=False):
         if peak_memory_bytes is None:
             peak_memory_bytes = max(0, max_rss_bytes() - rss0)
             memory_method = memory_method or MEMORY_RSS + ", since test start"
@@ -130,7 +130,7 @@ def verification_record(request):
                           tolerance_source=tolerance_source, methods=methods, resolution=resolution or {},
                           wall_s=wall_s, peak_memory_bytes=peak_memory_bytes, memory_method=memory_method or "",
                           passed=passed, plots=plots or [], notes=notes, test=request.node.nodeid,
-                          scene=scene if scene is not None else "", measured=measured,
+                          scene=scene if scene is not None else "", measured=measured, lower_bound=lower_bound,
                           measured_source=("\n".join(_measured.accessed_sources(looked_up))
                                            if measured_source is None else measured_source))
         records.append(rec)

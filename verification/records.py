@@ -51,6 +51,9 @@ class Measurement:
     #: where the numbers behind the tolerance were measured: "study → data file [entry].value", one per
     #: line; filled from the `verification.measured` look-ups the test made if it does not say
     measured_source: str = ""
+    #: the tolerance is a lower bound (value ≥ tolerance: an observed order, a refinement ratio, an effect
+    #: that must show), not an upper one
+    lower_bound: bool = False
 
     def __post_init__(self):
         self.methods = tuple(self.methods or ())
@@ -58,7 +61,8 @@ class Measurement:
         self.plots = list(self.plots or [])
         for plot in self.plots:
             validate_plot(plot)
-        self.passed = verdict(self.value, self.tolerance) if self.passed is None else bool(self.passed)
+        self.passed = (verdict(self.value, self.tolerance, self.lower_bound) if self.passed is None
+                       else bool(self.passed))
         if self.measured is not None:
             self.measured = float(self.measured)
         if not isinstance(self.scene, str):  # a contact.scene.Scene
@@ -74,8 +78,9 @@ class Measurement:
         return cls(**{k: v for k, v in d.items() if k in names})
 
 
-def verdict(value, tolerance):
-    """Default pass/fail: finite scalar value with |value| ≤ tolerance; None if either is missing.
+def verdict(value, tolerance, lower_bound=False):
+    """Default pass/fail: finite scalar value with |value| ≤ tolerance (value ≥ tolerance for a lower bound);
+    None if either is missing.
 
     NaN/inf values fail. Non-scalar values have no default verdict (None).
     """
@@ -85,6 +90,8 @@ def verdict(value, tolerance):
         v = float(value)
     except (TypeError, ValueError):
         return None
+    if lower_bound:
+        return bool(math.isfinite(v) and v >= float(tolerance))
     return bool(math.isfinite(v) and abs(v) <= float(tolerance))
 
 
@@ -177,8 +184,9 @@ def tolerance_rows(records):
 
     {"case", "metric", "test", "tolerance", "basis" ("stored": the study's measured number the test
     derived the bound from; "this run": no stored number given, the value measured now), "measured",
-    "ratio" (tolerance / measured; inf for a measured 0), "value", "source" (tolerance_source),
-    "measured_source" (study → data file), "loose" (ratio > LOOSE_RATIO)}.
+    "ratio" (tolerance / measured; for a lower bound measured / tolerance: how far the bound sits from the
+    number it rests on; inf for a measured 0), "value", "source" (tolerance_source), "measured_source"
+    (study → data file), "lower" (a lower bound), "loose" (ratio > LOOSE_RATIO)}.
     """
     rows = []
     for r in records:
@@ -189,9 +197,14 @@ def tolerance_rows(records):
         value = _scalar(r.value)
         basis = "stored" if stored is not None else "this run"
         base = stored if stored is not None else value
-        ratio = None if base is None else (abs(tol) / abs(base) if base != 0 else math.inf)
+        if base is None:
+            ratio = None
+        elif r.lower_bound:
+            ratio = abs(base) / abs(tol) if tol != 0 else math.inf
+        else:
+            ratio = abs(tol) / abs(base) if base != 0 else math.inf
         rows.append({"case": r.case, "metric": r.metric, "test": r.test, "tolerance": tol, "basis": basis,
                      "measured": base, "ratio": ratio, "value": value, "source": r.tolerance_source,
-                     "measured_source": r.measured_source,
+                     "measured_source": r.measured_source, "lower": r.lower_bound,
                      "loose": ratio is not None and ratio > LOOSE_RATIO})
     return rows

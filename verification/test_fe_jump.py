@@ -71,7 +71,7 @@ def test_fe_jump_convergence(metric, ns, verification_record):
     ratios = [a / b for a, b in zip(errs, errs[1:])]
     label = {"tn": "t_n", "p": "p(δ)"}[metric]
     verification_record(case=CASE, metric=f"smallest ratio of the {label} difference e(N)/e(2N), N = {ns[0]} … {ns[-1]}",
-                        value=min(ratios), tolerance=None, passed=bool(min(ratios) >= need), methods=METHODS,
+                        value=min(ratios), tolerance=need, lower_bound=True, methods=METHODS,
                         tolerance_source=(f"≥ the worst stored ratio {worst:.3g} / {SAFETY:g} = {need:.3g} "
                                           f"(order ≥ {math.log2(need):.2f}); observed orders "
                                           + ", ".join(f"{o:.2f}" for o in observed_orders(ns, errs))),

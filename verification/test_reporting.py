@@ -366,3 +366,13 @@ def test_independence_section_lists_the_architecture_allow_list():
         importlib.import_module(mod)
     page = "\n".join(report._independence_section())
     assert all(f"<code>{m}</code>" in page for m in allowed_imports())
+
+
+def test_lower_bounds_in_the_tolerance_list():
+    """A lower bound (an order, a refinement ratio) passes when value ≥ tolerance; its ratio is measured / bound."""
+    from verification.records import tolerance_rows
+    ok = Measurement(case="c", metric="ratio", value=5.0, tolerance=2.0, measured=4.0, lower_bound=True)
+    bad = Measurement(case="c", metric="ratio", value=1.0, tolerance=2.0, measured=4.0, lower_bound=True)
+    assert ok.passed is True and bad.passed is False
+    assert tolerance_rows([ok])[0]["ratio"] == pytest.approx(2.0) and tolerance_rows([ok])[0]["lower"]
+    assert "≥ 2" in report.render_html([ok], {})
