@@ -68,7 +68,7 @@ def fft_backend(name=None):
 
 
 class _Fft:
-    """rfft / irfft of real 1-D arrays of length n through the chosen backend, counting pairs."""
+    """rfft / irfft along the last axis (length n) through the chosen backend, counting pairs."""
 
     def __init__(self, n, backend=None):
         self.n, self.backend, self.calls = n, fft_backend(backend), 0
@@ -76,14 +76,14 @@ class _Fft:
     def rfft(self, x):
         self.calls += 1
         if self.backend == "ducc0":
-            return _ducc_fft.r2c(x, forward=True)
-        return scipy.fft.rfft(x)
+            return _ducc_fft.r2c(np.ascontiguousarray(x), axes=(-1,), forward=True)
+        return scipy.fft.rfft(x, axis=-1)
 
     def irfft(self, x_hat):
         self.calls += 1
         if self.backend == "ducc0":
-            return _ducc_fft.c2r(x_hat, forward=False, lastsize=self.n, inorm=2)
-        return scipy.fft.irfft(x_hat, n=self.n)
+            return _ducc_fft.c2r(np.ascontiguousarray(x_hat), axes=(-1,), forward=False, lastsize=self.n, inorm=2)
+        return scipy.fft.irfft(x_hat, n=self.n, axis=-1)
 
     def apply(self, kernel, x):
         """irfft(kernel · rfft(x)): one pair."""
@@ -120,6 +120,11 @@ class Settings:
     mass_refresh: int = 100
     # hard wall with method "fire": "cg" (projected preconditioned CG, default) or "fire" (FIRE)
     hard_wall: str = "cg"
+    # cohesive normal-only law (a potential) with method "fire": "ncg" (nonlinear preconditioned CG with
+    # a Newton line search, FIRE as fallback) or "fire" (FIRE alone, the integrator before issue 13)
+    cohesive: str = "ncg"
+    # NCG line search: stop when |dE/dα| ≤ line_search_tol · |dE/dα(0)|
+    line_search_tol: float = 0.1
     # hard-wall CG: release the wall nodes that pull away once their forces' norm exceeds
     # proportioning × the free nodes' residual norm (Dostál's MPRGP proportioning test)
     proportioning: float = 0.3
@@ -139,7 +144,8 @@ class Relaxed:
     residual: float  # max |r| / p_ref
     converged: bool
     message: str = ""
-    fft_pairs: float = 0.0  # rfft+irfft pairs the relaxation used (hard wall CG; 0 where not counted)
+    fft_pairs: float = 0.0  # rfft+irfft pairs the relaxation used (0 where not counted)
+    method: str = ""  # the integrator that produced this state: "ncg", "fire", "verlet", "cg", "ncg→fire"
 
 
 class InterfaceLaw:
@@ -299,6 +305,10 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
         return _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance)
     if settings.method == "fire" and model.tangential:
         return _relax_coupled_fire(model, law, z_ind, u_hat, settings, wall_tolerance)
+    if settings.method == "fire" and settings.cohesive not in ("ncg", "fire"):
+        raise ValueError(f"Settings.cohesive = {settings.cohesive!r}: expected 'ncg' or 'fire'")
+    if settings.method == "fire" and settings.cohesive == "ncg" and type(law.law) is laws.NormalCohesive:
+        return _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance)
     return _relax_cohesive(model, law, z_ind, u_hat, settings, wall_tolerance)
 
 
@@ -336,12 +346,13 @@ def _relax_coupled_fire(model, law, z_ind, u_hat, settings, wall_tolerance):
 def _relax_cohesive(model, law, z_ind, u_hat, settings, wall_tolerance):
     """Cohesive-law relaxation with FIRE or Verlet (see module docstring and `relax`)."""
     n = model.nodes
+    fft = _Fft(n)
     w = _spectral_weights(n)
     u_hat = np.array(u_hat, dtype=complex, copy=True)
     if model.half_plane:
         u_hat[:, 0] = 0.0
     v = np.zeros_like(u_hat)
-    k_mean = law.mean_stiffness(scipy.fft.irfft(u_hat, n=n, axis=-1), z_ind)
+    k_mean = law.mean_stiffness(fft.irfft(u_hat), z_ind)
     elastic = _Elastic(model, *k_mean)
 
     def dot(a, b):
@@ -361,9 +372,9 @@ def _relax_cohesive(model, law, z_ind, u_hat, settings, wall_tolerance):
     max_move = settings.max_move * law.law.length_scale  # min(δn, δt) where u_x is solved, else δn
     u_hat_prev = u_hat.copy()
     _last_finite = u_hat.copy()
-    u_prev = scipy.fft.irfft(u_hat, n=n, axis=-1)
+    u_prev = fft.irfft(u_hat)
     for it in range(1, settings.max_iterations + 1):
-        u = scipy.fft.irfft(u_hat, n=n, axis=-1)
+        u = fft.irfft(u_hat)
         move = float(np.max(np.abs(u - u_prev)))
         if move > max_move:  # trust region: no node moves more than max_move per iteration
             scale = max_move / move
@@ -387,11 +398,11 @@ def _relax_cohesive(model, law, z_ind, u_hat, settings, wall_tolerance):
                 elastic = _Elastic(model, *k_mean)
                 v[:] = 0.0
                 fire.reset()
-        f_hat = scipy.fft.rfft(t, axis=-1) - elastic.stiffness(u_hat)
+        f_hat = fft.rfft(t) - elastic.stiffness(u_hat)
         if elastic.clamp:
             f_hat[:, 0] = 0.0
         if it % settings.check_every == 0 or it == 1:
-            residual = float(np.max(np.abs(scipy.fft.irfft(f_hat, n=n, axis=-1)))) / model.reference_traction
+            residual = float(np.max(np.abs(fft.irfft(f_hat)))) / model.reference_traction
             if residual < settings.tolerance:
                 converged = True
                 break
@@ -418,7 +429,201 @@ def _relax_cohesive(model, law, z_ind, u_hat, settings, wall_tolerance):
     else:
         message = f"not converged after {settings.max_iterations} iterations (residual {residual:.3g} p_ref)"
 
-    return _finish(model, law, z_ind, u_hat, it, residual, converged, message, wall_tolerance)
+    pairs = fft.pairs
+    out = _finish(model, law, z_ind, u_hat, it, residual, converged, message, wall_tolerance)
+    out.fft_pairs = pairs + 0.5
+    out.method = "verlet" if fire is None else "fire"
+    return out
+
+
+#: NCG iterations a cohesive step gets before the FIRE fallback (at most max_iterations / 2)
+NCG_BUDGET = 5000
+
+
+def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
+    """Normal-only cohesive law by nonlinear preconditioned conjugate gradients, FIRE as fallback.
+
+    The law has a potential (`contact.laws.potential_normal`): the step minimises
+    E(u) = ½ uᵀKu + Σ_j V(Δn_j), Δn = z_ind − u, whose negative gradient is the force
+    f = T_n(Δn) − K u of `_relax_cohesive` (mean removed on a half-plane, ⟨u⟩ = 0).
+    Polak–Ribière+ CG on the nodal displacements with the FIRE solver's mass weighting as
+    preconditioner, s = M⁻¹ f, M_q = K(q) + ⟨k_loc⟩ (refreshed, with a CG restart, when
+    ⟨k_loc⟩ changes 2×). The line search along d needs no FFT: K d is computed once, and
+    dE/dα = d·Ku + α d·Kd − Σ T_n(Δn − αd) d, d²E/dα² = d·Kd + Σ k_loc d² are nodal sums,
+    so safeguarded Newton on dE/dα (bracketed, bisection or secant when Newton leaves the
+    bracket or the curvature is negative) costs one exp per trial. Cost per iteration:
+    three transforms (rfft f, irfft d, irfft K d); K u is updated with the step and
+    recomputed before the convergence test, which is `_relax_cohesive`'s
+    (max |f| < tolerance · p_ref), so the converged states mean what FIRE's do.
+
+    Fallback: a step NCG does not finish within min(NCG_BUDGET, max_iterations / 2)
+    iterations, or whose line search finds no descent, restarts from the same guess with
+    FIRE (`_relax_cohesive`) and the rest of the iterations; `Relaxed.method` is then
+    "ncg→fire" and the message says why.
+    """
+    n = model.nodes
+    fft = _Fft(n)
+    clamp = model.half_plane
+    cz = law.law
+    phi, dn = float(cz.work_normal), float(cz.length_normal)
+    tn_scale, kn_scale = phi / dn, phi / dn**2
+    p_ref = model.reference_traction
+    tol = settings.tolerance * p_ref
+    budget = min(NCG_BUDGET, settings.max_iterations // 2) if settings.max_iterations > 1 else 1
+    k = np.ascontiguousarray(np.real(model.k_zz), dtype=float)
+    w = _spectral_weights(n) / n  # Σ_j a_j b_j = Σ_n w_n Re(conj(â_n) b̂_n)
+
+    def sdot(a_hat, b_hat):
+        return float(np.einsum("i,i->", w, (a_hat.conj() * b_hat).real))
+
+    def preconditioner(k_mean):
+        m = k + k_mean
+        g = np.zeros(m.size)
+        np.divide(1.0, m, out=g, where=m > 0)
+        if clamp:
+            g[0] = 0.0
+        return g
+
+    def law_at(gap_nodes):
+        """(T_n, k_loc) at the gaps (Pa, Pa/m); the exponent is capped against overflow."""
+        s = gap_nodes * (1.0 / dn)
+        np.maximum(s, -laws.MAX_COMPRESSION, out=s)
+        e = np.exp(-s)
+        t = s * e
+        t *= tn_scale
+        np.subtract(1.0, s, out=s)
+        s *= e
+        s *= kn_scale
+        return t, s
+
+    guess = np.array(u_hat, dtype=complex, copy=True)
+    uh = np.array(guess[-1], dtype=complex, copy=True)
+    if clamp:
+        uh[0] = 0.0
+    u = fft.irfft(uh)
+    gap = z_ind - u
+    laws._check_compression(gap, dn)  # an initial guess out of the law's range raises, as FIRE's does
+    ku = fft.irfft(k * uh)
+    t, kloc = law_at(gap)
+    k_mean = float(np.mean(np.maximum(kloc, 0.0)))
+    g = preconditioner(k_mean)
+
+    def force():
+        f = t - ku
+        if clamp:
+            f -= float(np.mean(f))
+        return f
+
+    f = force()
+    d_hat = f_old_hat = None
+    rz_old = 1.0
+    restart = True
+    residual, converged, message, failed = np.inf, False, "", ""
+    eta = settings.line_search_tol
+    it = 0
+    while True:
+        residual = float(np.max(np.abs(f))) / p_ref
+        if not np.isfinite(residual):
+            failed = "non-finite force residual"
+            break
+        if residual < settings.tolerance:  # candidate: recompute K u from the spectrum
+            ku = fft.irfft(k * uh)
+            f = force()
+            residual = float(np.max(np.abs(f))) / p_ref
+            if residual < settings.tolerance:
+                converged = True
+                break
+            restart = True
+        if it >= budget:
+            failed = f"not converged after {it} iterations (residual {residual:.3g} p_ref)"
+            break
+        it += 1
+        if it % settings.mass_refresh == 0:
+            k_now = float(np.mean(np.maximum(kloc, 0.0)))
+            if k_now > 2 * k_mean + 1e-300 or k_mean > 2 * k_now + 1e-300:
+                k_mean, g = k_now, preconditioner(k_now)
+                restart = True
+        f_hat = fft.rfft(f)
+        if clamp:
+            f_hat[0] = 0.0
+        s_hat = g * f_hat
+        rz = sdot(f_hat, s_hat)
+        if restart or d_hat is None:
+            beta = 0.0
+        else:
+            beta = max(0.0, (rz - sdot(f_old_hat, s_hat)) / rz_old)
+        d_hat = s_hat if beta == 0.0 else s_hat + beta * d_hat
+        restart = False
+        f_old_hat, rz_old = f_hat, rz
+        d = fft.irfft(d_hat)
+        slope0 = -_dot(f, d)
+        if not slope0 < 0:  # not a descent direction: restart along s
+            d_hat = s_hat
+            d = fft.irfft(d_hat)
+            slope0 = -_dot(f, d)
+            if not slope0 < 0:
+                failed = "no descent direction"
+                break
+        kd = fft.irfft(k * d_hat)
+        c1, c2 = _dot(ku, d), _dot(kd, d)
+        d2 = d * d
+        curv0 = c2 + _dot(kloc, d2)
+        d_max = float(np.max(np.abs(d)))
+        alpha = -slope0 / curv0 if curv0 > 0 else settings.max_move * dn / d_max
+        lo, hi = 0.0, np.inf
+        p_lo, p_hi = slope0, np.inf
+        found = False
+        for _ in range(60):
+            t_a, k_a = law_at(gap - alpha * d)
+            p = c1 + alpha * c2 - _dot(t_a, d)
+            if not np.isfinite(p):
+                hi, p_hi = alpha, np.inf
+            elif abs(p) <= eta * abs(slope0):
+                found = True
+                break
+            elif p < 0:
+                lo, p_lo = alpha, p
+            else:
+                hi, p_hi = alpha, p
+            c = c2 + _dot(k_a, d2)
+            nxt = alpha - p / c if (np.isfinite(p) and c > 0) else np.nan
+            if np.isfinite(hi):
+                if not lo < nxt < hi:
+                    nxt = lo - p_lo * (hi - lo) / (p_hi - p_lo) if np.isfinite(p_hi) else np.nan
+                    if not (lo + 0.01 * (hi - lo) < nxt < hi - 0.01 * (hi - lo)):
+                        nxt = 0.5 * (lo + hi)
+                if hi - lo <= 1e-14 * hi:
+                    alpha = lo if lo > 0 else hi
+                    t_a, k_a = law_at(gap - alpha * d)
+                    found = alpha > 0
+                    break
+            elif not nxt > alpha:
+                nxt = 4.0 * alpha
+            alpha = nxt
+        if not found:
+            failed = "line search found no minimum along the search direction"
+            break
+        t, kloc = t_a, k_a
+        uh += alpha * d_hat
+        u += alpha * d
+        gap -= alpha * d
+        ku += alpha * kd
+        f = force()
+    if failed:
+        budget_left = settings.max_iterations - it
+        second = _relax_cohesive(model, law, z_ind, guess, replace(settings, cohesive="fire",
+                                 max_iterations=max(budget_left, 1)), wall_tolerance)
+        second.iterations += it
+        second.fft_pairs += fft.pairs
+        second.method = "ncg→fire"
+        second.message = (f"NCG stopped ({failed}), restarted with FIRE: " + (second.message or "converged"))
+        return second
+    pairs = fft.pairs
+    out = _finish(model, law, z_ind, uh[None, :], it, residual, converged, message, wall_tolerance)
+    out.fft_pairs = pairs + 0.5
+    out.method = "ncg"
+    return out
+
 
 
 def _mean_shift(u_z, z_ind, pinned=None):
@@ -664,6 +869,7 @@ def _relax_hard_wall_cg(model, law, z_ind, u_hat, settings, wall_tolerance):
     pairs = fft.pairs
     out = _finish(model, law, z_ind, u_hat, it, residual, converged, message, wall_tolerance)
     out.fft_pairs = pairs + 1.5  # _finish: one irfft of u_hat and one pair for K u
+    out.method = "cg"
     return out
 
 
