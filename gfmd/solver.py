@@ -440,9 +440,6 @@ def _relax_cohesive(model, law, z_ind, u_hat, settings, wall_tolerance):
 NCG_BUDGET = 5000
 
 
-_DEBUG = []
-
-
 def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
     """Normal-only cohesive law by nonlinear preconditioned conjugate gradients, FIRE as fallback.
 
@@ -526,8 +523,6 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
         e_norm = np.sqrt(max(rz, 0.0))
         if ratio is None or it % settings.check_every == 0 or e_norm * ratio < settings.tolerance * p_ref:
             residual = float(np.max(np.abs(fft.irfft(f_hat)))) / p_ref  # the test of `_relax_cohesive`
-            if _DEBUG:
-                _DEBUG.append((it, residual, e_norm))
             ratio = residual * p_ref / e_norm if e_norm > 0 else 1.0
             if residual < settings.tolerance:
                 converged = True
