@@ -18,6 +18,12 @@ wall on nodes that touch it). Two integrators (reference-formulas §5.2):
   critically for the discrete scheme (γΔt = ωΔt√(4 − (ωΔt)²)).
 * Coupled law (no potential): FIRE, and if it stalls (``COUPLED_FIRE_BUDGET``)
   the step restarts with Verlet (see `_relax_coupled_fire`).
+* Normal-only cohesive law (a potential), method ``fire``: by default
+  (``Settings.cohesive = "ncg"``) nonlinear preconditioned conjugate gradients (Polak–Ribière+,
+  preconditioner K⁻¹ as the hard-wall CG, an FFT-free Newton line search on the elastic + CZ
+  energy; `_relax_cohesive_ncg`), FIRE as the fallback when NCG stalls; 5–10× fewer FFT pairs
+  per step than FIRE (benchmarks/results/bench_vs_tamaas.md). ``cohesive = "fire"`` keeps FIRE.
+  `Relaxed.method` says which ran.
 
 Hard wall: a constraint, not a penalty. Default (``Settings.hard_wall = "cg"``,
 method ``fire``): a projected conjugate-gradient active-set method on the same
@@ -30,9 +36,9 @@ nodes that went through the wall are projected back onto it (u_z ≤ z_ind) and 
 velocity that carried them there is removed with the same correction.
 All variants stop on the same residual (below) and have the KKT points as fixed points.
 
-FFT backend of the hard-wall CG: scipy.fft, or ducc0 where installed (the ``fast`` extra; 1.4–2× faster
-pairs measured here); ``GFMD_FFT=scipy|ducc0|auto`` (default auto) chooses. The cohesive
-solvers use scipy.fft.
+FFT backend of the hard-wall CG, the cohesive NCG and FIRE: scipy.fft, or ducc0 where installed
+(the ``fast`` extra; 1.4–2× faster pairs measured here); ``GFMD_FFT=scipy|ducc0|auto`` (default
+auto) chooses. The FIRE and Verlet hard wall and `_finish` use scipy.fft.
 
 Convergence: max_j |r_j| < tolerance · p_ref, with r the nodal force residual
 (Pa) and p_ref = `Model.reference_traction`; checked every `check_every`
@@ -451,11 +457,15 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
     measured worse here (2^14, δn = 0.25 nm: 2× the iterations; a Jacobi split for the stiff
     contact nodes 1.5–2×): the line search handles the interface stiffness. The line search along d needs no FFT: K d is computed once, and
     dE/dα = d·Ku + α d·Kd − Σ T_n(Δn − αd) d, d²E/dα² = d·Kd + Σ k_loc d² are nodal sums,
-    so safeguarded Newton on dE/dα (bracketed, bisection or secant when Newton leaves the
-    bracket or the curvature is negative) costs one exp per trial. Cost per iteration:
-    three transforms (rfft f, irfft d, irfft K d); K u is updated with the step and
-    recomputed before the convergence test, which is `_relax_cohesive`'s
-    (max |f| < tolerance · p_ref), so the converged states mean what FIRE's do.
+    so safeguarded Newton on dE/dα (bracketed; secant or bisection when Newton leaves the
+    bracket or the curvature is negative; stop at |dE/dα| ≤ line_search_tol·|dE/dα(0)|) costs
+    one exp over the nodes per trial (≈ 1.05 trials per iteration measured). The force is kept
+    in Fourier space, f̂ = rfft(T_n) − K û (q = 0 clamped on a half-plane), so K u never drifts
+    and an iteration costs one FFT pair (rfft T_n, irfft d); the stopping test is
+    `_relax_cohesive`'s, max_j |f_j| < tolerance · p_ref on the nodes (one more irfft), taken
+    every `check_every` iterations and whenever the energy norm (f·K⁻¹f)^½ times the last
+    measured max-norm/energy-norm ratio predicts it passes: the converged states and their
+    residuals mean what FIRE's do.
 
     Fallback: a step NCG does not finish within min(NCG_BUDGET, max_iterations / 2)
     iterations, or whose line search finds no descent, restarts from the same guess with
