@@ -532,11 +532,12 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
         rz = _dot(fw, s_hat.view(np.float64))  # f·K⁻¹f
         e_norm = np.sqrt(max(rz, 0.0))
         if ratio is None or it % settings.check_every == 0 or e_norm * ratio < settings.tolerance * p_ref:
-            residual = float(np.max(np.abs(fft.irfft(f_hat)))) / p_ref  # the test of `_relax_cohesive`
-            ratio = residual * p_ref / e_norm if e_norm > 0 else 1.0
+            # the test of `_relax_cohesive` (verification.mutations' stop-early-cohesive mutates all three)
+            residual = float(np.max(np.abs(fft.irfft(f_hat)))) / model.reference_traction
             if residual < settings.tolerance:
                 converged = True
                 break
+            ratio = residual * p_ref / e_norm if e_norm > 0 else 1.0
             if not np.isfinite(residual):
                 failed = "non-finite force residual"
                 break
