@@ -19,13 +19,16 @@ the same loads, seconds apart: the machine is shared and noisy):
    FFT backend) iterations, FFT pairs, s/step, s per FFT pair, the KKT residual of every step
    (the solver's residual: max |net nodal force| / p_ref, pulling wall nodes included; the
    state never penetrates), and Tamaas' s/step on the same pressures, GFMD/Tamaas;
-2. cohesive φn* ∈ {0.01, 0.15} × δn ∈ {0.25, 1} nm on the same profile and ramp (N = 2^16),
-   s/step relative to the hard-wall CG step;
-3. iterations per step vs N (hard-wall CG, N = 2^12 … 2^18);
-4. near full contact: steps to 0.998 δ_max (δ_max = mean h − min h) at N = 2^14, a_rel, iterations;
+2. cohesive φn* ∈ {0.01, 0.15} × δn ∈ {0.25, 1} nm on the same profile and ramp (N = 2^16, 2^17):
+   the levers side by side (FIRE with scipy.fft = before issue 13, FIRE with ducc0, NCG with
+   scipy.fft and ducc0), s/step relative to the hard-wall CG step re-measured alongside;
+3. iterations per step vs N (N = 2^12 … 2^18): hard-wall CG and cohesive NCG;
+4. near full contact: δ up to 0.99999 δ_max (δ_max = mean h − min h) at N = 2^14, a_rel, iterations,
+   hard wall (with Tamaas) and cohesive NCG;
 5. the seed's Fig. 3 study projected from steps per CPU-second measured at N = 2^17 on a
    window of its ramp (200 steps to δ = 20 nm: dU = 0.1 nm; 6 interfaces, 10 realizations,
-   2 cores).
+   2 cores), cohesive FIRE (before) and NCG (now) from the same approach state;
+6. process-level parallel efficiency of 2 realizations on 2 cores (serial vs a 2-process pool).
 
 Writes benchmarks/results/bench_vs_tamaas{,_quick}.md. Tamaas is optional (the ``bench`` extra);
 without it the comparison columns are skipped with a message.
@@ -213,8 +216,8 @@ def section_cohesive(sizes, lines):
         lines += [f"N = 2^{e}: hard-wall cg {med(hard_rows, 'it'):.0f} it/step, {med(hard_rows, 'pairs'):.0f} "
                   f"pairs/step, hard/s = {hard_s:.3g} s/step; pair (s): "
                   + ", ".join(f"{b} {t:.3g}" for b, t in pair.items()), "",
-                  "| N | law | δn (nm) | code | it/step | pairs/step | s/step | s/pair | s/pair ÷ pair | ratio to hard "
-                  "wall | max residual | converged | max |Δu| / δn | method |", "|" + "---|" * 14]
+                  "| N | law | δn (nm) | code | it/step | pairs/step | s/step | s/pair | s/pair ÷ pair | "
+                  "ratio to hard wall | max residual | converged | max |Δu| / δn | method |", "|" + "---|" * 14]
         for phi, dn in COHESIVE:
             case = cohesive_case(n, phi, dn)
             variants = [("fire", Settings(tolerance=TOL, cohesive="fire"), "scipy"),
@@ -271,8 +274,8 @@ def section_full_contact(e, use_tamaas, lines):
     lines += [f"## 4. Towards full contact (N = 2^{e}, δ_max = mean h − min h = {d_max * 1e9:.3g} nm)", "",
               "Hard wall (CG, with Tamaas on the same mean pressures) and the cohesive law φn* = 0.15, δn = 1 nm "
               "(NCG; a_rel: nodes in compression) on the same ramp of penetrations δ/δ_max.", "",
-              "| δ/δ_max | a_rel | p/E* | CG it | pairs | s | KKT residual | converged | Tamaas s | Tamaas gap spread "
-              "(h_rms) | cohesive a_rel | NCG it | NCG residual | NCG converged (method) |",
+              "| δ/δ_max | a_rel | p/E* | CG it | pairs | s | KKT residual | converged | Tamaas s | "
+              "Tamaas gap spread (h_rms) | cohesive a_rel | NCG it | NCG residual | NCG converged (method) |",
               "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     e_star = case.model.contact_modulus
     for f, r, c in zip(fractions, rows, coh):
@@ -381,7 +384,8 @@ def section_parallel(e, window, lines, fig3_totals=None):
               f"Each job: the section-5 approach and {window}-step window of realization 0 or 1 (the work of "
               "`workbench.ensemble.run_ensemble` with output.workers = 2, one realization per process). Serial: "
               "one after the other in this process; parallel: a 2-process pool (fork), wall time incl. start-up. "
-              "The machine runs another job at nice 10 on the same 2 cores.", "",
+              "Other jobs share the 2 cores (load average in the header and at the end): the efficiency is a "
+              "lower bound.", "",
               "| serial wall (s) | per job serial (s) | parallel wall (s) | per job in parallel (s) | efficiency "
               "t_serial / (2 t_parallel) |", "|---|---|---|---|---|",
               f"| {t_serial:.1f} | {serial[0]:.1f}, {serial[1]:.1f} | {t_par:.1f} | {each[0]:.1f}, {each[1]:.1f} | "
@@ -409,7 +413,7 @@ def main(argv=None):
     info["fft backend"] = gsolver.fft_backend()
     info["tamaas"] = tm.__version__ if tm is not None else "not installed"
     sections = {int(x) for x in a.sections.split(",")}
-    lines = ["# GFMD vs Tamaas, hard-wall solver levers" + (" (quick)" if a.quick else ""), "",
+    lines = ["# GFMD vs Tamaas, hard-wall and cohesive solver levers" + (" (quick)" if a.quick else ""), "",
              "Machine: " + "; ".join(f"{k} = {v}" for k, v in info.items()), "",
              "Generated by `python benchmarks/bench_vs_tamaas.py" + (" --quick" if a.quick else "") +
              "`; every ratio is measured within this one process (2 shared cores, noisy).", ""]

@@ -455,7 +455,8 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
     Polak–Ribière+ CG on the nodal displacements preconditioned as the hard-wall CG, s = K⁻¹ f
     (K(q)⁻¹ on the modes; the q = 0 mode clamped on a half-plane). FIRE's M = K + ⟨k_loc⟩ was
     measured worse here (2^14, δn = 0.25 nm: 2× the iterations; a Jacobi split for the stiff
-    contact nodes 1.5–2×): the line search handles the interface stiffness. The line search along d needs no FFT: K d is computed once, and
+    contact nodes 1.5–2×): the line search handles the interface stiffness. The line search
+    along d needs no FFT: d·Ku and d·Kd are sums over the spectra, and
     dE/dα = d·Ku + α d·Kd − Σ T_n(Δn − αd) d, d²E/dα² = d·Kd + Σ k_loc d² are nodal sums,
     so safeguarded Newton on dE/dα (bracketed; secant or bisection when Newton leaves the
     bracket or the curvature is negative; stop at |dE/dα| ≤ line_search_tol·|dE/dα(0)|) costs
