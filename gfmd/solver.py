@@ -573,7 +573,8 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
         lo, hi = 0.0, np.inf
         p_lo, p_hi = slope0, np.inf
         found = False
-        for _ in range(60):
+        widths = []
+        for _ in range(100):
             gap_a = d * (-alpha)
             gap_a += gap
             s_a, e_a = scaled_gap(gap_a)
@@ -594,6 +595,9 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
                     nxt = lo - p_lo * (hi - lo) / (p_hi - p_lo) if np.isfinite(p_hi) else np.nan
                     if not (lo + 0.01 * (hi - lo) < nxt < hi - 0.01 * (hi - lo)):
                         nxt = 0.5 * (lo + hi)
+                widths.append(hi - lo)
+                if len(widths) > 2 and widths[-1] > 0.5 * widths[-3]:  # Newton creeps (steep repulsive
+                    nxt = 0.5 * (lo + hi)  # side of the law): bisect whenever two trials did not halve the bracket
                 if hi - lo <= 1e-14 * hi:
                     alpha = lo if lo > 0 else hi
                     gap_a = d * (-alpha)
@@ -604,7 +608,15 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
             elif not nxt > alpha:
                 nxt = 4.0 * alpha
             alpha = nxt
-        if not found:
+        if not found and lo > 0:  # no tight minimum found, but E decreases up to lo: take that step
+            alpha = lo
+            gap_a = d * (-alpha)
+            gap_a += gap
+            s_a, e_a = scaled_gap(gap_a)
+        elif not found:
+            if d_hat is not s_hat:  # a conjugate direction failed: retry once along s = K⁻¹ f
+                restart = True
+                continue
             failed = "line search found no minimum along the search direction"
             break
         gap, sv, ev = gap_a, s_a, e_a

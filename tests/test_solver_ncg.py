@@ -136,3 +136,13 @@ def test_ncg_fixed_point_and_cost():
     assert again.converged and again.iterations == 0
     assert np.max(np.abs(again.u_z - ncg[-1].u_z)) == 0.0
     assert np.median([r.fft_pairs for r in ncg]) < np.median([r.fft_pairs for r in fire]) / 2
+
+
+def test_line_search_through_deep_compression():
+    """Strong adhesion (φn* = 0.5, δn = 0.1 nm) with 2 nm steps: the extrapolated guess of the fourth
+    step puts nodes tens of δn into the exponential repulsive branch, where Newton on dE/dα creeps by
+    about δn per trial; the line search bisects when two trials do not halve its bracket, so NCG
+    finishes the step itself (it used to hand it to FIRE after 60 trials)."""
+    sc, h, model, law, z_of = case(length_normal=0.1e-9, phi=0.5)
+    out = ramp(model, law, z_of, 2e-9 * np.arange(1, 5), Settings(tolerance=TOL))
+    assert [r.method for r in out] == ["ncg"] * 4, [(r.method, r.message) for r in out]
