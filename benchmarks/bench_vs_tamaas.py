@@ -19,13 +19,16 @@ the same loads, seconds apart: the machine is shared and noisy):
    FFT backend) iterations, FFT pairs, s/step, s per FFT pair, the KKT residual of every step
    (the solver's residual: max |net nodal force| / p_ref, pulling wall nodes included; the
    state never penetrates), and Tamaas' s/step on the same pressures, GFMD/Tamaas;
-2. cohesive φn* ∈ {0.01, 0.15} × δn ∈ {0.25, 1} nm on the same profile and ramp (N = 2^16),
-   s/step relative to the hard-wall CG step;
-3. iterations per step vs N (hard-wall CG, N = 2^12 … 2^18);
-4. near full contact: steps to 0.998 δ_max (δ_max = mean h − min h) at N = 2^14, a_rel, iterations;
+2. cohesive φn* ∈ {0.01, 0.15} × δn ∈ {0.25, 1} nm on the same profile and ramp (N = 2^16, 2^17):
+   the levers side by side (FIRE with scipy.fft = before issue 13, FIRE with ducc0, NCG with
+   scipy.fft and ducc0), s/step relative to the hard-wall CG step re-measured alongside;
+3. iterations per step vs N (N = 2^12 … 2^18): hard-wall CG and cohesive NCG;
+4. near full contact: δ up to 0.99999 δ_max (δ_max = mean h − min h) at N = 2^14, a_rel, iterations,
+   hard wall (with Tamaas) and cohesive NCG;
 5. the seed's Fig. 3 study projected from steps per CPU-second measured at N = 2^17 on a
    window of its ramp (200 steps to δ = 20 nm: dU = 0.1 nm; 6 interfaces, 10 realizations,
-   2 cores).
+   2 cores), cohesive FIRE (before) and NCG (now) from the same approach state;
+6. process-level parallel efficiency of 2 realizations on 2 cores (serial vs a 2-process pool).
 
 Writes benchmarks/results/bench_vs_tamaas{,_quick}.md. Tamaas is optional (the ``bench`` extra);
 without it the comparison columns are skipped with a message.
@@ -82,7 +85,7 @@ def ramp(case, settings, deltas, backend=None, tamaas=None):
         p = -float(np.mean(r.t_z))
         contact = r.gap <= case.wall_tol if case.law.constraint else r.t_z < 0
         row = {"delta": delta, "it": r.iterations, "pairs": pairs, "s": dt, "res": r.residual,
-               "conv": r.converged, "p": p, "a": float(np.mean(contact)),
+               "conv": r.converged, "method": r.method, "p": p, "a": float(np.mean(contact)),
                "pen": float(max(0.0, -np.min(r.gap))) / h_rms if case.law.constraint else 0.0, "u": r.u_z}
         if tamaas is not None:
             row.update(tamaas(p))
@@ -189,95 +192,208 @@ def section_hard_wall(sizes, use_tamaas, lines):
     return summary
 
 
-def section_cohesive(e, lines, hard_s):
-    lines += ["## 2. Cohesive vs hard wall, same profile and ramp (N = 2^%d)" % e, "",
-              "Cohesive laws run FIRE, unchanged by issue 13 (scipy.fft: the ducc0 backend serves the hard wall only so far); the first step "
-              "starts from the flat surface at δ = 1.5 nm (jump-in). ratio = median s/step ÷ the "
-              "hard-wall `cg` median s/step measured in section 1 (same process).", "",
-              "| law | δn (nm) | it/step | pairs/step | s/step | ratio to hard wall | max residual | converged |",
-              "|---|---|---|---|---|---|---|---|"]
-    n = 2**e
-    for phi in (0.01, 0.15):
-        for dn in (0.25e-9, 1e-9):
-            rows = ramp(cohesive_case(n, phi, dn), Settings(tolerance=TOL), D_STEP * np.arange(1, STEPS + 1))
-            pairs = [r["it"] * 1.05 for r in rows]  # one pair per iteration + a check pair every 10
-            s = med(rows, "s")
-            lines.append(f"| φn* = {phi:g} | {dn * 1e9:g} | {med(rows, 'it'):.0f} | {np.median(pairs):.0f} | {s:.3g} | "
-                         f"{s / hard_s:.1f} | {max(r['res'] for r in rows):.2g} | "
-                         f"{sum(r['conv'] for r in rows)}/{len(rows)} |")
-            print(f"  cohesive {phi} {dn}: {s:.3g} s/step", flush=True)
-    lines.append("")
+COHESIVE = ((0.01, 0.25e-9), (0.01, 1e-9), (0.15, 0.25e-9), (0.15, 1e-9))
+
+
+def section_cohesive(sizes, lines):
+    """Cohesive vs hard wall on the same profile and ramp; FIRE (scipy, ducc0) and NCG (scipy, ducc0)."""
+    lines += ["## 2. Cohesive vs hard wall, same profile and ramp", "",
+              "Per N and law: the levers side by side in this process, seconds apart: `fire (scipy)` is the "
+              "cohesive solver before issue 13 (FIRE, scipy.fft), `fire (ducc0)` the FFT-backend lever alone, "
+              "`ncg` the nonlinear preconditioned CG (Settings.cohesive = \"ncg\", the default; `ncg (scipy)` "
+              "its scipy.fft path). Same 10-step ramp as section 1; the first step starts from the flat surface "
+              "at δ = 1.5 nm (jump-in). `hard/s` = the hard-wall `cg` median s/step, re-measured just before each "
+              "N's table; ratio = s/step ÷ hard/s (the target: ≤ 2). `|Δu| / δn`: largest nodal difference "
+              "to the `fire (scipy)` states (tolerance 1e-10 p_ref); `method`: what `Relaxed.method` reported "
+              "(a fallback would read ncg→fire).", ""]
+    summary = {}
+    for e in sizes:
+        n = 2**e
+        deltas = D_STEP * np.arange(1, STEPS + 1)
+        hard_rows = ramp(bg.Case(n, "hard-wall", 0.0), Settings(tolerance=TOL), deltas)
+        hard_s = med(hard_rows, "s")
+        pair = {b: pair_seconds(n, b) for b in ("scipy", gsolver.fft_backend())}
+        lines += [f"N = 2^{e}: hard-wall cg {med(hard_rows, 'it'):.0f} it/step, {med(hard_rows, 'pairs'):.0f} "
+                  f"pairs/step, hard/s = {hard_s:.3g} s/step; pair (s): "
+                  + ", ".join(f"{b} {t:.3g}" for b, t in pair.items()), "",
+                  "| N | law | δn (nm) | code | it/step | pairs/step | s/step | s/pair | s/pair ÷ pair | "
+                  "ratio to hard wall | max residual | converged | max |Δu| / δn | method |", "|" + "---|" * 14]
+        for phi, dn in COHESIVE:
+            case = cohesive_case(n, phi, dn)
+            variants = [("fire", Settings(tolerance=TOL, cohesive="fire"), "scipy"),
+                        ("fire", Settings(tolerance=TOL, cohesive="fire"), None),
+                        ("ncg", Settings(tolerance=TOL), "scipy"),
+                        ("ncg", Settings(tolerance=TOL), None)]
+            base = None
+            for name, st, backend in variants:
+                b = gsolver.fft_backend(backend)
+                if backend is None and b == "scipy":
+                    continue  # no ducc0: the scipy row is all there is
+                rows = ramp(case, st, deltas, backend)
+                base = base or rows
+                s_step, pairs = med(rows, "s"), med(rows, "pairs")
+                du = max(float(np.max(np.abs(r["u"] - q["u"]))) for r, q in zip(rows, base)) / dn
+                methods = "/".join(sorted({r["method"] for r in rows}))
+                lines.append(f"| 2^{e} | φn* = {phi:g} | {dn * 1e9:g} | {name} ({b}) | {med(rows, 'it'):.0f} | "
+                             f"{pairs:.0f} | {s_step:.3g} | {s_step / pairs:.3g} | {s_step / pairs / pair[b]:.2f} | "
+                             f"{s_step / hard_s:.2f} | {max(r['res'] for r in rows):.2g} | "
+                             f"{sum(r['conv'] for r in rows)}/{len(rows)} | {du:.1g} | {methods} |")
+                summary[(e, phi, dn, name, b)] = s_step / hard_s
+                print(f"  2^{e} cohesive {phi} {dn} {name} ({b}): its {[r['it'] for r in rows]} "
+                      f"{s_step:.3g} s/step = {s_step / hard_s:.2f} hard", flush=True)
+        lines.append("")
+    return summary
 
 
 def section_scaling(sizes, lines):
-    lines += ["## 3. Iterations per step vs N (hard-wall CG, same ramp)", "",
-              "| N | median it/step | max it/step | median pairs/step | median s/step |", "|---|---|---|---|---|"]
+    laws_ = (("hard wall (cg)", None), ("φn* = 0.15, δn = 1 nm (ncg)", (0.15, 1e-9)),
+             ("φn* = 0.15, δn = 0.25 nm (ncg)", (0.15, 0.25e-9)))
+    lines += ["## 3. Iterations per step vs N (same ramp; default solvers)", "",
+              "Per law: median it/step (max) and median s/step.", "",
+              "| N | " + " | ".join(f"{name}: it (max) | s/step" for name, _ in laws_) + " |",
+              "|---|" + "---|---|" * len(laws_)]
     for e in sizes:
-        case = bg.Case(2**e, "hard-wall", 0.0)
-        rows = ramp(case, Settings(tolerance=TOL), D_STEP * np.arange(1, STEPS + 1))
-        lines.append(f"| 2^{e} | {med(rows, 'it'):.0f} | {max(r['it'] for r in rows)} | {med(rows, 'pairs'):.0f} | "
-                     f"{med(rows, 's'):.3g} |")
-        print(f"  scaling 2^{e}: {[r['it'] for r in rows]}", flush=True)
+        cells = []
+        for name, law in laws_:
+            case = bg.Case(2**e, "hard-wall", 0.0) if law is None else cohesive_case(2**e, *law)
+            rows = ramp(case, Settings(tolerance=TOL), D_STEP * np.arange(1, STEPS + 1))
+            cells.append(f"{med(rows, 'it'):.0f} ({max(r['it'] for r in rows)}) | {med(rows, 's'):.3g}")
+            print(f"  scaling 2^{e} {name}: {[r['it'] for r in rows]}", flush=True)
+        lines.append(f"| 2^{e} | " + " | ".join(cells) + " |")
     lines.append("")
 
 
 def section_full_contact(e, use_tamaas, lines):
     case = bg.Case(2**e, "hard-wall", 0.0)
     d_max = float(np.mean(case.h) - np.min(case.h))
-    fractions = np.array([0.2, 0.4, 0.6, 0.8, 0.9, 0.95, 0.98, 0.99, 0.995, 0.998, 0.999, 0.9995])
+    fractions = np.array([0.2, 0.4, 0.6, 0.8, 0.9, 0.95, 0.98, 0.99, 0.995, 0.998, 0.999, 0.9995, 0.9999, 0.99995,
+                          0.99999])
     tam = tamaas_solver(case) if use_tamaas else None
     rows = ramp(case, Settings(tolerance=TOL), fractions * d_max, tamaas=tam)
-    lines += [f"## 4. Towards full contact (hard wall, N = 2^{e}, δ_max = mean h − min h = {d_max * 1e9:.3g} nm)", "",
-              "| δ/δ_max | a_rel | p/E* | CG it | pairs | s | KKT residual | converged | Tamaas s | Tamaas gap spread (h_rms) |",
-              "|---|---|---|---|---|---|---|---|---|---|"]
+    coh = ramp(cohesive_case(2**e, 0.15, 1e-9), Settings(tolerance=TOL), fractions * d_max)
+    lines += [f"## 4. Towards full contact (N = 2^{e}, δ_max = mean h − min h = {d_max * 1e9:.3g} nm)", "",
+              "Hard wall (CG, with Tamaas on the same mean pressures) and the cohesive law φn* = 0.15, δn = 1 nm "
+              "(NCG; a_rel: nodes in compression) on the same ramp of penetrations δ/δ_max.", "",
+              "| δ/δ_max | a_rel | p/E* | CG it | pairs | s | KKT residual | converged | Tamaas s | "
+              "Tamaas gap spread (h_rms) | cohesive a_rel | NCG it | NCG residual | NCG converged (method) |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     e_star = case.model.contact_modulus
-    for f, r in zip(fractions, rows):
+    for f, r, c in zip(fractions, rows, coh):
         tcols = f"{r['tm_s']:.3g} | {r['tm_spread']:.1g}" if use_tamaas else "– | –"
         lines.append(f"| {f:g} | {r['a']:.3f} | {r['p'] / e_star:.3g} | {r['it']} | {r['pairs']:.0f} | {r['s']:.3g} | "
-                     f"{r['res']:.2g} | {r['conv']} | {tcols} |")
+                     f"{r['res']:.2g} | {r['conv']} | {tcols} | {c['a']:.3f} | {c['it']} | {c['res']:.2g} | "
+                     f"{c['conv']} ({c['method']}) |")
     lines.append("")
     print(f"  full contact: a_rel {[round(r['a'], 3) for r in rows]} its {[r['it'] for r in rows]}", flush=True)
+    print(f"  full contact cohesive: a_rel {[round(r['a'], 3) for r in coh]} its {[r['it'] for r in coh]}", flush=True)
 
 
 FIG3 = (("hard-wall", 0.0), ("cohesive", 0.001), ("cohesive", 0.005), ("cohesive", 0.01), ("cohesive", 0.05),
         ("cohesive", 0.15))
 
 
-def section_fig3(e, window, lines):
-    """Steps/CPU-s on a window of the Fig. 3 ramp (dU = 0.1 nm) at δ ≈ 10 nm, per interface."""
+def fig3_window(e, law, phi, window, settings, realization=0, approach=None):
+    """(CPU s per step list, iterations list, approach state): the Fig. 3 ramp window at δ ≈ 10 nm."""
     n = 2**e
-    lines += [f"## 5. Fig. 3 study projection (N = 2^{e}, dU = 0.1 nm: 200 steps to δ = 20 nm)", "",
-              f"Each interface: approach with 1 nm steps (tolerance 1e-6, untimed) to δ = 10 nm, then {window} timed "
-              "steps of 0.1 nm at tolerance 1e-10, warm-started as contact.ramp does; CPU time (process_time) "
-              "per step. Projection: 10 realizations × 200 steps per interface on 2 cores (ideal "
-              "process-level scaling: two independent single-threaded processes).", "",
-              "| interface | it/step | CPU s/step | steps per CPU-s |", "|---|---|---|---|"]
-    total = 0.0
-    for law, phi in FIG3:
-        case = bg.Case(n, law, phi)
-        st = Settings(tolerance=TOL)
+    case = bg.Case(n, law, phi)
+    if realization:
+        case.h = bg.surfaces.profile(case.scene.surface, realization)
+        case.model = bg.build_model(case.scene, case.h)
+        case.law = bg.InterfaceLaw(case.model)
+    if approach is None:
         coarse = Settings(tolerance=1e-6)
         u = np.zeros((1, n // 2 + 1), complex)
         start = -case.d0 if law == "cohesive" else 0.0
         for delta in np.arange(start, 10e-9 - 0.2e-9, 1e-9):
             u = case.relax(delta, u, coarse).u_hat
-        prev = u
-        u = case.relax(10e-9 - 0.1e-9, u, st).u_hat
-        cpu, its = [], []
-        for k in range(window):
-            guess = 2 * u - prev
-            t = time.process_time()
-            r = case.relax(10e-9 + k * 0.1e-9, guess, st)
-            cpu.append(time.process_time() - t)
-            its.append(r.iterations)
-            prev, u = u, r.u_hat
-        c = float(np.mean(cpu))
-        total += c * 200 * 10
+        approach = u
+    prev = approach
+    u = case.relax(10e-9 - 0.1e-9, approach, settings).u_hat
+    cpu, its, methods = [], [], set()
+    for k in range(window):
+        guess = 2 * u - prev
+        t = time.process_time()
+        r = case.relax(10e-9 + k * 0.1e-9, guess, settings)
+        cpu.append(time.process_time() - t)
+        its.append(r.iterations)
+        methods.add(r.method)
+        prev, u = u, r.u_hat
+    return cpu, its, approach, methods
+
+
+def section_fig3(e, window, lines):
+    """Steps/CPU-s on a window of the Fig. 3 ramp (dU = 0.1 nm) at δ ≈ 10 nm, per interface."""
+    lines += [f"## 5. Fig. 3 study projection (N = 2^{e}, dU = 0.1 nm: 200 steps to δ = 20 nm)", "",
+              f"Each interface: approach with 1 nm steps (tolerance 1e-6, untimed) to δ = 10 nm, then {window} timed "
+              "steps of 0.1 nm at tolerance 1e-10, warm-started as contact.ramp does; CPU time (process_time) "
+              "per step. Cohesive interfaces: the same window from the same approach state with the cohesive "
+              "solver before issue 13 (FIRE, scipy.fft) and the default now (NCG, default FFT backend). "
+              "Projection: 10 realizations × 200 steps per interface on 2 cores (ideal process-level scaling; "
+              "section 6 measures it).", "",
+              "| interface | code | it/step | CPU s/step | steps per CPU-s |", "|---|---|---|---|---|"]
+    totals = {"before": 0.0, "now": 0.0}
+    for law, phi in FIG3:
         name = "hard wall" if law == "hard-wall" else f"φn* = {phi:g}"
-        lines.append(f"| {name} | {np.median(its):.0f} | {c:.3g} | {1 / c:.3g} |")
-        print(f"  fig3 {name}: {c:.3g} CPU s/step", flush=True)
-    lines += ["", f"Projected: {total:.0f} CPU-s = {total / 3600:.2f} CPU-hours; on 2 cores "
-              f"{total / 2 / 3600:.2f} h wall (ideal scaling).", ""]
+        codes = [("now", "cg" if law == "hard-wall" else "ncg", Settings(tolerance=TOL), None)]
+        if law == "cohesive":
+            codes.insert(0, ("before", "fire (scipy)", Settings(tolerance=TOL, cohesive="fire"), "scipy"))
+        approach = None
+        for tag, code, st, backend in codes:
+            if backend:
+                os.environ["GFMD_FFT"] = backend
+            cpu, its, approach, methods = fig3_window(e, law, phi, window, st, approach=approach)
+            os.environ.pop("GFMD_FFT", None)
+            c = float(np.mean(cpu))
+            if law == "hard-wall":
+                totals["before"] += c * 200 * 10
+            totals[tag] += c * 200 * 10
+            lines.append(f"| {name} | {code} ({'/'.join(sorted(methods))}) | {np.median(its):.0f} | {c:.3g} | "
+                         f"{1 / c:.3g} |")
+            print(f"  fig3 {name} {code}: {c:.3g} CPU s/step, its {its}", flush=True)
+    lines.append("")
+    for tag, label in (("before", "cohesive FIRE (scipy.fft), hard wall cg"), ("now", "default solvers")):
+        total = totals[tag]
+        lines.append(f"Projected, {label}: {total:.0f} CPU-s = {total / 3600:.2f} CPU-hours; on 2 cores "
+                     f"{total / 2 / 3600:.2f} h wall (ideal scaling).")
+    lines.append("")
+    return totals
+
+
+def _parallel_job(args):
+    e, realization, window = args
+    t = time.perf_counter()
+    fig3_window(e, "cohesive", 0.15, window, Settings(tolerance=TOL), realization=realization)
+    return time.perf_counter() - t
+
+
+def section_parallel(e, window, lines, fig3_totals=None):
+    """Process-level parallel efficiency: 2 realizations one after the other, then in 2 processes."""
+    import multiprocessing as mp
+
+    jobs = [(e, 0, window), (e, 1, window)]
+    t0 = time.perf_counter()
+    serial = [_parallel_job(j) for j in jobs]
+    t_serial = time.perf_counter() - t0
+    ctx = mp.get_context("fork")
+    t0 = time.perf_counter()
+    with ctx.Pool(2) as pool:
+        each = pool.map(_parallel_job, jobs)
+    t_par = time.perf_counter() - t0
+    eff = t_serial / (2 * t_par)
+    lines += [f"## 6. Parallel efficiency, 2 realizations on 2 cores (N = 2^{e}, φn* = 0.15, NCG)", "",
+              f"Each job: the section-5 approach and {window}-step window of realization 0 or 1 (the work of "
+              "`workbench.ensemble.run_ensemble` with output.workers = 2, one realization per process). Serial: "
+              "one after the other in this process; parallel: a 2-process pool (fork), wall time incl. start-up. "
+              "Other jobs share the 2 cores (load average in the header and at the end): the efficiency is a "
+              "lower bound.", "",
+              "| serial wall (s) | per job serial (s) | parallel wall (s) | per job in parallel (s) | efficiency "
+              "t_serial / (2 t_parallel) |", "|---|---|---|---|---|",
+              f"| {t_serial:.1f} | {serial[0]:.1f}, {serial[1]:.1f} | {t_par:.1f} | {each[0]:.1f}, {each[1]:.1f} | "
+              f"{eff:.2f} |", ""]
+    if fig3_totals:
+        total = fig3_totals["now"]
+        lines += [f"Fig. 3 projection with this efficiency: {total / (2 * eff) / 3600:.2f} h wall on 2 cores.", ""]
+    print(f"  parallel: serial {t_serial:.1f} s, parallel {t_par:.1f} s, efficiency {eff:.2f}", flush=True)
 
 
 def main(argv=None):
@@ -285,7 +401,8 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true", help="N = 2^14 only, short sections (≈ 1 min)")
     ap.add_argument("--no-tamaas", action="store_true", help="skip the Tamaas columns")
     ap.add_argument("--out", type=Path, default=Path(__file__).resolve().parent / "results")
-    ap.add_argument("--sections", default="1,2,3,4,5")
+    ap.add_argument("--sections", default="1,2,3,4,5,6")
+    ap.add_argument("--suffix", default="", help="appended to the results file name")
     a = ap.parse_args(argv)
     use_tamaas = tm is not None and not a.no_tamaas
     if tm is None and not a.no_tamaas:
@@ -296,32 +413,30 @@ def main(argv=None):
     info["fft backend"] = gsolver.fft_backend()
     info["tamaas"] = tm.__version__ if tm is not None else "not installed"
     sections = {int(x) for x in a.sections.split(",")}
-    lines = ["# GFMD vs Tamaas, hard-wall solver levers" + (" (quick)" if a.quick else ""), "",
+    lines = ["# GFMD vs Tamaas, hard-wall and cohesive solver levers" + (" (quick)" if a.quick else ""), "",
              "Machine: " + "; ".join(f"{k} = {v}" for k, v in info.items()), "",
              "Generated by `python benchmarks/bench_vs_tamaas.py" + (" --quick" if a.quick else "") +
              "`; every ratio is measured within this one process (2 shared cores, noisy).", ""]
     t0 = time.perf_counter()
     sizes = (14,) if a.quick else (16, 17)
-    hard = {}
     if 1 in sections:
-        hard = section_hard_wall(sizes, use_tamaas, lines)
+        section_hard_wall(sizes, use_tamaas, lines)
     if 2 in sections:
-        e = 14 if a.quick else 16
-        if (e, "cg") not in hard:
-            case = bg.Case(2**e, "hard-wall", 0.0)
-            hard[(e, "cg")] = med(ramp(case, Settings(tolerance=TOL), D_STEP * np.arange(1, STEPS + 1)), "s")
-        section_cohesive(e, lines, hard[(e, "cg")])
+        section_cohesive(sizes, lines)
     if 3 in sections:
         section_scaling(range(12, 15) if a.quick else range(12, 19), lines)
     if 4 in sections:
         section_full_contact(12 if a.quick else 14, use_tamaas, lines)
+    totals = None
     if 5 in sections:
-        section_fig3(12 if a.quick else 17, 3 if a.quick else 10, lines)
+        totals = section_fig3(12 if a.quick else 17, 3 if a.quick else 10, lines)
+    if 6 in sections:
+        section_parallel(12 if a.quick else 17, 3 if a.quick else 10, lines, totals)
     lines.append(f"Total benchmark time {time.perf_counter() - t0:.0f} s; load average at end "
                  + " ".join(f"{v:.2f}" for v in os.getloadavg()) + ".")
     text = "\n".join(lines) + "\n"
     a.out.mkdir(parents=True, exist_ok=True)
-    (a.out / f"bench_vs_tamaas{'_quick' if a.quick else ''}.md").write_text(text)
+    (a.out / f"bench_vs_tamaas{'_quick' if a.quick else ''}{a.suffix}.md").write_text(text)
     print(text)
 
 

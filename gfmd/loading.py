@@ -13,7 +13,7 @@ from functools import partial
 
 import numpy as np
 
-from contact.laws import CompressionOverflowError
+from contact.laws import CompressionOverflowError, NormalCohesive
 from contact.loading import indenter_surface
 from contact.model import build_model
 from contact.ramp import StepSolution, run_ramp
@@ -71,6 +71,10 @@ def integrator(physics, settings):
     if physics.law.constraint and settings.method == "fire" and settings.hard_wall == "cg":
         return ("integrator: projected preconditioned conjugate gradients on the mass-weighted modes (hard wall; "
                 "solver.method = fire selects it, Settings.hard_wall = \"fire\" the FIRE projection)")
+    if (settings.method == "fire" and settings.cohesive == "ncg" and not physics.tangential
+            and type(physics.law) is NormalCohesive):
+        return ("integrator: nonlinear preconditioned conjugate gradients with a Newton line search (normal-only "
+                "cohesive law; FIRE as fallback, Settings.cohesive = \"fire\" selects FIRE)")
     if settings.method == "verlet":
         return "integrator: damped Störmer–Verlet (seed §2)" + (", projected onto the wall" if physics.law.constraint
                                                                  else "")

@@ -71,7 +71,8 @@ MUTATIONS = (
     Mutation("stop-early-cohesive", "gfmd/solver.py",
              "/ model.reference_traction\n            if residual < settings.tolerance:",
              "/ model.reference_traction\n            if residual < 1e4 * settings.tolerance:",
-             "GFMD cohesive FIRE (normal and coupled law) stops at 10⁴ × its tolerance", count=2),
+             "GFMD cohesive FIRE (normal and coupled law), NCG and the FIRE hard wall stop at 10⁴ × their "
+             "tolerance", count=3),
     Mutation("stop-early-hard-wall", "gfmd/solver.py",
              "return _relax_hard_wall_cg(model, law, z_ind, u_hat, settings, wall_tolerance)",
              "return _relax_hard_wall_cg(model, law, z_ind, u_hat, replace(settings, tolerance=1e4 * "

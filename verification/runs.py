@@ -58,14 +58,25 @@ def run_fe(scene, order=2):
     return _converged(lambda: run_method(with_method(scene, "fe", order=order)), f"fe-p{order}")
 
 
-def _gfmd(integrator):
+def _gfmd(integrator, name=None, **pinned):
+    """GFMD with solver.method = integrator; `pinned`: `gfmd.solver.Settings` fields that pin the
+    integrator itself (cohesive="fire", hard_wall="fire": FIRE, not the CG / NCG that method "fire"
+    runs by default on the hard wall and the normal-only cohesive law)."""
     def run(scene, realization=0):
-        return run_method(with_method(scene, "gfmd").replace(**{"solver.method": integrator}), realization)
+        scene = with_method(scene, "gfmd").replace(**{"solver.method": integrator})
+        if not pinned:
+            return run_method(scene, realization)
+        from gfmd.loading import run_realization
+        from gfmd.solver import Settings
+        settings = Settings(method=integrator, tolerance=scene.solver.tolerance,
+                            max_iterations=scene.solver.max_iterations, **pinned)
+        return run_realization(scene, realization, settings=settings, method_name=name)
     return run
 
 
 #: method name -> callable(scene, realization=0) -> contact.result.Result
-METHODS: dict[str, Callable] = {"gfmd-fire": _gfmd("fire"), "gfmd-verlet": _gfmd("verlet")}
+METHODS: dict[str, Callable] = {"gfmd-fire": _gfmd("fire"), "gfmd-verlet": _gfmd("verlet"),
+                                "gfmd-fire-only": _gfmd("fire", "gfmd-fire-only", cohesive="fire", hard_wall="fire")}
 
 
 @dataclass

@@ -20,8 +20,13 @@ Cases (`verification.scenes.small_sinusoid`, one parameter set a line in CASES):
   the damped Verlet (uniform mass, per-mode damping, projection) by `Settings.method`.
   The test fails on identical iteration counts and fields, so that a regression that
   routes both to one integrator is not mistaken for evidence about Verlet.
-* cohesive sinusoid (φn* = 0.15, normal-only CZ): here Verlet is a different
-  integrator, so this case really compares the two.
+* cohesive sinusoid (φn* = 0.15, normal-only CZ): `gfmd.solver._relax_cohesive` runs FIRE or
+  Verlet; the same identity check applies.
+
+"FIRE" is `verification.runs` method "gfmd-fire-only": solver.method = "fire" with the
+Settings that pin FIRE itself (hard_wall = cohesive = "fire"); the default under method "fire"
+is the projected CG (hard wall) and the NCG (normal-only cohesive law), which
+tests/test_gfmd_fast.py and tests/test_solver_ncg.py compare with FIRE.
 
 Cost: < 2 s for both cases.
 """
@@ -40,7 +45,7 @@ from verification.runs import run_methods
 from verification.scenes import small_sinusoid
 
 SAFETY = 10.0
-METHODS = ("gfmd-fire", "gfmd-verlet")
+METHODS = ("gfmd-fire-only", "gfmd-verlet")  # FIRE itself (Settings cohesive/hard_wall = "fire"), not CG/NCG
 TOL_SOURCE = ("a-priori bound from the solver stopping rule max|r| < τ·p_ref: "
               "SAFETY·2τ·p_ref·√n/‖ref‖₂ with SAFETY = 10 (module docstring of "
               "verification/test_gfmd_self_consistency.py)")
