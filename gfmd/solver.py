@@ -83,6 +83,7 @@ class _Fft:
 
     def __init__(self, n, backend=None):
         self.n, self.backend, self.calls = n, fft_backend(backend), 0
+        self._spectrum = None  # `apply_to`'s preallocated spectrum (ducc0)
 
     def rfft(self, x):
         self.calls += 1
@@ -101,6 +102,20 @@ class _Fft:
         x_hat = self.rfft(x)
         x_hat *= kernel
         return self.irfft(x_hat)
+
+    def apply_to(self, kernel, x, out):
+        """out ← irfft(kernel · rfft(x)) for 1-D x: one pair; with ducc0 single-threaded and without
+        allocating (preallocated spectrum, c2r into `out`, overwriting the spectrum)."""
+        self.calls += 2
+        if self.backend == "ducc0":
+            if self._spectrum is None:
+                self._spectrum = np.empty(self.n // 2 + 1, complex)
+            spectrum = _ducc_fft.r2c(x, axes=(-1,), forward=True, out=self._spectrum, nthreads=1)
+            spectrum *= kernel
+            return _ducc_fft.c2r(spectrum, axes=(-1,), forward=False, lastsize=self.n, inorm=2, out=out,
+                                 nthreads=1, allow_overwriting_input=True)
+        out[...] = scipy.fft.irfft(kernel * scipy.fft.rfft(x), n=self.n)
+        return out
 
     @property
     def pairs(self):
@@ -807,35 +822,40 @@ def _relax_hard_wall_cg(model, law, z_ind, u_hat, settings, wall_tolerance):
     p_ref = model.reference_traction
     tol = settings.tolerance * p_ref
     gamma2 = settings.proportioning**2
+    z_ind = np.ascontiguousarray(z_ind, dtype=float)
 
     u = fft.irfft(np.ascontiguousarray(u_hat[-1]))
     shift = _mean_shift(u, z_ind) if clamp else 0.0
     u = np.minimum(u + shift, z_ind)
-    ku = fft.apply(k, u)
-    active = z_ind - u <= wall_tolerance
-    d = np.zeros(n)
+    # work arrays, allocated once; the active set A (a few % of the nodes at most) is kept as indices,
+    # so that everything it touches costs O(|A|) and the loop makes no boolean-mask copies of length N
+    ku, r, s, d, kd, tmp = (np.empty(n) for _ in range(6))
+    d[:] = 0.0
+    through = np.empty(n, bool)
+    fft.apply_to(k, u, ku)
+    act = np.flatnonzero(z_ind - u <= wall_tolerance)
     rz_old = 1.0
     restart, checked = True, False
     residual, converged, message = np.inf, False, ""
     it = 0
     while it < settings.max_iterations:
-        free = ~active
-        n_free = int(np.count_nonzero(free))
-        p_far = float(np.mean(ku[free])) if clamp and n_free else 0.0
-        force = p_far - ku
-        r = np.where(active, 0.0, force)
-        pulling = active & (force < 0)
+        n_free = n - act.size
+        p_far = (float(np.sum(ku)) - float(np.sum(ku[act]))) / n_free if clamp and n_free else 0.0
+        np.subtract(p_far, ku, out=r)  # force (`_wall_balance`); on A, the wall's load
+        force_act = r[act]
+        r[act] = 0.0
+        pull = force_act < 0
         r_free2 = _dot(r, r)
-        if pulling.any():
-            f_pull = force[pulling]
+        if pull.any():
+            f_pull = force_act[pull]
             pull2 = _dot(f_pull, f_pull)
             if pull2 > gamma2 * r_free2 or r_free2 < tol * tol:  # proportioning: release them
-                active &= ~pulling
+                act = act[~pull]
                 restart = True
                 continue
-        worst = float(np.max(np.abs(r))) if n_free else 0.0
+        worst = max(float(np.max(r)), -float(np.min(r))) if n_free else 0.0
         if worst < tol and not checked:  # candidate: the solver's residual with a fresh K u
-            ku = fft.apply(k, u)
+            fft.apply_to(k, u, ku)
             net, _ = _wall_net_force_from(model, ku, z_ind - u <= wall_tolerance)
             residual = float(np.max(np.abs(net))) / p_ref
             if residual < settings.tolerance:
@@ -848,35 +868,42 @@ def _relax_hard_wall_cg(model, law, z_ind, u_hat, settings, wall_tolerance):
             continue
         it += 1
         checked = False
-        s = fft.apply(g, r)
-        s[active] = 0.0
-        if clamp:
-            s[free] -= float(np.mean(s[free]))
+        fft.apply_to(g, r, s)
+        s[act] = 0.0
+        if clamp:  # mean zero over F (A stays 0)
+            s -= float(np.sum(s)) / n_free
+            s[act] = 0.0
         rz = _dot(r, s)
         if restart or rz_old <= 0:
-            d = s
+            np.copyto(d, s)
             restart = False
         else:
-            d = s + (rz / rz_old) * d
+            d *= rz / rz_old
+            d += s
         rz_old = rz
-        kd = fft.apply(k, d)
+        fft.apply_to(k, d, kd)
         curvature = _dot(d, kd)
         if not curvature > 0:
             message = "diverged: non-positive curvature along the search direction"
             break
         alpha = rz / curvature
-        u += alpha * d
-        ku += alpha * kd
-        through = u > z_ind
+        np.multiply(d, alpha, out=tmp)
+        u += tmp
+        np.multiply(kd, alpha, out=tmp)
+        ku += tmp
+        np.greater(u, z_ind, out=through)
         if through.any():  # Polonsky–Keer: keep the step, put the nodes onto the wall, restart
-            active |= through
             if clamp:
+                active = np.zeros(n, bool)
+                active[act] = True
+                active |= through
                 shift = _mean_shift(u, z_ind, active)
                 u = np.where(active, z_ind, np.minimum(u + shift, z_ind))
-                active |= u >= z_ind
+                act = np.flatnonzero(u >= z_ind)
             else:
                 np.minimum(u, z_ind, out=u)
-            ku = fft.apply(k, u)
+                act = np.union1d(act, np.flatnonzero(through))
+            fft.apply_to(k, u, ku)
             restart = True
         if not np.isfinite(alpha):
             message = "diverged: non-finite step"
