@@ -853,7 +853,10 @@ def _relax_hard_wall_cg(model, law, z_ind, u_hat, settings, wall_tolerance):
                 act = act[~pull]
                 restart = True
                 continue
-        worst = max(float(np.max(r)), -float(np.min(r))) if n_free else 0.0
+        # max |r| < tol needs Σ r² < n_free·tol²: only then is the max worth a pass over r
+        worst = max(float(np.max(r)), -float(np.min(r))) if n_free and r_free2 < n_free * tol * tol else np.inf
+        if n_free == 0:
+            worst = 0.0
         if worst < tol and not checked:  # candidate: the solver's residual with a fresh K u
             fft.apply_to(k, u, ku)
             net, _ = _wall_net_force_from(model, ku, z_ind - u <= wall_tolerance)
