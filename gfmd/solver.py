@@ -327,7 +327,7 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
     return _relax_cohesive(model, law, z_ind, u_hat, settings, wall_tolerance)
 
 
-#: FIRE iterations a coupled-law step gets before the damped-Verlet fallback. Measured (layer
+#: FIRE iterations a coupled-law step gets before the Newton–Krylov / damped-Verlet fallback. Measured (layer
 #: D = L, sinusoid a = 50 nm, φn* = 0.01, c = 0.5, ν = 0.3): FIRE needs ≤ 790 iterations per step
 #: up to δ = 32 nm (N = 64; ≤ 350 at N = 128), then 950, 7 580, 33 060 and fails (residual 1e-2 to
 #: 1e2 p_ref) from δ ≈ 39 nm (N = 128), where Verlet converges in 500–1 140. Budget ≈ 2.5 × 790.
@@ -363,8 +363,10 @@ def _relax_coupled_fire(model, law, z_ind, u_hat, settings, wall_tolerance):
 
     So FIRE gets min(COUPLED_FIRE_BUDGET, max_iterations/2) iterations; then Newton–Krylov
     (`_relax_coupled_newton`, the law's tangent `jacobian_coupled`, no dynamics) from the
-    step's guess, then from FIRE's end state; then Verlet restarts the step from the guess
-    with the iterations left. The fallbacks are stated in `Relaxed.message` and `Relaxed.method`.
+    step's guess, then from FIRE's end state. Newton converges to unstable equilibria as
+    well: its state is accepted only if the eigenvalues of the tangent nearest 0 have
+    Re λ > 0 (`_coupled_stability`, the FE reference's criterion), else it is rejected and
+    said so. Then Verlet restarts the step from the guess with the iterations left. The fallbacks are stated in `Relaxed.message` and `Relaxed.method`.
     """
     budget = min(COUPLED_FIRE_BUDGET, settings.max_iterations // 2)
     first = _relax_cohesive(model, law, z_ind, u_hat, replace(settings, max_iterations=budget), wall_tolerance)
@@ -380,6 +382,12 @@ def _relax_coupled_fire(model, law, z_ind, u_hat, settings, wall_tolerance):
         used += newton.iterations
         pairs += newton.fft_pairs
         if newton.converged:
+            lowest = _coupled_stability(model, law, z_ind, newton.u_hat)
+            if lowest is not None and lowest <= 0.0:  # not the state damped dynamics would settle in
+                notes.append(f"Newton–Krylov from the {name} reached an equilibrium that is not locally stable "
+                             f"(an eigenvalue of the tangent with Re λ = {lowest / law.k_int_z:.3g} φn/δn²: a slip "
+                             "or snap-through instability), rejected")
+                continue
             newton.iterations, newton.fft_pairs = used, pairs
             newton.message = "; ".join(notes) + f", Newton–Krylov from the {name} converged"
             newton.method = "fire→newton"
@@ -393,6 +401,74 @@ def _relax_coupled_fire(model, law, z_ind, u_hat, settings, wall_tolerance):
     second.message = "; ".join(notes) + "; restarted with damped Verlet: " + (second.message or "converged")
     second.method = "fire→newton→verlet"
     return second
+
+
+def _coupled_operators(model, law, z_ind, u, fft):
+    """(A, M⁻¹, project) at displacements u (c, N): the coupled balance's tangent A = K + D as a
+    scipy LinearOperator on flattened (c, N) nodal fields (D: the nodal 2×2 law tangent, rows and
+    columns (x, z); ∂f/∂u = −A), the inverse FIRE mass M⁻¹ (`_Elastic` with ⟨k_loc⟩) as its
+    preconditioner, and the projection onto zero-mean fields where the half-plane clamps the mean."""
+    from scipy.sparse.linalg import LinearOperator
+
+    n, c = model.nodes, model.components
+    clamp = model.half_plane
+    stiff = _Elastic(model, 0.0, 0.0)
+    mass = _Elastic(model, *law.mean_stiffness(u, z_ind))
+    d_nn, d_nt, d_tn, d_tt = law.law.tangent(z_ind - u[-1], -u[0])
+
+    def project(x):
+        return x - x.mean(axis=1, keepdims=True) if clamp else x
+
+    def a_times(v):
+        v = project(v.reshape(c, n))
+        vh = fft.rfft(v)
+        if clamp:
+            vh[:, 0] = 0.0
+        out = fft.irfft(stiff.stiffness(vh))
+        out += np.stack([d_tt * v[0] + d_tn * v[1], d_nt * v[0] + d_nn * v[1]])
+        return project(out).ravel()
+
+    def m_inv(v):
+        vh = fft.rfft(v.reshape(c, n))
+        if clamp:
+            vh[:, 0] = 0.0
+        return fft.irfft(mass.inverse_mass_times(vh)).ravel()
+
+    size = c * n
+    return (LinearOperator((size, size), matvec=a_times, dtype=float),
+            LinearOperator((size, size), matvec=m_inv, dtype=float), project)
+
+
+#: eigenvalues of the tangent nearest 0 that `_coupled_stability` computes (shift-invert Arnoldi)
+COUPLED_STABILITY_EIGENVALUES = 6
+
+
+def _coupled_stability(model, law, z_ind, u_hat):
+    """Smallest Re λ (Pa/m) among the COUPLED_STABILITY_EIGENVALUES eigenvalues nearest 0 of the
+    tangent J = K + D at u_hat (None if Arnoldi found none). The FE reference's test of a coupled
+    equilibrium (`reference.fem.solver.locally_stable`: every eigenvalue of W⁻¹J has Re λ > 0,
+    W the nodal weights, uniform here) restricted to the eigenvalues a fold or a slip instability
+    sends through 0: shift-invert ARPACK on J⁻¹, each solve by GMRES (M⁻¹-preconditioned)."""
+    from scipy.sparse.linalg import ArpackNoConvergence, LinearOperator, eigs, gmres
+
+    fft = _Fft(model.nodes)
+    a_op, m_op, project = _coupled_operators(model, law, z_ind, fft.irfft(u_hat), fft)
+    shape = (model.components, model.nodes)
+
+    def solve(b):
+        x, _ = gmres(a_op, project(b.reshape(shape)).ravel(), M=m_op, rtol=1e-8,
+                     restart=COUPLED_GMRES_RESTART * 2, maxiter=COUPLED_GMRES_CYCLES * 4)
+        return x
+
+    inverse = LinearOperator(a_op.shape, matvec=solve, dtype=float)
+    k = COUPLED_STABILITY_EIGENVALUES
+    try:
+        mu = eigs(inverse, k=k, which="LM", return_eigenvectors=False, tol=1e-4, maxiter=100 * k)
+    except ArpackNoConvergence as exc:
+        mu = exc.eigenvalues
+    mu = np.asarray(mu)
+    mu = mu[np.isfinite(mu) & (np.abs(mu) > 0)]
+    return float(np.min((1.0 / mu).real)) if mu.size else None
 
 
 def _relax_coupled_newton(model, law, z_ind, u_hat, settings, wall_tolerance):
@@ -409,7 +485,7 @@ def _relax_coupled_newton(model, law, z_ind, u_hat, settings, wall_tolerance):
     GMRES's products. Not converged (message says why) after COUPLED_NEWTON_ITERATIONS or
     when the line search finds no decrease.
     """
-    from scipy.sparse.linalg import LinearOperator, gmres  # only this fallback needs it
+    from scipy.sparse.linalg import gmres  # only this fallback needs it
 
     n, c = model.nodes, model.components
     fft = _Fft(n)
@@ -434,7 +510,7 @@ def _relax_coupled_newton(model, law, z_ind, u_hat, settings, wall_tolerance):
         return x - x.mean(axis=1, keepdims=True) if clamp else x
 
     try:
-        f_hat, f, u = force(u_hat)
+        _, f, u = force(u_hat)
     except laws.CompressionOverflowError as exc:
         out = _finish(model, law, z_ind, u_hat, 0, np.inf, False, f"diverged: {exc}", wall_tolerance)
         out.method = "newton"
@@ -446,29 +522,8 @@ def _relax_coupled_newton(model, law, z_ind, u_hat, settings, wall_tolerance):
             message = f"not converged after {it} Newton iterations (residual {residual:.3g} p_ref)"
             break
         it += 1
-        d_nn, d_nt, d_tn, d_tt = law.law.tangent(z_ind - u[-1], -u[0])
-        mass = _Elastic(model, *law.mean_stiffness(u, z_ind))
-        d_blocks = ((d_tt, d_tn), (d_nt, d_nn))  # rows (x, z), columns (x, z): ∂t/∂u = −D
-
-        def a_times(v, d_blocks=d_blocks):
-            v = project(v.reshape(c, n))
-            vh = fft.rfft(v)
-            if clamp:
-                vh[:, 0] = 0.0
-            out = fft.irfft(stiff.stiffness(vh))
-            out += np.stack([d_blocks[0][0] * v[0] + d_blocks[0][1] * v[1],
-                             d_blocks[1][0] * v[0] + d_blocks[1][1] * v[1]])
-            return project(out).ravel()
-
-        def m_inv(v, mass=mass):
-            vh = fft.rfft(v.reshape(c, n))
-            if clamp:
-                vh[:, 0] = 0.0
-            return fft.irfft(mass.inverse_mass_times(vh)).ravel()
-
-        size = c * n
-        du, _ = gmres(LinearOperator((size, size), matvec=a_times, dtype=float), f.ravel(),
-                      M=LinearOperator((size, size), matvec=m_inv, dtype=float), rtol=COUPLED_NEWTON_FORCING,
+        a_op, m_op, _ = _coupled_operators(model, law, z_ind, u, fft)
+        du, _ = gmres(a_op, f.ravel(), M=m_op, rtol=COUPLED_NEWTON_FORCING,
                       restart=COUPLED_GMRES_RESTART, maxiter=COUPLED_GMRES_CYCLES)
         du = project(du.reshape(c, n))
         largest = float(np.max(np.abs(du)))
@@ -495,7 +550,7 @@ def _relax_coupled_newton(model, law, z_ind, u_hat, settings, wall_tolerance):
             message = f"Newton line search found no decrease of |f| (iteration {it}, residual {residual:.3g} p_ref)"
             break
         u_hat = u_hat + step * du_hat
-        f_hat, f, u = trial
+        _, f, u = trial
         residual = float(np.max(np.abs(f))) / p_ref
         if not np.isfinite(residual):
             message = "diverged: non-finite force residual"

@@ -99,7 +99,25 @@ def test_newton_agrees_with_fire_and_is_a_fixed_point(fig8_step):
 
 
 def test_newton_failure_is_reported(fig8_step, monkeypatch):
-    cell, previous, current, (_, z100) = fig8_step
+    cell, _previous, current, (_, z100) = fig8_step
     monkeypatch.setattr(gs, "COUPLED_NEWTON_ITERATIONS", 1)
     r = gs._relax_coupled_newton(cell.physics, cell.law, z100, current, cell.settings, 0.0)
     assert not r.converged and "Newton" in r.message and r.residual > cell.settings.tolerance
+
+
+def test_newton_equilibrium_is_locally_stable(fig8_step):
+    """The accepted state passes the FE reference's test on the eigenvalues nearest 0 (measured 0.030 φn/δn²)."""
+    cell, previous, current, (_, z100) = fig8_step
+    eq = gs._relax_coupled_newton(cell.physics, cell.law, z100, 2 * current - previous, cell.settings, 0.0)
+    lowest = gs._coupled_stability(cell.physics, cell.law, z100, eq.u_hat)
+    assert lowest is not None and 0.01 < lowest / cell.law.k_int_z < 0.1
+
+
+def test_unstable_newton_equilibrium_is_rejected(fig8_step, monkeypatch):
+    """A Newton state that fails the stability test is not accepted: the step goes on to Verlet, says why."""
+    cell, previous, current, (_, z100) = fig8_step
+    monkeypatch.setattr(gs, "_coupled_stability", lambda *a: -1.0 * cell.law.k_int_z)
+    s = replace(cell.settings, max_iterations=4000)
+    r = gs.relax(cell.physics, cell.law, z100, 2 * current - previous, s)
+    assert not r.converged and r.method == "fire→newton→verlet"
+    assert "not locally stable" in r.message and "Verlet" in r.message
