@@ -78,6 +78,9 @@ def integrator(physics, settings):
     if settings.method == "verlet":
         return "integrator: damped Störmer–Verlet (seed §2)" + (", projected onto the wall" if physics.law.constraint
                                                                  else "")
+    if physics.tangential and not physics.law.constraint:  # the coupled law (gfmd.solver._relax_coupled_fire)
+        return ("integrator: FIRE on mass-weighted modes; where FIRE stalls, Newton–Krylov on the law's tangent "
+                "(locally stable equilibria only), then damped Störmer–Verlet (coupled law)")
     return "integrator: FIRE on mass-weighted modes" + (", projected onto the wall" if physics.law.constraint else "")
 
 

@@ -17,7 +17,9 @@ wall on nodes that touch it). Two integrators (reference-formulas §5.2):
 * ``verlet``: the seed's damped Störmer–Verlet, uniform mass, every mode damped
   critically for the discrete scheme (γΔt = ωΔt√(4 − (ωΔt)²)).
 * Coupled law (no potential): FIRE, and if it stalls (``COUPLED_FIRE_BUDGET``)
-  the step restarts with Verlet (see `_relax_coupled_fire`).
+  Newton–Krylov on the law's tangent (`_relax_coupled_newton`: GMRES preconditioned by
+  M⁻¹, no dynamics; deep in the slip regime the equilibria are flutter points of any damped
+  dynamics), then Verlet from the step's guess (see `_relax_coupled_fire`).
 * Normal-only cohesive law (a potential), method ``fire``: by default
   (``Settings.cohesive = "ncg"``) nonlinear preconditioned conjugate gradients (Polak–Ribière+,
   preconditioner K⁻¹ as the hard-wall CG, an FFT-free Newton line search on the elastic + CZ
@@ -340,35 +342,240 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
     return _relax_cohesive(model, law, z_ind, u_hat, settings, wall_tolerance)
 
 
-#: FIRE iterations a coupled-law step gets before the damped-Verlet fallback. Measured (layer
+#: FIRE iterations a coupled-law step gets before the Newton–Krylov / damped-Verlet fallback. Measured (layer
 #: D = L, sinusoid a = 50 nm, φn* = 0.01, c = 0.5, ν = 0.3): FIRE needs ≤ 790 iterations per step
 #: up to δ = 32 nm (N = 64; ≤ 350 at N = 128), then 950, 7 580, 33 060 and fails (residual 1e-2 to
 #: 1e2 p_ref) from δ ≈ 39 nm (N = 128), where Verlet converges in 500–1 140. Budget ≈ 2.5 × 790.
 COUPLED_FIRE_BUDGET = 2000
 
 
+#: Newton iterations a coupled-law step gets after FIRE stalls (`_relax_coupled_newton`); each solves the
+#: linearised balance by GMRES (restart COUPLED_GMRES_RESTART, at most COUPLED_GMRES_CYCLES cycles).
+COUPLED_NEWTON_ITERATIONS = 60
+COUPLED_GMRES_RESTART = 60
+COUPLED_GMRES_CYCLES = 5
+#: Newton step: largest nodal move per iteration in units of min(δn, δt) (trust region), GMRES relative tolerance
+COUPLED_NEWTON_MAX_MOVE = 2.0
+COUPLED_NEWTON_FORCING = 1e-3
+
+
 def _relax_coupled_fire(model, law, z_ind, u_hat, settings, wall_tolerance):
-    """FIRE for the coupled law (seed Eq. 2), falling back to damped Verlet if FIRE stalls.
+    """FIRE for the coupled law (seed Eq. 2); if FIRE stalls, Newton–Krylov, then damped Verlet.
 
     FIRE's restarts test the power f·v, a descent test only for forces f = −∇E; the
     coupled law has no potential, and at strongly non-symmetric states (large slip
     under compression) FIRE's weakly damped inertia circulates: started at the FE
     equilibrium of such a state it drifts away (residual 8e-3 → 0.19 p_ref in 3e4
-    iterations) while per-mode critically damped Verlet converges in 410. FIRE gets
-    min(COUPLED_FIRE_BUDGET, max_iterations/2) iterations; then Verlet restarts the step
-    from the same guess with the rest. The fallback is stated in `Relaxed.message`.
+    iterations) while per-mode critically damped Verlet converges in 410. Deeper in the
+    slip regime Verlet fails the same way: fig8_small (ν = 0.1, c = 0.5, φn* = 0.15, seed 2,
+    N = 4096) at δ = 20 nm has a static equilibrium (Newton: 8 iterations, 0.2 s) whose
+    eigenvalues of J nearest 0 all have Re λ > 0 (locally stable in the sense of
+    `reference.fem.solver.locally_stable`), but damped inertial dynamics started on it at
+    residual 5e-9 p_ref drift off (Verlet: 0.09 p_ref after 1e4 iterations; FIRE: 1.5 p_ref
+    after 1e3): the tangent's antisymmetric part (circulatory forces at the slipping,
+    compressed contact edge) makes the equilibrium a flutter point of the second-order
+    dynamics, which no mass weighting or damping of the diagonal modes removes.
+
+    So FIRE gets min(COUPLED_FIRE_BUDGET, max_iterations/2) iterations; then Newton–Krylov
+    (`_relax_coupled_newton`, the law's tangent `jacobian_coupled`, no dynamics) from the
+    step's guess, then from FIRE's end state. Newton converges to unstable equilibria as
+    well: its state is accepted only if the eigenvalues of the tangent nearest 0 have
+    Re λ > 0 (`_coupled_stability`, the FE reference's criterion), else it is rejected and
+    said so. Then Verlet restarts the step from the guess with the iterations left. The fallbacks are stated in `Relaxed.message` and `Relaxed.method`.
     """
     budget = min(COUPLED_FIRE_BUDGET, settings.max_iterations // 2)
     first = _relax_cohesive(model, law, z_ind, u_hat, replace(settings, max_iterations=budget), wall_tolerance)
     if first.converged:
         return first
+    used, pairs = first.iterations, first.fft_pairs
+    notes = [f"FIRE stalled on the coupled law ({first.iterations} iterations, residual {first.residual:.3g} p_ref)"]
+    starts = [("guess", u_hat)]
+    if np.isfinite(first.residual):
+        starts.append(("FIRE's end state", first.u_hat))
+    for name, start in starts:
+        newton = _relax_coupled_newton(model, law, z_ind, start, settings, wall_tolerance)
+        used += newton.iterations
+        pairs += newton.fft_pairs
+        if newton.converged:
+            lowest = _coupled_stability(model, law, z_ind, newton.u_hat)
+            if lowest is not None and lowest <= 0.0:  # not the state damped dynamics would settle in
+                notes.append(f"Newton–Krylov from the {name} reached an equilibrium that is not locally stable "
+                             f"(an eigenvalue of the tangent with Re λ = {lowest / law.k_int_z:.3g} φn/δn²: a slip "
+                             "or snap-through instability), rejected")
+                continue
+            newton.iterations, newton.fft_pairs = used, pairs
+            newton.message = "; ".join(notes) + f", Newton–Krylov from the {name} converged"
+            newton.method = "fire→newton"
+            return newton
+        notes.append(f"Newton–Krylov from the {name}: {newton.message}")
     second = _relax_cohesive(model, law, z_ind, u_hat,
-                             replace(settings, method="verlet", max_iterations=settings.max_iterations - budget),
+                             replace(settings, method="verlet", max_iterations=max(settings.max_iterations - used, 1)),
                              wall_tolerance)
-    second.iterations += first.iterations
-    second.message = (f"FIRE stalled on the coupled law ({first.iterations} iterations, residual {first.residual:.3g} "
-                      f"p_ref), restarted with damped Verlet: " + (second.message or "converged"))
+    second.iterations += used
+    second.fft_pairs += pairs
+    second.message = "; ".join(notes) + "; restarted with damped Verlet: " + (second.message or "converged")
+    second.method = "fire→newton→verlet"
     return second
+
+
+def _coupled_operators(model, law, z_ind, u, fft):
+    """(A, M⁻¹, project) at displacements u (c, N): the coupled balance's tangent A = K + D as a
+    scipy LinearOperator on flattened (c, N) nodal fields (D: the nodal 2×2 law tangent, rows and
+    columns (x, z); ∂f/∂u = −A), the inverse FIRE mass M⁻¹ (`_Elastic` with ⟨k_loc⟩) as its
+    preconditioner, and the projection onto zero-mean fields where the half-plane clamps the mean."""
+    from scipy.sparse.linalg import LinearOperator
+
+    n, c = model.nodes, model.components
+    clamp = model.half_plane
+    stiff = _Elastic(model, 0.0, 0.0)
+    mass = _Elastic(model, *law.mean_stiffness(u, z_ind))
+    d_nn, d_nt, d_tn, d_tt = law.law.tangent(z_ind - u[-1], -u[0])
+
+    def project(x):
+        return x - x.mean(axis=1, keepdims=True) if clamp else x
+
+    def a_times(v):
+        v = project(v.reshape(c, n))
+        vh = fft.rfft(v)
+        if clamp:
+            vh[:, 0] = 0.0
+        out = fft.irfft(stiff.stiffness(vh))
+        out += np.stack([d_tt * v[0] + d_tn * v[1], d_nt * v[0] + d_nn * v[1]])
+        return project(out).ravel()
+
+    def m_inv(v):
+        vh = fft.rfft(v.reshape(c, n))
+        if clamp:
+            vh[:, 0] = 0.0
+        return fft.irfft(mass.inverse_mass_times(vh)).ravel()
+
+    size = c * n
+    return (LinearOperator((size, size), matvec=a_times, dtype=float),
+            LinearOperator((size, size), matvec=m_inv, dtype=float), project)
+
+
+#: eigenvalues of the tangent nearest 0 that `_coupled_stability` computes (shift-invert Arnoldi)
+COUPLED_STABILITY_EIGENVALUES = 6
+
+
+def _coupled_stability(model, law, z_ind, u_hat):
+    """Smallest Re λ (Pa/m) among the COUPLED_STABILITY_EIGENVALUES eigenvalues nearest 0 of the
+    tangent J = K + D at u_hat (None if Arnoldi found none). The FE reference's test of a coupled
+    equilibrium (`reference.fem.solver.locally_stable`: every eigenvalue of W⁻¹J has Re λ > 0,
+    W the nodal weights, uniform here) restricted to the eigenvalues a fold or a slip instability
+    sends through 0: shift-invert ARPACK on J⁻¹, each solve by GMRES (M⁻¹-preconditioned)."""
+    from scipy.sparse.linalg import ArpackNoConvergence, LinearOperator, eigs, gmres
+
+    fft = _Fft(model.nodes)
+    a_op, m_op, project = _coupled_operators(model, law, z_ind, fft.irfft(u_hat), fft)
+    shape = (model.components, model.nodes)
+
+    def solve(b):
+        x, _ = gmres(a_op, project(b.reshape(shape)).ravel(), M=m_op, rtol=1e-8,
+                     restart=COUPLED_GMRES_RESTART * 2, maxiter=COUPLED_GMRES_CYCLES * 4)
+        return x
+
+    inverse = LinearOperator(a_op.shape, matvec=solve, dtype=float)
+    k = COUPLED_STABILITY_EIGENVALUES
+    try:
+        mu = eigs(inverse, k=k, which="LM", return_eigenvectors=False, tol=1e-4, maxiter=100 * k)
+    except ArpackNoConvergence as exc:
+        mu = exc.eigenvalues
+    mu = np.asarray(mu)
+    mu = mu[np.isfinite(mu) & (np.abs(mu) > 0)]
+    return float(np.min((1.0 / mu).real)) if mu.size else None
+
+
+def _relax_coupled_newton(model, law, z_ind, u_hat, settings, wall_tolerance):
+    """Newton–Krylov on the coupled law's nodal balance f(u) = t(u) − K u = 0 (no dynamics).
+
+    Each iteration solves (K + D) δu = f by GMRES, D the nodal 2×2 tangent of Eq. 2
+    (`contact.laws.jacobian_coupled`, ∂t/∂u = −D since Δn = z_ind − u_z, Δt = −u_x), K applied
+    by FFT, preconditioned by the inverse of the FIRE mass M_q = K(q) + ⟨k_loc⟩ (`_Elastic`),
+    to relative tolerance COUPLED_NEWTON_FORCING; the step is capped so that no node moves
+    more than COUPLED_NEWTON_MAX_MOVE·min(δn, δt) and halved until ‖f‖₂ decreases (a step
+    into the law's overflow range counts as no decrease). Half-plane: the mean modes stay
+    clamped (the operator acts on zero-mean fields). Stops on the solver's residual
+    (max |f| < tolerance·p_ref); `iterations` counts Newton iterations, `fft_pairs` includes
+    GMRES's products. Not converged (message says why) after COUPLED_NEWTON_ITERATIONS or
+    when the line search finds no decrease.
+    """
+    from scipy.sparse.linalg import gmres  # only this fallback needs it
+
+    n, c = model.nodes, model.components
+    fft = _Fft(n)
+    p_ref = model.reference_traction
+    u_hat = np.array(u_hat, dtype=complex, copy=True)
+    clamp = model.half_plane
+    if clamp:
+        u_hat[:, 0] = 0.0
+    stiff = _Elastic(model, 0.0, 0.0)
+    max_move = COUPLED_NEWTON_MAX_MOVE * law.law.length_scale
+
+    def force(uh):
+        """(f_hat, f, u): the nodal force (mean removed where clamped); raises on overflow."""
+        u = fft.irfft(uh)
+        t, _ = law.traction(u, z_ind)
+        fh = fft.rfft(t) - stiff.stiffness(uh)
+        if clamp:
+            fh[:, 0] = 0.0
+        return fh, fft.irfft(fh), u
+
+    def project(x):
+        return x - x.mean(axis=1, keepdims=True) if clamp else x
+
+    try:
+        _, f, u = force(u_hat)
+    except laws.CompressionOverflowError as exc:
+        out = _finish(model, law, z_ind, u_hat, 0, np.inf, False, f"diverged: {exc}", wall_tolerance)
+        out.method = "newton"
+        return out
+    residual = float(np.max(np.abs(f))) / p_ref
+    message, converged, it = "", residual < settings.tolerance, 0
+    while not converged:
+        if it >= COUPLED_NEWTON_ITERATIONS:
+            message = f"not converged after {it} Newton iterations (residual {residual:.3g} p_ref)"
+            break
+        it += 1
+        a_op, m_op, _ = _coupled_operators(model, law, z_ind, u, fft)
+        du, _ = gmres(a_op, f.ravel(), M=m_op, rtol=COUPLED_NEWTON_FORCING,
+                      restart=COUPLED_GMRES_RESTART, maxiter=COUPLED_GMRES_CYCLES)
+        du = project(du.reshape(c, n))
+        largest = float(np.max(np.abs(du)))
+        if not np.isfinite(largest) or largest == 0.0:
+            message = f"Newton step not finite or zero (residual {residual:.3g} p_ref)"
+            break
+        du_hat = fft.rfft(du)
+        if clamp:
+            du_hat[:, 0] = 0.0
+        norm0 = float(np.sqrt(np.einsum("ij,ij->", f, f)))
+        step = min(1.0, max_move / largest)
+        accepted = False
+        while step > 1e-3:
+            try:
+                trial = force(u_hat + step * du_hat)
+            except laws.CompressionOverflowError:
+                step *= 0.5
+                continue
+            if np.sqrt(np.einsum("ij,ij->", trial[1], trial[1])) <= (1.0 - 1e-4 * step) * norm0:
+                accepted = True
+                break
+            step *= 0.5
+        if not accepted:
+            message = f"Newton line search found no decrease of |f| (iteration {it}, residual {residual:.3g} p_ref)"
+            break
+        u_hat = u_hat + step * du_hat
+        _, f, u = trial
+        residual = float(np.max(np.abs(f))) / p_ref
+        if not np.isfinite(residual):
+            message = "diverged: non-finite force residual"
+            break
+        converged = residual < settings.tolerance
+    pairs = fft.pairs
+    out = _finish(model, law, z_ind, u_hat, it, residual, converged, message, wall_tolerance)
+    out.fft_pairs = pairs + 0.5
+    out.method = "newton"
+    return out
 
 
 def _relax_cohesive(model, law, z_ind, u_hat, settings, wall_tolerance):

@@ -1,0 +1,123 @@
+"""The coupled-law (seed Eq. 2) solver path: FIRE, Newton–Krylov fallback, Verlet (gfmd.solver).
+
+The case is the step that failed in `studies/seed/fig8_small.toml` (ν = 0.1, c = 0.5, δt = 1 nm,
+φn* = 0.15, surface seed 2, N = 4096): the last load step, δ = 20 nm, deep in the slip regime
+(~250 compressed nodes slipping > 2 δt, min Δn ≈ −12 δn). Before the Newton–Krylov fallback FIRE
+stalled (2 000 iterations, residual 1.8–8.5 p_ref) and damped Verlet stopped at max_iterations
+(198 000, residual 0.04 p_ref), twice (from the extrapolated guess and from the last state).
+
+* the step converges, through "fire→newton", in a few Newton iterations after FIRE's budget;
+* the diagnosis, pinned: the step has a static equilibrium, and damped inertial dynamics started
+  on it (residual < 1e-8 p_ref) drift away: Verlet grows the residual by orders of magnitude in
+  1e4 iterations. The law's non-symmetric tangent makes the equilibrium a flutter point of the
+  second-order dynamics, although the eigenvalues of J nearest 0 have Re λ > 0 (no mass or
+  damping of the diagonal modes fixes that; a method without dynamics does);
+* Newton alone reproduces the state FIRE converged to at the step before (the same equilibrium
+  where both converge), and is a fixed point at a converged state (0 iterations);
+* a Newton run that cannot converge is reported (converged False, a message), never accepted.
+"""
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from contact.loading import indenter_surface, realization_steps
+from contact.scene import load_scene
+from gfmd import solver as gs
+from gfmd.loading import prepare, run_realization
+
+BASE = Path(__file__).resolve().parents[1] / "studies" / "seed" / "fig3_small_base.toml"
+
+
+class _Stop(Exception):
+    pass
+
+
+@pytest.fixture(scope="module")
+def fig8_step():
+    """The fig8_small task (ν = 0.1, c = 0.5, seed 2): cell, states after steps 98 and 99, z_ind of 99 and 100."""
+    scene = load_scene(BASE).replace(**{"material.poisson_ratio": 0.1, "interface.tangential_ratio": 0.5,
+                                        "interface.length_tangential": 1e-9, "interface.phi_n_star": 0.15,
+                                        "surface.seed": 2, "surface.realizations": 1})
+    saved = {}
+
+    def checkpoint(result, state):
+        if state.step == 99:
+            assert all(result.curve["converged"]), "the ramp failed before its last step"
+            saved.update(current=state.current.copy(), previous=state.previous.copy())
+            raise _Stop
+
+    with pytest.raises(_Stop):
+        run_realization(scene, 0, checkpoint=checkpoint)
+    from contact import surfaces
+    h = surfaces.profile(scene.surface, 0)
+    cell = prepare(scene, h, 0)
+    steps, _ = realization_steps(scene, h, 0)
+    z = [indenter_surface(h, scene.loading.initial_separation, steps[k]) for k in (99, 100)]
+    return cell, saved["previous"], saved["current"], z
+
+
+def test_fig8_last_step_converges(fig8_step):
+    cell, previous, current, (_, z100) = fig8_step
+    guess = 2 * current - previous  # the ramp's extrapolated warm start
+    r = gs.relax(cell.physics, cell.law, z100, guess, cell.settings)
+    assert r.converged, r.message
+    assert r.residual < cell.settings.tolerance
+    assert r.method in ("fire", "fire→newton"), r.method
+    assert r.iterations < gs.COUPLED_FIRE_BUDGET + gs.COUPLED_NEWTON_ITERATIONS
+    # the slip regime the step is in (what makes the dynamics fail)
+    dt, dn = cell.scene.interface.length_tangential, cell.scene.interface.length_normal
+    assert np.max(np.abs(r.u_x)) > 3 * dt and np.min(r.gap) < -5 * dn
+
+
+def test_fig8_last_step_is_a_flutter_point_of_damped_dynamics(fig8_step):
+    cell, previous, current, (_, z100) = fig8_step
+    eq = gs._relax_coupled_newton(cell.physics, cell.law, z100, 2 * current - previous, cell.settings, 0.0)
+    assert eq.converged and eq.iterations <= 20, eq.message
+    drift = gs._relax_cohesive(cell.physics, cell.law, z100, eq.u_hat,
+                               replace(cell.settings, method="verlet", max_iterations=10_000, tolerance=0.0), 0.0)
+    assert drift.residual > 1e3 * cell.settings.tolerance, (
+        f"Verlet stayed at the equilibrium (residual {drift.residual:.3g} p_ref): the flutter diagnosis no longer holds")
+
+
+def test_newton_agrees_with_fire_and_is_a_fixed_point(fig8_step):
+    cell, previous, current, (z99, _) = fig8_step
+    s = cell.settings
+    r = gs._relax_coupled_newton(cell.physics, cell.law, z99, previous, s, 0.0)
+    assert r.converged, r.message
+    fire = gs._finish(cell.physics, cell.law, z99, current, 0, 0.0, True, "", 0.0)
+    # two states with max nodal residual < tol·p_ref: K(q_1)-bound as in test_solver_ncg, loose factor
+    m = cell.physics
+    k1 = min(abs(m.k_xx[1]), abs(m.k_zz[1])) - abs(m.k_xz[1])
+    bound = 2 * s.tolerance * m.reference_traction * np.sqrt(m.nodes) / k1
+    for a, b in ((r.u_z, fire.u_z), (r.u_x, fire.u_x)):
+        assert np.max(np.abs(a - b)) < 10 * bound + 1e-6 * cell.scene.interface.length_normal
+    again = gs._relax_coupled_newton(cell.physics, cell.law, z99, r.u_hat, s, 0.0)
+    assert again.converged and again.iterations == 0
+
+
+def test_newton_failure_is_reported(fig8_step, monkeypatch):
+    cell, _previous, current, (_, z100) = fig8_step
+    monkeypatch.setattr(gs, "COUPLED_NEWTON_ITERATIONS", 1)
+    r = gs._relax_coupled_newton(cell.physics, cell.law, z100, current, cell.settings, 0.0)
+    assert not r.converged and "Newton" in r.message and r.residual > cell.settings.tolerance
+
+
+def test_newton_equilibrium_is_locally_stable(fig8_step):
+    """The accepted state passes the FE reference's test on the eigenvalues nearest 0 (measured 0.030 φn/δn²)."""
+    cell, previous, current, (_, z100) = fig8_step
+    eq = gs._relax_coupled_newton(cell.physics, cell.law, z100, 2 * current - previous, cell.settings, 0.0)
+    lowest = gs._coupled_stability(cell.physics, cell.law, z100, eq.u_hat)
+    assert lowest is not None and 0.01 < lowest / cell.law.k_int_z < 0.1
+
+
+def test_unstable_newton_equilibrium_is_rejected(fig8_step, monkeypatch):
+    """A Newton state that fails the stability test is not accepted: the step goes on to Verlet, says why."""
+    cell, previous, current, (_, z100) = fig8_step
+    monkeypatch.setattr(gs, "_coupled_stability", lambda *a: -1.0 * cell.law.k_int_z)
+    s = replace(cell.settings, max_iterations=4000)
+    r = gs.relax(cell.physics, cell.law, z100, 2 * current - previous, s)
+    assert not r.converged and r.method == "fire→newton→verlet"
+    assert "not locally stable" in r.message and "Verlet" in r.message
