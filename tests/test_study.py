@@ -307,3 +307,28 @@ def test_task_address_ignores_keys_at_their_default_and_a_changed_default_is_cau
     assert run_task(task.scene, finished)["status"] == "reused"
     with pytest.raises(StudyError, match=r"interface\.contact_tolerance: 0\.001 there, 0\.002 now"):
         run_task(changed, finished)
+
+
+def test_tasks_under_an_older_address_are_moved_and_reused(reference, tmp_path):
+    """A study directory written when addresses hashed the whole scene TOML is re-addressed, not recomputed."""
+    import hashlib
+    import shutil
+
+    from contact.scene import scene_to_toml
+    from workbench.study import readdress_tasks
+
+    path, out = reference
+    copy = tmp_path / "out"
+    shutil.copytree(out, copy)
+    study = load_study(path)
+    unique = {t.key: t for t in study.tasks}
+    for key, task in unique.items():  # the old scheme: sha256 of the whole resolved TOML
+        old = hashlib.sha256(scene_to_toml(task.scene).encode()).hexdigest()[:16]
+        assert old != key
+        (copy / "tasks" / key).rename(copy / "tasks" / old)
+    (copy / "tasks" / "not-a-task").mkdir()
+    assert readdress_tasks(copy, unique) == len(unique)
+    assert sorted(p.name for p in (copy / "tasks").iterdir()) == sorted([*unique, "not-a-task"])
+    assert main(["study", "run", str(path), "--out", str(copy), "--quiet"]) == 0
+    record = json.loads((copy / "study.json").read_text())
+    assert record["tasks_reused"] == len(unique) and record["tasks_run"] == 0

@@ -368,6 +368,28 @@ def _client(workers, scheduler):
     return Client(cluster), cluster
 
 
+def readdress_tasks(out, unique):
+    """Move task directories written under another address to their current key; returns how many.
+
+    A directory of DIR/tasks that is not a key of `unique` but whose stored scene.toml has one of
+    them as its address (`task_key`) was written by a version that addressed tasks differently
+    (before `task_key_text`): it is renamed, finished or not, unless the current key exists.
+    """
+    tasks_dir = Path(out) / "tasks"
+    moved = 0
+    for d in sorted(tasks_dir.iterdir()) if tasks_dir.is_dir() else []:
+        if d.name in unique or not (d / "scene.toml").is_file():
+            continue
+        try:
+            key = task_key(load_scene(d / "scene.toml"))
+        except (OSError, ValueError, SceneError):
+            continue
+        if key in unique and not (tasks_dir / key).exists():
+            d.rename(tasks_dir / key)
+            moved += 1
+    return moved
+
+
 def run_study(study, out, *, workers=None, scheduler=None, progress=True, command=None):
     """Run every task of `study` into `out` (module docstring); returns the study.json dict.
 
@@ -381,6 +403,10 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True, comman
     command = command or " ".join(sys.argv)
     tasks = study.tasks
     unique = {t.key: t for t in tasks}
+    moved = readdress_tasks(out, unique)
+    if moved and progress:
+        print(f"{study.name}: {moved} task director{'y' if moved == 1 else 'ies'} written under an older "
+              "address moved to the current one (same scene)", file=sys.stderr)
     done = {k for k in unique if io.run_complete(out / "tasks" / k)}
     pending = [t for k, t in unique.items() if k not in done]
     record = _record(study, out, tasks, {}, {}, complete=False)
