@@ -157,12 +157,18 @@ def test_a_set_refused_as_a_whole_names_its_parameters(tmp_path, capsys):
     assert "parameter set 1" in err and "surface.rolloff_wavelength = 2e-08" in err
 
 
-def test_killed_study_resumes_to_the_uninterrupted_result(reference, tmp_path):
+def test_killed_study_resumes_to_the_uninterrupted_result(tmp_path):
     """A real SIGINT to `python -m gfmd study run --workers 2` once one task is complete and another has
     saved steps: exit 130, one line; the rerun reuses exactly the complete tasks and continues the saved
     steps; study.csv and summary.csv equal the uninterrupted run's (every column but wall_s)."""
-    ref_path, ref = reference
-    path = write_study(tmp_path)
+    # tasks long enough to be caught mid-ramp (N = 2048, 400 steps: ≈ 1–2 s each); its own reference
+    slow = BASE.replace("nodes = 512", "nodes = 2048").replace("steps = 40", "steps = 400")
+    ref_dir = tmp_path / "ref"
+    ref_dir.mkdir()
+    ref_path = write_study(ref_dir, base=slow)
+    ref = ref_dir / "out"
+    assert main(["study", "run", str(ref_path), "--out", str(ref), "--workers", "2", "--quiet"]) == 0
+    path = write_study(tmp_path, base=slow)
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "gfmd", "study", "run", str(path), "--out", str(out), "--workers", "2", "--quiet"]
     proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
