@@ -6,6 +6,7 @@ Units: SI everywhere (see contact.conventions); scenes are TOML files (contact.s
 from __future__ import annotations
 
 import argparse
+import contextlib
 import signal
 import subprocess
 import sys
@@ -37,6 +38,18 @@ def _method_overrides(args):
 
 def _interrupted(signum, frame):
     raise KeyboardInterrupt
+
+
+@contextlib.contextmanager
+def _interrupt_signals():
+    """SIGINT and SIGTERM raise KeyboardInterrupt while a run goes, also in a process started in the
+    background (a shell leaves SIGINT ignored there): `kill -INT` then stops it as Ctrl-C does."""
+    previous = {s: signal.signal(s, _interrupted) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
 
 
 def _resume_command(args, out):
@@ -97,17 +110,15 @@ def _cmd_run(args):
     print(f"scene {scene.name!r}: {scene.surface.realizations} realization(s), {scene.loading.steps} load steps, "
           f"method {method}; results go to {out}/ as they are computed", file=sys.stderr)
     start = time.perf_counter()
-    previous = signal.signal(signal.SIGTERM, _interrupted)
     try:
         from .ensemble import run_to_directory
 
-        results, resume = run_to_directory(scene, out, workers=args.workers, progress=not args.quiet)
+        with _interrupt_signals():
+            results, resume = run_to_directory(scene, out, workers=args.workers, progress=not args.quiet)
     except KeyboardInterrupt:
         print(f"\ngfmd: interrupted: {_on_disk(scene, out)}; continue with: {_resume_command(args, out)}",
               file=sys.stderr)
         return 130
-    finally:
-        signal.signal(signal.SIGTERM, previous)
     elapsed = time.perf_counter() - start
     io.write_run(out, scene, results, timings={"total_s": elapsed, "workers": args.workers},
                  resume=resume)
@@ -192,18 +203,16 @@ def _cmd_study_run(args):
           f"results go to {out}/", file=sys.stderr)
     command = f"gfmd study run {args.study} --out {out}" + (f" --workers {args.workers}" if args.workers else "") \
         + (f" --scheduler {args.scheduler}" if args.scheduler else "")
-    previous = signal.signal(signal.SIGTERM, _interrupted)
     try:
-        record = run_study(study, out, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet,
-                           command=command)
+        with _interrupt_signals():
+            record = run_study(study, out, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet,
+                               command=command)
     except KeyboardInterrupt:
         from .study import done_tasks
 
         print(f"\ngfmd: interrupted: {done_tasks(study, out)} of {n_tasks} task(s) complete in {out}/tasks, the "
               f"others keep their saved load steps; continue with: {command}", file=sys.stderr)
         return 130
-    finally:
-        signal.signal(signal.SIGTERM, previous)
     unconverged = [t for t in record["tasks"] if t["all_converged"] is False]
     print(f"study {study.name!r}: {record['tasks_total']} task(s): {record['tasks_reused']} reused, "
           f"{record['tasks_run']} run ({record['steps_reused']} saved load steps continued), "
