@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import functools
 import io
 import json
 import os
@@ -53,8 +54,13 @@ class RunDirError(ValueError):
     """An output directory that cannot take this run: the message says why and what to do."""
 
 
+@functools.cache
 def code_version():
-    """Package version plus the git commit of the source tree when available."""
+    """Package version plus the git commit of the source tree when available.
+
+    Computed once per process, at the import of this module: a long-lived process (a study
+    worker) reports the version of the code it imported, not that of a later checkout of the tree.
+    """
     from importlib.metadata import PackageNotFoundError, version
 
     try:
@@ -70,6 +76,9 @@ def code_version():
     except (OSError, subprocess.SubprocessError):
         pass
     return v
+
+
+code_version()
 
 
 def _file_mode():
