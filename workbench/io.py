@@ -58,8 +58,9 @@ class RunDirError(ValueError):
 def code_version():
     """Package version plus the git commit of the source tree when available.
 
-    Computed once per process, at the import of this module: a long-lived process (a study
-    worker) reports the version of the code it imported, not that of a later checkout of the tree.
+    Computed once per process, when first asked (a run asks before its first step): a long-lived
+    process (a study worker) keeps reporting the version of the code it started with, not that of
+    a later checkout of the tree.
     """
     from importlib.metadata import PackageNotFoundError, version
 
@@ -76,9 +77,6 @@ def code_version():
     except (OSError, subprocess.SubprocessError):
         pass
     return v
-
-
-code_version()
 
 
 def _file_mode():
