@@ -82,6 +82,10 @@ MUTATIONS = (
              "fire = _Fire(settings)", "method verlet silently runs FIRE", count=2),
     Mutation("kappa-fit", "contact/observables.py", "return float(x @ y / (x @ x)), int(use.sum())",
              "return 1.02 * float(x @ y / (x @ x)), int(use.sum())", "κ fit 2 % high"),
+    Mutation("fe-quadrature", "reference/fem/assembly.py", "    np.add.at(w, pos, ones[top_s])",
+             "    np.add.at(w, pos, np.full_like(ones[top_s], length / xs.size))",
+             "FE surface quadrature weights uniform (L/points each) instead of the FacetBasis load vector "
+             "(Simpson l/3, 2l/3 for P2; P1 unchanged)"),
     Mutation("wall-leak", "gfmd/loading.py", "wall_tolerance = 1e-12 * max(", "wall_tolerance = 1e-3 * max(",
              "hard wall: nodes within 1e-3 of the profile span count as on the wall (a leak)"),
 )
