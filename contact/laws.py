@@ -404,11 +404,12 @@ class CoupledCohesive(_ExponentialCohesive):
 
 
 @dataclass(frozen=True)
-class CohesiveWall(_ExponentialCohesive):
+class CohesiveWall(NormalCohesive):
     """CZ attraction with a hard-wall repulsion: T_n(Δn) of seed Eq. 3 for Δn > 0 and the constraint
     Δn ≥ 0 (no repulsive branch; the wall's reaction is compressive), frictionless (T_t ≡ 0).
 
-    How the FFT-BEM peers model adhesion. `constraint` is True: the solver keeps Δn ≥ 0 by
+    How the FFT-BEM peers model adhesion; a NormalCohesive with the repulsive branch replaced by the
+    constraint (the solvers dispatch on the exact type). `constraint` is True: the solver keeps Δn ≥ 0 by
     projection (`gfmd.solver._relax_cohesive_wall`); `tractions` is the attraction alone, Eq. 3 at
     max(Δn, 0), which is 0 on the wall (T_n(0) = 0), so a wall node's traction is its reaction.
     Contact rules as for the cohesive laws: "traction-tolerance" Δn ≤ Δtol (every wall node and the
@@ -428,18 +429,8 @@ class CohesiveWall(_ExponentialCohesive):
         """(∂Tn/∂Δn, 0, 0, 0) in Pa/m of the attraction at max(Δn, 0)."""
         return stiffness_normal(np.maximum(delta_n, 0.0), self.work_normal, self.length_normal), 0.0, 0.0, 0.0
 
-    @property
-    def initial_stiffness(self):
-        """(k_t, k_n) = (0, φn/δn²) (Pa/m): the attraction's slopes at Δ = 0+."""
-        return 0.0, self.work_normal / self.length_normal**2
-
-    @property
-    def length_scale(self):
-        """δn (m)."""
-        return self.length_normal
-
-    def needs_tangential(self, material):
-        return False
+    # initial_stiffness (0, φn/δn²: the attraction's slopes at Δ = 0+), length_scale δn and
+    # needs_tangential (False) are NormalCohesive's
 
     def tangential_reason(self, material):
         return "cohesive wall: frictionless (c = 0), no tangential traction, u_x decouples"

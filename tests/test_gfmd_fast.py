@@ -68,7 +68,10 @@ def ramp(model, law, z_of, deltas, settings, wall_tol):
 def test_cg_equals_fire_and_is_kkt(thickness):
     sc, h, model, law, wall_tol = case(thickness=thickness)
     d0 = sc.loading.initial_separation
-    z_of = lambda d: indenter_surface(h, d0, d0 + d)  # noqa: E731
+
+    def z_of(d):
+        return indenter_surface(h, d0, d0 + d)
+
     deltas = 1.5e-9 * np.arange(1, 6)
     cg = ramp(model, law, z_of, deltas, Settings(tolerance=TOL), wall_tol)
     fire = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, hard_wall="fire"), wall_tol)
@@ -117,7 +120,10 @@ def test_cg_unconverged_is_reported():
 def test_cg_needs_far_fewer_fft_pairs_than_fire():
     sc, h, model, law, wall_tol = case(nodes=8192)
     d0 = sc.loading.initial_separation
-    z_of = lambda d: indenter_surface(h, d0, d0 + d)  # noqa: E731
+
+    def z_of(d):
+        return indenter_surface(h, d0, d0 + d)
+
     deltas = 1.5e-9 * np.arange(1, 5)
     cg = ramp(model, law, z_of, deltas, Settings(tolerance=TOL), wall_tol)
     fire = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, hard_wall="fire"), wall_tol)
