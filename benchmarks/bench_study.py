@@ -23,6 +23,13 @@ process-level scaling (independent single-threaded tasks); the roughness paramet
 (H, h_rms, ε_f) change its cost, which the class rate does not capture: the projection is an
 estimate, the measured full-scale runs (README "Studies") are the check.
 
+Dask path (section 3, ``--dask-path``): the same hard-wall task at the largest N run (a) in this
+process, (b) in a child process started with the environment Dask's nanny gives its workers
+(MALLOC_TRIM_THRESHOLD_=65536) without `workbench.study.reuse_freed_arrays` (the study engine
+before that fix), (c) the same child with it (what a worker does now), (d) through
+`gfmd study run` on a 1-worker local Dask cluster (cluster start included); wall seconds and, for
+the children, minor page faults.
+
 The machine is shared (2 cores): the load average at start and end is printed.
 """
 
@@ -81,6 +88,52 @@ def measure(n, cls, workdir):
             "converged": sum(int(r["converged"]) for r in rows)}
 
 
+_CHILD = r"""
+import json, resource, sys, time
+sys.path.insert(0, sys.argv[1])
+from contact.scene import load_scene
+from workbench import study
+if sys.argv[4] == "before":
+    study.reuse_freed_arrays = lambda: False
+t = time.perf_counter()
+study.run_task(load_scene(sys.argv[2]), sys.argv[3], progress=lambda step, steps: None)
+print(json.dumps({"wall_s": time.perf_counter() - t, "faults": resource.getrusage(resource.RUSAGE_SELF).ru_minflt}))
+"""
+
+
+def dask_path(n, workdir):
+    """Section 3 (module docstring): [(label, wall s, minor page faults or None)]."""
+    import json
+    import subprocess
+
+    from contact.scene import scene_to_toml
+
+    base = load_scene(SEED / "seed_base.toml")
+    scene = task_scene(base.replace(**{"surface.nodes": n, **CLASSES["hard-wall"]}), 0)
+    work = Path(workdir) / f"dask_{n}"
+    work.mkdir()
+    (work / "scene.toml").write_text(scene_to_toml(scene))
+    rows = []
+    t = time.perf_counter()
+    run_task(scene, work / "in_process", command="bench_study", progress=lambda step, steps: None)
+    rows.append(("in this process (`run_task`)", time.perf_counter() - t, None))
+    env = dict(os.environ, MALLOC_TRIM_THRESHOLD_="65536")
+    for mode, label in (("before", "child, Dask worker environment, without reuse_freed_arrays (before)"),
+                        ("after", "child, Dask worker environment, with reuse_freed_arrays (now)")):
+        out = subprocess.run([sys.executable, "-c", _CHILD, str(ROOT), str(work / "scene.toml"), str(work / mode), mode],
+                             env=env, capture_output=True, text=True, check=True)
+        r = json.loads(out.stdout.strip().splitlines()[-1])
+        rows.append((label, r["wall_s"], r["faults"]))
+    (work / "study.toml").write_text('name = "dask_path"\nbase = "scene.toml"\n[axes]\n"interface.law" = ["hard-wall"]\n')
+    t = time.perf_counter()
+    gfmd = [sys.executable, "-c", "import sys; sys.path.insert(0, sys.argv.pop(1)); from workbench.cli import main; "
+            "sys.exit(main(sys.argv[1:]))", str(ROOT)]
+    subprocess.run([*gfmd, "study", "run", str(work / "study.toml"), "--out", str(work / "study"), "--workers", "1"],
+                   check=True, capture_output=True, cwd=ROOT)
+    rows.append(("`gfmd study run`, 1-worker local Dask cluster (cluster start included)", time.perf_counter() - t, None))
+    return rows
+
+
 def study_counts():
     """{study: {class: (tasks, steps)}} of the full-scale study files."""
     counts = {}
@@ -101,6 +154,7 @@ def main(argv=None):
     parser.add_argument("--classes", nargs="+", default=list(CLASSES), choices=list(CLASSES))
     parser.add_argument("--cores", type=int, default=os.cpu_count(), help="cores of the projection (default: this machine's)")
     parser.add_argument("--out", default=str(ROOT / "benchmarks" / "results"), help="where bench_study.md goes")
+    parser.add_argument("--no-dask-path", action="store_true", help="skip section 3 (the Dask study path)")
     args = parser.parse_args(argv)
 
     info = machine_info()
@@ -138,8 +192,17 @@ def main(argv=None):
         tasks = " / ".join(str(per.get(c, (0, 0))[0]) for c in CLASSES)
         steps = sum(s for _, s in per.values())
         lines.append(f"| {name} | {tasks} | {steps} | {cpu / 3600:.2f} | {cpu / 3600 / args.cores:.2f} |")
-    lines += [f"| **all** | | | **{total_cpu / 3600:.2f}** | **{total_cpu / 3600 / args.cores:.2f}** |", "",
-              f"Benchmark time {time.perf_counter() - started:.0f} s; load average at end "
+    lines += [f"| **all** | | | **{total_cpu / 3600:.2f}** | **{total_cpu / 3600 / args.cores:.2f}** |", ""]
+    if not args.no_dask_path:
+        lines += [f"## 3. The Dask study path: one hard-wall task at N = 2^{top}", "",
+                  "Same scene as section 1; module docstring for (a)–(d).", "",
+                  "| run | wall s | minor page faults |", "|---|---|---|"]
+        with tempfile.TemporaryDirectory() as tmp:
+            for label, wall, faults in dask_path(2**top, tmp):
+                lines.append(f"| {label} | {wall:.1f} | {faults if faults is not None else ''} |")
+                print(lines[-1], flush=True)
+        lines.append("")
+    lines += [f"Benchmark time {time.perf_counter() - started:.0f} s; load average at end "
               + " ".join(f"{v:.2f}" for v in os.getloadavg()) + "."]
     text = "\n".join(lines) + "\n"
     print(text)
