@@ -921,6 +921,41 @@ def _wall_balance(model, ku, on_wall):
     return p - ku
 
 
+def _fire_wall_velocity(fire, force, u, v, stuck, on_wall, inv_mass, inv_mass_diag, n):
+    """FIRE velocity step of the projected wall dynamics (`_relax_hard_wall`, `_relax_cohesive_wall`).
+
+    Mass-weighted acceleration M⁻¹f, zeroed on the stuck nodes and capped at f_j·diag(M⁻¹) on wall
+    nodes that pull away (the fixed points are then the KKT points, `_relax_hard_wall`); FIRE's
+    power check, its restart stepping u back half a step. u and v in place; returns the new Δt.
+    """
+    acc = scipy.fft.irfft(inv_mass * scipy.fft.rfft(force), n=n)
+    acc[stuck] = 0.0  # precondition on the non-stuck subspace only
+    pulling = on_wall & (force < 0)  # must leave the wall: never let M⁻¹ smear it back in
+    acc[pulling] = np.minimum(acc[pulling], force[pulling] * inv_mass_diag)
+    restart = fire.adapt(_dot(force, v))
+    dt = fire.dt
+    if restart:
+        u -= 0.5 * dt * v
+        v[:] = 0.0
+    v += dt * acc
+    a_norm = np.sqrt(_dot(acc, acc))
+    if a_norm > 0:
+        mix = fire.alpha * np.sqrt(_dot(v, v)) / a_norm
+        v *= 1 - fire.alpha
+        v += mix * acc
+    return dt
+
+
+def _project_onto_wall(u, v, z_ind, stuck, clamp):
+    """Positions onto {u ≤ z_ind} (on a half-plane also ⟨u⟩ = 0, the stuck nodes pinned on the wall);
+    the velocity into the wall of the projected nodes is removed (v in place). Returns the new u."""
+    shift = _mean_shift(u, z_ind, stuck) if clamp else 0.0
+    projected = np.where(stuck, z_ind, np.minimum(u + shift, z_ind))
+    hit = projected < u + shift
+    v[hit] = np.minimum(v[hit], 0.0)
+    return projected
+
+
 def _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance):
     """Hard-wall relaxation in real space (normal only; see module docstring).
 
@@ -971,25 +1006,9 @@ def _relax_hard_wall(model, law, z_ind, u_hat, settings, wall_tolerance):
                 v_hat[0] = 0.0
             v = scipy.fft.irfft(v_hat, n=n)
         else:
-            acc = scipy.fft.irfft(inv_mass * scipy.fft.rfft(force), n=n)
-            acc[stuck] = 0.0  # precondition on the non-stuck subspace only
-            pulling = on_wall & (force < 0)  # must leave the wall: never let M⁻¹ smear it back in
-            acc[pulling] = np.minimum(acc[pulling], force[pulling] * inv_mass_diag)
-            restart = fire.adapt(_dot(force, v))
-            dt = fire.dt
-            if restart:
-                u -= 0.5 * dt * v
-                v[:] = 0.0
-            v += dt * acc
-            a_norm = np.sqrt(_dot(acc, acc))
-            if a_norm > 0:
-                v = (1 - fire.alpha) * v + fire.alpha * np.sqrt(_dot(v, v)) / a_norm * acc
+            dt = _fire_wall_velocity(fire, force, u, v, stuck, on_wall, inv_mass, inv_mass_diag, n)
         u += dt * v
-        shift = _mean_shift(u, z_ind, stuck) if elastic.clamp else 0.0
-        projected = np.where(stuck, z_ind, np.minimum(u + shift, z_ind))
-        hit = projected < u + shift
-        u = projected
-        v[hit] = np.minimum(v[hit], 0.0)
+        u = _project_onto_wall(u, v, z_ind, stuck, elastic.clamp)
     else:
         message = f"not converged after {settings.max_iterations} iterations (residual {residual:.3g} p_ref)"
     u_hat = scipy.fft.rfft(u)[None, :]
@@ -1259,30 +1278,14 @@ def _relax_cohesive_wall(model, law, z_ind, u_hat, settings, wall_tolerance):
             v = scipy.fft.irfft(v_hat, n=n)
             v[stuck] = np.minimum(v[stuck], 0.0)
         else:
-            acc = scipy.fft.irfft(inv_mass * scipy.fft.rfft(force), n=n)
-            acc[stuck] = 0.0  # precondition on the non-stuck subspace only
-            pulling = on_wall & (force < 0)  # must leave the wall: never let M⁻¹ smear it back in
-            acc[pulling] = np.minimum(acc[pulling], force[pulling] * inv_mass_diag)
-            restart = fire.adapt(_dot(force, v))
-            dt = fire.dt
-            if restart:
-                u -= 0.5 * dt * v
-                v[:] = 0.0
-            v += dt * acc
-            a_norm = np.sqrt(_dot(acc, acc))
-            if a_norm > 0:
-                v = (1 - fire.alpha) * v + fire.alpha * np.sqrt(_dot(v, v)) / a_norm * acc
+            dt = _fire_wall_velocity(fire, force, u, v, stuck, on_wall, inv_mass, inv_mass_diag, n)
         move = float(np.max(np.abs(dt * v)))
         if move > max_move:  # trust region: no node moves more than max_move per iteration
             v *= max_move / move
             if fire is not None:
                 fire.dt *= settings.f_dec
         u += dt * v
-        shift = _mean_shift(u, z_ind, stuck) if clamp else 0.0
-        projected = np.where(stuck, z_ind, np.minimum(u + shift, z_ind))
-        hit = projected < u + shift
-        u = projected
-        v[hit] = np.minimum(v[hit], 0.0)
+        u = _project_onto_wall(u, v, z_ind, stuck, clamp)
     else:
         message = f"not converged after {settings.max_iterations} iterations (residual {residual:.3g} p_ref)"
     u_hat = scipy.fft.rfft(u)[None, :]
