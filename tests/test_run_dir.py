@@ -152,7 +152,8 @@ def test_sigint_to_a_pooled_run_then_resume(tmp_path):
     """A real SIGINT to `gfmd run --workers 2`: exit 130 within seconds, one line, no traceback;
     the resumed files equal an uninterrupted run's."""
     sc = scene(**{"surface.nodes": 4096, "surface.rollon_wavelength": 2.5e-9, "surface.realizations": 4,
-                  "loading.steps": 800,  # long enough (≈ 6 s on 2 cores) to be interrupted mid-run "loading.final_penetration": 15e-9, "interface.length_normal": 1e-9,
+                  "loading.steps": 800,  # long enough (≈ 6 s on 2 cores) to be interrupted mid-run
+                  "loading.final_penetration": 15e-9, "interface.length_normal": 1e-9,
                   "loading.initial_separation": 8e-9, "output.field_steps": 3})
     path = write_scene(tmp_path, sc)
     out = tmp_path / "out"

@@ -59,6 +59,7 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import functools
 import hashlib
 import io as _io
 import itertools
@@ -303,6 +304,7 @@ def _report_step(step, steps):
 _M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD = -1, -3
 
 
+@functools.cache
 def reuse_freed_arrays(mmap_threshold=1 << 26, trim_threshold=1 << 27):
     """Let glibc's malloc keep freed arrays of up to 64 MiB for reuse in this process; True if set.
 
@@ -313,8 +315,8 @@ def reuse_freed_arrays(mmap_threshold=1 << 26, trim_threshold=1 << 27):
     arrays at every iteration, so a worker spent three quarters of its time in page faults
     (measured: one N = 2^17 hard-wall task of the seed's Fig. 3, 21 s in-process, 99 s under
     that variable, 42 million minor page faults instead of 65 thousand). Called at the start of
-    each task (on a local cluster's workers and on those of an existing cluster alike); a no-op
-    returning False where the C library has no mallopt (not glibc).
+    each task (on a local cluster's workers and on those of an existing cluster alike), acting
+    once per process; a no-op returning False where the C library has no mallopt (not glibc).
     """
     import ctypes
     import ctypes.util
