@@ -23,7 +23,7 @@ process-level scaling (independent single-threaded tasks); the roughness paramet
 (H, h_rms, ε_f) change its cost, which the class rate does not capture: the projection is an
 estimate, the measured full-scale runs (README "Studies") are the check.
 
-Dask path (section 3, ``--dask-path``): the same hard-wall task at the largest N run (a) in this
+Dask path (section 3; ``--no-dask-path`` skips it): the same hard-wall task at the largest N run (a) in this
 process, (b) in a child process started with the environment Dask's nanny gives its workers
 (MALLOC_TRIM_THRESHOLD_=65536) without `workbench.study.reuse_freed_arrays` (the study engine
 before that fix), (c) the same child with it (what a worker does now), (d) through
@@ -126,10 +126,8 @@ def dask_path(n, workdir):
         rows.append((label, r["wall_s"], r["faults"]))
     (work / "study.toml").write_text('name = "dask_path"\nbase = "scene.toml"\n[axes]\n"interface.law" = ["hard-wall"]\n')
     t = time.perf_counter()
-    gfmd = [sys.executable, "-c", "import sys; sys.path.insert(0, sys.argv.pop(1)); from workbench.cli import main; "
-            "sys.exit(main(sys.argv[1:]))", str(ROOT)]
-    subprocess.run([*gfmd, "study", "run", str(work / "study.toml"), "--out", str(work / "study"), "--workers", "1"],
-                   check=True, capture_output=True, cwd=ROOT)
+    subprocess.run([sys.executable, "-m", "gfmd", "study", "run", str(work / "study.toml"), "--out", str(work / "study"),
+                    "--workers", "1"], check=True, capture_output=True, cwd=ROOT)  # `python -m gfmd` from the tree
     rows.append(("`gfmd study run`, 1-worker local Dask cluster (cluster start included)", time.perf_counter() - t, None))
     return rows
 
