@@ -15,7 +15,9 @@ Sections (every time is a median over steps, and ratios are taken within this on
 the same loads, seconds apart: the machine is shared and noisy):
 
 1. hard wall at N = 2^16, 2^17: per variant (``fire``: the FIRE hard wall before issue 13 with
-   scipy.fft; ``cg-scipy``: the projected CG with scipy.fft; ``cg``: the CG with the default
+   scipy.fft; ``cg-primal``: the projected CG on the displacements alone, `dual_contact_limit = 0`,
+   the default before the dual; ``cg-scipy``: the default hard wall (dual CG on the contact
+   pressures while the contact set is small) with scipy.fft; ``cg``: the same with the default
    FFT backend) iterations, FFT pairs, s/step, s per FFT pair, the KKT residual of every step
    (the solver's residual: max |net nodal force| / p_ref, pulling wall nodes included; the
    state never penetrates), and Tamaas' s/step on the same pressures, GFMD/Tamaas;
@@ -28,7 +30,10 @@ the same loads, seconds apart: the machine is shared and noisy):
 5. the seed's Fig. 3 study projected from steps per CPU-second measured at N = 2^17 on a
    window of its ramp (200 steps to δ = 20 nm: dU = 0.1 nm; 6 interfaces, 10 realizations,
    2 cores), cohesive FIRE (before) and NCG (now) from the same approach state;
-6. process-level parallel efficiency of 2 realizations on 2 cores (serial vs a 2-process pool).
+6. process-level parallel efficiency of 2 realizations on 2 cores (serial vs a 2-process pool);
+7. the dual against the primal hard-wall CG by contact fraction (N = 2^16, --quick 2^14; the ramp of
+   section 4 up to δ = 0.9 δ_max), each alone on the same steps: the measurement behind
+   `Settings.dual_contact_limit`.
 
 Writes benchmarks/results/bench_vs_tamaas{,_quick}.md. Tamaas is optional (the ``bench`` extra);
 without it the comparison columns are skipped with a message.
@@ -161,6 +166,7 @@ def section_hard_wall(sizes, use_tamaas, lines):
         case = bg.Case(n, "hard-wall", 0.0)
         deltas = D_STEP * np.arange(1, STEPS + 1)
         variants = [("fire", Settings(tolerance=TOL, hard_wall="fire"), "scipy"),
+                    ("cg-primal", Settings(tolerance=TOL, dual_contact_limit=0.0), None),
                     ("cg-scipy", Settings(tolerance=TOL), "scipy"),
                     ("cg", Settings(tolerance=TOL), None)]
         results = {}
@@ -359,6 +365,28 @@ def section_fig3(e, window, lines):
     return totals
 
 
+def section_dual_vs_primal(e, lines):
+    case = bg.Case(2**e, "hard-wall", 0.0)
+    d_max = float(np.mean(case.h) - np.min(case.h))
+    fractions = np.array([0.2, 0.3, 0.4, 0.5, 0.6, 0.65, 0.7, 0.75, 0.8, 0.85, 0.9])
+    dual = ramp(case, Settings(tolerance=TOL, dual_contact_limit=1.0), fractions * d_max)
+    primal = ramp(case, Settings(tolerance=TOL, dual_contact_limit=0.0), fractions * d_max)
+    default = ramp(case, Settings(tolerance=TOL), fractions * d_max)
+    limit = Settings().dual_contact_limit
+    lines += [f"## 7. Dual vs primal hard-wall CG by contact fraction (N = 2^{e})", "",
+              "Each alone on the same ramp (δ/δ_max, tolerance 1e-10, warm-started as above); `default`: "
+              f"`dual_contact_limit = {limit}` (the dual while the contact set holds at most that fraction "
+              "of the nodes, else the primal).", "",
+              "| δ/δ_max | a_rel | dual it | dual pairs | dual s | primal it | primal pairs | primal s | "
+              "dual/primal s | default method | default s |", "|" + "---|" * 11]
+    for f, a, b, c in zip(fractions, dual, primal, default):
+        lines.append(f"| {f:g} | {b['a']:.4f} | {a['it']} | {a['pairs']:.0f} | {a['s']:.3g} | {b['it']} | "
+                     f"{b['pairs']:.0f} | {b['s']:.3g} | {a['s'] / b['s']:.2f} | {c['method']} | {c['s']:.3g} |")
+    lines.append("")
+    print(f"  dual/primal: a_rel {[round(r['a'], 4) for r in primal]} "
+          f"s ratio {[round(a['s'] / b['s'], 2) for a, b in zip(dual, primal)]}", flush=True)
+
+
 def _parallel_job(args):
     e, realization, window = args
     t = time.perf_counter()
@@ -401,7 +429,7 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true", help="N = 2^14 only, short sections (≈ 1 min)")
     ap.add_argument("--no-tamaas", action="store_true", help="skip the Tamaas columns")
     ap.add_argument("--out", type=Path, default=Path(__file__).resolve().parent / "results")
-    ap.add_argument("--sections", default="1,2,3,4,5,6")
+    ap.add_argument("--sections", default="1,2,3,4,5,6,7")
     ap.add_argument("--suffix", default="", help="appended to the results file name")
     a = ap.parse_args(argv)
     use_tamaas = tm is not None and not a.no_tamaas
@@ -432,6 +460,8 @@ def main(argv=None):
         totals = section_fig3(12 if a.quick else 17, 3 if a.quick else 10, lines)
     if 6 in sections:
         section_parallel(12 if a.quick else 17, 3 if a.quick else 10, lines, totals)
+    if 7 in sections:
+        section_dual_vs_primal(14 if a.quick else 16, lines)
     lines.append(f"Total benchmark time {time.perf_counter() - t0:.0f} s; load average at end "
                  + " ".join(f"{v:.2f}" for v in os.getloadavg()) + ".")
     text = "\n".join(lines) + "\n"

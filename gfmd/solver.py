@@ -61,6 +61,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.fft
+import scipy.sparse
 
 try:  # optional, the `fast` extra: a faster real FFT (measured 1.4–2× per rfft/irfft pair here)
     import ducc0.fft as _ducc_fft
@@ -156,6 +157,9 @@ class Settings:
     # hard-wall CG: release the wall nodes that pull away once their forces' norm exceeds
     # proportioning × the free nodes' residual norm (Dostál's MPRGP proportioning test)
     proportioning: float = 0.3
+    # hard-wall CG: solve for the contact pressures (`_relax_hard_wall_dual`) while the contact set holds at
+    # most this fraction of the nodes, else for the displacements (`_relax_hard_wall_cg`); 0: always the latter
+    dual_contact_limit: float = 0.03
 
 
 @dataclass
@@ -329,6 +333,8 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
         return _relax_cohesive_wall(model, law, z_ind, u_hat, settings, wall_tolerance)
     if law.constraint:  # the hard wall: a constraint, projected (no traction function to relax)
         if settings.method == "fire" and settings.hard_wall == "cg":
+            if settings.dual_contact_limit > 0:
+                return _relax_hard_wall_dual(model, law, z_ind, u_hat, settings, wall_tolerance)
             return _relax_hard_wall_cg(model, law, z_ind, u_hat, settings, wall_tolerance)
         if settings.hard_wall not in ("cg", "fire"):
             raise ValueError(f"Settings.hard_wall = {settings.hard_wall!r}: expected 'cg' or 'fire'")
@@ -1146,6 +1152,207 @@ def _relax_hard_wall_cg(model, law, z_ind, u_hat, settings, wall_tolerance):
     out = _finish(model, law, z_ind, u_hat, it, residual, converged, message, wall_tolerance)
     out.fft_pairs = pairs + 1.5  # _finish: one irfft of u_hat and one pair for K u
     out.method = "cg"
+    return out
+
+
+#: Half-width (nodes) of the band of K_AA that preconditions the dual hard-wall CG (`_band_stiffness`).
+#: Measured (bench_vs_tamaas.py's ramp, N = 2^16 / 2^17, medians of 10 steps): FFT pairs per step
+#: 61.5 / 80 at 4, 56.5 / 73.5 at 8, 54 / 67.5 at 16, 52 / 64 at 32, 52.5 / 64.5 at 64.
+DUAL_BAND_HALF_WIDTH = 32
+
+
+def _band_stiffness(k_kernel, act, n, half_width):
+    """K_AA truncated to |i − j| ≤ half_width (CSR, Pa/m): the dual CG's preconditioner.
+
+    k_kernel: real-space kernel of K (K_ij = k_kernel[(i − j) mod n]); act: sorted node indices.
+    The band counts |i − j| along the index, not around the period. Rows of K sum to K(q = 0) ≥ 0 with
+    negative off-diagonal entries, so a row that loses an entry (A short of all nodes, or the band
+    cut) is strictly diagonally dominant: the truncation is symmetric positive definite.
+    """
+    lo = np.searchsorted(act, act - half_width)
+    hi = np.searchsorted(act, act + half_width, side="right")
+    counts = hi - lo
+    indptr = np.zeros(act.size + 1, np.int64)
+    np.cumsum(counts, out=indptr[1:])
+    cols = np.repeat(lo - indptr[:-1], counts) + np.arange(indptr[-1])
+    rows = np.repeat(np.arange(act.size), counts)
+    data = k_kernel[np.abs(act[rows] - act[cols])]  # K_ij = k(|i − j|): exactly symmetric
+    return scipy.sparse.csr_matrix((data, cols, indptr), shape=(act.size, act.size))
+
+
+def _relax_hard_wall_dual(model, law, z_ind, u_hat, settings, wall_tolerance):
+    """Hard wall by projected preconditioned CG on the contact pressures (the dual, small contact sets).
+
+    With P ≥ 0 the wall's pressure on the nodes (Pa), u = −G P (G = K⁻¹; on a half-plane
+    G(0) = 0, so ⟨u⟩ = 0 and the far-field load is ⟨P⟩) and the gap Δ = z_ind − u = z_ind + G P,
+    the step is  min ½ Pᵀ G P + z_indᵀ P  over P ≥ 0  (gradient Δ; KKT: P ≥ 0, Δ ≥ 0, P Δ = 0),
+    the primal problem of `_relax_hard_wall_cg` seen from the wall. CG runs on the contact set
+    A = {P > 0} with residual −Δ_A and preconditioner K_AA truncated to |i − j| ≤
+    DUAL_BAND_HALF_WIDTH (`_band_stiffness`; G⁻¹ = K, and K's kernel decays as 1/x² while G's is
+    logarithmic): a sparse product, so an iteration costs one FFT pair (G d) where the primal CG
+    needs two (K d and its preconditioner K⁻¹ r). s = K_band Δ_A is ≈ the nodal force the gap
+    error makes, the stopping measure.
+
+    Set changes, as the primal: a step that drives pressures negative is kept and projected
+    (P ← max(P, 0), the nodes leave A, Δ recomputed, restart: Polonsky & Keer 1999); nodes off A
+    that penetrate (Δ < 0) join A with P = 0 once the norm of their gaps exceeds `proportioning` ×
+    that of Δ_A (restart).
+
+    Stop: the same residual as `_relax_hard_wall_cg` (max |net force| of `_wall_net_force`, K u
+    recomputed from u = z_ind on A, z_ind − max(Δ, 0) off A) below tolerance · p_ref; the
+    candidate is tested when max |s| < ½ tolerance · p_ref, then at tenfold tighter thresholds.
+    A guess that already passes is returned unchanged (iterations 0): the fixed points are the
+    KKT points. Hands over to `_relax_hard_wall_cg` (from its current state) when A grows past
+    `Settings.dual_contact_limit` of the nodes, where the band products and set changes cost
+    more than the pair they save (benchmarks/bench_vs_tamaas.py, section 1b), or if the tighter
+    thresholds do not reach the tolerance.
+    """
+    n = model.nodes
+    fft = _Fft(n)
+    clamp = model.half_plane
+    k = np.ascontiguousarray(np.real(model.k_zz))
+    g = np.ascontiguousarray(np.real(_Elastic(model, 0.0, 0.0).inv_mass[0]))
+    p_ref = model.reference_traction
+    tol = settings.tolerance * p_ref
+    gamma2 = settings.proportioning**2
+    limit = settings.dual_contact_limit * n
+    z = np.ascontiguousarray(z_ind, dtype=float)
+
+    u_hat_z = np.ascontiguousarray(u_hat[-1])
+    u = fft.irfft(u_hat_z)
+    ku = fft.irfft(k * u_hat_z)
+    if float(np.max(u - z)) <= wall_tolerance:  # feasible up to round-off: already converged?
+        net, _ = _wall_net_force_from(model, ku, z - u <= wall_tolerance)
+        residual = float(np.max(np.abs(net))) / p_ref
+        if residual < settings.tolerance:
+            out = _finish(model, law, z_ind, fft.rfft(np.minimum(u, z))[None, :], 0, residual, True, "",
+                          wall_tolerance)
+            out.fft_pairs, out.method = fft.pairs + 1.5, "cg-dual"  # _finish: 1.5 pairs
+            return out
+    # the guess's pressures: P = p_far − K u where positive; p_far = K u on the nodes the guess leaves free
+    free = z - u > 0
+    p_far = float(np.median(ku[free])) if clamp and free.any() else 0.0
+    pressure = p_far - ku  # full length; zero off A from here on
+    on_wall = pressure > 1e-9 * float(np.max(np.abs(ku)))
+    if np.count_nonzero(on_wall) > limit:  # a large contact set: the primal CG from the guess
+        out = _relax_hard_wall_cg(model, law, z_ind, u_hat, settings, wall_tolerance)
+        out.fft_pairs += fft.pairs
+        return out
+    pressure[~on_wall] = 0.0
+    act = np.flatnonzero(on_wall)
+    k_kernel = fft.irfft(k.astype(complex))
+    sparse_in, g_d, gap = np.zeros(n), np.empty(n), np.empty(n)
+
+    def g_times(values, out):  # out ← G χ_A values: one FFT pair
+        sparse_in[act] = values
+        fft.apply_to(g, sparse_in, out)
+        sparse_in[act] = 0.0
+        return out
+
+    def recompute_gap():
+        g_times(pressure[act], gap)
+        np.add(gap, z, out=gap)
+
+    def primal_state():
+        u_new = z - np.maximum(gap, 0.0)
+        u_new[act] = z[act]
+        return u_new
+
+    recompute_gap()
+    # the band on a superset U ⊇ A, rebuilt only when nodes outside U join A (leaving A needs no rebuild:
+    # rows and columns of U \ A meet zeros and are not read)
+    band_nodes = act
+    k_band = _band_stiffness(k_kernel, band_nodes, n, DUAL_BAND_HALF_WIDTH)
+    band_in = np.zeros(band_nodes.size)
+
+    def precondition(r):  # K_band restricted to A, times r
+        at = np.searchsorted(band_nodes, act)
+        band_in[at] = r
+        out = (k_band @ band_in)[at]
+        band_in[at] = 0.0
+        return out
+
+    d = np.zeros(act.size)
+    rz_old, restart, stop = 1.0, True, 0.5
+    residual, converged, message, hand_over = np.inf, False, "", False
+    it = 0
+    while not hand_over and it < settings.max_iterations:
+        r = -gap[act]
+        s = precondition(r)
+        worst = float(np.max(np.abs(s))) if act.size else 0.0
+        # penetration off A, counted once its force (≈ K(0)_jj |Δ_j|) is not negligible
+        enter = np.empty(0, np.int64)
+        if float(np.min(gap)) < -0.1 * stop * tol / k_kernel[0]:
+            off = gap < -0.1 * stop * tol / k_kernel[0]
+            off[act] = False
+            enter = np.flatnonzero(off)
+        if enter.size:
+            g_enter = gap[enter]
+            if _dot(g_enter, g_enter) > gamma2 * _dot(r, r) or worst < stop * tol:
+                act = np.union1d(act, enter)
+                hand_over = act.size > limit
+                if not np.isin(enter, band_nodes, assume_unique=True).all():
+                    band_nodes = act
+                    k_band = _band_stiffness(k_kernel, band_nodes, n, DUAL_BAND_HALF_WIDTH)
+                    band_in = np.zeros(band_nodes.size)
+                restart = True
+                continue
+        if worst < stop * tol:  # candidate: the primal residual with a fresh K u
+            u = primal_state()
+            fft.apply_to(k, u, ku)
+            net, _ = _wall_net_force_from(model, ku, z - u <= wall_tolerance)
+            residual = float(np.max(np.abs(net))) / p_ref
+            if residual < settings.tolerance:
+                converged = True
+                break
+            if not np.isfinite(residual):
+                message = "diverged: non-finite force residual"
+                break
+            stop *= 0.1
+            hand_over = stop < 1e-4
+            continue
+        it += 1
+        rz = _dot(r, s)
+        if restart or rz_old <= 0:
+            d = s.copy()
+            restart = False
+        else:
+            d = s + (rz / rz_old) * d
+        rz_old = rz
+        g_times(d, g_d)
+        curvature = _dot(d, g_d[act])
+        if not curvature > 0:
+            message = "diverged: non-positive curvature along the search direction"
+            break
+        alpha = rz / curvature
+        if not np.isfinite(alpha):
+            message = "diverged: non-finite step"
+            break
+        p_act = pressure[act] + alpha * d
+        g_d *= alpha
+        gap += g_d
+        negative = p_act < 0
+        if negative.any():  # Polonsky–Keer: keep the step, project, those nodes leave A
+            p_act[negative] = 0.0
+            pressure[act] = p_act
+            act = act[~negative]
+            recompute_gap()
+            restart = True
+        else:
+            pressure[act] = p_act
+    u = primal_state()
+    if hand_over and not message:  # the primal CG from here, with the iterations left
+        rest = replace(settings, max_iterations=settings.max_iterations - it)
+        out = _relax_hard_wall_cg(model, law, z_ind, fft.rfft(u)[None, :], rest, wall_tolerance)
+        out.iterations += it
+        out.fft_pairs += fft.pairs + 0.5
+        out.method = "cg-dual→cg"
+        return out
+    if not converged and not message:
+        message = f"not converged after {settings.max_iterations} iterations (residual {residual:.3g} p_ref)"
+    out = _finish(model, law, z_ind, fft.rfft(u)[None, :], it, residual, converged, message, wall_tolerance)
+    out.fft_pairs = fft.pairs + 1.5  # _finish: one irfft of u_hat and one pair for K u
+    out.method = "cg-dual"
     return out
 
 

@@ -1,4 +1,4 @@
-"""The fast hard-wall solver (projected preconditioned CG) and the FFT backends (issue 13).
+"""The fast hard-wall solvers (projected preconditioned CG, primal and dual) and the FFT backends (issue 13).
 
 * CG and FIRE reach the same hard-wall equilibrium (half-plane and layer), and the CG state
   passes an independent KKT check (elastic force recomputed with numpy.fft: no penetration,
@@ -8,11 +8,16 @@
 * the CG's fixed point is the KKT point: started there it stops at once, unchanged;
 * scipy.fft and ducc0 (when installed) give the same equilibria; the backend choice is checked;
 * cost guard by counts (not times): the CG needs at most a third of FIRE's FFT pairs on a
-  warm-started self-affine step.
+  warm-started self-affine step;
+* the dual CG (contact pressures, `_relax_hard_wall_dual`) reaches the primal's equilibrium
+  (half-plane and layer, same contact set), passes the same independent KKT check, hands over to
+  the primal past `dual_contact_limit`, and needs fewer FFT pairs than the primal on the same ramp;
+  its preconditioner, the band of K_AA, is symmetric positive definite for any contact set.
 """
 
 import numpy as np
 import pytest
+from hypothesis import given, settings as hyp_settings, strategies as st
 
 from contact import surfaces
 from contact.loading import indenter_surface
@@ -85,13 +90,15 @@ def test_cg_equals_fire_and_is_kkt(thickness):
         assert a.fft_pairs > 0
 
 
-def test_cg_releases_pulling_wall_nodes():
+@pytest.mark.parametrize("dual_limit", [0.0, 1.0])  # the primal CG; the dual CG however large the set
+def test_cg_releases_pulling_wall_nodes(dual_limit):
     """Start with every node on the wall (u = z − ⟨z⟩): almost all of them pull away."""
     sc, h, model, law, wall_tol = case()
     d0 = sc.loading.initial_separation
     z = indenter_surface(h, d0, d0 + 5e-9)
     guess = np.fft.rfft(z - np.mean(z))[None, :]
-    r = relax(model, law, z, guess, Settings(tolerance=TOL), wall_tol)
+    r = relax(model, law, z, guess, Settings(tolerance=TOL, dual_contact_limit=dual_limit), wall_tol)
+    assert r.method == ("cg" if dual_limit == 0 else "cg-dual")
     ref = relax(model, law, z, np.zeros_like(guess), Settings(tolerance=TOL, hard_wall="fire"), wall_tol)
     assert r.converged, r.message
     assert np.mean(r.t_z < 0) < 0.2  # most nodes left the wall
@@ -99,21 +106,24 @@ def test_cg_releases_pulling_wall_nodes():
     assert np.max(np.abs(r.u_z - ref.u_z)) < 1e-9 * float(np.std(h))
 
 
-def test_cg_fixed_point_is_the_kkt_point():
+@pytest.mark.parametrize("dual_limit", [0.0, 1.0])
+def test_cg_fixed_point_is_the_kkt_point(dual_limit):
     sc, h, model, law, wall_tol = case()
     d0 = sc.loading.initial_separation
     z = indenter_surface(h, d0, d0 + 8e-9)
-    first = relax(model, law, z, np.zeros((1, model.nodes // 2 + 1), complex), Settings(tolerance=TOL), wall_tol)
-    again = relax(model, law, z, first.u_hat, Settings(tolerance=TOL), wall_tol)
+    settings = Settings(tolerance=TOL, dual_contact_limit=dual_limit)
+    first = relax(model, law, z, np.zeros((1, model.nodes // 2 + 1), complex), settings, wall_tol)
+    again = relax(model, law, z, first.u_hat, settings, wall_tol)
     assert again.converged and again.iterations == 0
     assert np.max(np.abs(again.u_z - first.u_z)) < 1e-15 * float(np.std(h))
 
 
-def test_cg_unconverged_is_reported():
+@pytest.mark.parametrize("dual_limit", [0.0, 1.0])
+def test_cg_unconverged_is_reported(dual_limit):
     sc, h, model, law, wall_tol = case()
     d0 = sc.loading.initial_separation
     r = relax(model, law, indenter_surface(h, d0, d0 + 8e-9), np.zeros((1, model.nodes // 2 + 1), complex),
-              Settings(tolerance=TOL, max_iterations=2), wall_tol)
+              Settings(tolerance=TOL, max_iterations=2, dual_contact_limit=dual_limit), wall_tol)
     assert not r.converged and "not converged" in r.message and r.iterations == 2
 
 
@@ -130,6 +140,76 @@ def test_cg_needs_far_fewer_fft_pairs_than_fire():
     cg_pairs = np.median([r.fft_pairs for r in cg])
     fire_pairs = np.median([2 * r.iterations for r in fire])
     assert cg_pairs < fire_pairs / 3, (cg_pairs, fire_pairs)
+
+
+@pytest.mark.parametrize("thickness", [None, 0.5e-6])
+def test_dual_equals_primal_and_is_kkt(thickness):
+    sc, h, model, law, wall_tol = case(thickness=thickness)
+    d0 = sc.loading.initial_separation
+
+    def z_of(d):
+        return indenter_surface(h, d0, d0 + d)
+
+    deltas = 1.5e-9 * np.arange(1, 6)
+    dual = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, dual_contact_limit=1.0), wall_tol)
+    primal = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, dual_contact_limit=0.0), wall_tol)
+    h_rms = float(np.std(h))
+    for d, a, b in zip(deltas, dual, primal):
+        assert a.method == "cg-dual" and b.method == "cg"
+        assert a.residual < TOL
+        assert kkt_violation(model, z_of(d), a.u_z) < TOL * (1 + 1e-3)
+        assert np.max(np.abs(a.u_z - b.u_z)) < 1e-9 * h_rms
+        np.testing.assert_array_equal(a.t_z < 0, b.t_z < 0)  # same contact set
+        np.testing.assert_allclose(np.mean(a.t_z), np.mean(b.t_z), rtol=1e-8)
+
+
+def test_dual_hands_over_to_the_primal_past_its_contact_limit():
+    """Limit below the ramp's contact fractions: the dual hands over (from its state, or at once from a
+    guess already past the limit) and the primal ends at the KKT point."""
+    sc, h, model, law, wall_tol = case()
+    d0 = sc.loading.initial_separation
+
+    def z_of(d):
+        return indenter_surface(h, d0, d0 + d)
+
+    deltas = 1.5e-9 * np.arange(1, 6)
+    out = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, dual_contact_limit=2e-3), wall_tol)
+    areas = [float(np.mean(r.t_z < 0)) for r in out]
+    assert areas[-1] > 2e-3
+    assert {r.method for r in out} >= {"cg-dual", "cg-dual→cg", "cg"}  # dual; handed over in a step; primal at once
+    for d, r, a in zip(deltas, out, areas):
+        # the dual never iterates on a set past its limit (a guess that already passes is returned as is)
+        assert r.method != "cg-dual" or a <= 2e-3 or r.iterations == 0
+        assert kkt_violation(model, z_of(d), r.u_z) < TOL * (1 + 1e-3)
+
+
+def test_dual_needs_fewer_fft_pairs_than_the_primal():
+    sc, h, model, law, wall_tol = case(nodes=8192)
+    d0 = sc.loading.initial_separation
+
+    def z_of(d):
+        return indenter_surface(h, d0, d0 + d)
+
+    deltas = 1.5e-9 * np.arange(1, 6)
+    dual = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, dual_contact_limit=1.0), wall_tol)
+    primal = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, dual_contact_limit=0.0), wall_tol)
+    assert np.median([r.fft_pairs for r in dual]) < np.median([r.fft_pairs for r in primal])
+
+
+@hyp_settings(max_examples=40, deadline=None)
+@given(st.integers(8, 200), st.lists(st.integers(0, 199), min_size=1, max_size=60, unique=True), st.integers(1, 40))
+def test_band_stiffness_is_symmetric_positive_definite(n, picks, half_width):
+    q = np.fft.rfftfreq(n)
+    k_kernel = np.fft.irfft(np.abs(q) * 2 * np.pi, n=n)  # |q|: a half-plane's K up to units, K(0) = 0
+    act = np.unique(np.asarray(picks) % n)
+    if act.size == n:  # the dual's contact set is never every node (a half-plane's K_AA is then singular)
+        act = act[1:]
+    band = gs._band_stiffness(k_kernel, act, n, half_width).toarray()
+    dense = np.fft.irfft(np.abs(q) * 2 * np.pi, n=n)[(act[:, None] - act[None, :]) % n]
+    near = np.abs(act[:, None] - act[None, :]) <= half_width
+    np.testing.assert_allclose(band, np.where(near, dense, 0.0), rtol=0, atol=1e-14)
+    np.testing.assert_allclose(band, band.T, atol=0)
+    assert np.min(np.linalg.eigvalsh(band)) > 0
 
 
 @pytest.mark.skipif(gs._ducc_fft is None, reason="ducc0 not installed (the `fast` extra)")
