@@ -69,8 +69,10 @@ def integrator(physics, settings):
         return ("integrator: " + ("damped Störmer–Verlet" if settings.method == "verlet" else "FIRE on mass-weighted modes")
                 + ", CZ attraction off the wall, projected onto the wall (cohesive wall)")
     if physics.law.constraint and settings.method == "fire" and settings.hard_wall == "cg":
-        return ("integrator: projected preconditioned conjugate gradients on the mass-weighted modes (hard wall; "
-                "solver.method = fire selects it, Settings.hard_wall = \"fire\" the FIRE projection)")
+        return ("integrator: projected preconditioned conjugate gradients (hard wall): on the contact pressures while "
+                f"the contact set holds at most {settings.dual_contact_limit:g} of the nodes, on the displacements "
+                "off the wall beyond (solver.method = fire selects it, Settings.hard_wall = \"fire\" the FIRE "
+                "projection)")
     if (settings.method == "fire" and settings.cohesive == "ncg" and not physics.tangential
             and type(physics.law) is NormalCohesive):
         return ("integrator: nonlinear preconditioned conjugate gradients with a Newton line search (normal-only "
