@@ -336,6 +336,9 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
         return _relax_cohesive_wall(model, law, z_ind, u_hat, settings, wall_tolerance)
     if law.constraint:  # the hard wall: a constraint, projected (no traction function to relax)
         if settings.method == "fire" and settings.hard_wall == "cg":
+            if not 0.0 <= settings.dual_contact_limit <= 1.0:
+                raise ValueError(f"Settings.dual_contact_limit = {settings.dual_contact_limit!r}: expected a fraction "
+                                 "of the nodes in [0, 1] (0: the primal CG only)")
             if settings.dual_contact_limit > 0:
                 return _relax_hard_wall_dual(model, law, z_ind, u_hat, settings, wall_tolerance)
             return _relax_hard_wall_cg(model, law, z_ind, u_hat, settings, wall_tolerance)
@@ -1162,6 +1165,11 @@ def _relax_hard_wall_cg(model, law, z_ind, u_hat, settings, wall_tolerance):
 #: Measured (bench_vs_tamaas.py's ramp, N = 2^16 / 2^17, medians of 10 steps): FFT pairs per step
 #: 61.5 / 80 at 4, 56.5 / 73.5 at 8, 54 / 67.5 at 16, 52 / 64 at 32, 52.5 / 64.5 at 64.
 DUAL_BAND_HALF_WIDTH = 32
+#: The dual hard-wall CG hands a step over to the primal only when its contact set grows past this
+#: multiple of `Settings.dual_contact_limit` (`_relax_hard_wall_dual`). Measured (section 7, N = 2^16):
+#: with factor 1, steps ending at a_rel = 0.025–0.055 were handed over mid-way and cost 1.1–1.5× the
+#: dual alone.
+DUAL_TRANSIENT_FACTOR = 2.0
 
 
 def _band_stiffness(k_kernel, act, n, half_width):
@@ -1205,10 +1213,13 @@ def _relax_hard_wall_dual(model, law, z_ind, u_hat, settings, wall_tolerance):
     recomputed from u = z_ind on A, z_ind − max(Δ, 0) off A) below tolerance · p_ref; the
     candidate is tested when max |s| < ½ tolerance · p_ref, then at tenfold tighter thresholds.
     A guess that already passes is returned unchanged (iterations 0): the fixed points are the
-    KKT points. Hands over to `_relax_hard_wall_cg` (from its current state) when A grows past
-    `Settings.dual_contact_limit` of the nodes, where the band products and set changes cost
-    more than the pair they save (benchmarks/bench_vs_tamaas.py, section 1b), or if the tighter
-    thresholds do not reach the tolerance.
+    KKT points. The primal `_relax_hard_wall_cg` takes over from the guess when its contact set
+    holds more than `Settings.dual_contact_limit` of the nodes (there the band products and set
+    changes cost more than the pair they save: benchmarks/bench_vs_tamaas.py, section 7), and from
+    the current state when A grows past DUAL_TRANSIENT_FACTOR × that limit (the nodes that join in
+    bulk after an extrapolated guess can double A before the projections thin it out: measured
+    1553 → 745 nodes at N = 2^17), when A would hold every node but one (a half-plane's G_AA is
+    singular on all nodes), or when the tighter thresholds do not reach the tolerance.
     """
     n = model.nodes
     fft = _Fft(n)
@@ -1219,6 +1230,7 @@ def _relax_hard_wall_dual(model, law, z_ind, u_hat, settings, wall_tolerance):
     tol = settings.tolerance * p_ref
     gamma2 = settings.proportioning**2
     limit = settings.dual_contact_limit * n
+    transient_limit = min(DUAL_TRANSIENT_FACTOR * limit, n - 2)
     z = np.ascontiguousarray(z_ind, dtype=float)
 
     u_hat_z = np.ascontiguousarray(u_hat[-1])
@@ -1293,7 +1305,7 @@ def _relax_hard_wall_dual(model, law, z_ind, u_hat, settings, wall_tolerance):
             g_enter = gap[enter]
             if _dot(g_enter, g_enter) > gamma2 * _dot(r, r) or worst < stop * tol:
                 act = np.union1d(act, enter)
-                hand_over = act.size > limit
+                hand_over = act.size > transient_limit
                 if not np.isin(enter, band_nodes, assume_unique=True).all():
                     band_nodes = act
                     k_band = _band_stiffness(k_kernel, band_nodes, n, DUAL_BAND_HALF_WIDTH)

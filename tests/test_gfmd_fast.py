@@ -164,8 +164,9 @@ def test_dual_equals_primal_and_is_kkt(thickness):
 
 
 def test_dual_hands_over_to_the_primal_past_its_contact_limit():
-    """Limit below the ramp's contact fractions: the dual hands over (from its state, or at once from a
-    guess already past the limit) and the primal ends at the KKT point."""
+    """Limit below the ramp's contact fractions: the dual hands over (from its state once A passes
+    DUAL_TRANSIENT_FACTOR × the limit, or at once from a guess past the limit) and the primal ends at
+    the KKT point."""
     sc, h, model, law, wall_tol = case()
     d0 = sc.loading.initial_separation
 
@@ -178,9 +179,17 @@ def test_dual_hands_over_to_the_primal_past_its_contact_limit():
     assert areas[-1] > 2e-3
     assert {r.method for r in out} >= {"cg-dual", "cg-dual→cg", "cg"}  # dual; handed over in a step; primal at once
     for d, r, a in zip(deltas, out, areas):
-        # the dual never iterates on a set past its limit (a guess that already passes is returned as is)
-        assert r.method != "cg-dual" or a <= 2e-3 or r.iterations == 0
+        # the dual never ends on a set past its transient limit (a guess that already passes is returned as is)
+        assert r.method != "cg-dual" or a <= gs.DUAL_TRANSIENT_FACTOR * 2e-3 or r.iterations == 0
         assert kkt_violation(model, z_of(d), r.u_z) < TOL * (1 + 1e-3)
+
+
+@pytest.mark.parametrize("limit", [-0.1, 1.5, float("nan")])
+def test_dual_contact_limit_outside_0_1_is_refused(limit):
+    sc, h, model, law, wall_tol = case()
+    with pytest.raises(ValueError, match="Settings.dual_contact_limit"):
+        relax(model, law, indenter_surface(h, sc.loading.initial_separation, sc.loading.initial_separation + 5e-9),
+              np.zeros((1, model.nodes // 2 + 1), complex), Settings(dual_contact_limit=limit), wall_tol)
 
 
 def test_dual_needs_fewer_fft_pairs_than_the_primal():
