@@ -1365,8 +1365,9 @@ def _relax_hard_wall_dual(model, law, z_ind, u_hat, settings, wall_tolerance):
         return out
     if not converged and not message:
         message = f"not converged after {settings.max_iterations} iterations (residual {residual:.3g} p_ref)"
-    out = _finish(model, law, z_ind, fft.rfft(u)[None, :], it, residual, converged, message, wall_tolerance)
-    out.fft_pairs = fft.pairs + 1.5  # _finish: one irfft of u_hat and one pair for K u
+    state = (u, ku) if converged else None  # converged: K u of this very u was the last check's
+    out = _finish(model, law, z_ind, fft.rfft(u)[None, :], it, residual, converged, message, wall_tolerance, state)
+    out.fft_pairs = fft.pairs + (0.0 if converged else 1.0)  # _finish otherwise: irfft of u_hat and of K û
     out.method = "cg-dual"
     return out
 
@@ -1389,15 +1390,22 @@ def _wall_net_force(model, k, u, on_wall, n):
     return np.where(stuck, 0.0, force), stuck
 
 
-def _finish(model, law, z_ind, u_hat, iterations, residual, converged, message, wall_tolerance):
+def _finish(model, law, z_ind, u_hat, iterations, residual, converged, message, wall_tolerance, wall_state=None):
+    """The `Relaxed` of the state u_hat. wall_state = (u_z, K u_z) of a hard-wall state whose residual was
+    just taken from exactly these arrays (u_hat its rfft): the tractions then come from them, not from
+    two more inverse FFTs."""
     n = model.nodes
-    u = scipy.fft.irfft(u_hat, n=n, axis=-1)
+    if wall_state is not None:
+        u = wall_state[0][None, :].copy()
+    else:
+        u = scipy.fft.irfft(u_hat, n=n, axis=-1)
     if law.constraint:
         gap = z_ind - u[-1]
         on_wall = gap <= wall_tolerance
         gap = np.maximum(gap, 0.0)
         u[-1] = z_ind - gap
-        force = _wall_balance(model, scipy.fft.irfft(model.k_zz * u_hat[-1], n=n), on_wall)
+        ku = wall_state[1] if wall_state is not None else scipy.fft.irfft(model.k_zz * u_hat[-1], n=n)
+        force = _wall_balance(model, ku, on_wall)
         t = np.zeros_like(u)
         t[-1] = np.where(on_wall, -np.maximum(force, 0.0), 0.0)
     else:
