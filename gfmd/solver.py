@@ -1096,14 +1096,8 @@ def _relax_hard_wall_cg(model, law, z_ind, u_hat, settings, wall_tolerance):
         if n_free == 0:
             worst = 0.0
         if worst < tol and not checked:  # candidate: the solver's residual with a fresh K u
-            fft.apply_to(k, u, ku)
-            net, _ = _wall_net_force_from(model, ku, z_ind - u <= wall_tolerance)
-            residual = float(np.max(np.abs(net))) / p_ref
-            if residual < settings.tolerance:
-                converged = True
-                break
-            if not np.isfinite(residual):
-                message = "diverged: non-finite force residual"
+            residual, converged, message = _wall_check(model, fft, k, u, ku, z_ind, wall_tolerance, settings.tolerance)
+            if converged or message:
                 break
             restart, checked = True, True  # next: a CG iteration (or a release) before checking again
             continue
@@ -1314,14 +1308,8 @@ def _relax_hard_wall_dual(model, law, z_ind, u_hat, settings, wall_tolerance):
                 continue
         if worst < stop * tol:  # candidate: the primal residual with a fresh K u
             u = primal_state()
-            fft.apply_to(k, u, ku)
-            net, _ = _wall_net_force_from(model, ku, z - u <= wall_tolerance)
-            residual = float(np.max(np.abs(net))) / p_ref
-            if residual < settings.tolerance:
-                converged = True
-                break
-            if not np.isfinite(residual):
-                message = "diverged: non-finite force residual"
+            residual, converged, message = _wall_check(model, fft, k, u, ku, z, wall_tolerance, settings.tolerance)
+            if converged or message:
                 break
             stop *= 0.1
             hand_over = stop < 1e-4
@@ -1370,6 +1358,19 @@ def _relax_hard_wall_dual(model, law, z_ind, u_hat, settings, wall_tolerance):
     out.fft_pairs = fft.pairs + (0.0 if converged else 1.0)  # _finish otherwise: irfft of u_hat and of K û
     out.method = "cg-dual"
     return out
+
+
+def _wall_check(model, fft, k, u, ku, z_ind, wall_tolerance, tolerance):
+    """The hard-wall CGs' stopping test on u, K u recomputed into ku: (residual, converged, message).
+
+    residual = max |net nodal force| of `_wall_net_force` / p_ref; converged when below `tolerance`;
+    message non-empty when the residual is not finite (the solver stops: diverged)."""
+    fft.apply_to(k, u, ku)
+    net, _ = _wall_net_force_from(model, ku, z_ind - u <= wall_tolerance)
+    residual = float(np.max(np.abs(net))) / model.reference_traction
+    if residual < tolerance:
+        return residual, True, ""
+    return residual, False, "" if np.isfinite(residual) else "diverged: non-finite force residual"
 
 
 def _wall_net_force_from(model, ku, on_wall):

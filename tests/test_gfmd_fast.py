@@ -69,25 +69,35 @@ def ramp(model, law, z_of, deltas, settings, wall_tol):
     return out
 
 
-@pytest.mark.parametrize("thickness", [None, 0.5e-6])
-def test_cg_equals_fire_and_is_kkt(thickness):
-    sc, h, model, law, wall_tol = case(thickness=thickness)
+def two_ramps(first, second, thickness=None, nodes=2048, steps=5):
+    """The same ramp of `steps` steps of 1.5 nm under two Settings: (model, z_of, deltas, h, runs, runs)."""
+    sc, h, model, law, wall_tol = case(nodes=nodes, thickness=thickness)
     d0 = sc.loading.initial_separation
 
     def z_of(d):
         return indenter_surface(h, d0, d0 + d)
 
-    deltas = 1.5e-9 * np.arange(1, 6)
-    cg = ramp(model, law, z_of, deltas, Settings(tolerance=TOL), wall_tol)
-    fire = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, hard_wall="fire"), wall_tol)
-    h_rms = float(np.std(h))
-    for d, a, b in zip(deltas, cg, fire):
+    deltas = 1.5e-9 * np.arange(1, steps + 1)
+    return (model, z_of, deltas, h, ramp(model, law, z_of, deltas, first, wall_tol),
+            ramp(model, law, z_of, deltas, second, wall_tol))
+
+
+def assert_same_kkt_equilibria(model, z_of, deltas, h, runs, reference):
+    """Every step of `runs` converged, passes the independent KKT check and equals `reference`'s."""
+    for d, a, b in zip(deltas, runs, reference):
         assert a.residual < TOL
         assert kkt_violation(model, z_of(d), a.u_z) < TOL * (1 + 1e-3)
-        assert np.max(np.abs(a.u_z - b.u_z)) < 1e-9 * h_rms
+        assert np.max(np.abs(a.u_z - b.u_z)) < 1e-9 * float(np.std(h))
         np.testing.assert_array_equal(a.t_z < 0, b.t_z < 0)  # same contact set
         np.testing.assert_allclose(np.mean(a.t_z), np.mean(b.t_z), rtol=1e-8)
         assert a.fft_pairs > 0
+
+
+@pytest.mark.parametrize("thickness", [None, 0.5e-6])
+def test_cg_equals_fire_and_is_kkt(thickness):
+    model, z_of, deltas, h, cg, fire = two_ramps(Settings(tolerance=TOL), Settings(tolerance=TOL, hard_wall="fire"),
+                                                 thickness)
+    assert_same_kkt_equilibria(model, z_of, deltas, h, cg, fire)
 
 
 @pytest.mark.parametrize("dual_limit", [0.0, 1.0])  # the primal CG; the dual CG however large the set
@@ -128,15 +138,7 @@ def test_cg_unconverged_is_reported(dual_limit):
 
 
 def test_cg_needs_far_fewer_fft_pairs_than_fire():
-    sc, h, model, law, wall_tol = case(nodes=8192)
-    d0 = sc.loading.initial_separation
-
-    def z_of(d):
-        return indenter_surface(h, d0, d0 + d)
-
-    deltas = 1.5e-9 * np.arange(1, 5)
-    cg = ramp(model, law, z_of, deltas, Settings(tolerance=TOL), wall_tol)
-    fire = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, hard_wall="fire"), wall_tol)
+    *_, cg, fire = two_ramps(Settings(tolerance=TOL), Settings(tolerance=TOL, hard_wall="fire"), nodes=8192, steps=4)
     cg_pairs = np.median([r.fft_pairs for r in cg])
     fire_pairs = np.median([2 * r.iterations for r in fire])
     assert cg_pairs < fire_pairs / 3, (cg_pairs, fire_pairs)
@@ -144,23 +146,10 @@ def test_cg_needs_far_fewer_fft_pairs_than_fire():
 
 @pytest.mark.parametrize("thickness", [None, 0.5e-6])
 def test_dual_equals_primal_and_is_kkt(thickness):
-    sc, h, model, law, wall_tol = case(thickness=thickness)
-    d0 = sc.loading.initial_separation
-
-    def z_of(d):
-        return indenter_surface(h, d0, d0 + d)
-
-    deltas = 1.5e-9 * np.arange(1, 6)
-    dual = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, dual_contact_limit=1.0), wall_tol)
-    primal = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, dual_contact_limit=0.0), wall_tol)
-    h_rms = float(np.std(h))
-    for d, a, b in zip(deltas, dual, primal):
-        assert a.method == "cg-dual" and b.method == "cg"
-        assert a.residual < TOL
-        assert kkt_violation(model, z_of(d), a.u_z) < TOL * (1 + 1e-3)
-        assert np.max(np.abs(a.u_z - b.u_z)) < 1e-9 * h_rms
-        np.testing.assert_array_equal(a.t_z < 0, b.t_z < 0)  # same contact set
-        np.testing.assert_allclose(np.mean(a.t_z), np.mean(b.t_z), rtol=1e-8)
+    model, z_of, deltas, h, dual, primal = two_ramps(Settings(tolerance=TOL, dual_contact_limit=1.0),
+                                                     Settings(tolerance=TOL, dual_contact_limit=0.0), thickness)
+    assert {r.method for r in dual} == {"cg-dual"} and {r.method for r in primal} == {"cg"}
+    assert_same_kkt_equilibria(model, z_of, deltas, h, dual, primal)
 
 
 def test_dual_hands_over_to_the_primal_past_its_contact_limit():
@@ -193,15 +182,8 @@ def test_dual_contact_limit_outside_0_1_is_refused(limit):
 
 
 def test_dual_needs_fewer_fft_pairs_than_the_primal():
-    sc, h, model, law, wall_tol = case(nodes=8192)
-    d0 = sc.loading.initial_separation
-
-    def z_of(d):
-        return indenter_surface(h, d0, d0 + d)
-
-    deltas = 1.5e-9 * np.arange(1, 6)
-    dual = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, dual_contact_limit=1.0), wall_tol)
-    primal = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, dual_contact_limit=0.0), wall_tol)
+    *_, dual, primal = two_ramps(Settings(tolerance=TOL, dual_contact_limit=1.0),
+                                 Settings(tolerance=TOL, dual_contact_limit=0.0), nodes=8192)
     assert np.median([r.fft_pairs for r in dual]) < np.median([r.fft_pairs for r in primal])
 
 
