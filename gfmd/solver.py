@@ -29,7 +29,7 @@ wall on nodes that touch it). Two integrators (reference-formulas §5.2):
 
 Hard wall: a constraint, not a penalty. Default (``Settings.hard_wall = "cg"``,
 method ``fire``): projected conjugate-gradient active-set methods. While the contact set
-holds at most ``Settings.dual_contact_limit`` (5 %) of the nodes, on the contact pressures
+holds at most ``Settings.dual_contact_limit`` (15 %) of the nodes, on the contact pressures
 (`_relax_hard_wall_dual`: the dual, preconditioned by a band of K on the contact set, one
 FFT pair per iteration); beyond, on the displacements of the nodes off the wall
 (`_relax_hard_wall_cg`: the primal, preconditioner M⁻¹ = K⁻¹, two pairs per iteration). Both
@@ -162,7 +162,7 @@ class Settings:
     proportioning: float = 0.3
     # hard-wall CG: solve for the contact pressures (`_relax_hard_wall_dual`) while the contact set holds at
     # most this fraction of the nodes, else for the displacements (`_relax_hard_wall_cg`); 0: always the latter
-    dual_contact_limit: float = 0.05
+    dual_contact_limit: float = 0.15
 
 
 @dataclass
@@ -1208,8 +1208,11 @@ def _relax_hard_wall_dual(model, law, z_ind, u_hat, settings, wall_tolerance):
     candidate is tested when max |s| < ½ tolerance · p_ref, then at tenfold tighter thresholds.
     A guess that already passes is returned unchanged (iterations 0): the fixed points are the
     KKT points. The primal `_relax_hard_wall_cg` takes over from the guess when its contact set
-    holds more than `Settings.dual_contact_limit` of the nodes (there the band products and set
-    changes cost more than the pair they save: benchmarks/bench_vs_tamaas.py, section 7), and from
+    holds more than `Settings.dual_contact_limit` of the nodes (beyond, the band products and set
+    changes cost more than the pair they save; measured on whole Fig. 3 hard-wall study tasks, N = 2^17,
+    0.04 nm steps, CPU s for limits 0 / 0.05 / 0.15 / 0.3: 36.9 / 27.5 / 23.5 / 24.7 (a_rel up to
+    0.25) and – / 17.3 / 14.0 / 13.6 (up to 0.083); with 1.8 nm jumps (benchmarks/bench_vs_tamaas.py,
+    section 7) the dual is 1.05× the primal at a_rel 0.08 and 1.7× at 0.13), and from
     the current state when A grows past DUAL_TRANSIENT_FACTOR × that limit (the nodes that join in
     bulk after an extrapolated guess can double A before the projections thin it out: measured
     1553 → 745 nodes at N = 2^17), when A would hold every node but one (a half-plane's G_AA is
