@@ -235,6 +235,16 @@ def _dot(a, b):
     return float(np.einsum("i,i->", a, b))
 
 
+def _spectral_dot(a, b, nodes):
+    """Σ_j a_j b_j of two real node fields from their rfft spectra â, b̂ in one pass (`_spectral_weights`):
+    (2 Σ_n Re(conj(â_n) b̂_n) − the terms of the modes counted once) / N."""
+    av, bv = a.view(np.float64), b.view(np.float64)
+    once = av[0] * bv[0] + av[1] * bv[1]
+    if nodes % 2 == 0:
+        once += av[-2] * bv[-2] + av[-1] * bv[-1]
+    return (2.0 * _dot(av, bv) - once) / nodes
+
+
 def _spectral_weights(nodes):
     """w_n with Σ_j a_j b_j = (1/N) Σ_n w_n Re(conj(â_n) b̂_n) for rfft spectra."""
     w = np.full(nodes // 2 + 1, 2.0)
@@ -686,6 +696,39 @@ def _relax_cohesive(model, law, z_ind, u_hat, settings, wall_tolerance):
 #: NCG iterations a cohesive step gets before the FIRE fallback (at most max_iterations / 2)
 NCG_BUDGET = 5000
 
+#: NCG: nodes whose attraction (Eq. 3) is at most NCG_FAR_FRACTION · tolerance · p_ref, Δn ≥ s_c δn, are
+#: left out of the nodal work; a converged state is checked again with every node
+NCG_FAR_FRACTION = 1e-3
+#: NCG: the near set holds the nodes with Δn < (s_c + NCG_NEAR_MARGIN) δn; it is rebuilt from the state when
+#: a step could have moved a far node by more than the margin
+NCG_NEAR_MARGIN = 8.0
+#: NCG: every node is near once the near set would hold more than this fraction of them (a gather then
+#: costs more than the nodal work it saves)
+NCG_NEAR_FULL = 0.5
+#: e^{−s} is exactly 0 in double precision beyond this s
+EXP_UNDERFLOW = 746.0
+
+
+def _attraction_cut(x):
+    """s_c ≥ 1 with s_c e^{−s_c} = x: beyond Δn = s_c δn, |T_n| < x φn/δn (Eq. 3; s e^{−s} falls for s > 1).
+
+    inf for x ≤ 0 (every node counts); 1 for x ≥ 1/e; at most EXP_UNDERFLOW, where T_n is exactly 0.
+    Newton on s − ln s = ln(1/x), convex and rising for s > 1, from s = 2 ln(1/x) + 1 above the root:
+    the iterates fall monotonically onto it.
+    """
+    if not x > 0:
+        return np.inf
+    if x >= np.exp(-1.0):
+        return 1.0
+    rhs = -np.log(x)
+    s = 2.0 * rhs + 1.0
+    for _ in range(200):
+        step = (s - np.log(s) - rhs) / (1.0 - 1.0 / s)
+        s -= step
+        if step <= 1e-13 * s:
+            break
+    return float(min(max(s, 1.0), EXP_UNDERFLOW))
+
 
 def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
     """Normal-only cohesive law by nonlinear preconditioned conjugate gradients, FIRE as fallback.
@@ -697,7 +740,7 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
     (K(q)⁻¹ on the modes; the q = 0 mode clamped on a half-plane). FIRE's M = K + ⟨k_loc⟩ was
     measured worse here (2^14, δn = 0.25 nm: 2× the iterations; a Jacobi split for the stiff
     contact nodes 1.5–2×): the line search handles the interface stiffness. The line search
-    along d needs no FFT: d·Ku and d·Kd are sums over the spectra, and
+    along d needs no FFT: d·Ku and d·Kd are sums (below), and
     dE/dα = d·Ku + α d·Kd − Σ T_n(Δn − αd) d, d²E/dα² = d·Kd + Σ k_loc d² are nodal sums,
     so safeguarded Newton on dE/dα (bracketed; secant or bisection when Newton leaves the
     bracket or the curvature is negative; stop at |dE/dα| ≤ line_search_tol·|dE/dα(0)|) costs
@@ -708,6 +751,16 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
     every `check_every` iterations and whenever the energy norm (f·K⁻¹f)^½ times the last
     measured max-norm/energy-norm ratio predicts it passes: the converged states and their
     residuals mean what FIRE's do.
+
+    Cost per iteration (issue 13): the nodal law work (exp, the line search's sums) runs on the near
+    set only, the nodes with Δn < (s_c + NCG_NEAR_MARGIN) δn, where s_c e^{−s_c} (φn/δn) =
+    NCG_FAR_FRACTION · tolerance · p_ref (`_attraction_cut`): a far node's attraction is below a
+    thousandth of the stopping test. The set is rebuilt from a fresh irfft when a step could have
+    brought a far node (Δn falls by α max_j d_j) within s_c δn, and a state that passes the test is
+    checked again with every node's attraction (if that fails, every node stays in from then on),
+    so the converged states are those of the plain NCG. The spectral algebra is one pass per
+    product: d·Ku = Σ_j d_j T_n,j − f·d (f = T_n − K u − ⟨T_n⟩, Σ_j d_j = 0 on a half-plane) and,
+    with K s = f, d·Kd = f·s + 2β f·d_old + β² d_old·K d_old: no K d.
 
     Fallback: a step NCG does not finish within min(NCG_BUDGET, max_iterations / 2)
     iterations, or whose line search finds no descent, restarts from the same guess with
@@ -723,7 +776,6 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
     p_ref = model.reference_traction
     budget = min(NCG_BUDGET, settings.max_iterations // 2) if settings.max_iterations > 1 else 1
     k = np.ascontiguousarray(np.real(model.k_zz), dtype=float)
-    w = _spectral_weights(n) / n  # Σ_j a_j b_j = Σ_n w_n Re(conj(â_n) b̂_n)
 
     def preconditioner():
         g = np.zeros(k.size)
@@ -733,9 +785,12 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
         return g
 
     g = preconditioner()
-    # Σ_j a_j b_j = Σ_n w_n Re(conj(â_n) b̂_n) = Σ_i w2_i â_i b̂_i over the spectra as float views
-    w2 = np.repeat(w, 2)
-    wk2 = np.repeat(w * k, 2)  # Σ_j a_j (K b)_j
+    step_hat = np.empty_like(k, dtype=complex)  # α d̂: a work array
+
+    def dot(a_hat, b_hat):  # Σ_j a_j b_j from the spectra
+        return _spectral_dot(a_hat, b_hat, n)
+
+    cut = _attraction_cut(NCG_FAR_FRACTION * settings.tolerance * p_ref / tn_scale)  # s_c
 
     def scaled_gap(gap_nodes):
         """(s, e^{−s}) with s = Δn/δn, capped at −MAX_COMPRESSION against overflow."""
@@ -743,26 +798,55 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
         np.maximum(s, -laws.MAX_COMPRESSION, out=s)
         return s, np.exp(-s)
 
+    def near(margin, first=False):
+        """(near, Δn on it, s, e^{−s}) at the state uh: the nodes with Δn < (s_c + margin) δn
+        (slice(None): every node), from a fresh irfft."""
+        gap_all = z_ind - fft.irfft(uh)
+        if first:  # an initial guess out of the law's range raises, as FIRE's does
+            laws._check_compression(gap_all, dn)
+        idx = np.flatnonzero(gap_all < (cut + margin) * dn) if np.isfinite(cut) else None
+        if idx is None or idx.size > NCG_NEAR_FULL * n:
+            return slice(None), gap_all, *scaled_gap(gap_all)
+        gap_near = gap_all[idx]
+        return idx, gap_near, *scaled_gap(gap_near)
+
+    t_nodes = np.zeros(n)  # T_n on every node: zero off the near set
+
     def force_hat():
-        """f̂ = rfft(T_n) − K û, T_n = (φn/δn) s e^{−s} (seed Eq. 3); q = 0 clamped on a half-plane."""
+        """f̂ = rfft(T_n) − K û, T_n = (φn/δn) s e^{−s} (seed Eq. 3) on the near set, 0 off it; q = 0
+        clamped on a half-plane. Also returns T_n on the near set."""
         t = sv * ev
         t *= tn_scale
-        f_hat = fft.rfft(t)
-        f_hat -= k * uh
+        if isinstance(idx, slice):
+            f_hat = fft.rfft(t)
+        else:
+            t_nodes[idx] = t
+            f_hat = fft.rfft(t_nodes)
+        np.multiply(k, uh, out=step_hat)
+        f_hat -= step_hat
         if clamp:
             f_hat[0] = 0.0
-        return f_hat
+        return f_hat, t
+
+    def full_residual():
+        """max_j |f_j| / p_ref with every node's attraction (the converged state's check)."""
+        gap_all = z_ind - fft.irfft(uh)
+        s_all, e_all = scaled_gap(gap_all)
+        f_all = fft.rfft(tn_scale * s_all * e_all)
+        f_all -= k * uh
+        if clamp:
+            f_all[0] = 0.0
+        return float(np.max(np.abs(fft.irfft(f_all)))) / p_ref, gap_all, s_all, e_all, f_all
 
     guess = np.array(u_hat, dtype=complex, copy=True)
     uh = np.array(guess[-1], dtype=complex, copy=True)
     if clamp:
         uh[0] = 0.0
-    gap = z_ind - fft.irfft(uh)
-    laws._check_compression(gap, dn)  # an initial guess out of the law's range raises, as FIRE's does
-    sv, ev = scaled_gap(gap)
-    f_hat = force_hat()
-    d_hat = fw_old = None
-    rz_old = 1.0
+    idx, gap, sv, ev = near(NCG_NEAR_MARGIN, first=True)
+    slack = NCG_NEAR_MARGIN * dn  # how far a far node may still approach before the near set is stale
+    f_hat, t = force_hat()
+    d_hat = f_old = None
+    rz_old, c2 = 1.0, 0.0  # f_old·K⁻¹f_old, d·Kd of the last direction
     restart = True
     residual, converged, message, failed = np.inf, False, "", ""
     eta = settings.line_search_tol
@@ -770,13 +854,18 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
     it = 0
     while True:
         s_hat = g * f_hat
-        fw = f_hat.view(np.float64) * w2  # Σ_j f_j b_j = fw · b̂ (float views)
-        rz = _dot(fw, s_hat.view(np.float64))  # f·K⁻¹f
+        rz = dot(f_hat, s_hat)  # f·K⁻¹f
         e_norm = np.sqrt(max(rz, 0.0))
         if ratio is None or it % settings.check_every == 0 or e_norm * ratio < settings.tolerance * p_ref:
             # the test of `_relax_cohesive` (verification.mutations' stop-early-cohesive mutates all three)
             residual = float(np.max(np.abs(fft.irfft(f_hat)))) / model.reference_traction
             if residual < settings.tolerance:
+                if not isinstance(idx, slice):  # the far nodes' attraction included: converged as FIRE's is
+                    residual, gap, sv, ev, f_hat = full_residual()
+                    if not residual < settings.tolerance:  # it counts after all: every node is near from here
+                        idx, restart, ratio = slice(None), True, None
+                        t = tn_scale * sv * ev
+                        continue
                 converged = True
                 break
             ratio = residual * p_ref / e_norm if e_norm > 0 else 1.0
@@ -788,81 +877,55 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
             failed = f"not converged after {it} iterations (residual {residual:.3g} p_ref)"
             break
         it += 1
-        if restart or d_hat is None:
-            d_hat = s_hat
-        else:  # Polak–Ribière+: β = max(0, (f − f_old)·s / (f_old·s_old))
-            beta = (rz - _dot(fw_old, s_hat.view(np.float64))) / rz_old
-            d_hat = s_hat if beta <= 0.0 else s_hat + beta * d_hat
+        # d = s + β d_old, and K s = f (K K⁻¹ = 1 on every mode but a half-plane's q = 0, where s = f = 0):
+        # dE/dα(0) = −f·d = −(f·s + β f·d_old), d·Kd = f·s + 2β f·d_old + β² d_old·K d_old, no K d needed
+        beta = 0.0 if restart or d_hat is None else (rz - dot(f_old, s_hat)) / rz_old  # Polak–Ribière+
+        if beta > 0.0:  # d̂ ← ŝ + β d̂ in place (d̂ is not ŝ here: ŝ is new every iteration)
+            f_d_old = dot(f_hat, d_hat)
+            slope0 = -(rz + beta * f_d_old)
+            c2 = rz + beta * (2.0 * f_d_old + beta * c2)
+            d_hat *= beta
+            d_hat += s_hat
+        else:
+            d_hat, slope0, c2 = s_hat, -rz, rz
         restart = False
-        fw_old, rz_old = fw, rz
-        slope0 = -_dot(fw, d_hat.view(np.float64))  # dE/dα at α = 0
+        f_old, rz_old = f_hat, rz
         if not slope0 < 0:  # not a descent direction: restart along s
-            d_hat, slope0 = s_hat, -rz
+            d_hat, slope0, c2 = s_hat, -rz, rz
             if not slope0 < 0:
                 failed = "no descent direction"
                 break
-        d = fft.irfft(d_hat)
-        dk = d_hat.view(np.float64) * wk2
-        c1, c2 = _dot(dk, uh.view(np.float64)), _dot(dk, d_hat.view(np.float64))  # d·Ku, d·Kd
+        d_all = fft.irfft(d_hat)
+        approach = float(np.max(d_all)) if not isinstance(idx, slice) else 0.0  # Δn falls by α d: d > 0 approaches
+        for _ in range(2):  # a second pass only when the step left the near set stale: rebuilt, searched again
+            d = d_all[idx]
+            # d·Ku = Σ_j d_j T_n,j − d·f: f = T_n − K u − ⟨T_n⟩ and Σ_j d_j = 0 on a half-plane
+            c1 = _dot(d, t) + slope0
 
-        def curvature(s_a, e_a):  # d²E/dα² = d·Kd + Σ k_loc d², k_loc = (φn/δn²)(1 − s) e^{−s}
-            x = e_a * d
-            return c2 + kn_scale * (_dot(x, d) - float(np.einsum("i,i,i->", s_a, x, d)))
+            def curvature(s_a, e_a):  # d²E/dα² = d·Kd + Σ k_loc d², k_loc = (φn/δn²)(1 − s) e^{−s}
+                x = e_a * d
+                return c2 + kn_scale * (_dot(x, d) - float(np.einsum("i,i,i->", s_a, x, d)))
 
-        curv0 = curvature(sv, ev)
-        alpha = -slope0 / curv0 if curv0 > 0 else settings.max_move * dn / float(np.max(np.abs(d)))
-        lo, hi = 0.0, np.inf
-        p_lo, p_hi = slope0, np.inf
-        found = False
-        widths = []
-        for _ in range(100):
-            gap_a = d * (-alpha)
-            gap_a += gap
-            s_a, e_a = scaled_gap(gap_a)
-            p = c1 + alpha * c2 - tn_scale * float(np.einsum("i,i,i->", s_a, e_a, d))
-            if not np.isfinite(p):
-                hi, p_hi = alpha, np.inf
-            elif abs(p) <= eta * abs(slope0):
-                found = True
+            alpha, found, gap_a, s_a, e_a = _ncg_line_search(curvature, c1, c2, slope0, gap, sv, ev, d, dn,
+                                                             tn_scale, scaled_gap, eta, settings.max_move)
+            if alpha * approach <= slack:
                 break
-            elif p < 0:
-                lo, p_lo = alpha, p
-            else:
-                hi, p_hi = alpha, p
-            c = curvature(s_a, e_a) if np.isfinite(p) else np.nan
-            nxt = alpha - p / c if c > 0 else np.nan
-            if np.isfinite(hi):
-                if not lo < nxt < hi:
-                    nxt = lo - p_lo * (hi - lo) / (p_hi - p_lo) if np.isfinite(p_hi) else np.nan
-                    if not (lo + 0.01 * (hi - lo) < nxt < hi - 0.01 * (hi - lo)):
-                        nxt = 0.5 * (lo + hi)
-                widths.append(hi - lo)
-                if len(widths) > 2 and widths[-1] > 0.5 * widths[-3]:  # Newton creeps (steep repulsive
-                    nxt = 0.5 * (lo + hi)  # side of the law): bisect whenever two trials did not halve the bracket
-                if hi - lo <= 1e-14 * hi:
-                    alpha = lo if lo > 0 else hi
-                    gap_a = d * (-alpha)
-                    gap_a += gap
-                    s_a, e_a = scaled_gap(gap_a)
-                    found = alpha > 0
-                    break
-            elif not nxt > alpha:
-                nxt = 4.0 * alpha
-            alpha = nxt
-        if not found and lo > 0:  # no tight minimum found, but E decreases up to lo: take that step
-            alpha = lo
-            gap_a = d * (-alpha)
-            gap_a += gap
-            s_a, e_a = scaled_gap(gap_a)
-        elif not found:
-            if d_hat is not s_hat:  # a conjugate direction failed: retry once along s = K⁻¹ f
-                restart = True
-                continue
+            margin = NCG_NEAR_MARGIN + 2.0 * alpha * approach / dn
+            idx, gap, sv, ev = near(margin)
+            slack = margin * dn
+            t = tn_scale * sv * ev
+            t_nodes[:] = 0.0
+        if not found and d_hat is not s_hat:  # a conjugate direction failed: retry once along s = K⁻¹ f
+            restart = True
+            continue
+        if not found:
             failed = "line search found no minimum along the search direction"
             break
         gap, sv, ev = gap_a, s_a, e_a
-        uh += alpha * d_hat
-        f_hat = force_hat()
+        slack -= alpha * approach
+        np.multiply(d_hat, alpha, out=step_hat)
+        uh += step_hat
+        f_hat, t = force_hat()
     if failed:
         budget_left = settings.max_iterations - it
         second = _relax_cohesive(model, law, z_ind, guess, replace(settings, cohesive="fire",
@@ -877,6 +940,64 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
     out.fft_pairs = pairs + 0.5
     out.method = "ncg"
     return out
+
+
+def _ncg_line_search(curvature, c1, c2, slope0, gap, sv, ev, d, dn, tn_scale, scaled_gap, eta, max_move):
+    """Safeguarded Newton on dE/dα along d (`_relax_cohesive_ncg`): (α, found, Δn, s, e^{−s} at α).
+
+    dE/dα = c1 + α c2 − (φn/δn) Σ_j s_j e^{−s_j} d_j at Δn − α d; stops at |dE/dα| ≤ eta |dE/dα(0)|.
+    found = False with α = 0: no step lowers E.
+    """
+    curv0 = curvature(sv, ev)
+    reach = float(np.max(np.abs(d))) if d.size else 0.0
+    alpha = -slope0 / curv0 if curv0 > 0 else (max_move * dn / reach if reach > 0 else 1.0)
+    lo, hi = 0.0, np.inf
+    p_lo, p_hi = slope0, np.inf
+    found = False
+    widths = []
+    for _ in range(100):
+        gap_a = d * (-alpha)
+        gap_a += gap
+        s_a, e_a = scaled_gap(gap_a)
+        p = c1 + alpha * c2 - tn_scale * float(np.einsum("i,i,i->", s_a, e_a, d))
+        if not np.isfinite(p):
+            hi, p_hi = alpha, np.inf
+        elif abs(p) <= eta * abs(slope0):
+            found = True
+            break
+        elif p < 0:
+            lo, p_lo = alpha, p
+        else:
+            hi, p_hi = alpha, p
+        c = curvature(s_a, e_a) if np.isfinite(p) else np.nan
+        nxt = alpha - p / c if c > 0 else np.nan
+        if np.isfinite(hi):
+            if not lo < nxt < hi:
+                nxt = lo - p_lo * (hi - lo) / (p_hi - p_lo) if np.isfinite(p_hi) else np.nan
+                if not (lo + 0.01 * (hi - lo) < nxt < hi - 0.01 * (hi - lo)):
+                    nxt = 0.5 * (lo + hi)
+            widths.append(hi - lo)
+            if len(widths) > 2 and widths[-1] > 0.5 * widths[-3]:  # Newton creeps (steep repulsive
+                nxt = 0.5 * (lo + hi)  # side of the law): bisect whenever two trials did not halve the bracket
+            if hi - lo <= 1e-14 * hi:
+                alpha = lo if lo > 0 else hi
+                gap_a = d * (-alpha)
+                gap_a += gap
+                s_a, e_a = scaled_gap(gap_a)
+                found = alpha > 0
+                break
+        elif not nxt > alpha:
+            nxt = 4.0 * alpha
+        alpha = nxt
+    if not found and lo > 0:  # no tight minimum found, but E decreases up to lo: take that step
+        alpha = lo
+        gap_a = d * (-alpha)
+        gap_a += gap
+        s_a, e_a = scaled_gap(gap_a)
+        found = True
+    if not found:
+        alpha = 0.0
+    return alpha, found, gap_a, s_a, e_a
 
 
 

@@ -18,6 +18,7 @@
 
 import numpy as np
 import pytest
+from hypothesis import given, strategies as st
 
 from contact import surfaces
 from contact.loading import indenter_surface
@@ -146,3 +147,53 @@ def test_line_search_through_deep_compression():
     sc, h, model, law, z_of = case(length_normal=0.1e-9, phi=0.5)
     out = ramp(model, law, z_of, 2e-9 * np.arange(1, 5), Settings(tolerance=TOL))
     assert [r.method for r in out] == ["ncg"] * 4, [(r.method, r.message) for r in out]
+
+
+@pytest.mark.parametrize("far_fraction, margin", [
+    (0.0, 8.0),  # every node near: the plain NCG
+    (1e9, 8.0),  # a cut at Δn = 1 δn: the far nodes' attraction fails the final check, every node comes back
+    (1e-3, 0.01),  # a near set rebuilt from the state almost every step
+])
+def test_near_set_gives_the_state_of_every_node(monkeypatch, far_fraction, margin):
+    """The nodal work on the near set only (`NCG_FAR_FRACTION`, `NCG_NEAR_MARGIN`) changes no equilibrium:
+    the default run equals runs with every node, with a cut whose far attraction counts (the converged
+    check with every node must catch it), and with a near set that goes stale at once."""
+    sc, h, model, law, z_of = case(nodes=4096)
+    deltas = 1.5e-9 * np.arange(1, 6)
+    default = ramp(model, law, z_of, deltas, Settings(tolerance=TOL))
+    # the default did take the near-set path: few nodes lie within the cut (+ margin) of the indenter
+    cut = gs._attraction_cut(gs.NCG_FAR_FRACTION * TOL * model.reference_traction * 0.25e-9
+                             / float(law.law.work_normal))
+    assert np.isfinite(cut)
+    near = np.mean(default[-1].gap < (cut + gs.NCG_NEAR_MARGIN) * 0.25e-9)
+    assert 0 < near < gs.NCG_NEAR_FULL
+    monkeypatch.setattr(gs, "NCG_FAR_FRACTION", far_fraction)
+    monkeypatch.setattr(gs, "NCG_NEAR_MARGIN", margin)
+    other = ramp(model, law, z_of, deltas, Settings(tolerance=TOL))
+    for a, b in zip(default, other):
+        assert a.method == b.method == "ncg"
+        assert a.residual < TOL and b.residual < TOL
+        assert np.max(np.abs(a.u_z - b.u_z)) < tolerance_bound(model, TOL)
+
+
+@given(st.floats(1e-300, 0.999 * np.exp(-1.0)))
+def test_attraction_cut_solves_the_tail_equation(x):
+    """s_c e^{−s_c} = x on the falling branch s_c ≥ 1 (Eq. 3's attraction in units of φn/δn), capped where
+    e^{−s} underflows."""
+    s = gs._attraction_cut(x)
+    assert 1.0 <= s <= gs.EXP_UNDERFLOW
+    assert s * np.exp(-s) == pytest.approx(x, rel=1e-9)
+
+
+def test_attraction_cut_limits():
+    assert gs._attraction_cut(0.0) == np.inf  # tolerance 0: every node counts
+    assert gs._attraction_cut(1.0) == 1.0  # no attraction reaches x: the cut at the law's peak
+    assert gs._attraction_cut(5e-324) <= gs.EXP_UNDERFLOW  # the smallest double: e^{−s} underflows just beyond
+
+
+@given(st.integers(2, 64), st.integers(0, 2**32 - 1))
+def test_spectral_dot_is_the_nodal_dot(n, seed):
+    """Σ_j a_j b_j from the rfft spectra, for even and odd N (Parseval with the modes counted once)."""
+    a, b = np.random.default_rng(seed).standard_normal((2, n))
+    got = gs._spectral_dot(np.fft.rfft(a), np.fft.rfft(b), n)
+    assert got == pytest.approx(float(a @ b), abs=1e-12 * n)
