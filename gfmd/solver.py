@@ -73,6 +73,8 @@ except ImportError:  # pragma: no cover - depends on the environment
 
 from contact import laws
 
+from . import kernels
+
 
 def fft_backend(name=None):
     """The FFT backend in use: "ducc0" or "scipy" (from `name`, else $GFMD_FFT, default "auto")."""
@@ -233,16 +235,6 @@ def _dot(a, b):
     """Σ a_j b_j without BLAS: multi-threaded BLAS dot products of 1-D arrays stalled
     the solver 4× on a loaded 2-core machine (measured: 15.2 s vs 3.6 s per step at N = 2^17)."""
     return float(np.einsum("i,i->", a, b))
-
-
-def _spectral_dot(a, b, nodes):
-    """Σ_j a_j b_j of two real node fields from their rfft spectra â, b̂ in one pass (`_spectral_weights`):
-    (2 Σ_n Re(conj(â_n) b̂_n) − the terms of the modes counted once) / N."""
-    av, bv = a.view(np.float64), b.view(np.float64)
-    once = av[0] * bv[0] + av[1] * bv[1]
-    if nodes % 2 == 0:
-        once += av[-2] * bv[-2] + av[-1] * bv[-1]
-    return (2.0 * _dot(av, bv) - once) / nodes
 
 
 def _spectral_weights(nodes):
@@ -785,11 +777,7 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
         return g
 
     g = preconditioner()
-    step_hat = np.empty_like(k, dtype=complex)  # α d̂: a work array
-
-    def dot(a_hat, b_hat):  # Σ_j a_j b_j from the spectra
-        return _spectral_dot(a_hat, b_hat, n)
-
+    products, direction, advance = kernels.ncg_kernels()  # the spectral algebra (numpy or fused)
     cut = _attraction_cut(NCG_FAR_FRACTION * settings.tolerance * p_ref / tn_scale)  # s_c
 
     def scaled_gap(gap_nodes):
@@ -812,21 +800,14 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
 
     t_nodes = np.zeros(n)  # T_n on every node: zero off the near set
 
-    def force_hat():
-        """f̂ = rfft(T_n) − K û, T_n = (φn/δn) s e^{−s} (seed Eq. 3) on the near set, 0 off it; q = 0
-        clamped on a half-plane. Also returns T_n on the near set."""
+    def traction_hat():
+        """(rfft(T_n), T_n on the near set), T_n = (φn/δn) s e^{−s} (seed Eq. 3) on the near set, 0 off it."""
         t = sv * ev
         t *= tn_scale
         if isinstance(idx, slice):
-            f_hat = fft.rfft(t)
-        else:
-            t_nodes[idx] = t
-            f_hat = fft.rfft(t_nodes)
-        np.multiply(k, uh, out=step_hat)
-        f_hat -= step_hat
-        if clamp:
-            f_hat[0] = 0.0
-        return f_hat, t
+            return fft.rfft(t), t
+        t_nodes[idx] = t
+        return fft.rfft(t_nodes), t
 
     def full_residual():
         """max_j |f_j| / p_ref with every node's attraction (the converged state's check)."""
@@ -844,8 +825,12 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
         uh[0] = 0.0
     idx, gap, sv, ev = near(NCG_NEAR_MARGIN, first=True)
     slack = NCG_NEAR_MARGIN * dn  # how far a far node may still approach before the near set is stale
-    f_hat, t = force_hat()
-    d_hat = f_old = None
+    f_hat, t = traction_hat()  # f̂ = rfft(T_n) − K û, q = 0 clamped on a half-plane
+    f_hat -= k * uh
+    if clamp:
+        f_hat[0] = 0.0
+    d_hat = np.zeros_like(f_hat)  # the search direction (spectrum), updated in place
+    f_old = f_hat
     rz_old, c2 = 1.0, 0.0  # f_old·K⁻¹f_old, d·Kd of the last direction
     restart = True
     residual, converged, message, failed = np.inf, False, "", ""
@@ -853,8 +838,7 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
     ratio = None  # last max|f| / rms(f): predicts when the max-norm test can pass
     it = 0
     while True:
-        s_hat = g * f_hat
-        rz = dot(f_hat, s_hat)  # f·K⁻¹f
+        rz, f_old_s, f_d_old = products(f_hat, f_old, d_hat, g, n)  # f·s, f_old·s, f·d_old; s = K⁻¹ f
         e_norm = np.sqrt(max(rz, 0.0))
         if ratio is None or it % settings.check_every == 0 or e_norm * ratio < settings.tolerance * p_ref:
             # the test of `_relax_cohesive` (verification.mutations' stop-early-cohesive mutates all three)
@@ -879,22 +863,16 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
         it += 1
         # d = s + β d_old, and K s = f (K K⁻¹ = 1 on every mode but a half-plane's q = 0, where s = f = 0):
         # dE/dα(0) = −f·d = −(f·s + β f·d_old), d·Kd = f·s + 2β f·d_old + β² d_old·K d_old, no K d needed
-        beta = 0.0 if restart or d_hat is None else (rz - dot(f_old, s_hat)) / rz_old  # Polak–Ribière+
-        if beta > 0.0:  # d̂ ← ŝ + β d̂ in place (d̂ is not ŝ here: ŝ is new every iteration)
-            f_d_old = dot(f_hat, d_hat)
-            slope0 = -(rz + beta * f_d_old)
-            c2 = rz + beta * (2.0 * f_d_old + beta * c2)
-            d_hat *= beta
-            d_hat += s_hat
-        else:
-            d_hat, slope0, c2 = s_hat, -rz, rz
-        restart = False
-        f_old, rz_old = f_hat, rz
+        beta = 0.0 if restart else max(0.0, (rz - f_old_s) / rz_old)  # Polak–Ribière+
+        slope0, c2 = -(rz + beta * f_d_old), rz + beta * (2.0 * f_d_old + beta * c2)
         if not slope0 < 0:  # not a descent direction: restart along s
-            d_hat, slope0, c2 = s_hat, -rz, rz
+            beta, slope0, c2 = 0.0, -rz, rz
             if not slope0 < 0:
                 failed = "no descent direction"
                 break
+        direction(f_hat, g, beta, d_hat)  # d̂ ← ŝ + β d̂
+        restart = False
+        f_old, rz_old = f_hat, rz
         d_all = fft.irfft(d_hat)
         approach = float(np.max(d_all)) if not isinstance(idx, slice) else 0.0  # Δn falls by α d: d > 0 approaches
         for _ in range(2):  # a second pass only when the step left the near set stale: rebuilt, searched again
@@ -915,7 +893,7 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
             slack = margin * dn
             t = tn_scale * sv * ev
             t_nodes[:] = 0.0
-        if not found and d_hat is not s_hat:  # a conjugate direction failed: retry once along s = K⁻¹ f
+        if not found and beta > 0.0:  # a conjugate direction failed: retry once along s = K⁻¹ f
             restart = True
             continue
         if not found:
@@ -923,9 +901,10 @@ def _relax_cohesive_ncg(model, law, z_ind, u_hat, settings, wall_tolerance):
             break
         gap, sv, ev = gap_a, s_a, e_a
         slack -= alpha * approach
-        np.multiply(d_hat, alpha, out=step_hat)
-        uh += step_hat
-        f_hat, t = force_hat()
+        f_hat, t = traction_hat()
+        advance(uh, d_hat, alpha, k, f_hat)  # û ← û + α d̂, f̂ ← rfft(T_n) − K û
+        if clamp:
+            f_hat[0] = 0.0
     if failed:
         budget_left = settings.max_iterations - it
         second = _relax_cohesive(model, law, z_ind, guess, replace(settings, cohesive="fire",

@@ -24,7 +24,7 @@ from contact import surfaces
 from contact.loading import indenter_surface
 from contact.model import build_model
 from contact.scene import default_scene
-from gfmd import solver as gs
+from gfmd import kernels, solver as gs
 from gfmd.solver import InterfaceLaw, Settings, relax
 
 TOL = 1e-10
@@ -191,9 +191,55 @@ def test_attraction_cut_limits():
     assert gs._attraction_cut(5e-324) <= gs.EXP_UNDERFLOW  # the smallest double: e^{−s} underflows just beyond
 
 
-@given(st.integers(2, 64), st.integers(0, 2**32 - 1))
-def test_spectral_dot_is_the_nodal_dot(n, seed):
-    """Σ_j a_j b_j from the rfft spectra, for even and odd N (Parseval with the modes counted once)."""
-    a, b = np.random.default_rng(seed).standard_normal((2, n))
-    got = gs._spectral_dot(np.fft.rfft(a), np.fft.rfft(b), n)
-    assert got == pytest.approx(float(a @ b), abs=1e-12 * n)
+JIT_BACKENDS = ["numpy"] + (["numba"] if kernels.numba is not None else [])
+
+
+@pytest.mark.parametrize("backend", JIT_BACKENDS)
+@given(n=st.integers(2, 64), seed=st.integers(0, 2**32 - 1), beta=st.floats(0, 2), alpha=st.floats(-1, 1))
+def test_ncg_kernels_are_the_nodal_algebra(backend, n, seed, beta, alpha):
+    """products, direction and advance (gfmd.kernels) against the same algebra on the nodes (numpy.fft),
+    for even and odd N, clamped q = 0 or not: s = K⁻¹ f, d ← s + β d, u ← u + α d, f ← T − K u."""
+    rng = np.random.default_rng(seed)
+    t, f_old, d, u = rng.standard_normal((4, n))
+    k = rng.random(n // 2 + 1) + 0.1
+    k[0] = 0.0 if seed % 2 else k[0]  # a half-plane's clamped mode, or a layer's stiff one
+    g = np.divide(1.0, k, out=np.zeros_like(k), where=k > 0)
+    products, direction, advance = kernels.ncg_kernels(backend)
+    f = np.fft.irfft(np.fft.rfft(t) - k * np.fft.rfft(u), n)
+    s = np.fft.irfft(g * np.fft.rfft(f), n)
+    got = products(np.fft.rfft(f), np.fft.rfft(f_old), np.fft.rfft(d), g, n)
+    np.testing.assert_allclose(got, [f @ s, f_old @ s, f @ d], rtol=1e-10, atol=1e-10 * n)
+    d_hat = np.fft.rfft(d)
+    direction(np.fft.rfft(f), g, beta, d_hat)
+    np.testing.assert_allclose(np.fft.irfft(d_hat, n), s + beta * d, atol=1e-12 * n)
+    u_hat, f_hat = np.fft.rfft(u), np.fft.rfft(t)
+    advance(u_hat, np.fft.rfft(d), alpha, k, f_hat)
+    u_new = u + alpha * d
+    np.testing.assert_allclose(np.fft.irfft(u_hat, n), u_new, atol=1e-12 * n)
+    np.testing.assert_allclose(np.fft.irfft(f_hat, n), np.fft.irfft(np.fft.rfft(t) - k * np.fft.rfft(u_new), n),
+                               atol=1e-12 * n)
+
+
+def test_jit_backend_choice(monkeypatch):
+    assert kernels.jit_backend("numpy") == "numpy"
+    with pytest.raises(ValueError, match="GFMD_JIT"):
+        kernels.jit_backend("cython")
+    monkeypatch.setattr(kernels, "numba", None)
+    assert kernels.jit_backend("auto") == "numpy"
+    with pytest.raises(ImportError, match="numba"):
+        kernels.jit_backend("numba")
+
+
+@pytest.mark.skipif(kernels.numba is None, reason="numba not installed (the `fast` extra)")
+def test_ncg_jit_backends_agree(monkeypatch):
+    """The whole NCG ramp with the numpy and the fused kernels: the same states and iterations."""
+    sc, h, model, law, z_of = case(nodes=4096)
+    deltas = 1.5e-9 * np.arange(1, 5)
+    out = {}
+    for backend in ("numpy", "numba"):
+        monkeypatch.setenv("GFMD_JIT", backend)
+        out[backend] = ramp(model, law, z_of, deltas, Settings(tolerance=TOL))
+    for a, b in zip(out["numpy"], out["numba"]):
+        assert a.method == b.method == "ncg"
+        assert abs(a.iterations - b.iterations) <= 2
+        assert np.max(np.abs(a.u_z - b.u_z)) < tolerance_bound(model, TOL)

@@ -1,0 +1,123 @@
+"""The cohesive NCG's spectral vector algebra (`gfmd.solver._relax_cohesive_ncg`), numpy or fused.
+
+Per iteration the NCG needs, over the rfft spectra of nodal fields (complex, N/2 + 1 modes):
+
+* `products`: f·s, f_old·s and f·d_old with s = K⁻¹ f (s = g f, g = 1/K(q), 0 where the mode is
+  clamped), as nodal sums Σ_j a_j b_j (Parseval: interior modes count twice, q = 0 and, for even N,
+  the Nyquist mode once);
+* `direction`: d ← g f + β d, in place;
+* `advance`: û ← û + α d, then f ← f − K û, in place (f holds rfft(T_n) on entry).
+
+numpy needs 10 passes over the spectra for these (a temporary per product); the numba kernels
+(the ``fast`` extra) one pass each, 3 in all: 0.15 ms against 0.57 ms at N = 2^17 on this machine
+(benchmarks/bench_vs_tamaas.py). Both give the same sums up to round-off (the fused sums are
+reassociated). ``GFMD_JIT=auto|numba|numpy`` (default auto: numba where installed) chooses.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+try:  # optional, the `fast` extra
+    import numba
+except ImportError:  # pragma: no cover - depends on the environment
+    numba = None
+
+
+def jit_backend(name=None):
+    """The kernels in use: "numba" or "numpy" (from `name`, else $GFMD_JIT, default "auto")."""
+    name = (name or os.environ.get("GFMD_JIT", "auto")).lower()
+    if name not in ("auto", "numba", "numpy"):
+        raise ValueError(f"GFMD_JIT = {name!r}: expected auto, numba or numpy")
+    if name == "numba" and numba is None:
+        raise ImportError("GFMD_JIT = numba but numba is not installed (pip install 'gfmd-contact[fast]')")
+    return "numba" if name in ("auto", "numba") and numba is not None else "numpy"
+
+
+def _counted_once(a, b, nodes):
+    """Σ Re(conj(â_n) b̂_n) over the modes counted once (q = 0; the Nyquist mode for even N)."""
+    once = a[0].real * b[0].real + a[0].imag * b[0].imag
+    if nodes % 2 == 0:
+        once += a[-1].real * b[-1].real + a[-1].imag * b[-1].imag
+    return once
+
+
+def _nodal(raw, a, b, nodes):
+    """Σ_j a_j b_j from raw = Σ_n Re(conj(â_n) b̂_n) over every mode."""
+    return (2.0 * raw - _counted_once(a, b, nodes)) / nodes
+
+
+def _raw(a, b):
+    return float(np.einsum("i,i->", a.view(np.float64), b.view(np.float64)))
+
+
+def _products_numpy(f, f_old, d, g, nodes):
+    s = g * f
+    return (_nodal(_raw(f, s), f, s, nodes), _nodal(_raw(f_old, s), f_old, s, nodes),
+            _nodal(_raw(f, d), f, d, nodes))
+
+
+def _direction_numpy(f, g, beta, d):
+    if beta == 0.0:
+        np.multiply(g, f, out=d)
+    else:
+        d *= beta
+        d += g * f
+
+
+def _advance_numpy(uh, d, alpha, k, f):
+    uh += alpha * d
+    f -= k * uh
+
+
+if numba is not None:
+    @numba.njit(cache=True, fastmath=True)
+    def _products_raw(f, f_old, d, g):  # float views: mode i is (2i, 2i + 1)
+        rz = fos = fd = 0.0
+        for i in range(g.size):
+            fr, fi = f[2 * i], f[2 * i + 1]
+            sr, si = g[i] * fr, g[i] * fi
+            rz += fr * sr + fi * si
+            fos += f_old[2 * i] * sr + f_old[2 * i + 1] * si
+            fd += fr * d[2 * i] + fi * d[2 * i + 1]
+        return rz, fos, fd
+
+    @numba.njit(cache=True, fastmath=True)
+    def _direction_fused(f, g, beta, d):
+        for i in range(g.size):
+            d[2 * i] = g[i] * f[2 * i] + beta * d[2 * i]
+            d[2 * i + 1] = g[i] * f[2 * i + 1] + beta * d[2 * i + 1]
+
+    @numba.njit(cache=True, fastmath=True)
+    def _advance_fused(uh, d, alpha, k, f):
+        for i in range(k.size):
+            a = uh[2 * i] + alpha * d[2 * i]
+            b = uh[2 * i + 1] + alpha * d[2 * i + 1]
+            uh[2 * i], uh[2 * i + 1] = a, b
+            f[2 * i] -= k[i] * a
+            f[2 * i + 1] -= k[i] * b
+
+
+def _products_numba(f, f_old, d, g, nodes):
+    rz, fos, fd = _products_raw(f.view(np.float64), f_old.view(np.float64), d.view(np.float64), g)
+    s0, s_end = g[0] * f[0], g[-1] * f[-1]  # the once-counted modes of s, for the corrections
+    s_ends = np.array([s0, s_end])
+    return (_nodal(rz, f[[0, -1]], s_ends, nodes), _nodal(fos, f_old[[0, -1]], s_ends, nodes),
+            _nodal(fd, f[[0, -1]], d[[0, -1]], nodes))
+
+
+def _direction_numba(f, g, beta, d):
+    _direction_fused(f.view(np.float64), g, float(beta), d.view(np.float64))
+
+
+def _advance_numba(uh, d, alpha, k, f):
+    _advance_fused(uh.view(np.float64), d.view(np.float64), float(alpha), k, f.view(np.float64))
+
+
+def ncg_kernels(name=None):
+    """(products, direction, advance) of the backend `jit_backend(name)` (module docstring)."""
+    if jit_backend(name) == "numba":
+        return _products_numba, _direction_numba, _advance_numba
+    return _products_numpy, _direction_numpy, _advance_numpy
