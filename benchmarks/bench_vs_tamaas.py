@@ -226,7 +226,9 @@ def section_cohesive(sizes, lines):
               "the last row). Same 10-step ramp as section 1; the first step starts from the flat surface "
               "at δ = 1.5 nm (jump-in). `hard/s` = the hard-wall `cg` median s/step, measured again on the same "
               "ramp just before each row (seconds apart: the machine's speed drifts by tens of per cent over a "
-              f"run); ratio = s/step ÷ that row's hard/s (the target: ≤ 2). The hard-wall and `ncg` times are "
+              f"run); `ratio (row)` = s/step ÷ that row's hard/s, `ratio` = s/step ÷ the median hard/s of all the "
+              f"N's rows (the target: ≤ 2; one slow hard-wall run moves the first, not the second). The hard-wall "
+              f"and `ncg` times are "
               f"each step's fastest of {REPEATS} runs (`fastest_of`), the FIRE rows one run. `|Δu| / δn`: largest nodal difference "
               "to the `fire (scipy)` states (tolerance 1e-10 p_ref); `method`: what `Relaxed.method` reported "
               "(a fallback would read ncg→fire).", ""]
@@ -242,7 +244,8 @@ def section_cohesive(sizes, lines):
                   f"pairs/step, hard/s = {hard_s:.3g} s/step; pair (s): "
                   + ", ".join(f"{b} {t:.3g}" for b, t in pair.items()), "",
                   "| N | law | δn (nm) | code | it/step | pairs/step | s/step | s/pair | s/pair ÷ pair | hard/s | "
-                  "ratio to hard wall | max residual | converged | max |Δu| / δn | method |", "|" + "---|" * 15]
+                  "ratio (row) | ratio | max residual | converged | max |Δu| / δn | method |", "|" + "---|" * 16]
+        pending, keys = [], []  # (row text before the ratios, s/step, hard/s, row text after); its keys
         for phi, dn in COHESIVE:
             case = cohesive_case(n, phi, dn)
             variants = [("fire", Settings(tolerance=TOL, cohesive="fire"), "scipy", "numpy"),
@@ -264,19 +267,23 @@ def section_cohesive(sizes, lines):
                 rows = fastest_of(REPEATS, case, st, deltas, backend) if name == "ncg" else ramp(case, st, deltas,
                                                                                                   backend)
                 base = base or rows
+                keys.append((phi, dn, name, b))
                 s_step, pairs = med(rows, "s"), med(rows, "pairs")
                 du = max(float(np.max(np.abs(r["u"] - q["u"]))) for r, q in zip(rows, base)) / dn
                 methods = "/".join(sorted({r["method"] for r in rows}))
-                lines.append(f"| 2^{e} | φn* = {phi:g} | {dn * 1e9:g} | {name} ({b}) | {med(rows, 'it'):.0f} | "
-                             f"{pairs:.0f} | {s_step:.3g} | {s_step / pairs:.3g} | "
-                             f"{s_step / pairs / pair[b.split(',')[0]]:.2f} | {hard_s:.3g} | "
-                             f"{s_step / hard_s:.2f} | {max(r['res'] for r in rows):.2g} | "
-                             f"{sum(r['conv'] for r in rows)}/{len(rows)} | {du:.1g} | {methods} |")
-                summary[(e, phi, dn, name, b)] = s_step / hard_s
+                pending.append((f"| 2^{e} | φn* = {phi:g} | {dn * 1e9:g} | {name} ({b}) | {med(rows, 'it'):.0f} | "
+                                f"{pairs:.0f} | {s_step:.3g} | {s_step / pairs:.3g} | "
+                                f"{s_step / pairs / pair[b.split(',')[0]]:.2f} | {hard_s:.3g} | ", s_step, hard_s,
+                                f" | {max(r['res'] for r in rows):.2g} | "
+                                f"{sum(r['conv'] for r in rows)}/{len(rows)} | {du:.1g} | {methods} |"))
                 os.environ.pop("GFMD_JIT", None)
                 print(f"  2^{e} cohesive {phi} {dn} {name} ({b}): its {[r['it'] for r in rows]} "
                       f"{s_step:.3g} s/step = {s_step / hard_s:.2f} hard", flush=True)
-        lines.append("")
+        hard_med = float(np.median([h for _, _, h, _ in pending]))
+        for (head, s_step, hard_s, tail), (phi, dn, name, b) in zip(pending, keys):
+            lines.append(f"{head}{s_step / hard_s:.2f} | {s_step / hard_med:.2f}{tail}")
+            summary[(e, phi, dn, name, b)] = s_step / hard_med
+        lines += [f"Median hard/s over the rows: {hard_med:.3g} s/step.", ""]
     return summary
 
 

@@ -18,7 +18,8 @@ from contact.loading import indenter_surface
 from contact.model import build_model
 from contact.ramp import StepSolution, run_ramp
 
-from .solver import InterfaceLaw, Settings, relax
+from . import kernels
+from .solver import InterfaceLaw, Settings, fft_backend, relax
 
 
 @dataclass
@@ -40,7 +41,7 @@ class GfmdCell:
 
     @property
     def reasons(self):
-        return self.physics.reasons + (integrator(self.physics, self.settings),)
+        return self.physics.reasons + (integrator(self.physics, self.settings), backends())
 
     def initial_state(self):
         """u_hat = 0: the undeformed surface, rfft modes of each solved component."""
@@ -61,6 +62,12 @@ class GfmdCell:
                             gap=r.gap, t_n=r.t_z, fields=lambda: fields,
                             u_x=r.u_x if self.physics.tangential else None,
                             messages=() if r.converged else (r.message,))
+
+
+def backends():
+    """The FFT and the NCG's spectral kernels this process uses, in words (they change round-off only)."""
+    return (f"backends: FFT {fft_backend()} (GFMD_FFT), cohesive NCG spectral algebra {kernels.jit_backend()} "
+            "(GFMD_JIT)")
 
 
 def integrator(physics, settings):

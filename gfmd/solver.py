@@ -25,7 +25,8 @@ wall on nodes that touch it). Two integrators (reference-formulas §5.2):
   preconditioner K⁻¹ as the hard-wall CG, an FFT-free Newton line search on the elastic + CZ
   energy; `_relax_cohesive_ncg`), FIRE as the fallback when NCG stalls; 5–10× fewer FFT pairs
   per step than FIRE (benchmarks/results/bench_vs_tamaas.md). ``cohesive = "fire"`` keeps FIRE.
-  `Relaxed.method` says which ran.
+  `Relaxed.method` says which ran. The law's nodal work runs on the nodes near the indenter
+  only, and the spectral algebra in `gfmd.kernels` (numpy, or fused numba kernels where installed).
 
 Hard wall: a constraint, not a penalty. Default (``Settings.hard_wall = "cg"``,
 method ``fire``): projected conjugate-gradient active-set methods. While the contact set

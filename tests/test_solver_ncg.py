@@ -243,3 +243,12 @@ def test_ncg_jit_backends_agree(monkeypatch):
         assert a.method == b.method == "ncg"
         assert abs(a.iterations - b.iterations) <= 2
         assert np.max(np.abs(a.u_z - b.u_z)) < tolerance_bound(model, TOL)
+
+
+def test_results_name_the_backends(monkeypatch):
+    """A GFMD cell's reasons (stored with every Result) say which FFT and NCG kernels ran."""
+    from gfmd.loading import prepare
+    sc, h, *_ = case(nodes=256)
+    monkeypatch.setenv("GFMD_FFT", "scipy")
+    monkeypatch.setenv("GFMD_JIT", "numpy")
+    assert "backends: FFT scipy (GFMD_FFT), cohesive NCG spectral algebra numpy (GFMD_JIT)" in prepare(sc, h).reasons
