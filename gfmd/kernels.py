@@ -26,14 +26,26 @@ except ImportError:  # pragma: no cover - depends on the environment
     numba = None
 
 
+def choose_backend(variable, name, compiled, present):
+    """The backend named by `name`, else by $`variable` (default "auto"): `compiled` where asked for or
+    "auto" and `present` (the optional package installed), else the pure numpy/scipy one.
+
+    Raises ValueError naming `variable` for an unknown name, ImportError when `compiled` is asked
+    for by name but its package (the ``fast`` extra) is missing.
+    """
+    pure = {"numba": "numpy", "ducc0": "scipy"}[compiled]
+    name = (name or os.environ.get(variable, "auto")).lower()
+    if name not in ("auto", pure, compiled):
+        raise ValueError(f"{variable} = {name!r}: expected auto, {pure} or {compiled}")
+    if name == compiled and not present:
+        raise ImportError(f"{variable} = {compiled} but {compiled} is not installed "
+                          "(pip install 'gfmd-contact[fast]')")
+    return compiled if name in ("auto", compiled) and present else pure
+
+
 def jit_backend(name=None):
     """The kernels in use: "numba" or "numpy" (from `name`, else $GFMD_JIT, default "auto")."""
-    name = (name or os.environ.get("GFMD_JIT", "auto")).lower()
-    if name not in ("auto", "numba", "numpy"):
-        raise ValueError(f"GFMD_JIT = {name!r}: expected auto, numba or numpy")
-    if name == "numba" and numba is None:
-        raise ImportError("GFMD_JIT = numba but numba is not installed (pip install 'gfmd-contact[fast]')")
-    return "numba" if name in ("auto", "numba") and numba is not None else "numpy"
+    return choose_backend("GFMD_JIT", name, "numba", numba is not None)
 
 
 def _counted_once(a, b, nodes):

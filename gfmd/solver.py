@@ -60,7 +60,6 @@ residual and a message: it is never silently accepted.
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -79,12 +78,7 @@ from . import kernels
 
 def fft_backend(name=None):
     """The FFT backend in use: "ducc0" or "scipy" (from `name`, else $GFMD_FFT, default "auto")."""
-    name = (name or os.environ.get("GFMD_FFT", "auto")).lower()
-    if name not in ("auto", "scipy", "ducc0"):
-        raise ValueError(f"GFMD_FFT = {name!r}: expected auto, scipy or ducc0")
-    if name == "ducc0" and _ducc_fft is None:
-        raise ImportError("GFMD_FFT = ducc0 but ducc0 is not installed (pip install 'gfmd-contact[fast]')")
-    return "ducc0" if name in ("auto", "ducc0") and _ducc_fft is not None else "scipy"
+    return kernels.choose_backend("GFMD_FFT", name, "ducc0", _ducc_fft is not None)
 
 
 class _Fft:
