@@ -13,7 +13,7 @@ resolves it with 8 nodes, 2^17 with 32 as in the paper). CPU seconds = time.proc
 
 Task classes (what decides the cost of a step):
   hard-wall  interface.law = "hard-wall" (projected CG)
-  cohesive   interface.law = "cohesive", φn* = 0.15, c = 0 (normal-only law, FIRE)
+  cohesive   interface.law = "cohesive", φn* = 0.15, c = 0 (normal-only law: the NCG of issue 13, Settings.cohesive)
   coupled    interface.law = "cohesive", φn* = 0.15, c = 0.5, δt = 1 nm (u_x and u_z, FIRE/Verlet)
 
 Projection: every full-scale study file in studies/seed/ (fig2, fig3, fig6a, fig6b, fig7, fig8)
