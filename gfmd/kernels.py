@@ -26,14 +26,13 @@ except ImportError:  # pragma: no cover - depends on the environment
     numba = None
 
 
-def choose_backend(variable, name, compiled, present):
+def choose_backend(variable, name, compiled, pure, present):
     """The backend named by `name`, else by $`variable` (default "auto"): `compiled` where asked for or
-    "auto" and `present` (the optional package installed), else the pure numpy/scipy one.
+    "auto" and `present` (the optional package installed), else `pure` (numpy/scipy).
 
     Raises ValueError naming `variable` for an unknown name, ImportError when `compiled` is asked
     for by name but its package (the ``fast`` extra) is missing.
     """
-    pure = {"numba": "numpy", "ducc0": "scipy"}[compiled]
     name = (name or os.environ.get(variable, "auto")).lower()
     if name not in ("auto", pure, compiled):
         raise ValueError(f"{variable} = {name!r}: expected auto, {pure} or {compiled}")
@@ -45,7 +44,7 @@ def choose_backend(variable, name, compiled, present):
 
 def jit_backend(name=None):
     """The kernels in use: "numba" or "numpy" (from `name`, else $GFMD_JIT, default "auto")."""
-    return choose_backend("GFMD_JIT", name, "numba", numba is not None)
+    return choose_backend("GFMD_JIT", name, "numba", "numpy", numba is not None)
 
 
 def _counted_once(a, b, nodes):

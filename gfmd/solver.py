@@ -78,7 +78,7 @@ from . import kernels
 
 def fft_backend(name=None):
     """The FFT backend in use: "ducc0" or "scipy" (from `name`, else $GFMD_FFT, default "auto")."""
-    return kernels.choose_backend("GFMD_FFT", name, "ducc0", _ducc_fft is not None)
+    return kernels.choose_backend("GFMD_FFT", name, "ducc0", "scipy", _ducc_fft is not None)
 
 
 class _Fft:
