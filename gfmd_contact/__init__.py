@@ -34,7 +34,7 @@ Figures (the seed's)::
 
 from contact.scene import Scene, SceneError
 from workbench.io import RunDirError
-from workbench.study import Study, StudyError
+from workbench.study import StudyError
 
 from .figures import plot_run, plot_study, run_figures, study_figures
 from .runs import RunResult, open_run, run
@@ -42,7 +42,7 @@ from .scenes import (change, check, default_scene, example_scene, load_scene, sa
                      scene_toml)
 from .studies import StudyResult, load_study, make_study, open_study, run_study, study_text
 
-__all__ = ["Scene", "SceneError", "RunDirError", "Study", "StudyError", "default_scene", "example_scene",
+__all__ = ["Scene", "SceneError", "RunDirError", "StudyError", "default_scene", "example_scene",
            "load_scene", "change", "check", "save_scene", "scene_dict", "scene_toml", "run", "open_run",
            "RunResult", "make_study", "study_text", "load_study", "run_study", "open_study", "StudyResult",
            "run_figures", "plot_run", "study_figures", "plot_study"]

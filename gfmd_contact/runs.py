@@ -156,7 +156,15 @@ class RunResult:
         return out
 
     def figures(self, delta=None, realization=None):
-        """The seed-style figures of this run as {name: matplotlib Figure} (see `plot_run`)."""
+        """The seed-style figures of this run as {name: matplotlib Figure}.
+
+        Parameters
+        ----------
+        delta : float, optional
+            Penetration δ (m) of the interface snapshot (nearest saved step; default the last).
+        realization : int, optional
+            Realization of the snapshot (default: the first with saved fields).
+        """
         from .figures import run_figures
 
         return run_figures(self, delta=delta, realization=realization)

@@ -92,7 +92,18 @@ def make_study(scene, axes=None, zip=None, name=None):
 
 
 def load_study(source):
-    """A validated study from a study TOML file (or a `make_study` result, returned as it is)."""
+    """A validated study from a study TOML file.
+
+    Parameters
+    ----------
+    source : str, pathlib.Path or workbench.study.Study
+        A study file (``gfmd study run`` reads the same; base scene and [axes], optional
+        [zip]), or a `make_study` result (returned as it is).
+
+    Returns
+    -------
+    workbench.study.Study
+    """
     from workbench.study import Study, load_study as read
 
     return source if isinstance(source, Study) else read(source)
@@ -151,14 +162,28 @@ class StudyResult:
         return pd.read_csv(self.dir / "summary.csv")
 
     def task(self, set=0, realization=0):
-        """The run directory of one task, as a `RunResult` (fields included)."""
+        """The run directory of one task, as a `RunResult` (fields included).
+
+        Parameters
+        ----------
+        set : int
+            Parameter set index (the ``set`` column of `table`, the ``set`` variable of `summary`).
+        realization : int
+            Realization index within the set (seed surface.seed + realization).
+        """
         for t in self.record.get("tasks", []):
             if t["set"] == set and t["realization"] == realization:
                 return open_run(self.dir / "tasks" / t["key"])
         raise KeyError(f"no task with set {set} and realization {realization} in {self.dir}")
 
     def figures(self, over=None):
-        """The seed-style figures of this study as {name: matplotlib Figure} (see `plot_study`)."""
+        """The seed-style figures of this study as {name: matplotlib Figure}.
+
+        Parameters
+        ----------
+        over : str, optional
+            A varied dotted key: one panel per combination of the other keys, one curve per value of it.
+        """
         from .figures import study_figures
 
         return study_figures(self, over=over)
