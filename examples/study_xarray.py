@@ -54,8 +54,9 @@ def main():
     axes[0, 0].legend(fontsize=8)
     path = args.out / "study_xarray.png"
     fig.savefig(path, dpi=120)
-    print(f"wrote {path}; the seed's figures of the study: {len(gc.plot_study(result))} files in "
-          f"{result.dir / 'figures'}")
+    print(f"wrote {path}")
+    if args.size == "full":  # the seed's figures of the study, as `gfmd study plot DIR` draws them
+        print(f"{len(gc.plot_study(result))} figures in {result.dir / 'figures'}")
 
 
 if __name__ == "__main__":  # Dask starts its workers by spawning: a script needs this guard

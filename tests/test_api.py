@@ -1,7 +1,7 @@
 """The Python API (gfmd_contact) gives what the command line gives, read as pandas, numpy and xarray.
 
 One small scene (the 320 nm, N = 256 cell of tests/test_run_dir.py: no check warning,
-2 realizations, 6 steps). Every comparison is exact: the API and `gfmd run` share one
+3 realizations, run with realizations=2 and --realizations 2; 6 steps). Every comparison is exact: the API and `gfmd run` share one
 path (`gfmd_contact.runs.compute`), the solver is deterministic, and the DataFrames
 are the CSV files read back (wall_s aside, which is a timing).
 """
@@ -20,7 +20,7 @@ from workbench.averages import AVERAGED
 from workbench.cli import main
 
 SMALL = {"surface.length": 320e-9, "surface.nodes": 256, "surface.rolloff_wavelength": 160e-9,
-         "surface.rollon_wavelength": 10e-9, "surface.realizations": 2, "loading.steps": 6,
+         "surface.rollon_wavelength": 10e-9, "surface.realizations": 3, "loading.steps": 6,
          "loading.final_penetration": 8e-9, "output.field_steps": 2, "output.workers": 1,
          "interface.length_normal": 2.5e-9, "loading.initial_separation": 20e-9}
 
@@ -34,7 +34,7 @@ def scene():
 def result(scene, tmp_path_factory):
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # this scene passes every check: no warning may be issued
-        return gc.run(scene, out=tmp_path_factory.mktemp("api") / "run", progress=False)
+        return gc.run(scene, out=tmp_path_factory.mktemp("api") / "run", realizations=2, progress=False)
 
 
 # ---------------------------------------------------------------- scenes
@@ -81,7 +81,8 @@ def test_check_is_what_gfmd_scene_check_reports(scene):
 def test_run_equals_gfmd_run(scene, result, tmp_path):
     """The API's run directory and the command line's hold the same results."""
     path = gc.save_scene(scene, tmp_path / "api.toml")
-    assert main(["run", str(path), "--out", str(tmp_path / "cli"), "--no-plot", "--quiet"]) == 0
+    assert main(["run", str(path), "--out", str(tmp_path / "cli"), "--realizations", "2", "--no-plot",
+                 "--quiet"]) == 0
     cli = gc.open_run(tmp_path / "cli")
     pd.testing.assert_frame_equal(result.curve.drop(columns="wall_s"), cli.curve.drop(columns="wall_s"))
     pd.testing.assert_frame_equal(result.mean_curve, cli.mean_curve)
@@ -113,8 +114,9 @@ def test_an_unfinished_run_is_read_from_its_saved_steps(scene, result, tmp_path)
     """Every step on disk but no final files (as while a run goes): the same curve and mean curve."""
     from workbench.ensemble import run_to_directory
 
-    out = io.prepare_run_dir(tmp_path / "unfinished", scene)
-    run_to_directory(scene, out, workers=1, progress=False)
+    two = gc.change(scene, {"surface.realizations": 2})
+    out = io.prepare_run_dir(tmp_path / "unfinished", two)
+    run_to_directory(two, out, workers=1, progress=False)
     part = gc.open_run(out)
     assert not part.complete and not (out / "curve.csv").exists()
     pd.testing.assert_frame_equal(part.curve.drop(columns="wall_s"), result.curve.drop(columns="wall_s"))
@@ -126,7 +128,9 @@ def test_an_unfinished_run_is_read_from_its_saved_steps(scene, result, tmp_path)
 def test_run_refuses_a_directory_holding_another_run(scene, result):
     with pytest.raises(gc.RunDirError, match="not empty"):
         gc.run(scene, out=result.dir, progress=False)
-    again = gc.run(scene, out=result.dir, resume=True, progress=False)  # complete: read back, nothing run
+    with pytest.raises(gc.RunDirError, match=r"surface\.realizations: 2 there, 3 now"):
+        gc.run(scene, out=result.dir, resume=True, progress=False)
+    again = gc.run(scene, out=result.dir, resume=True, realizations=2, progress=False)  # complete: read back
     pd.testing.assert_frame_equal(again.curve, result.curve)
 
 
@@ -153,7 +157,7 @@ def test_make_study_is_the_study_file_it_writes(scene, tmp_path):
     path.write_text(gc.study_text(scene, axes=axes, zip=zipped, name="s"))
     read = gc.load_study(path)
     assert read.sets == study.sets and [t.key for t in read.tasks] == [t.key for t in study.tasks]
-    assert len(study.sets) == 4 and len(study.tasks) == 8
+    assert len(study.sets) == 4 and len(study.tasks) == 4 * 3  # 3 realizations each
 
 
 def test_make_study_refuses_a_bad_axis_naming_it(scene):
