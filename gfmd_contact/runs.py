@@ -198,6 +198,16 @@ def compute(scene, out, workers=None, progress=True):
 
     The one path of `run` and `gfmd run` (after the checks and `workbench.io.prepare_run_dir`).
 
+    Parameters
+    ----------
+    scene : Scene
+    out : pathlib.Path
+        The prepared run directory; realizations already done there are reused.
+    workers : int, optional
+        Worker processes (None: the scene's output.workers; 0: all cores).
+    progress : bool
+        A tqdm progress bar over load steps.
+
     Returns
     -------
     (list of contact.result.Result, dict, float)
@@ -230,8 +240,8 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
     realizations : int, optional
         Number of random realizations (surface.realizations; seeds surface.seed + i).
     workers : int, optional
-        Worker processes (one realization each); 1 runs in this process; 0 or None:
-        the scene's output.workers (0 = all cores).
+        Worker processes (one realization each): 1 runs in this process, 0 uses all cores,
+        None the scene's output.workers.
     progress : bool
         A tqdm progress bar over load steps.
     resume : bool
@@ -271,7 +281,7 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
         return open_run(out)
     for w in found:
         warnings.warn(w, stacklevel=2)
-    results, _, _ = compute(scene, out, workers=workers if workers is not None else None, progress=progress)
+    results, _, _ = compute(scene, out, workers=workers, progress=progress)
     bad = [m for r in results for m in r.messages]
     if bad:
         warnings.warn(f"{len(bad)} non-converged load step(s): {'; '.join(bad[:3])}", stacklevel=2)
