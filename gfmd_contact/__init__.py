@@ -8,7 +8,7 @@ Scenes (frozen, validated; errors name the key)::
 
     scene = gc.default_scene()                      # or gc.example_scene(), gc.load_scene("s.toml" | text | dict)
     scene = gc.change(scene, {"surface.nodes": 1024, "interface.phi_n_star": 0.05})
-    warnings, notes = gc.check(scene)               # the checks of `gfmd run`, before any work
+    found, notes = gc.check(scene)                  # the warnings and notes of `gfmd run`, before any work
 
 Runs::
 
