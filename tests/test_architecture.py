@@ -1,4 +1,5 @@
-"""The layering holds: core (contact) ← methods (gfmd, reference.fem, reference.analytic) ← app (workbench).
+"""The layering holds: core (contact) ← methods (gfmd, reference.fem, reference.analytic) ← app (workbench,
+and gfmd_contact, the Python API over it).
 
 Read from the source with `ast` (every import, top-level or inside a function):
 the core imports no method and no app module; a method imports the core and
@@ -13,7 +14,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 LAYER = {"contact": "core", "gfmd": "gfmd", "reference.fem": "fem", "reference.analytic": "analytic",
-         "workbench": "app"}
+         "workbench": "app", "gfmd_contact": "app"}
 #: which groups each group may import (besides itself)
 ALLOWED = {"core": set(), "gfmd": {"core"}, "fem": {"core"}, "analytic": set(),
            "app": {"core", "gfmd", "fem", "analytic"}}
@@ -52,7 +53,7 @@ def imports(path):
 
 
 def sources():
-    for top in ("contact", "gfmd", "reference", "workbench"):
+    for top in ("contact", "gfmd", "gfmd_contact", "reference", "workbench"):
         yield from sorted((ROOT / top).rglob("*.py"))
 
 
@@ -73,14 +74,14 @@ def test_layers_import_downward_only():
     assert not wrong, "\n".join(wrong)
 
 
-@pytest.mark.parametrize("package", ["contact", "gfmd", "reference.fem", "workbench"])
+@pytest.mark.parametrize("package", ["contact", "gfmd", "reference.fem", "workbench", "gfmd_contact"])
 def test_no_import_circles(package):
     modules = known_modules()
     graph = {}
     for path in sources():
         name = module_name(path)
-        if name.startswith(package) and path.name != "__init__.py":
-            graph[name] = {t for t in imports(path) if t in modules and t.startswith(package)
+        if (name + ".").startswith(package + ".") and path.name != "__init__.py":  # gfmd_contact is not gfmd
+            graph[name] = {t for t in imports(path) if t in modules and (t + ".").startswith(package + ".")
                            and not (ROOT / Path(*t.split(".")) / "__init__.py").is_file()} - {name}
     seen, stack = {}, []
 

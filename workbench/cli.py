@@ -10,30 +10,24 @@ import contextlib
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 from contact.scene import SceneError, default_scene, example_scene_text, load_scene
 
 
 def _checks(scene):
-    """Every check `gfmd run` makes before compute: contact.loading.preflight and the method's
-    refusals (workbench.methods); (warnings, notes)."""
-    from contact.loading import preflight
+    """Every check `gfmd run` makes before compute (gfmd_contact.check); (warnings, notes)."""
+    from gfmd_contact import check
 
-    from .methods import method_of
-
-    method_of(scene).refuse(scene)
-    return preflight(scene)
+    return check(scene)
 
 
 def _method_overrides(args):
-    """--method as scene keys: fe → method.name; fire/verlet → GFMD with that integrator."""
-    if args.method == "fe":
-        return {"method.name": "fe"}
-    if args.method in ("fire", "verlet"):
-        return {"method.name": "gfmd", "solver.method": args.method}
-    return {}
+    """--method as scene keys (gfmd_contact.scenes.METHOD_CHOICES): fe → method.name; fire/verlet → GFMD
+    with that integrator."""
+    from gfmd_contact.scenes import method_changes
+
+    return method_changes(args.method)
 
 
 def _interrupted(signum, frame):
@@ -109,19 +103,15 @@ def _cmd_run(args):
     method = "FE" if scene.method.name == "fe" else f"GFMD {scene.solver.method}"
     print(f"scene {scene.name!r}: {scene.surface.realizations} realization(s), {scene.loading.steps} load steps, "
           f"method {method}; results go to {out}/ as they are computed", file=sys.stderr)
-    start = time.perf_counter()
     try:
-        from .ensemble import run_to_directory
+        from gfmd_contact.runs import compute  # the one path of gfmd run and gfmd_contact.run
 
         with _interrupt_signals():
-            results, resume = run_to_directory(scene, out, workers=args.workers, progress=not args.quiet)
+            results, resume, elapsed = compute(scene, out, workers=args.workers, progress=not args.quiet)
     except KeyboardInterrupt:
         print(f"\ngfmd: interrupted: {_on_disk(scene, out)}; continue with: {_resume_command(args, out)}",
               file=sys.stderr)
         return 130
-    elapsed = time.perf_counter() - start
-    io.write_run(out, scene, results, timings={"total_s": elapsed, "workers": args.workers},
-                 resume=resume)
     if resume["realizations_reused"] or resume["steps_reused"]:
         print(f"resumed: {resume['realizations_reused']} realization(s) and {resume['steps_reused']} load steps "
               "reused from the interrupted run", file=sys.stderr)

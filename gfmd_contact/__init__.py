@@ -1,0 +1,48 @@
+"""gfmd-contact from Python: build a scene, run it, read the curves, run a study, draw the figures.
+
+``import gfmd_contact as gc``. Units are SI throughout (m, Pa, J/m²; p > 0 compressive;
+`contact.conventions`). Everything the ``gfmd`` command does goes through these functions
+or the same code underneath, and a result is a directory the command line reads too.
+
+Scenes (frozen, validated; errors name the key)::
+
+    scene = gc.default_scene()                      # or gc.example_scene(), gc.load_scene("s.toml" | text | dict)
+    scene = gc.change(scene, {"surface.nodes": 1024, "interface.phi_n_star": 0.05})
+    found, notes = gc.check(scene)                  # the warnings and notes of `gfmd run`, before any work
+
+Runs::
+
+    res = gc.run(scene, out="runs/a", method="gfmd", realizations=2, workers=1)
+    res.curve            # pandas DataFrame of curve.csv: realization, seed, step, U, delta (m), p (Pa), a_rel, ...
+    res.mean_curve       # DataFrame: per step, mean, standard error (_se) and count (_n) over realizations
+    res.fields(0, step)  # dict of arrays: x, h, u_z, u_x, gap (m), t_n, t_t (Pa)
+    res.meta             # dict of meta.json (method, model, messages, timings)
+    gc.open_run("runs/a")                           # the same for an existing run directory
+
+Studies (a grid of scenes × realizations on Dask)::
+
+    study = gc.make_study(scene, axes={"interface.phi_n_star": [0.01, 0.15]}, zip=None)
+    st = gc.run_study(study, out="runs/s", workers=2)   # or a study TOML file
+    st.summary           # xarray Dataset of summary.nc: dims = the axes and step
+    st.table             # DataFrame of study.csv; gc.open_study("runs/s") reads it back
+
+Figures (the seed's)::
+
+    gc.run_figures(res), gc.study_figures(st)       # {name: matplotlib Figure}
+    gc.plot_run(res), gc.plot_study(st)             # written as files; returns their paths
+"""
+
+from contact.scene import Scene, SceneError
+from workbench.io import RunDirError
+from workbench.study import StudyError
+
+from .figures import plot_run, plot_study, run_figures, study_figures
+from .runs import RunResult, open_run, run
+from .scenes import (change, check, default_scene, example_scene, load_scene, save_scene, scene_dict,
+                     scene_toml)
+from .studies import StudyResult, load_study, make_study, open_study, run_study, study_text
+
+__all__ = ["Scene", "SceneError", "RunDirError", "StudyError", "default_scene", "example_scene",
+           "load_scene", "change", "check", "save_scene", "scene_dict", "scene_toml", "run", "open_run",
+           "RunResult", "make_study", "study_text", "load_study", "run_study", "open_study", "StudyResult",
+           "run_figures", "plot_run", "study_figures", "plot_study"]

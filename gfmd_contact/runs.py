@@ -1,0 +1,288 @@
+"""Runs from Python: run a scene into a run directory, read one back as pandas and numpy.
+
+Units: SI throughout (m, Pa; `contact.conventions`). A run is what `gfmd run` does:
+every realization in a process pool, every load step written to the run directory
+as it is computed (so an interrupted run continues with ``resume=True``), then
+curve.csv, mean_curve.csv, fields.npz, scene.toml and meta.json (`workbench.io`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import json
+import tempfile
+import time
+import warnings
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+
+from contact.result import CURVE_COLUMNS, FIELD_NAMES
+from contact.scene import Scene, load_scene as read_scene
+
+from .scenes import change, check, load_scene, method_changes
+
+
+class RunResult:
+    """A run directory read back: curves as pandas DataFrames, fields as numpy arrays.
+
+    Attributes are read from disk when first used. An unfinished run (interrupted, or
+    still running) is read from the load steps saved so far (``complete`` is False).
+
+    Attributes
+    ----------
+    dir : pathlib.Path
+        The run directory.
+    scene : contact.scene.Scene
+        The resolved scene of the run (its scene.toml).
+    meta : dict
+        meta.json: "complete", "method" (what ran), "model", "messages" (non-converged
+        steps), "notes", "timings" (s), "code_version", ...
+    """
+
+    def __init__(self, directory):
+        self.dir = Path(directory)
+        self._curves = None  # {realization: {column: array}} of an unfinished run
+        if (self.dir / "curve.csv").is_file():  # finished: nothing else is read until asked for
+            self.meta = json.loads((self.dir / "meta.json").read_text())
+            scene = read_scene(self.dir / "scene.toml")
+            self.scene = dataclasses.replace(scene, name=self.meta.get("scene_name", scene.name))
+        else:
+            from workbench.io import read_run
+
+            self.scene, self._curves, _, self.meta = read_run(self.dir)
+
+    def __repr__(self):
+        state = "complete" if self.complete else "unfinished"
+        count = len(self._curves) if self._curves is not None else len(self.meta.get("realizations", []))
+        return (f"RunResult({str(self.dir)!r}: scene {self.scene.name!r}, {count} realization(s), "
+                f"{self.meta.get('method', '?')}, {state})")
+
+    @property
+    def complete(self):
+        """True once every realization finished and the final files are written."""
+        return self.meta.get("complete") is True
+
+    @property
+    def converged(self):
+        """True if every load step of every realization converged."""
+        return bool(self.curve["converged"].all())
+
+    @functools.cached_property
+    def curve(self):
+        """curve.csv as a DataFrame: one row per (realization, step).
+
+        Columns: realization, seed, step, U (m, imposed displacement), delta (m, penetration
+        δ), p (Pa, mean pressure, > 0 compressive), a_rel (relative contact area), g_r and g
+        (rms gradients of the contact nodes and of the whole profile; g_r NaN without
+        contact), iterations, residual (relative), converged (0/1), wall_s (s).
+        """
+        import pandas as pd
+
+        path = self.dir / "curve.csv"
+        if path.is_file():
+            return pd.read_csv(path)
+        frames = [pd.DataFrame({"realization": r, **c}) for r, c in sorted(self._curves.items())]
+        table = pd.concat(frames, ignore_index=True)
+        for col in ("realization", "seed", "step", "iterations", "converged"):
+            if col in table:
+                table[col] = table[col].astype(int)
+        return table[["realization", "seed"] + [c for c in CURVE_COLUMNS]]
+
+    @functools.cached_property
+    def mean_curve(self):
+        """mean_curve.csv as a DataFrame: one row per load step.
+
+        Columns: step, delta (m), U (m) and, for each of p (Pa), a_rel, g_r, g, the mean over
+        the realizations, ``<name>_se`` (its standard error, 0 for one value) and ``<name>_n``
+        (how many realizations have a value at that step).
+        """
+        import pandas as pd
+
+        path = self.dir / "mean_curve.csv"
+        if path.is_file():
+            return pd.read_csv(path)
+        from workbench.averages import ensemble_average
+
+        runs = [SimpleNamespace(realization=r, curve=c) for r, c in sorted(self._curves.items())]
+        return pd.DataFrame(ensemble_average(runs))
+
+    @functools.cached_property
+    def _npz(self):
+        path = self.dir / "fields.npz"
+        if path.is_file():
+            return np.load(path)
+        from workbench.io import read_run
+
+        return read_run(self.dir)[2]
+
+    def saved_steps(self, realization=0):
+        """The load steps (indices into `curve`'s step column) whose fields were saved for `realization`."""
+        prefix = f"r{realization}_s"
+        return sorted({int(k[len(prefix):].split("_")[0]) for k in self._npz if k.startswith(prefix)})
+
+    def fields(self, realization=0, step=None):
+        """The surface fields of one realization at one saved load step.
+
+        Parameters
+        ----------
+        realization : int
+            Realization index (the ``realization`` column of `curve`).
+        step : int, optional
+            A saved load step (see `saved_steps`; output.field_steps chooses them);
+            default: the last saved one.
+
+        Returns
+        -------
+        dict of numpy.ndarray
+            x (m, node positions), h (m, indenter profile), u_z and u_x (m, surface
+            displacements), gap (m, normal gap Δn), t_n and t_t (Pa, interface tractions
+            t_z and t_x), each of length surface.nodes; and step, delta (m) of that step.
+        """
+        steps = self.saved_steps(realization)
+        if not steps:
+            have = sorted({int(k[1:].split("_")[0]) for k in self._npz if k.startswith("r") and "_s" in k})
+            raise KeyError(f"realization {realization}: no saved fields in {self.dir} (realizations with "
+                           f"fields: {have or 'none'}; output.field_steps chooses how many steps are saved)")
+        step = steps[-1] if step is None else int(step)
+        if step not in steps:
+            raise KeyError(f"step {step}: no saved fields for realization {realization}; saved steps: {steps}")
+        out = {"x": np.asarray(self._npz["x"]), "h": np.asarray(self._npz[f"h_r{realization}"])}
+        out.update({name: np.asarray(self._npz[f"r{realization}_s{step}_{name}"]) for name in FIELD_NAMES})
+        row = self.curve[(self.curve["realization"] == realization) & (self.curve["step"] == step)]
+        out.update(step=step, delta=float(row["delta"].iloc[0]))
+        return out
+
+    def figures(self, delta=None, realization=None):
+        """The seed-style figures of this run as {name: matplotlib Figure}.
+
+        Parameters
+        ----------
+        delta : float, optional
+            Penetration δ (m) of the interface snapshot (nearest saved step; default the last).
+        realization : int, optional
+            Realization of the snapshot (default: the first with saved fields).
+        """
+        from .figures import run_figures
+
+        return run_figures(self, delta=delta, realization=realization)
+
+
+def open_run(directory):
+    """Read a run directory (`gfmd run --out DIR`, `run(..., out=DIR)`, a study's task).
+
+    Parameters
+    ----------
+    directory : str or pathlib.Path
+
+    Returns
+    -------
+    RunResult
+
+    Raises
+    ------
+    FileNotFoundError
+        If the directory holds no run (no scene.toml / meta.json) or no finished load step yet.
+    """
+    directory = Path(directory)
+    for name in ("scene.toml", "meta.json"):
+        if not (directory / name).is_file():
+            raise FileNotFoundError(f"{directory}: missing {name}; is this a `gfmd run` output directory?")
+    return RunResult(directory)
+
+
+def compute(scene, out, workers=None, progress=True):
+    """Run every realization into the prepared run directory `out` and write its final files.
+
+    The one path of `run` and `gfmd run` (after the checks and `workbench.io.prepare_run_dir`).
+
+    Parameters
+    ----------
+    scene : Scene
+    out : pathlib.Path
+        The prepared run directory; realizations already done there are reused.
+    workers : int, optional
+        Worker processes (None: the scene's output.workers; 0: all cores).
+    progress : bool
+        A tqdm progress bar over load steps.
+
+    Returns
+    -------
+    (list of contact.result.Result, dict, float)
+        The results, the reuse counts {"realizations_reused", "steps_reused"} and the wall time (s).
+    """
+    from workbench import io
+    from workbench.ensemble import run_to_directory
+
+    start = time.perf_counter()
+    results, resume = run_to_directory(scene, out, workers=workers, progress=progress)
+    elapsed = time.perf_counter() - start
+    io.write_run(out, scene, results, timings={"total_s": elapsed, "workers": workers}, resume=resume)
+    return results, resume, elapsed
+
+
+def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=True, resume=False,
+        overwrite=False):
+    """Run a scene (every realization) into a run directory and return its result.
+
+    Parameters
+    ----------
+    scene : Scene, str, pathlib.Path or dict
+        The scene, or anything `load_scene` reads (a TOML file, TOML text, a dict).
+    out : str or pathlib.Path, optional
+        The run directory (created; a non-empty one is refused unless resume or overwrite).
+        Default: a new temporary directory (``result.dir`` says where; it is not removed).
+    method : {"gfmd", "fe", "fire", "verlet"}, optional
+        "fe": the finite-element reference (finite layer only); "fire"/"verlet": GFMD
+        with that integrator; default: the scene's [method] and [solver] keys.
+    realizations : int, optional
+        Number of random realizations (surface.realizations; seeds surface.seed + i).
+    workers : int, optional
+        Worker processes (one realization each): 1 runs in this process, 0 uses all cores,
+        None the scene's output.workers.
+    progress : bool
+        A tqdm progress bar over load steps.
+    resume : bool
+        Continue an interrupted run in `out` (finished realizations are reused).
+    overwrite : bool
+        Replace an earlier run in `out` (only the files a run writes are removed).
+
+    Returns
+    -------
+    RunResult
+
+    Raises
+    ------
+    SceneError
+        A key out of range or a scene the method cannot solve, before any work.
+    workbench.io.RunDirError
+        An `out` that cannot take the run (the message says why).
+
+    Warns
+    -----
+    UserWarning
+        The scene's resolution/stability warnings, and non-converged load steps
+        (listed in ``result.meta["messages"]``).
+    """
+    from workbench import io
+
+    scene = load_scene(scene) if not isinstance(scene, Scene) else scene
+    keys = method_changes(method)
+    if realizations is not None:
+        keys["surface.realizations"] = realizations
+    if keys:
+        scene = change(scene, keys)
+    found, _notes = check(scene)  # refusals happen here, before any file is touched
+    out = Path(out) if out is not None else Path(tempfile.mkdtemp(prefix=f"gfmd-{scene.name}-"))
+    out = io.prepare_run_dir(out, scene, resume=resume, overwrite=overwrite, command=f"gfmd_contact.run(out={out})")
+    if resume and io.run_complete(out):
+        return open_run(out)
+    for w in found:
+        warnings.warn(w, stacklevel=2)
+    results, _, _ = compute(scene, out, workers=workers, progress=progress)
+    bad = [m for r in results for m in r.messages]
+    if bad:
+        warnings.warn(f"{len(bad)} non-converged load step(s): {'; '.join(bad[:3])}", stacklevel=2)
+    return open_run(out)

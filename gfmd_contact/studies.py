@@ -1,0 +1,233 @@
+"""Studies from Python: a grid of scenes × realizations on Dask, read back with xarray and pandas.
+
+Units: SI throughout (`contact.conventions`). A study is a base scene and axes over
+scene keys by their dotted names (the grid is their product; zipped keys vary
+together); each (parameter set, realization) is one content-addressed, resumable
+task (`workbench.study`, the same as `gfmd study run`).
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import math
+import tomllib
+from pathlib import Path
+
+from contact.scene import Scene, scene_to_dict
+
+from .runs import open_run
+
+
+def _toml(value):
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float) and math.isinf(value):
+        return '"inf"'
+    if isinstance(value, (int, float)):
+        return repr(value)
+    if isinstance(value, str):
+        return json.dumps(value)  # a TOML basic string
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml(v) for v in value) + "]"
+    raise TypeError(f"cannot write {value!r} to a study file (numbers, strings, booleans)")
+
+
+def study_text(scene, axes=None, zip=None, name=None):
+    """The study file (TOML) of a base scene and its axes, as `gfmd study run` reads it.
+
+    Parameters
+    ----------
+    scene : Scene
+        The base scene (written inline as [scene.<section>] tables).
+    axes : dict, optional
+        {"section.key": [values]}: the grid is the product of these lists (SI units).
+    zip : dict, optional
+        {"section.key": [values]}: keys that vary together (lists of equal length).
+    name : str, optional
+        The study's name (default: the scene's).
+
+    Returns
+    -------
+    str
+    """
+    lines = [f"name = {_toml(name or scene.name)}"]
+    for section, values in scene_to_dict(scene).items():
+        lines.append(f"\n[scene.{section}]")
+        lines += [f"{k} = {_toml(v)}" for k, v in values.items()]
+    for table, entries in (("axes", axes), ("zip", zip)):
+        if entries:
+            lines.append(f"\n[{table}]")
+            lines += [f"{json.dumps(k)} = {_toml(list(v))}" for k, v in entries.items()]
+    return "\n".join(lines) + "\n"
+
+
+def make_study(scene, axes=None, zip=None, name=None):
+    """A validated study: `scene` varied over `axes` (a product) and `zip` (together).
+
+    Parameters
+    ----------
+    scene : Scene
+        The base scene.
+    axes, zip : dict, optional
+        {"section.key": [values]} (see `study_text`); e.g.
+        ``axes={"interface.phi_n_star": [0.01, 0.05, 0.15]}``.
+    name : str, optional
+        The study's name (default: the scene's).
+
+    Returns
+    -------
+    workbench.study.Study
+        ``.sets`` (the parameters of each set), ``.scenes``, ``.tasks``.
+
+    Raises
+    ------
+    workbench.study.StudyError
+        Naming the key and value of a bad axis (every set is checked as `run` checks a scene).
+    """
+    from workbench.study import study_from_dict
+
+    text = study_text(scene, axes, zip, name)
+    return study_from_dict(tomllib.loads(text), text=text, name=name or scene.name)
+
+
+def load_study(source):
+    """A validated study from a study TOML file.
+
+    Parameters
+    ----------
+    source : str, pathlib.Path or workbench.study.Study
+        A study file (``gfmd study run`` reads the same; base scene and [axes], optional
+        [zip]), or a `make_study` result (returned as it is).
+
+    Returns
+    -------
+    workbench.study.Study
+    """
+    from workbench.study import Study, load_study as read
+
+    return source if isinstance(source, Study) else read(source)
+
+
+class StudyResult:
+    """A study directory read back.
+
+    Attributes
+    ----------
+    dir : pathlib.Path
+    record : dict
+        study.json: task counts (tasks_total, tasks_reused, tasks_run, tasks_failed), every
+        task (set, parameters, realization, seed, key, status), failures, "complete".
+    """
+
+    def __init__(self, directory):
+        self.dir = Path(directory)
+        path = self.dir / "study.json"
+        if not path.is_file():
+            raise FileNotFoundError(f"{self.dir}: no study.json; is this a `gfmd study run` directory?")
+        self.record = json.loads(path.read_text())
+
+    def __repr__(self):
+        r = self.record
+        return (f"StudyResult({str(self.dir)!r}: {r.get('tasks_total', '?')} task(s), "
+                f"{r.get('tasks_failed', 0)} failed, {'complete' if r.get('complete') else 'unfinished'})")
+
+    @functools.cached_property
+    def summary(self):
+        """summary.nc as an xarray.Dataset (loaded into memory).
+
+        Dimensions: one per [axes] key (coordinates: its values), "zip" (coordinates: the
+        zipped keys) if the study has a [zip], and "step". Variables: delta, U (m), set
+        (parameter set index) and, for each of p (Pa), a_rel, g_r, g, the mean over the set's
+        realizations, ``<name>_se`` (standard error) and ``<name>_n`` (count); units in attrs.
+        """
+        import xarray as xr
+
+        with xr.open_dataset(self.dir / "summary.nc", engine="scipy") as ds:
+            return ds.load()
+
+    @functools.cached_property
+    def table(self):
+        """study.csv as a DataFrame: one row per (task, step); columns set, the varied keys,
+        realization, seed, task and curve.csv's (step, U, delta (m), p (Pa), a_rel, g_r, g, …)."""
+        import pandas as pd
+
+        return pd.read_csv(self.dir / "study.csv")
+
+    @functools.cached_property
+    def summary_table(self):
+        """summary.csv as a DataFrame: per set and step, the means, standard errors and counts."""
+        import pandas as pd
+
+        return pd.read_csv(self.dir / "summary.csv")
+
+    def task(self, set=0, realization=0):
+        """The run directory of one task, as a `RunResult` (fields included).
+
+        Parameters
+        ----------
+        set : int
+            Parameter set index (the ``set`` column of `table`, the ``set`` variable of `summary`).
+        realization : int
+            Realization index within the set (seed surface.seed + realization).
+        """
+        for t in self.record.get("tasks", []):
+            if t["set"] == set and t["realization"] == realization:
+                return open_run(self.dir / "tasks" / t["key"])
+        raise KeyError(f"no task with set {set} and realization {realization} in {self.dir}")
+
+    def figures(self, over=None):
+        """The seed-style figures of this study as {name: matplotlib Figure}.
+
+        Parameters
+        ----------
+        over : str, optional
+            A varied dotted key: one panel per combination of the other keys, one curve per value of it.
+        """
+        from .figures import study_figures
+
+        return study_figures(self, over=over)
+
+
+def run_study(study, out, *, workers=None, scheduler=None, progress=True):
+    """Run (or continue) every task of a study into a study directory.
+
+    Parameters
+    ----------
+    study : str, pathlib.Path or workbench.study.Study
+        A study TOML file, or a `make_study` result.
+    out : str or pathlib.Path
+        The study directory; rerunning into it reuses every finished task.
+    workers : int, optional
+        Worker processes of the local Dask cluster (default: all cores).
+    scheduler : str, optional
+        The address of an existing Dask scheduler (e.g. "tcp://host:8786") instead; `out`
+        must then be on a file system every worker sees.
+    progress : bool
+        A progress bar over tasks.
+
+    Returns
+    -------
+    StudyResult
+
+    Warns
+    -----
+    UserWarning
+        If a task failed (the tracebacks are in ``result.record["failures"]``).
+    """
+    import warnings
+
+    from workbench.study import failure_summary, run_study as execute
+
+    study = load_study(study)
+    record = execute(study, out, workers=workers, scheduler=scheduler, progress=progress,
+                     command=f"gfmd_contact.run_study(out={out})")
+    if record["tasks_failed"]:
+        warnings.warn(f"{record['tasks_failed']} task(s) failed: " + "; ".join(failure_summary(record)[:3]),
+                      stacklevel=2)
+    return StudyResult(out)
+
+
+def open_study(directory):
+    """Read a study directory (`gfmd study run --out DIR` or `run_study`); returns a `StudyResult`."""
+    return StudyResult(directory)
