@@ -60,7 +60,8 @@ def draw(sets, layout, spec, seed=0):
 
 
 def curve(params, q):
-    """Columns over DELTA: p_r* = X t, a_rel = A t^β (t = δ⁺/20 nm), ḡ_r/ḡ = 1 + D; cohesive: p < 0, a_rel = B at δ < 0."""
+    """Columns over DELTA: p_r* = X t, a_rel = A t^β (t = δ⁺/20 nm), ḡ_r/ḡ = 1 + D; cohesive: p < 0, a_rel = B,
+    ḡ_r/ḡ = 1 + 3D at δ < 0."""
     t = np.maximum(DELTA, 0) / 20e-9
     hard = params.get("interface.law") == "hard-wall"
     g_r = np.full(DELTA.size, G * (1 + q.get("D", 0.0)))
@@ -71,6 +72,7 @@ def curve(params, q):
         g_r[t == 0] = np.nan
     else:
         p[DELTA < 0] = -1e-4 * contact_modulus(params)
+        g_r[DELTA < 0] = G * (1 + 3 * q.get("D", 0.0))  # before contact: not part of the ḡ_r/ḡ claim
         a[DELTA < 0] = q.get("B", 0.0)
     return {"step": np.arange(DELTA.size), "U": DELTA + 8e-9, "delta": DELTA, "p": p, "a_rel": a, "g_r": g_r,
             "g": np.full(DELTA.size, G), "iterations": np.ones(DELTA.size), "residual": np.zeros(DELTA.size),
@@ -424,3 +426,33 @@ def test_nu_and_friction_claims_against_brute_force(tmp_path, layout):
         fams, _ = spreads(path, key)
         ranges = [brute_effect(rel_range, [a[i] for i in members], layout) for members, a in fams.values()]
         assert_measurement(res[cid].measurements[0], max(ranges, key=lambda e: e[0]), 1.0)
+
+
+# ---------------------------------------------------------------- the statistics on their own
+
+def test_difference_reduces_to_the_textbook_cases():
+    """Same seeds: the paired SE sd(a − b)/√n; no shared seed: √(SE_a² + SE_b²) (unequal n)."""
+    rng = np.random.default_rng(3)
+    z = rng.standard_normal(6)
+    a = {s: 1.0 + z[s] + 0.3 * rng.standard_normal() for s in range(6)}
+    b = {s: 0.5 + 0.8 * z[s] + 0.5 * rng.standard_normal() for s in range(6)}
+    d = np.array([a[s] - b[s] for s in range(6)])
+    m, se, n = C.difference(a, b)
+    assert abs(m - d.mean()) <= ROUNDOFF * 4 and abs(se - d.std(ddof=1) / math.sqrt(6)) <= ROUNDOFF * 4 and n == 6
+    c = {s + 10: v for s, v in list(b.items())[:4]}
+    va, vc = np.array(list(a.values())), np.array(list(c.values()))
+    m, se, n = C.difference(a, c)
+    want = math.hypot(va.std(ddof=1) / math.sqrt(6), vc.std(ddof=1) / math.sqrt(4))
+    assert abs(m - (va.mean() - vc.mean())) <= ROUNDOFF * 4 and abs(se - want) <= ROUNDOFF * 4 and n == 4
+
+
+def test_inconsistent_pairwise_covariance_falls_back_to_the_correlated_bound():
+    """Two shared seeds that covary far more than the rest: gᵀCg < 0; the SE is then SE_a + SE_b, not 0."""
+    a = {1: 0.0, 2: 1.0, **{s: 0.5 for s in range(3, 21)}}
+    b = {1: 0.0, 2: 1.0, **{s: 0.5 for s in range(21, 39)}}
+    va, vb = np.array(list(a.values())), np.array(list(b.values()))
+    se_a, se_b = va.std(ddof=1) / math.sqrt(20), vb.std(ddof=1) / math.sqrt(20)
+    s_ab = np.cov([0.0, 1.0], [0.0, 1.0])[0, 1]
+    assert se_a**2 + se_b**2 - 2 * s_ab * 2 / 400 < 0  # the estimated quadratic form is negative here
+    m, se, n = C.difference(a, b)
+    assert abs(se - (se_a + se_b)) <= ROUNDOFF and m == 0.0 and n == 20
