@@ -456,3 +456,14 @@ def test_inconsistent_pairwise_covariance_falls_back_to_the_correlated_bound():
     assert se_a**2 + se_b**2 - 2 * s_ab * 2 / 400 < 0  # the estimated quadratic form is negative here
     m, se, n = C.difference(a, b)
     assert abs(se - (se_a + se_b)) <= ROUNDOFF and m == 0.0 and n == 20
+
+
+def test_sets_equal_to_round_off_give_the_se_of_their_difference():
+    """κ at two ν on the same profiles differs by ~1e-11: the SE is that of the per-seed difference (taken
+    before squaring), not the round-off of Var(ā) + Var(b̄) − 2 Cov(ā, b̄) (≈ 1e-9 here)."""
+    rng = np.random.default_rng(5)
+    a = {s: 1.8 + 0.05 * rng.standard_normal() for s in range(10)}
+    b = {s: v + 1e-11 * rng.standard_normal() for s, v in a.items()}
+    d = np.array([a[s] - b[s] for s in range(10)])
+    m, se, n = C.difference(a, b)
+    assert se == pytest.approx(d.std(ddof=1) / math.sqrt(10), rel=1e-3)  # 1e-11 of 1.8: 5 digits are left

@@ -57,9 +57,20 @@ def mean_covariance(a, b):
 
 
 def standard_error(samples, gradient):
-    """√(gᵀ C g): the delta-method SE of f(x̄_1 … x̄_k) with ∇f = gradient (C: `mean_covariance`)."""
+    """√(gᵀ C g): the delta-method SE of f(x̄_1 … x̄_k) with ∇f = gradient (C: `mean_covariance`).
+
+    When every sample it depends on has the same seeds, the same number as sd(z)/√n with
+    z(seed) = Σ g_i x_i(seed): the combination is taken per seed before squaring, so two sets that
+    differ by round-off (κ at two ν on the same profiles) give the SE of their difference, not the
+    round-off of C_aa + C_bb − 2 C_ab."""
     g = np.asarray(gradient, float)
     k = len(samples)
+    used = [i for i in range(k) if g[i] != 0]
+    finite = [_finite(s) for s in samples]
+    seeds = sorted(finite[used[0]]) if used else []
+    if len(seeds) >= 2 and all(sorted(finite[i]) == seeds for i in used):
+        z = sum(g[i] * np.array([finite[i][s] for s in seeds]) for i in used)
+        return float(np.std(z, ddof=1) / math.sqrt(len(seeds)))
     cov = np.array([[mean_covariance(samples[i], samples[j]) for j in range(k)] for i in range(k)])
     q = float(g @ cov @ g)
     if q < 0:  # inconsistent pairwise estimates: the perfectly correlated bound
