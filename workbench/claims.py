@@ -535,7 +535,8 @@ CLAIMS = (
           "Nonlinearity per realization: N = 2 a_rel(x/2)/a_rel(x) − 1 with x its p_r* at δ_eval = min(20 nm, "
           "largest δ all sets reach) and a_rel(x/2) where p_r* first reaches x/2 on the loading branch (p > 0); "
           "N = 0 for a_rel ∝ p_r*, > 0 when area grows faster at small loads. Value: N(largest φn*) − "
-          "N(smallest φn*), paired over realizations. Reproduced if > 0 at 2 SE.", claim_nonlinearity),
+          "N(smallest φn*): the difference of the set means, SE paired over shared seeds. Reproduced if > 0 "
+          "at 2 SE.", claim_nonlinearity),
     Claim("adhesive-branch", "Fig. 3b", "Adhesive contacts have a_rel > 0 at tensile mean pressure p < 0",
           "Per realization: the largest a_rel over its steps with p < 0 (0 if none); value: the smallest set mean "
           "over the adhesive sets. Reproduced if > 0 at 2 SE.", claim_adhesive_branch),
@@ -545,18 +546,19 @@ CLAIMS = (
           "its mean ± SE; value: the largest |mean| over φn*. Reproduced if ≤ 0.1 at 2 SE.",
           claim_pressure_independent),
     Claim("area-delta", "Fig. 4b", "a_rel at fixed δ grows with φn*",
-          "a_rel at δ_eval (step nearest): largest φn* minus the hard wall (else the smallest φn*), paired over "
-          "realizations. Reproduced if > 0 at 2 SE.", claim_area_grows),
+          "a_rel at δ_eval (step nearest): largest φn* minus the hard wall (else the smallest φn*), set means, SE "
+          "paired over shared seeds. Reproduced if > 0 at 2 SE.", claim_area_grows),
     Claim("gr-over-g", "Fig. 4c", "ḡ_r/ḡ → 1 for adhesive contacts",
           "Per realization: the mean over its steps with contact (ḡ_r defined, δ ≥ 0) of |ḡ_r/ḡ − 1|; value: "
           "the largest set mean over the adhesive sets. Reproduced if ≤ 0.1 at 2 SE.", claim_gr_to_one),
     Claim("hrms", "Fig. 6a", "Smaller h_rms gives more contact area at a given p_r* (adhesive)",
           "a_rel where p_r* first reaches x* = half the smallest p_r* any realization has at δ_eval; value: a_rel(smallest "
-          "h_rms) − a_rel(largest h_rms), paired. Reproduced if > 0 at 2 SE.", claim_hrms),
+          "h_rms) − a_rel(largest h_rms), SE paired over shared seeds. Reproduced if > 0 at 2 SE.", claim_hrms),
     Claim("hurst", "Fig. 6b", "The effect of adhesion is weakest at the smallest H (strongest at H = 0.5)",
           "Adhesion effect per H: a_rel(adhesive) − a_rel(its hard-wall reference) at p_r* = x* (as for h_rms; "
-          "without a reference 1.75 x*), paired; value: the smallest effect over the larger H's minus the effect "
-          "at the smallest H (its SE paired over the seeds the four sets share). Reproduced if > 0 at 2 SE (where it is strongest is listed).", claim_hurst),
+          "without a reference 1.75 x*); value: the smallest effect over the larger H's minus the effect at the "
+          "smallest H, SE paired over the seeds the (up to four) sets share. Reproduced if > 0 at 2 SE (where it is "
+          "strongest is listed).", claim_hurst),
     Claim("eps-f", "Fig. 7", "ε_f (roll-on wavelength) matters at H = 0.2, not at H = 0.8",
           "a_rel where p/E* first reaches half the smallest p/E* any realization has at δ_eval; per H the spread (max − min)/"
           "mean over λ_sH; value: spread(smallest H) − spread(largest H) (SE: delta method over both H's sets, "
