@@ -149,7 +149,7 @@ def test_statistics_helpers():
     m, se, n = C.stats({0: 1.0, 1: 2.0, 2: 3.0})
     assert (m, n) == (2.0, 3) and se == pytest.approx(1 / math.sqrt(3))
     assert C.stats([4.0]) == (4.0, 0.0, 1)
-    m, se, n = C.paired_difference({0: 1.0, 1: 2.0}, {0: 0.5, 1: 1.5})
+    m, se, n = C.difference({0: 1.0, 1: 2.0}, {0: 0.5, 1: 1.5})
     assert (m, se, n) == (0.5, 0.0, 2)
     assert C.at_level([0, 1, 2, 3], [0, 10, 20, 30], 1.5) == pytest.approx(15)
     assert math.isnan(C.at_level([0, 1], [0, 1], 5))

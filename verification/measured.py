@@ -15,10 +15,11 @@ from __future__ import annotations
 
 import datetime as _dt
 import json
+import math
 from pathlib import Path
 
 DATA_DIR = Path(__file__).resolve().parent / "data"
-SIGNIFICANT_DIGITS = 4  # of the measured numbers stored
+SIGNIFICANT_DIGITS = 4  # of the measured numbers stored (floats; ints are stored as they are)
 LINE_WIDTH = 160  # of the data files
 
 
@@ -84,6 +85,16 @@ def value(study, key, name):
         raise MissingMeasurement(f"{path(study)}: entry {key!r} has no value {name!r} ({sorted(values)})")
     ACCESSES.append((study, key, name, values[name]))
     return values[name]
+
+
+def node_count(a_rel_difference, nodes):
+    """|Δa_rel| on N = `nodes` as the whole number of nodes it is (a_rel counts nodes: quantised by 1/N).
+
+    Stored as an int, so that a bound "stored + k nodes" keeps its margin: the float |Δa_rel| rounded
+    to SIGNIFICANT_DIGITS (1/256 → 0.003906) is below the count, and stored + 1/N then falls 2.4e-7
+    short of the next count (a difference of exactly one more node would fail). Round-off below
+    1e-6 node is not a node; a difference that is not a whole count rounds up (a larger bound)."""
+    return int(math.ceil(a_rel_difference * nodes - 1e-6))
 
 
 def make_entry(values, scene=None, **extra):

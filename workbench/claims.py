@@ -6,11 +6,13 @@ per-realization table (study.csv, or the finished tasks' curve.csv while a study
 incomplete), read by `read_study_dir`:
 
 * per (set, realization) a value is computed from that realization's curve alone
-  (a κ fit, a_rel at a given δ, a_rel where p_r* first reaches a target, …);
+  (a κ fit, a_rel at a given δ, a_rel where p_r* first reaches a target, …), keyed by its seed;
 * a set's value is the mean over its realizations, its standard error SE = s/√n
   (s: sample standard deviation, n: realizations with a value; 0 for n = 1);
-* a difference between two sets with the same seeds is taken per realization (paired:
-  the same rough profile, scaled), otherwise SE = √(SE₁² + SE₂²);
+* an effect size is a function of set means (a difference, a mean over sets, a relative range);
+  its SE is the delta method's with the covariance of the set means estimated from the seeds the
+  sets share (the same rough profile, scaled): for a difference of two sets with the same seeds
+  the paired SE, with no seed shared √(SE₁² + SE₂²) (`workbench.claim_stats`);
 * the verdict compares the effect with the claim's limit at two standard errors:
   "reproduced" when the whole interval value ± 2 SE is on the claim's side, "not reproduced"
   when it is wholly on the other side, "inconclusive (within 2 SE)" otherwise (and whenever fewer
@@ -25,19 +27,17 @@ returns one `ClaimResult` per claim.
 
 from __future__ import annotations
 
-import csv
-import json
 import math
-from dataclasses import dataclass, field
-from pathlib import Path
+from dataclasses import dataclass
 
 import numpy as np
 
-from contact.laws import law_from_scene
 from contact.observables import fit_kappa
-from contact.scene import load_scene
 
-from .plots import Stacked, stack_curves
+from .claim_stats import (DEPENDS, INCONCLUSIVE, NOT_IN_STUDY, NOT_REPRODUCED, REPRODUCED, SINGLE,  # noqa: F401
+                          difference, effect, linear, relative_range, relative_range_gradient, stats,
+                          verdict_below, verdict_positive)
+from .study_data import COLUMNS, SetInfo, StudyData, StudyDirError, read_study_dir  # noqa: F401
 
 #: the seed's κ (Fig. 2, §3)
 KAPPA_SEED = 1.75
@@ -48,163 +48,10 @@ CONTEXT_KEYS = ("interface.length_normal", "interface.contact_rule", "interface.
 #: keys that make a set the non-adhesive reference or set its adhesion
 LAW_KEYS = ("interface.law", "interface.phi_n_star")
 
-REPRODUCED, NOT_REPRODUCED, INCONCLUSIVE = "reproduced", "not reproduced", "inconclusive (within 2 SE)"
-SINGLE = "inconclusive (n < 2: no standard error)"
-NOT_IN_STUDY, DEPENDS = "not in this study", "depends on δn / the contact rule"
-#: numeric columns of the per-realization curves
-COLUMNS = ("step", "U", "delta", "p", "a_rel", "g_r", "g", "iterations", "residual", "converged", "wall_s")
 
 
 class StudyDirError(ValueError):
     """A directory that is not a study directory, or has no finished task."""
-
-
-# ---------------------------------------------------------------- reading a study directory
-
-@dataclass
-class SetInfo:
-    """One parameter set: index, parameters (study key → value), scene, E* (Pa), law, curves."""
-
-    index: int
-    params: dict
-    scene: object
-    e_star: float
-    hard_wall: bool
-    adhesive: bool
-    realizations: int  # the set's realizations in the study (expected)
-    stacked: Stacked | None = None  # realizations × steps (None: no finished task)
-    seeds: dict = field(default_factory=dict)  # realization → seed
-    tasks: dict = field(default_factory=dict)  # realization → task key
-
-    def value(self, key):
-        """The set's value of a dotted scene key (from its scene, so base keys work too)."""
-        section, _, name = key.partition(".")
-        return getattr(getattr(self.scene, section), name)
-
-    @property
-    def signature(self):
-        """The set's scene without its adhesion (law, φn*, c, δt): equal for a set and its hard-wall reference."""
-        import dataclasses
-
-        i = self.scene.interface
-        i = dataclasses.replace(i, law="hard-wall", phi_n_star=0.0, tangential_ratio=0.0, length_tangential=0.0)
-        return (self.scene.surface, self.scene.material, self.scene.loading, i)
-
-
-@dataclass
-class StudyData:
-    """A study directory read back: its record, base scene, varied keys, sets and counts."""
-
-    path: Path
-    name: str
-    record: dict
-    keys: list
-    sets: list  # SetInfo, every set of the study (those without a finished task have stacked None)
-    tasks_total: int
-    tasks_done: int
-    tasks_failed: int
-    source: str  # "study.csv" or "tasks" (an unfinished study: the finished tasks' curve.csv)
-
-    @property
-    def partial(self):
-        return self.tasks_done < self.tasks_total
-
-    def partial_note(self):
-        """'' for a complete study, else one line saying what is missing."""
-        if not self.partial:
-            return ""
-        empty = [s.index for s in self.sets if s.stacked is None]
-        short = [s.index for s in self.sets if s.stacked is not None and len(s.stacked.realizations) < s.realizations]
-        bits = [f"PARTIAL STUDY: {self.tasks_done} of {self.tasks_total} tasks finished"]
-        if self.tasks_failed:
-            bits.append(f"{self.tasks_failed} failed")
-        if empty:
-            bits.append(f"no data for set{'s' if len(empty) > 1 else ''} {_ranges(empty)}")
-        if short:
-            bits.append(f"fewer realizations in set{'s' if len(short) > 1 else ''} {_ranges(short)}")
-        return "; ".join(bits)
-
-    @property
-    def with_data(self):
-        return [s for s in self.sets if s.stacked is not None]
-
-
-def _ranges(ints):
-    return ", ".join(str(i) for i in ints) if len(ints) <= 8 else f"{', '.join(map(str, ints[:8]))}, …"
-
-
-def _float(text):
-    try:
-        return float(text)
-    except (TypeError, ValueError):
-        return math.nan
-
-
-def read_study_dir(path):
-    """Read a study directory (`workbench.study`): study.json, base_scene.toml and the curves.
-
-    The curves come from study.csv when the study completed; otherwise (still running,
-    interrupted) from the curve.csv of every finished task. Raises StudyDirError for a
-    directory that is not a study directory or has no finished task.
-    """
-    path = Path(path)
-    if not path.is_dir():
-        raise StudyDirError(f"{path}: no such directory")
-    if not (path / "study.json").is_file() or not (path / "base_scene.toml").is_file():
-        raise StudyDirError(f"{path} is not a study directory (no study.json / base_scene.toml; "
-                            "make one with gfmd study run STUDY.toml --out DIR)")
-    try:
-        record = json.loads((path / "study.json").read_text())
-        base = load_scene(path / "base_scene.toml")
-    except (OSError, ValueError) as exc:
-        raise StudyDirError(f"{path}: cannot read the study: {exc}") from None
-    keys = list(record.get("axes") or {}) + list(record.get("zip") or {})
-    entries = record.get("tasks", [])
-    by_set = {}
-    for t in entries:
-        by_set.setdefault(t["set"], []).append(t)
-    sets = []
-    for s in sorted(by_set):
-        params = by_set[s][0]["parameters"]
-        scene = base.replace(**params) if params else base
-        law = law_from_scene(scene)
-        info = SetInfo(index=s, params=params, scene=scene, e_star=scene.material.contact_modulus,
-                       hard_wall=scene.interface.law == "hard-wall", adhesive=bool(law.adhesive),
-                       realizations=len(by_set[s]))
-        info.seeds = {t["realization"]: t["seed"] for t in by_set[s]}
-        info.tasks = {t["realization"]: t["key"] for t in by_set[s]}
-        sets.append(info)
-    failed = sum(1 for t in entries if t.get("status") == "failed")
-    curves = {}  # set → {realization: {column: array}}
-    if record.get("complete") and (path / "study.csv").is_file():
-        source = "study.csv"
-        with open(path / "study.csv") as fh:
-            for row in csv.DictReader(fh):
-                c = curves.setdefault(int(row["set"]), {}).setdefault(int(row["realization"]),
-                                                                       {k: [] for k in COLUMNS})
-                for k in COLUMNS:
-                    c[k].append(_float(row.get(k)))
-    else:
-        source = "tasks"
-        for t in entries:
-            f = path / "tasks" / t["key"] / "curve.csv"
-            meta = path / "tasks" / t["key"] / "meta.json"
-            if not f.is_file() or not meta.is_file() or not json.loads(meta.read_text()).get("complete"):
-                continue
-            with open(f) as fh:
-                rows = list(csv.DictReader(fh))
-            curves.setdefault(t["set"], {})[t["realization"]] = {k: [_float(r.get(k)) for r in rows] for k in COLUMNS}
-    done = 0
-    for info in sets:
-        got = {r: {k: np.asarray(v, float) for k, v in c.items()} for r, c in curves.get(info.index, {}).items()
-               if c["step"]}
-        if got:
-            info.stacked = stack_curves(got)
-            done += len(got)
-    if done == 0:
-        raise StudyDirError(f"{path}: the study has no finished task yet ({len(entries)} task(s), {failed} failed)")
-    return StudyData(path=path, name=record.get("study", path.name), record=record, keys=keys, sets=sets,
-                     tasks_total=len(entries), tasks_done=done, tasks_failed=failed, source=source)
 
 
 # ---------------------------------------------------------------- per-realization quantities
@@ -227,25 +74,9 @@ def kappa_per_realization(s, a_max=0.1):
     return out
 
 
-def stats(values):
-    """(mean, standard error, n) of the finite values (a dict's values or a sequence)."""
-    v = np.asarray(list(values.values()) if isinstance(values, dict) else list(values), float)
-    v = v[np.isfinite(v)]
-    if v.size == 0:
-        return math.nan, math.nan, 0
-    se = float(np.std(v, ddof=1) / math.sqrt(v.size)) if v.size > 1 else 0.0
-    return float(np.mean(v)), se, int(v.size)
-
-
-def paired_difference(a, b):
-    """Mean and SE of a − b ({realization: value} of two sets): per realization where both have one
-    (same realizations = same seeds in a study), else from the two means."""
-    common = [r for r in a if r in b and np.isfinite(a[r]) and np.isfinite(b[r])]
-    if len(common) >= 2:
-        return stats([a[r] - b[r] for r in common])
-    ma, sa, na = stats(a)
-    mb, sb, nb = stats(b)
-    return ma - mb, math.hypot(sa, sb), min(na, nb)
+def seeded(s, values):
+    """{seed: value} of set `s` from {realization: value}: realizations of two sets pair by their seed."""
+    return {s.seeds.get(r, r): v for r, v in values.items()}
 
 
 def max_delta(s):
@@ -398,28 +229,6 @@ class ClaimResult:
     measurements: list
 
 
-def verdict_below(value, se, limit):
-    """Claim 'value ≤ limit' at 2 SE."""
-    if not np.isfinite(value):
-        return NOT_IN_STUDY
-    if value + 2 * se <= limit:
-        return REPRODUCED
-    if value - 2 * se > limit:
-        return NOT_REPRODUCED
-    return INCONCLUSIVE
-
-
-def verdict_positive(value, se):
-    """Claim 'value > 0' at 2 SE."""
-    if not np.isfinite(value):
-        return NOT_IN_STUDY
-    if value - 2 * se > 0:
-        return REPRODUCED
-    if value + 2 * se <= 0:
-        return NOT_REPRODUCED
-    return INCONCLUSIVE
-
-
 def _fmt(x, digits=3):
     return "nan" if x is None or not np.isfinite(x) else f"{x:.{digits}g}"
 
@@ -440,31 +249,23 @@ def claim_kappa(sets, keys):
     hw = _hw(sets)
     if not hw:
         return None
-    per = [(s, stats(kappa_per_realization(s))) for s in hw]
-    per = [(s, m) for s, m in per if m[2] > 0]
+    per = [(s, seeded(s, kappa_per_realization(s))) for s in hw]
+    per = [(s, v) for s, v in per if stats(v)[2] > 0]
     if not per:
         return None
-    kappa = float(np.mean([m[0] for _, m in per]))
-    se = math.sqrt(sum(m[1] ** 2 for _, m in per)) / len(per)
+    # the mean over sets of the set means; sets share seeds, so their means covary (claim_stats)
+    kappa, se, n = linear([v for _, v in per], [1 / len(per)] * len(per))
     dev = abs(kappa - KAPPA_SEED)
     verdict = verdict_below(dev, se, 0.1 * KAPPA_SEED)
     lab = varying([s for s, _ in per], keys)
-    details = "; ".join(f"{set_label(s, lab) or 'hard wall'}: κ = {_pm(*m)}" for s, m in per)
-    return Measurement("", kappa, se, min(m[2] for _, m in per), verdict, details)
+    details = "; ".join(f"{set_label(s, lab) or 'hard wall'}: κ = {_pm(*stats(v))}" for s, v in per)
+    return Measurement("", kappa, se, n, verdict, details)
 
 
-def _relative_range(values):
-    """(max − min)/mean of set means; SE of the difference of the two extreme sets (paired per realization
-    where they share seeds, `paired_difference`) / mean. values = [(label, {realization: value})]."""
-    ok = [(lab, v, stats(v)) for lab, v in values]
-    ok = [t for t in ok if t[2][2] > 0 and np.isfinite(t[2][0])]
-    if len(ok) < 2:
-        return None
-    hi = max(ok, key=lambda t: t[2][0])
-    lo = min(ok, key=lambda t: t[2][0])
-    mean = abs(float(np.mean([t[2][0] for t in ok])))
-    diff, se, n = paired_difference(hi[1], lo[1])
-    return diff / mean, se / mean, n
+def _relative_range(samples):
+    """(r, SE, n) of (max − min)/mean of the set means (`claim_stats.relative_range`), or None."""
+    rr = relative_range(samples)
+    return None if rr is None else rr[:3]
 
 
 def claim_kappa_independent(key):
@@ -475,7 +276,7 @@ def claim_kappa_independent(key):
         worst = None
         parts = []
         for fam in fams:
-            rr = _relative_range([(s, kappa_per_realization(s)) for s in fam])
+            rr = _relative_range([seeded(s, kappa_per_realization(s)) for s in fam])
             if rr is None:
                 continue
             parts.append(", ".join(f"{_param_text(key, s.value(key))}: κ = {_pm(*stats(kappa_per_realization(s)))}"
@@ -518,9 +319,9 @@ def claim_nonlinearity(sets, keys):
         return None
     fam = fams[0]
     d = eval_delta(fam)
-    vals = {s.index: nonlinearity(s, d) for s in fam}
+    vals = {s.index: seeded(s, nonlinearity(s, d)) for s in fam}
     coh = [s for s in fam if not s.hard_wall]
-    m, se, n = paired_difference(vals[coh[-1].index], vals[coh[0].index])
+    m, se, n = difference(vals[coh[-1].index], vals[coh[0].index])
     details = ", ".join(f"{_phi_text(s)}: {_pm(*stats(vals[s.index]))}" for s in fam) + f" (δ = {d * 1e9:.3g} nm)"
     return Measurement("", m, se, n, verdict_positive(m, se), details)
 
@@ -551,17 +352,16 @@ def claim_pressure_independent(sets, keys):
     fam = fams[0]
     d = eval_delta(fam)
     ref = fam[0]
-    p_ref = at_delta(ref, lambda z: z.stacked["p"] / z.e_star, d)
+    p_ref = seeded(ref, at_delta(ref, lambda z: z.stacked["p"] / z.e_star, d))
     worst, parts = None, []
     for s in fam[1:]:
-        p = at_delta(s, lambda z: z.stacked["p"] / z.e_star, d)
-        common = [r for r in p if r in p_ref and p_ref[r]]
+        p = seeded(s, at_delta(s, lambda z: z.stacked["p"] / z.e_star, d))
+        common = [r for r in p if r in p_ref and p_ref[r] and np.isfinite(p_ref[r]) and np.isfinite(p[r])]
         if common:  # per realization (same seed): p/p_ref − 1; realizations differ 10× in p at one δ
             m, se, n = stats([p[r] / p_ref[r] - 1 for r in common])
-        else:
-            scale = stats(p_ref)[0]
-            m, se, n = paired_difference(p, p_ref)
-            m, se = m / scale, se / abs(scale)
+        else:  # no shared seed: p̄/p̄_ref − 1, delta method through both means
+            mp, mr = stats(p)[0], stats(p_ref)[0]
+            m, se, n = effect([p, p_ref], mp / mr - 1, [1 / mr, -mp / mr**2])
         rel = (abs(m), se, n)
         parts.append(f"{_phi_text(s)}: p/E* = {_pm(*stats(p))}, relative difference {_pm(m, se)}")
         if worst is None or rel[0] > worst[0]:
@@ -577,8 +377,8 @@ def claim_area_grows(sets, keys):
         return None
     fam = fams[0]
     d = eval_delta(fam)
-    vals = {s.index: at_delta(s, "a_rel", d) for s in fam}
-    m, se, n = paired_difference(vals[fam[-1].index], vals[fam[0].index])
+    vals = {s.index: seeded(s, at_delta(s, "a_rel", d)) for s in fam}
+    m, se, n = difference(vals[fam[-1].index], vals[fam[0].index])
     details = ", ".join(f"{_phi_text(s)}: {_pm(*stats(vals[s.index]))}" for s in fam) + f" (δ = {d * 1e9:.3g} nm)"
     return Measurement("", m, se, n, verdict_positive(m, se), details)
 
@@ -615,8 +415,8 @@ def claim_hrms(sets, keys):
     fam = fams[0]
     d = eval_delta(fam)
     x = common_target(fam, "p_r", d)
-    vals = {s.index: area_at(s, "p_r", x) for s in fam}
-    m, se, n = paired_difference(vals[fam[0].index], vals[fam[-1].index])
+    vals = {s.index: seeded(s, area_at(s, "p_r", x)) for s in fam}
+    m, se, n = difference(vals[fam[0].index], vals[fam[-1].index])
     details = ", ".join(f"h_rms = {s.value('surface.h_rms') * 1e9:g} nm: a_rel = {_pm(*stats(vals[s.index]))}"
                         for s in fam) + f" (at p_r* = {_fmt(x)})"
     return Measurement("", m, se, n, verdict_positive(m, se), details)
@@ -629,33 +429,33 @@ def claim_hurst(sets, keys):
     fam = fams[0]
     d = eval_delta(fam + [r for r in (reference_of(s, sets) for s in fam) if r])
     x = common_target(fam, "p_r", d)
-    effect, parts = {}, []
+    terms, eff, parts = {}, {}, []  # per H: (samples, weights, offset) of its adhesion effect
     for s in fam:
-        a = area_at(s, "p_r", x)
+        a = seeded(s, area_at(s, "p_r", x))
         ref = reference_of(s, sets)
         if ref is not None:
-            e = paired_difference(a, area_at(ref, "p_r", x))
+            terms[s.index] = ([a, seeded(ref, area_at(ref, "p_r", x))], [1.0, -1.0], 0.0)
         else:
-            m, se, n = stats(a)
-            e = (m - KAPPA_SEED * x, se, n)
-        effect[s.index] = e
-        parts.append(f"H = {s.value('surface.hurst'):g}: {_pm(*e)}")
+            terms[s.index] = ([a], [1.0], -KAPPA_SEED * x)
+        eff[s.index] = linear(*terms[s.index])
+        parts.append(f"H = {s.value('surface.hurst'):g}: {_pm(*eff[s.index])}")
     low = fam[0]
-    others = [(s, effect[s.index]) for s in fam[1:]]
-    s2, e2 = min(others, key=lambda t: t[1][0])
-    m = e2[0] - effect[low.index][0]
-    se = math.hypot(e2[1], effect[low.index][1])
-    strongest = max(fam, key=lambda s: effect[s.index][0])
+    s2 = min(fam[1:], key=lambda s: eff[s.index][0])
+    # effect(H₂) − effect(H_low) as one combination: the H's share seeds, so their effects covary
+    (sa, wa, oa), (sb, wb, ob) = terms[s2.index], terms[low.index]
+    m, se, n = linear(sa + sb, list(wa) + [-w for w in wb], oa - ob)
+    strongest = max(fam, key=lambda s: eff[s.index][0])
     details = "adhesion effect a_rel(adhesive) − a_rel(hard wall): " + ", ".join(parts) + \
         f" (at p_r* = {_fmt(x)}); strongest at H = {strongest.value('surface.hurst'):g} (seed: 0.5)"
-    return Measurement("", m, se, min(e2[2], effect[low.index][2]), verdict_positive(m, se), details)
+    return Measurement("", m, se, n, verdict_positive(m, se), details)
 
 
 def _spread_at_pressure(fam):
+    """(relative_range_gradient of a_rel at a common p/E* over `fam`, its samples, [(set, stats)], p/E*)."""
     d = eval_delta(fam)
     x = common_target(fam, "p_E", d)
-    per = [(s, area_at(s, "p_E", x)) for s in fam]
-    return _relative_range(per), [(s, stats(v)) for s, v in per], x
+    samples = [seeded(s, area_at(s, "p_E", x)) for s in fam]
+    return relative_range_gradient(samples), samples, [(s, stats(v)) for s, v in zip(fam, samples)], x
 
 
 def claim_eps_f(sets, keys):
@@ -665,21 +465,21 @@ def claim_eps_f(sets, keys):
         return None
     by_h = {}
     for fam in fams:
-        rr, vals, x = _spread_at_pressure(fam)
-        if rr is not None:
-            by_h[fam[0].value("surface.hurst")] = (rr, vals, x)
+        rg, samples, vals, x = _spread_at_pressure(fam)
+        if rg is not None:
+            by_h[fam[0].value("surface.hurst")] = (effect(samples, rg[0], rg[1]), vals, x, samples, rg[1])
     parts = [f"H = {h:g}: spread {_pm(*rr[:2])} [" + ", ".join(
         f"λ_sH = {s.value('surface.rollon_wavelength') * 1e9:g} nm: {_fmt(m[0])}" for s, m in vals)
-        + f"] at p/E* = {_fmt(x)}" for h, (rr, vals, x) in sorted(by_h.items())]
+        + f"] at p/E* = {_fmt(x)}" for h, (rr, vals, x, _, _) in sorted(by_h.items())]
     if len(by_h) < 2:
         return Measurement("", math.nan, math.nan, 0, NOT_IN_STUDY, "; ".join(parts) + " (needs two H)")
-    lo, hi = min(by_h), max(by_h)
-    m = by_h[lo][0][0] - by_h[hi][0][0]
-    se = math.hypot(by_h[lo][0][1], by_h[hi][0][1])
+    lo, hi = by_h[min(by_h)], by_h[max(by_h)]
+    # spread(H_lo) − spread(H_hi) as one function of both families' set means (they share seeds)
+    m, se, n = effect(lo[3] + hi[3], lo[0][0] - hi[0][0], list(lo[4]) + list(-hi[4]))
     verdict = verdict_positive(m, se)
-    if verdict == REPRODUCED and verdict_below(by_h[hi][0][0], by_h[hi][0][1], 0.1) == NOT_REPRODUCED:
+    if verdict == REPRODUCED and verdict_below(hi[0][0], hi[0][1], 0.1) == NOT_REPRODUCED:
         verdict = NOT_REPRODUCED
-    return Measurement("", m, se, min(by_h[lo][0][2], by_h[hi][0][2]), verdict, "; ".join(parts))
+    return Measurement("", m, se, n, verdict, "; ".join(parts))
 
 
 def claim_negligible(key):
@@ -689,9 +489,10 @@ def claim_negligible(key):
             return None
         worst, parts = None, []
         for fam in fams:
-            rr, vals, x = _spread_at_pressure(fam)
-            if rr is None:
+            rg, samples, vals, x = _spread_at_pressure(fam)
+            if rg is None:
                 continue
+            rr = effect(samples, rg[0], rg[1])
             others = [k for k in varying(fam + [s for f in fams for s in f], keys) if k != key]
             head = set_label(fam[0], others) if others else ""
             parts.append((f"{head}: " if head else "") + ", ".join(
@@ -718,12 +519,13 @@ CLAIMS = (
     Claim("kappa", "Fig. 2", "Non-adhesive contact: a_rel = κ p_r* with κ ≈ 1.75",
           "κ per realization: least-squares slope through the origin of a_rel vs p_r* = p/(ḡ_r E*) over its "
           "steps with p > 0 and 0 < a_rel ≤ 0.1 (contact.observables.fit_kappa); per hard-wall set the mean ± SE "
-          "over realizations; value: the mean over hard-wall sets (SE: √Σ SE²/m). Reproduced if |κ − 1.75| ± 2 SE "
+          "over realizations; value: the mean over hard-wall sets (SE: delta method, the sets' means covary through "
+          "their shared seeds). Reproduced if |κ − 1.75| ± 2 SE "
           "≤ 0.175 (10 %).", claim_kappa),
     Claim("kappa-nu", "Fig. 2", "κ is independent of the Poisson ratio ν",
           "Hard-wall sets that differ only in ν: (max − min)/mean of the set κ's (largest over such groups); SE "
-          "of the difference of the two extreme sets (paired per realization), / mean. Reproduced if ≤ 0.1 at "
-          "2 SE.",
+          "by the delta method through the two extreme sets and the mean (paired over shared seeds). Reproduced "
+          "if ≤ 0.1 at 2 SE.",
           claim_kappa_independent("material.poisson_ratio")),
     Claim("kappa-H", "Fig. 2", "κ is independent of the Hurst exponent H",
           "As for ν, over hard-wall sets that differ only in H.", claim_kappa_independent("surface.hurst")),
@@ -733,7 +535,8 @@ CLAIMS = (
           "Nonlinearity per realization: N = 2 a_rel(x/2)/a_rel(x) − 1 with x its p_r* at δ_eval = min(20 nm, "
           "largest δ all sets reach) and a_rel(x/2) where p_r* first reaches x/2 on the loading branch (p > 0); "
           "N = 0 for a_rel ∝ p_r*, > 0 when area grows faster at small loads. Value: N(largest φn*) − "
-          "N(smallest φn*), paired over realizations. Reproduced if > 0 at 2 SE.", claim_nonlinearity),
+          "N(smallest φn*): the difference of the set means, SE paired over shared seeds. Reproduced if > 0 "
+          "at 2 SE.", claim_nonlinearity),
     Claim("adhesive-branch", "Fig. 3b", "Adhesive contacts have a_rel > 0 at tensile mean pressure p < 0",
           "Per realization: the largest a_rel over its steps with p < 0 (0 if none); value: the smallest set mean "
           "over the adhesive sets. Reproduced if > 0 at 2 SE.", claim_adhesive_branch),
@@ -743,21 +546,23 @@ CLAIMS = (
           "its mean ± SE; value: the largest |mean| over φn*. Reproduced if ≤ 0.1 at 2 SE.",
           claim_pressure_independent),
     Claim("area-delta", "Fig. 4b", "a_rel at fixed δ grows with φn*",
-          "a_rel at δ_eval (step nearest): largest φn* minus the hard wall (else the smallest φn*), paired over "
-          "realizations. Reproduced if > 0 at 2 SE.", claim_area_grows),
+          "a_rel at δ_eval (step nearest): largest φn* minus the hard wall (else the smallest φn*), set means, SE "
+          "paired over shared seeds. Reproduced if > 0 at 2 SE.", claim_area_grows),
     Claim("gr-over-g", "Fig. 4c", "ḡ_r/ḡ → 1 for adhesive contacts",
           "Per realization: the mean over its steps with contact (ḡ_r defined, δ ≥ 0) of |ḡ_r/ḡ − 1|; value: "
           "the largest set mean over the adhesive sets. Reproduced if ≤ 0.1 at 2 SE.", claim_gr_to_one),
     Claim("hrms", "Fig. 6a", "Smaller h_rms gives more contact area at a given p_r* (adhesive)",
           "a_rel where p_r* first reaches x* = half the smallest p_r* any realization has at δ_eval; value: a_rel(smallest "
-          "h_rms) − a_rel(largest h_rms), paired. Reproduced if > 0 at 2 SE.", claim_hrms),
+          "h_rms) − a_rel(largest h_rms), SE paired over shared seeds. Reproduced if > 0 at 2 SE.", claim_hrms),
     Claim("hurst", "Fig. 6b", "The effect of adhesion is weakest at the smallest H (strongest at H = 0.5)",
           "Adhesion effect per H: a_rel(adhesive) − a_rel(its hard-wall reference) at p_r* = x* (as for h_rms; "
-          "without a reference 1.75 x*), paired; value: the smallest effect over the larger H's minus the effect "
-          "at the smallest H. Reproduced if > 0 at 2 SE (where it is strongest is listed).", claim_hurst),
+          "without a reference 1.75 x*); value: the smallest effect over the larger H's minus the effect at the "
+          "smallest H, SE paired over the seeds the (up to four) sets share. Reproduced if > 0 at 2 SE (where it is "
+          "strongest is listed).", claim_hurst),
     Claim("eps-f", "Fig. 7", "ε_f (roll-on wavelength) matters at H = 0.2, not at H = 0.8",
           "a_rel where p/E* first reaches half the smallest p/E* any realization has at δ_eval; per H the spread (max − min)/"
-          "mean over λ_sH (SE from the two extreme sets); value: spread(smallest H) − spread(largest H). "
+          "mean over λ_sH; value: spread(smallest H) − spread(largest H) (SE: delta method over both H's sets, "
+          "paired over shared seeds). "
           "Reproduced if > 0 at 2 SE and the largest H's spread is not > 0.1 at 2 SE.", claim_eps_f),
     Claim("nu", "Fig. 8", "The Poisson ratio ν changes a_rel–p/E* negligibly (adhesive)",
           "a_rel at a common p/E* (as for ε_f) over adhesive sets that differ only in ν: (max − min)/mean, "

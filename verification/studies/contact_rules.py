@@ -69,7 +69,7 @@ def study(nodes):
         out["nodes"][law], out["a_max"][law] = {}, {}
         for rule in RULES:
             runs = [compare(n, law, rule) for n in nodes]
-            out["nodes"][law][rule] = [r["nodes"] for r in runs]
+            out["nodes"][law][rule] = [measured.node_count(r["nodes"] / n, n) for r, n in zip(runs, nodes)]
             out["a_max"][law][rule] = [float(r["a_gfmd"].max()) for r in runs]
     out["wall_s"] = time.perf_counter() - t0
     return out

@@ -45,9 +45,17 @@ def compare(n, hurst):
 
 
 def stored(metric, n, hurst):
-    """The stored difference `metric` at N = n for Hurst exponent `hurst`."""
+    """The stored difference `metric` at N = n for Hurst exponent `hurst` (a_rel: its node count / N)."""
+    if metric == "a":
+        return stored_node_count(n, hurst) / n
     v = measured.value(NAME, KEY, f"H={hurst:g}")
     return v[metric][v["N"].index(n)]
+
+
+def stored_node_count(n, hurst):
+    """The stored max |Δa_rel| at N = n in nodes, an int (`measured.node_count`)."""
+    v = measured.value(NAME, KEY, f"H={hurst:g}")
+    return v["a_node_count"][v["N"].index(n)]
 
 
 def main(argv=None):
@@ -58,7 +66,8 @@ def main(argv=None):
     values, step_s = {}, {}
     for hurst in HURSTS:
         outs = [compare(n, hurst) for n in NODES]
-        values[f"H={hurst:g}"] = {"N": list(NODES), **{m: [float(o[m]) for o in outs] for m in METRICS}}
+        values[f"H={hurst:g}"] = {"N": list(NODES), **{m: [float(o[m]) for o in outs] for m in METRICS if m != "a"},
+                                  "a_node_count": [measured.node_count(o["a"], n) for o, n in zip(outs, NODES)]}
         step_s[f"H={hurst:g}"] = {"fe": [o["fe_step"] for o in outs], "gfmd": [o["gfmd_step"] for o in outs]}
     if args.write:
         print(measured.write(NAME, {KEY: measured.make_entry(values, scene="verification.scenes.cohesive_self_affine(N, H)",

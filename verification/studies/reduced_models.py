@@ -124,10 +124,12 @@ def study():
     values = {"N": N, "seed_claim": {}, "forced_full": {}}
     for nu in NUS_CLAIM:
         coupled, normal, da, dp = seed_claim(nu)
-        values["seed_claim"][f"{nu:g}"] = {"da": da, "dp": dp, "wall_s": [coupled[2], normal[2]]}
+        values["seed_claim"][f"{nu:g}"] = {"da_node_count": measured.node_count(da, N), "dp": dp,
+                                            "wall_s": [coupled[2], normal[2]]}
     for nu, c in FORCED:
         full, auto, dp, da = forced_full(nu, c)
-        values["forced_full"][f"nu={nu:g} c={c:g}"] = {"dp": dp, "da": da, "wall_s": [full[2], auto[2]]}
+        values["forced_full"][f"nu={nu:g} c={c:g}"] = {"dp": dp, "da_node_count": measured.node_count(da, N),
+                                                       "wall_s": [full[2], auto[2]]}
     hb = half_plane_vs_layer()
     fp, fa = hb["floor"]
     deep = [r for r in DEPTHS if r >= 1]
