@@ -5,7 +5,7 @@ Usage:
     python benchmarks/iterates_equal.py compare BASE NEW  # np.array_equal on every array
 
 Every law (hard wall, normal cohesive, cohesive wall, coupled) on both bodies (half-plane and a
-finite layer D = L/4), each with the integrators and fallbacks `gfmd.solver.relax` can run: the
+finite layer D = L/4), each with the integrators and fallbacks `gfmd.chains.relax` can run: the
 hard wall's dual CG (and its hand-over to the primal), primal CG, FIRE and Verlet; the cohesive
 NCG, its FIRE fallback (a budget of 3 NCG iterations), FIRE and Verlet; the cohesive wall's FIRE
 and Verlet; the coupled law's FIRE, its Newton–Krylov fallback (a budget of 20 FIRE iterations)

@@ -110,6 +110,19 @@ def chain_key(problem, settings):
     return kind, "verlet" if settings.method == "verlet" else "fire"
 
 
+def labels(key, settings):
+    """The `Relaxed.method` labels of the chain `CHAINS[key]`'s algorithms in order, e.g. ("ncg", "fire")."""
+    fixed = {"hard_wall_dual_cg": "cg-dual", "hard_wall_primal_cg": "cg", "ncg": "ncg", "coupled_newton": "newton"}
+    return tuple(fixed.get(link.algorithm) or ("verlet" if dict(link.options).get("method", settings.method) == "verlet"
+                                               else "fire") for link in CHAINS[key])
+
+
+def describe(key, settings):
+    """The chain in words: "ncg (then fire where it stalls)"."""
+    first, *rest = labels(key, settings)
+    return first + (f" (then {' → '.join(rest)} where it stalls)" if rest else "")
+
+
 def _budget(link, settings, used):
     if link.budget == "all":
         return settings.max_iterations
