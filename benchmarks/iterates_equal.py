@@ -9,8 +9,9 @@ finite layer D = L/4), each with the integrators and fallbacks `gfmd.chains.rela
 hard wall's dual CG (and its hand-over to the primal), primal CG, FIRE and Verlet; the cohesive
 NCG, its FIRE fallback (a budget of 3 NCG iterations), FIRE and Verlet; the cohesive wall's FIRE
 and Verlet; the coupled law's FIRE, its Newton–Krylov fallback (a budget of 20 FIRE iterations)
-and Verlet. Each case runs the load ramp of `gfmd.loading.run_realization` (N = 512, 6 steps of
-1 nm, 5 nm for the hard wall) and records every call of `gfmd.loading.relax` (retries included):
+and Verlet, with the Newton–Krylov stage failing (0 iterations) or its states rejected as not locally
+stable (the stability test patched to say so), both ending in Verlet (a FIRE budget of 20). Each case
+runs the load ramp of `gfmd.loading.run_realization` (N = 512, 6 steps of 1 nm, 5 nm for the hard wall) and records every call of `gfmd.loading.relax` (retries included):
 the state u_hat, the fields, iterations, residual, converged and FFT pairs, and the curve.
 The algorithm labels (`Relaxed.method`) are compared as text and reported, not required equal
 (the refactor of issue 22 names the algorithm where it used to leave the label empty).
@@ -58,37 +59,50 @@ CASES = {
     "hard-wall-fire": ("hard-wall", {}, {"hard_wall": "fire"}),
     "hard-wall-verlet": ("hard-wall", {}, {"method": "verlet"}),
     "cohesive-ncg": ("cohesive", {}, {}),
-    "cohesive-ncg-fallback": ("cohesive", {}, {"max_iterations": 3000, "_ncg_budget": 3}),
+    "cohesive-ncg-fallback": ("cohesive", {}, {"max_iterations": 3000, "_patch": {"NCG_BUDGET": 3}}),
     "cohesive-fire": ("cohesive", {}, {"cohesive": "fire"}),
     "cohesive-verlet": ("cohesive", {}, {"method": "verlet"}),
     "cohesive-wall-fire": ("cohesive-wall", {}, {}),
     "cohesive-wall-verlet": ("cohesive-wall", {}, {"method": "verlet"}),
     "coupled-fire": ("cohesive", COUPLED, {}),
     "coupled-newton": ("cohesive", COUPLED, {"max_iterations": 40}),
+    "coupled-newton-fails": ("cohesive", COUPLED, {"_patch": {"COUPLED_FIRE_BUDGET": 20,
+                                                              "COUPLED_NEWTON_ITERATIONS": 0}}),
+    "coupled-newton-rejected": ("cohesive", COUPLED, {"_patch": {"COUPLED_FIRE_BUDGET": 20,
+                                                                 "coupled_stability": lambda *a: -1.0}}),
     "coupled-verlet": ("cohesive", COUPLED, {"method": "verlet"}),
 }
 BODIES = {"half-plane": None, "layer": LAYER}
 
 
-def _set_ncg_budget(value):
-    """NCG_BUDGET lives in gfmd.solver before issue 22 and in the NCG's own module after it."""
+#: module-level names a case patches: before issue 22 in gfmd.solver, after it in the module that owns them
+PATCHABLE = {"NCG_BUDGET": ("gfmd.algorithms.ncg", "gfmd.solver"),
+             "COUPLED_NEWTON_ITERATIONS": ("gfmd.algorithms.coupled_newton", "gfmd.solver"),
+             "COUPLED_FIRE_BUDGET": ("gfmd.chains", "gfmd.solver"),
+             "coupled_stability": ("gfmd.chains", "gfmd.solver:_coupled_stability")}
+
+
+def _patch(name, value):
+    """Set the module attribute `name` wherever this version of the code keeps it; returns an undo."""
     import importlib
-    for name in ("gfmd.algorithms.ncg", "gfmd.solver"):
+    for where in PATCHABLE[name]:
+        module_name, _, attr = where.partition(":")
         try:
-            module = importlib.import_module(name)
+            module = importlib.import_module(module_name)
         except ImportError:
             continue
-        if hasattr(module, "NCG_BUDGET"):
-            old = module.NCG_BUDGET
-            module.NCG_BUDGET = value
-            return module, old
-    raise RuntimeError("NCG_BUDGET not found")
+        attr = attr or name
+        if hasattr(module, attr):
+            old = getattr(module, attr)
+            setattr(module, attr, value)
+            return lambda: setattr(module, attr, old)
+    raise RuntimeError(f"{name} not found")
 
 
 def run_case(law, extra, keywords, thickness):
     sc = scene(law, thickness, **extra)
     keywords = dict(keywords)
-    budget = keywords.pop("_ncg_budget", None)
+    patches = keywords.pop("_patch", {})
     settings = Settings(**{"tolerance": sc.solver.tolerance, "max_iterations": sc.solver.max_iterations,
                            **keywords})
     calls = []
@@ -100,13 +114,13 @@ def run_case(law, extra, keywords, thickness):
         return r
 
     gl.relax = recording
-    patched = _set_ncg_budget(budget) if budget is not None else None
+    undo = [_patch(name, value) for name, value in patches.items()]
     try:
         result = gl.run_realization(sc, 0, settings=settings)
     finally:
         gl.relax = original
-        if patched:
-            setattr(patched[0], "NCG_BUDGET", patched[1])
+        for u in undo:
+            u()
     out = {}
     for i, r in enumerate(calls):
         for a in ARRAYS:
@@ -148,10 +162,13 @@ def compare(base, new):
         same = set(a.files) == set(b.files) and all(_equal(a[k], b[k]) for k in keys)
         labels = sorted({(str(a[k]), str(b[k])) for k in a.files if k.endswith("/method") and k in b.files})
         ok &= same
-        n_arrays = len(keys)
-        rows.append(f"| {path.stem.replace('__', ' | ')} | {n_arrays} | {'bitwise equal' if same else 'DIFFERENT'} | "
+        calls = len({k.split("/")[0] for k in a.files if not k.startswith("curve/")})
+        its = int(np.sum(a["curve/iterations"]))
+        rows.append(f"| {path.stem.replace('__', ' | ')} | {calls} | {its} | {len(keys)} | "
+                    f"{'bitwise equal' if same else 'DIFFERENT'} | "
                     + ", ".join(f"{x or '∅'}→{y or '∅'}" if x != y else (x or '∅') for x, y in labels) + " |")
-    print("| body | case | arrays | iterates | label (base→new) |\n|---|---|---|---|---|")
+    print("| body | case | steps solved (relax calls) | iterations | arrays | iterates | label (base→new) |\n"
+          "|---|---|---|---|---|---|---|")
     print("\n".join(rows))
     return ok
 
