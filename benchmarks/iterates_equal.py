@@ -10,9 +10,10 @@ hard wall's dual CG (and its hand-over to the primal), primal CG, FIRE and Verle
 NCG, its FIRE fallback (a budget of 3 NCG iterations), FIRE and Verlet; the cohesive wall's FIRE
 and Verlet; the coupled law's FIRE, its Newton–Krylov fallback (a budget of 20 FIRE iterations)
 and Verlet, with the Newton–Krylov stage failing (0 iterations) or its states rejected as not locally
-stable (the stability test patched to say so), both ending in Verlet (a FIRE budget of 20). Each case
-runs the load ramp of `gfmd.loading.run_realization` (N = 512, 6 steps of 1 nm, 5 nm for the hard wall) and records every call of `gfmd.loading.relax` (retries included):
-the state u_hat, the fields, iterations, residual, converged and FFT pairs, and the curve.
+stable (the stability test patched to say so), both ending in Verlet (a FIRE budget of 20). Each
+case runs the load ramp of `gfmd.loading.run_realization` (N = 512, 6 steps of 1 nm, 5 nm for the
+hard wall) and records every call of `gfmd.loading.relax` (retries included): the state u_hat,
+the fields, iterations, residual, converged and FFT pairs, and the curve.
 The algorithm labels (`Relaxed.method`) are compared as text and reported, not required equal
 (the refactor of issue 22 names the algorithm where it used to leave the label empty).
 Wall times are never compared. Set GFMD_FFT and GFMD_JIT alike for both recordings.
@@ -143,7 +144,8 @@ def record(folder):
             calls = len({k.split("/")[0] for k in out if not k.startswith("curve/")})
             methods = sorted({str(out[k]) for k in out if k.endswith("/method")})
             np.savez(folder / f"{body}__{name}.npz", **out)
-            print(f"{body:10s} {name:26s} relax calls {calls:3d}  iterations {int(np.sum(out['curve/iterations'])):7d}  "
+            its = int(np.sum(out["curve/iterations"]))
+            print(f"{body:10s} {name:26s} relax calls {calls:3d}  iterations {its:7d}  "
                   f"converged {int(np.sum(out['curve/converged']))}/{out['curve/converged'].size}  methods {methods}",
                   flush=True)
 

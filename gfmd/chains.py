@@ -16,6 +16,18 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   locally stable (`gfmd.problem.coupled_stability`, the FE reference's criterion); then Verlet from
   the guess. Method "verlet": Verlet.
 * cohesive wall: projected FIRE, or Verlet (method "verlet").
+
+Why the coupled chain: FIRE's restarts test the power f·v, a descent test only for forces f = −∇E;
+the coupled law has no potential, and at strongly non-symmetric states (large slip under
+compression) FIRE's weakly damped inertia circulates: started at the FE equilibrium of such a state
+it drifts away (residual 8e-3 → 0.19 p_ref in 3e4 iterations) while per-mode critically damped
+Verlet converges in 410. Deeper in the slip regime Verlet fails the same way: fig8_small (ν = 0.1,
+c = 0.5, φn* = 0.15, seed 2, N = 4096) at δ = 20 nm has a static equilibrium (Newton: 8
+iterations) whose eigenvalues of J nearest 0 all have Re λ > 0, but damped inertial dynamics
+started on it drift off: the tangent's antisymmetric part (circulatory forces at the slipping,
+compressed contact edge) makes the equilibrium a flutter point of second-order dynamics, which no
+mass weighting or damping of the diagonal modes removes (tests/test_solver_coupled.py). Newton
+converges to unstable equilibria as well, hence the acceptance test.
 """
 
 from __future__ import annotations
@@ -81,8 +93,8 @@ CHAINS = {
 }
 
 #: the algorithms' labels (`Relaxed.method`) and the start names in words, for messages and reports
-WORDS = {"hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG", "fire": "FIRE", "verlet": "damped Verlet",
-         "newton": "Newton–Krylov"}
+WORDS = {"hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG",
+         "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov"}
 STARTS = {"guess": "the step's guess", "end": "the end state of the one before",
           "finite end": "the end state of the one before"}
 

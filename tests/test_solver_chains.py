@@ -68,7 +68,7 @@ def test_force_is_the_negative_energy_gradient(thickness):
             return p.energy(u_hat + s * v_hat)
 
         coarse, fine = central_difference(energy, 0.0, 1.0, 1e-1), central_difference(energy, 0.0, 1.0, 5e-2)
-        # central differences: error ∝ ε², so |fine − exact| ≈ |coarse − fine| / 3; allow 3× that, plus round-off
+        # central differences: error ∝ ε², so |fine − exact| ≈ |coarse − fine| / 3; allow 3× that + round-off
         scale = abs(energy(0.0)) + spacing * float(np.sum(np.abs(p.force(u_hat) * v)))
         assert abs(fine - slope) <= abs(coarse - fine) + 1e-9 * scale, (fine, slope, coarse)
 
@@ -172,4 +172,5 @@ def test_ramp_results_name_the_algorithm_of_every_step():
     assert any("integrator: ncg (then fire where it stalls)" in r for r in result.reasons)
     hard = sc.replace(**{"interface.law": "hard-wall"})
     assert prepare(hard, surfaces.profile(hard.surface, 0)).method == "gfmd-cg"
-    assert prepare(sc.replace(**{"solver.method": "verlet"}), surfaces.profile(sc.surface, 0)).method == "gfmd-verlet"
+    verlet = sc.replace(**{"solver.method": "verlet"})
+    assert prepare(verlet, surfaces.profile(verlet.surface, 0)).method == "gfmd-verlet"

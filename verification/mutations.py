@@ -125,8 +125,8 @@ def apply(mutation, tree):
     texts = {p: (tree / p).read_text() for p in mutation.paths}
     found = {p: t.count(mutation.old) for p, t in texts.items()}
     if sum(found.values()) != mutation.count or not all(found.values()):
-        raise ValueError(f"{mutation.id}: the snippet occurs {sum(found.values())} times in {', '.join(mutation.paths)} "
-                         f"({found}), expected {mutation.count} (the source moved: update verification/mutations.py)")
+        raise ValueError(f"{mutation.id}: the snippet occurs {sum(found.values())} times in "
+                         f"{', '.join(mutation.paths)} ({found}), expected {mutation.count} (the source moved: update verification/mutations.py)")
     for p, t in texts.items():
         (tree / p).write_text(t.replace(mutation.old, mutation.new))
 

@@ -30,7 +30,7 @@ def solve(problem, u_hat, settings):
 
     Each iteration solves (K + D) δu = f by GMRES, D the nodal 2×2 tangent of Eq. 2
     (`contact.laws.jacobian_coupled`, ∂t/∂u = −D since Δn = z_ind − u_z, Δt = −u_x), K applied
-    by FFT, preconditioned by the inverse of the FIRE mass M_q = K(q) + ⟨k_loc⟩ (`_Elastic`),
+    by FFT, preconditioned by the inverse of the FIRE mass M_q = K(q) + ⟨k_loc⟩ (`gfmd.problem.Elastic`),
     to relative tolerance COUPLED_NEWTON_FORCING; the step is capped so that no node moves
     more than COUPLED_NEWTON_MAX_MOVE·min(δn, δt) and halved until ‖f‖₂ decreases (a step
     into the law's overflow range counts as no decrease). Half-plane: the mean modes stay

@@ -61,9 +61,9 @@ def solve(problem, u_hat, settings):
     that penetrate (Δ < 0) join A with P = 0 once the norm of their gaps exceeds `proportioning` ×
     that of Δ_A (restart).
 
-    Stop: the same residual as `gfmd.algorithms.hard_wall_primal_cg` (max |net force| of `gfmd.problem.wall_net_force`, K u
-    recomputed from u = z_ind on A, z_ind − max(Δ, 0) off A) below tolerance · p_ref; the
-    candidate is tested when max |s| < ½ tolerance · p_ref, then at tenfold tighter thresholds.
+    Stop: the same residual as `gfmd.algorithms.hard_wall_primal_cg` (max |net force| of
+    `gfmd.problem.wall_net_force`, K u recomputed from u = z_ind on A, z_ind − max(Δ, 0) off A) below
+    tolerance · p_ref; the candidate is tested when max |s| < ½ tolerance · p_ref, then at tenfold tighter thresholds.
     A guess that already passes is returned unchanged (iterations 0): the fixed points are the
     KKT points. The step is handed over (`Relaxed.stalled`; the hard wall's chain then runs the primal
     `gfmd.algorithms.hard_wall_primal_cg` from the guess) when its contact set
@@ -97,7 +97,7 @@ def solve(problem, u_hat, settings):
         residual = wall_residual(model, u, ku, z, wall_tolerance)
         if residual < settings.tolerance:
             out = finish(problem, fft.rfft(np.minimum(u, z))[None, :], 0, residual, True, "")
-            out.fft_pairs, out.method = fft.pairs + 1.5, "cg-dual"  # _finish: 1.5 pairs
+            out.fft_pairs, out.method = fft.pairs + 1.5, "cg-dual"  # finish: 1.5 pairs
             return out
     # the guess's pressures: P = p_far − K u where positive; p_far = K u on the nodes the guess leaves free
     free = z - u > 0
@@ -206,11 +206,12 @@ def solve(problem, u_hat, settings):
             pressure[act] = p_act
     u = primal_state()
     if hand_over and not message:  # the primal CG from here, with the iterations left (`gfmd.chains`)
-        return stall(fft.rfft(u)[None, :], it, residual, fft.pairs + 0.5, "cg-dual", "contact set too large for the dual")
+        return stall(fft.rfft(u)[None, :], it, residual, fft.pairs + 0.5, "cg-dual",
+                     "contact set too large for the dual")
     if not converged and not message:
         message = not_converged(settings.max_iterations, residual)
     state = (u, ku) if converged else None  # converged: K u of this very u was the last check's
     out = finish(problem, fft.rfft(u)[None, :], it, residual, converged, message, state)
-    out.fft_pairs = fft.pairs + (0.0 if converged else 1.0)  # _finish otherwise: irfft of u_hat and of K û
+    out.fft_pairs = fft.pairs + (0.0 if converged else 1.0)  # finish otherwise: irfft of u_hat and of K û
     out.method = "cg-dual"
     return out

@@ -138,7 +138,7 @@ def solve(problem, u_hat, settings):
     u_hat = fft.rfft(u)[None, :]
     pairs = fft.pairs
     out = finish(problem, u_hat, it, residual, converged, message)
-    out.fft_pairs = pairs + 1.5  # _finish: one irfft of u_hat and one pair for K u
+    out.fft_pairs = pairs + 1.5  # finish: one irfft of u_hat and one pair for K u
     out.method = "cg"
     return out
 
