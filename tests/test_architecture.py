@@ -206,7 +206,7 @@ def test_every_algorithm_solves_the_problem():
     modules = {p.stem for p in ALGORITHMS.glob("*.py") if p.name != "__init__.py"}
     for name in modules:
         parameters = list(inspect.signature(importlib.import_module(f"gfmd.algorithms.{name}").solve).parameters)
-        assert len(parameters) == 3 and parameters[0] == "problem" and parameters[2] == "settings", (name, parameters)
+        assert parameters == ["problem", "start", "settings"], (name, parameters)
     assert set(chains.ALGORITHMS) == modules
     assert {link.algorithm for chain in chains.CHAINS.values() for link in chain} <= modules
 

@@ -15,7 +15,7 @@ from ..integrators import Fire, fire_wall_velocity, verlet_coefficients
 from ..problem import Elastic, mean_shift, project_onto_wall
 from ..settings import Relaxed, not_converged
 
-def solve(problem, u_hat, settings):
+def solve(problem, start, settings):
     """Cohesive wall (`contact.laws.CohesiveWall`): Eq. 3's attraction off the wall, Δn ≥ 0 projected.
 
     The `gfmd.algorithms.hard_wall_dynamics` projected FIRE (or Verlet) with the attraction T_n(Δn) added to the
@@ -33,6 +33,7 @@ def solve(problem, u_hat, settings):
     Returns `Relaxed` with t_z = T_n(Δn) off the wall and T_n − reaction on it (normal only).
     """
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
+    u_hat = start  # the step's initial displacements (c, N//2+1), rfft
     if model.tangential:
         raise ValueError("the cohesive wall is frictionless and normal-only: no tangential unknowns")
     cz = law.law

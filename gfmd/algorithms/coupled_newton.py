@@ -25,7 +25,7 @@ COUPLED_NEWTON_MAX_MOVE = 2.0
 COUPLED_NEWTON_FORCING = 1e-3
 
 
-def solve(problem, u_hat, settings):
+def solve(problem, start, settings):
     """Newton–Krylov on the coupled law's nodal balance f(u) = t(u) − K u = 0 (no dynamics).
 
     Each iteration solves (K + D) δu = f by GMRES, D the nodal 2×2 tangent of Eq. 2
@@ -40,6 +40,7 @@ def solve(problem, u_hat, settings):
     when the line search finds no decrease.
     """
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
+    u_hat = start  # the step's initial displacements (c, N//2+1), rfft
     n, c = model.nodes, model.components
     fft = Fft(n)
     p_ref = model.reference_traction

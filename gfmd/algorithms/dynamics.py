@@ -25,9 +25,10 @@ from ..settings import not_converged
 from ..stopping import finish
 
 
-def solve(problem, u_hat, settings):
+def solve(problem, start, settings):
     """Relax a law with a traction function by FIRE (`settings.method` "fire") or damped Verlet ("verlet")."""
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
+    u_hat = start  # the step's initial displacements (c, N//2+1), rfft
     n = model.nodes
     fft = Fft(n)
     w = spectral_weights(n)

@@ -43,7 +43,7 @@ def _band_stiffness(k_kernel, act, n, half_width):
     return scipy.sparse.csr_matrix((data, cols, indptr), shape=(act.size, act.size))
 
 
-def solve(problem, u_hat, settings):
+def solve(problem, start, settings):
     """Hard wall by projected preconditioned CG on the contact pressures (the dual, small contact sets).
 
     With P ≥ 0 the wall's pressure on the nodes (Pa), u = −G P (G = K⁻¹; on a half-plane
@@ -78,6 +78,7 @@ def solve(problem, u_hat, settings):
     singular on all nodes), or when the tighter thresholds do not reach the tolerance.
     """
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
+    u_hat = start  # the step's initial displacements (c, N//2+1), rfft
     n = model.nodes
     fft = Fft(n)
     clamp = model.half_plane

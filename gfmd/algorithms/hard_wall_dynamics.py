@@ -18,7 +18,7 @@ from ..settings import not_converged
 from ..stopping import finish
 
 
-def solve(problem, u_hat, settings):
+def solve(problem, start, settings):
     """Hard-wall relaxation in real space by projected FIRE or damped Verlet (`settings.method`; normal only).
 
     The wall reaction enters as a force: on nodes touching the wall, a net force
@@ -36,6 +36,7 @@ def solve(problem, u_hat, settings):
     (FIRE), or the damped velocity update in Fourier space (Verlet, uniform mass).
     """
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
+    u_hat = start  # the step's initial displacements (c, N//2+1), rfft
     n = model.nodes
     elastic = Elastic(model, 0.0, 0.0)
     k = model.k_zz

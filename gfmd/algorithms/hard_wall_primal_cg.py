@@ -14,7 +14,7 @@ from ..fft import Fft, dot
 from ..problem import Elastic, mean_shift
 from ..stopping import finish, wall_check
 
-def solve(problem, u_hat, settings):
+def solve(problem, start, settings):
     """Hard wall by projected preconditioned conjugate gradients (active set; normal only).
 
     The step's problem is min ½ uᵀKu over u ≤ z_ind (half-plane: and ⟨u⟩ = 0, whose
@@ -40,6 +40,7 @@ def solve(problem, u_hat, settings):
     projection; K u is updated with the step instead of recomputed.
     """
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
+    u_hat = start  # the step's initial displacements (c, N//2+1), rfft
     n = model.nodes
     fft = Fft(n)
     clamp = model.half_plane

@@ -53,7 +53,7 @@ def _attraction_cut(x):
     return float(min(max(s, 1.0), EXP_UNDERFLOW))
 
 
-def solve(problem, u_hat, settings):
+def solve(problem, start, settings):
     """Normal-only cohesive law by nonlinear preconditioned conjugate gradients, FIRE as fallback.
 
     The law has a potential (`contact.laws.potential_normal`): the step minimises
@@ -90,6 +90,7 @@ def solve(problem, u_hat, settings):
     from the same guess with FIRE and the rest of the iterations, `Relaxed.method` "ncg→fire").
     """
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
+    u_hat = start  # the step's initial displacements (c, N//2+1), rfft
     n = model.nodes
     fft = Fft(n)
     clamp = model.half_plane
