@@ -66,7 +66,7 @@ import scipy.fft
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run as a script from anywhere
 
 # the project's imports follow the thread settings and the path (noqa: E402), on purpose
-from gfmd import solver as gsolver  # noqa: E402
+from gfmd import fft as gfft  # noqa: E402
 from contact import surfaces  # noqa: E402
 from contact.loading import indenter_surface  # noqa: E402
 from contact.model import build_model  # noqa: E402
@@ -192,7 +192,7 @@ def count_pairs_per_iteration(case, u, method):
         r = case.relax(DELTA_START, u, Settings(method=method, tolerance=TOLERANCE, max_iterations=400))
     finally:
         scipy.fft.rfft, scipy.fft.irfft = orig
-    assert gsolver.scipy.fft.rfft is orig[0]
+    assert gfft.scipy.fft.rfft is orig[0]
     if r.fft_pairs:  # the hard-wall CG counts its own pairs (whatever the FFT backend)
         return r.fft_pairs / max(r.iterations, 1)
     return calls["n"] / 2 / r.iterations

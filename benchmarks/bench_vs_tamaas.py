@@ -63,7 +63,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import bench_gfmd as bg  # noqa: E402
 from gfmd import kernels as gkernels  # noqa: E402
-from gfmd import solver as gsolver  # noqa: E402
+from gfmd import fft as gfft  # noqa: E402
+from gfmd.algorithms import hard_wall_dual_cg  # noqa: E402
+from gfmd.problem import Elastic  # noqa: E402
 from gfmd.solver import Settings  # noqa: E402
 
 try:
@@ -153,7 +155,7 @@ def cohesive_case(n, phi, length_normal):
 
 
 def pair_seconds(n, backend):
-    fft = gsolver._Fft(n, backend)
+    fft = gfft.Fft(n, backend)
     x = np.random.default_rng(0).standard_normal(n)
     for _ in range(3):
         fft.irfft(fft.rfft(x))
@@ -194,7 +196,7 @@ def section_hard_wall(sizes, use_tamaas, lines):
         t_tm = med(results["cg"], "tm_s") if use_tamaas else None
         for name, st, backend in variants:
             rows = results[name]
-            b = gsolver.fft_backend(backend)
+            b = gfft.fft_backend(backend)
             t_pair = pair_seconds(n, b)
             s_step, pairs = med(rows, "s"), med(rows, "pairs")
             ratio = f"{s_step / t_tm:.3f} (1/{t_tm / s_step:.1f})" if t_tm else "–"
@@ -242,7 +244,7 @@ def section_cohesive(sizes, lines):
         hard_case = bg.Case(n, "hard-wall", 0.0)
         hard_rows = ramp(hard_case, Settings(tolerance=TOL), deltas)
         hard_s = med(hard_rows, "s")
-        pair = {b: pair_seconds(n, b) for b in ("scipy", gsolver.fft_backend())}
+        pair = {b: pair_seconds(n, b) for b in ("scipy", gfft.fft_backend())}
         lines += [f"N = 2^{e}: hard-wall cg {med(hard_rows, 'it'):.0f} it/step, {med(hard_rows, 'pairs'):.0f} "
                   f"pairs/step, hard/s = {hard_s:.3g} s/step; pair (s): "
                   + ", ".join(f"{b} {t:.3g}" for b, t in pair.items()), "",
@@ -258,7 +260,7 @@ def section_cohesive(sizes, lines):
                         ("ncg", Settings(tolerance=TOL), None, None)]
             base = None
             for name, st, backend, jit in variants:
-                b = gsolver.fft_backend(backend)
+                b = gfft.fft_backend(backend)
                 if backend is None and b == "scipy":
                     continue  # no ducc0: the scipy row is all there is
                 if jit is None and gkernels.jit_backend() == "numpy":
@@ -429,14 +431,14 @@ def section_dual_vs_primal(e, lines):
 def fixed_set_cg(case, pressure, band=False, rel=1e-8, max_it=1000):
     """Iterations of CG on G_AA P = b with the contact set A = {pressure > 0} held fixed (b = G_AA P,
     P the converged pressures, so the answer is known), preconditioned with K_AA exactly (one more FFT
-    pair) or, band=True, with the solver's banded K_AA (`gfmd.solver._band_stiffness`): until
+    pair) or, band=True, with the solver's banded K_AA (`gfmd.algorithms.hard_wall_dual_cg._band_stiffness`): until
     max |P_k − P| < rel max P. The linear part of a hard-wall step, without set changes."""
     n = case.model.nodes
     act = np.flatnonzero(pressure > 0)
     k = np.real(case.model.k_zz)
-    g = np.real(gsolver._Elastic(case.model, 0.0, 0.0).inv_mass[0])
+    g = np.real(Elastic(case.model, 0.0, 0.0).inv_mass[0])
 
-    fft = gsolver._Fft(n)
+    fft = gfft.Fft(n)
 
     def on_set(kernel, v):  # (kernel χ_A v) on A: one FFT pair
         full = np.zeros(n)
@@ -444,7 +446,7 @@ def fixed_set_cg(case, pressure, band=False, rel=1e-8, max_it=1000):
         return fft.apply(kernel, full)[act]
 
     if band:
-        k_band = gsolver._band_stiffness(fft.irfft(k.astype(complex)), act, n, gsolver.DUAL_BAND_HALF_WIDTH)
+        k_band = hard_wall_dual_cg._band_stiffness(fft.irfft(k.astype(complex)), act, n, hard_wall_dual_cg.DUAL_BAND_HALF_WIDTH)
     precondition = (lambda v: k_band @ v) if band else (lambda v: on_set(k, v))
     p_true = pressure[act]
     b = on_set(g, p_true)
@@ -547,7 +549,7 @@ def main(argv=None):
     if tm is not None:
         tm.set_log_level(tm.LogLevel.error)
     info = bg.machine_info()
-    info["fft backend"] = gsolver.fft_backend()
+    info["fft backend"] = gfft.fft_backend()
     info["tamaas"] = tm.__version__ if tm is not None else "not installed"
     sections = {int(x) for x in a.sections.split(",")}
     lines = ["# GFMD vs Tamaas, hard-wall and cohesive solver levers" + (" (quick)" if a.quick else ""), "",

@@ -410,7 +410,7 @@ class CohesiveWall(NormalCohesive):
 
     How the FFT-BEM peers model adhesion; a NormalCohesive with the repulsive branch replaced by the
     constraint (the solvers dispatch on the exact type). `constraint` is True: the solver keeps Δn ≥ 0 by
-    projection (`gfmd.solver._relax_cohesive_wall`); `tractions` is the attraction alone, Eq. 3 at
+    projection (`gfmd.algorithms.cohesive_wall`); `tractions` is the attraction alone, Eq. 3 at
     max(Δn, 0), which is 0 on the wall (T_n(0) = 0), so a wall node's traction is its reaction.
     Contact rules as for the cohesive laws: "traction-tolerance" Δn ≤ Δtol (every wall node and the
     tensile ones up to Δtol), "compressive" the nodes the wall pushes, "gap" Δn ≤ contact_gap·δn.

@@ -9,7 +9,7 @@ of `contact.observables` on the N nodes (or the cell's own `observe`), the saved
 checkpoint hooks. A method supplies only a `Cell`: how to solve one step.
 
 A `Cell` has
-    method       name of the method and variant, e.g. "gfmd-fire", "fe-p2"
+    method       name of the method and variant, e.g. "gfmd-ncg", "fe-p2"
     model        the model solved, in words; reasons: why (tuple of str)
     physics      the `contact.model.Model` of the scene (law, unknowns, checks)
     extrapolate  whether a warm start may be extrapolated (state must then be an array)
@@ -50,7 +50,9 @@ class StepSolution:
     fields {u_z, u_x, gap, t_n, t_t} (called only at saved steps); messages: what went
     wrong or which fallback ran (each becomes a Result message); keep: per-step extras
     stored at saved steps under Result.diagnostics[name][step]; fallback: the method's
-    fallback solver ran (the step goes to Result.diagnostics["fallback_steps"]).
+    fallback solver ran (the step goes to Result.diagnostics["fallback_steps"]); algorithm: the
+    method's name for the algorithm(s) that solved the step, e.g. GFMD's "ncg" or "ncg→fire"
+    (Result.diagnostics["algorithms"][step]; "" where the method has none).
     """
 
     state: Any
@@ -64,6 +66,7 @@ class StepSolution:
     messages: tuple = ()
     keep: dict = field(default_factory=dict)
     fallback: bool = False
+    algorithm: str = ""
 
 
 def _extrapolated(state, previous):
@@ -126,6 +129,9 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
         result.messages.extend(f"{where}: {m}" for m in solved.messages)
         if solved.fallback:
             result.diagnostics.setdefault("fallback_steps", []).append(k)
+        if solved.algorithm:  # one label per step (a retry's: the state kept is the retry's)
+            labels = result.diagnostics.setdefault("algorithms", [])
+            labels[k:] = [""] * (k - len(labels)) + [solved.algorithm]
         if solved.converged:
             previous, current = current, solved.state
         if k == 0 and cell.physics is not None:

@@ -14,7 +14,7 @@ import numpy as np
 #: per-step columns (SI; converged is 0/1, wall_s in seconds)
 CURVE_COLUMNS = ("step", "U", "delta", "p", "a_rel", "g_r", "g", "iterations", "residual", "converged", "wall_s")
 #: the keys Result.diagnostics may hold (see Result)
-DIAGNOSTICS = ("problem", "setup_s", "solutions", "wall_forces", "fallback_steps")
+DIAGNOSTICS = ("problem", "setup_s", "solutions", "wall_forces", "fallback_steps", "algorithms")
 #: per-node fields saved for selected steps: u_z, u_x, gap Δn (m), t_n = t_z, t_t = t_x (Pa)
 FIELD_NAMES = ("u_z", "u_x", "gap", "t_n", "t_t")
 
@@ -34,11 +34,13 @@ class Result:
     solutions       FE: {step: surface-unknowns vector} at the saved steps
     wall_forces     FE hard wall: {step: wall forces μ (N/m)} at the saved steps
     fallback_steps  FE: the steps at which the fallback solver ran (list)
+    algorithms      GFMD: per step (list), the algorithms that relaxed it (`gfmd.chains`:
+                    "ncg", "ncg→fire", "cg-dual", "fire→newton", ...; "" unknown)
     ==============  ===========================================================
     """
 
     scene: object  # contact.scene.Scene
-    method: str  # e.g. "gfmd-fire", "gfmd-verlet", "fe-p2"
+    method: str  # e.g. "gfmd-ncg", "gfmd-cg", "gfmd-fire", "gfmd-verlet", "fe-p2" (GFMD: its chain, gfmd.chains)
     model: str  # the model actually solved, in words
     realization: int
     x: np.ndarray  # node positions (m)

@@ -1,6 +1,7 @@
 """GFMD, the production method: Green's function molecular dynamics of the surface (seed §2).
 
-`solver` relaxes one load step (FIRE on mass-weighted modes, damped Verlet,
-hard-wall projection) on the model of `contact.model`; `loading.run_realization`
-runs the load ramp of one realization. It imports the core (`contact`) only.
+One load step is one problem (`problem`: elastic energy in Fourier space, the interface law, the
+hard wall's constraint) solved by algorithms, one module each (`algorithms`), chosen and chained
+per law (`chains.relax`; `solver` keeps the old import names); `loading.run_realization` runs the
+load ramp of one realization. It imports the core (`contact`) only.
 """

@@ -1,4 +1,4 @@
-"""The cohesive NCG's spectral vector algebra (`gfmd.solver._relax_cohesive_ncg`), numpy or fused.
+"""The cohesive NCG's spectral vector algebra (`gfmd.algorithms.ncg`), numpy or fused.
 
 Per iteration the NCG needs, over the rfft spectra of nodal fields (complex, N/2 + 1 modes):
 

@@ -2,7 +2,7 @@
 
 Units: SI (see `contact.conventions`). `prepare` builds the model of the scene
 (`contact.model.build_model`: unknowns, kernel, checks) and the interface law once
-per realization; `GfmdCell.solve` relaxes one step (`gfmd.solver.relax`) from the
+per realization; `GfmdCell.solve` relaxes one step (`gfmd.chains.relax`) from the
 ramp's warm start. `run_realization` runs a whole realization.
 """
 
@@ -13,13 +13,16 @@ from functools import partial
 
 import numpy as np
 
-from contact.laws import CompressionOverflowError, NormalCohesive
+from contact.laws import CompressionOverflowError
 from contact.loading import indenter_surface
 from contact.model import build_model
 from contact.ramp import StepSolution, run_ramp
 
 from . import kernels
-from .solver import InterfaceLaw, Settings, fft_backend, relax
+from .chains import chain_key, describe, relax
+from .fft import fft_backend
+from .problem import InterfaceLaw, Problem
+from .settings import Settings
 
 
 @dataclass
@@ -48,7 +51,8 @@ class GfmdCell:
         return np.zeros((self.physics.components, self.physics.nodes // 2 + 1), complex)
 
     def solve(self, displacement, guess, fallback):
-        """Relax the load step at indenter displacement U (m) from the rfft displacements `guess`."""
+        """Relax the load step at indenter displacement U (m) from the rfft displacements `guess`; the step's
+        `algorithm` is the chain's label of what relaxed it (`Relaxed.method`: "ncg", "ncg→fire", ...)."""
         loading = self.scene.loading
         z_ind = indenter_surface(self.h, loading.initial_separation, displacement)
         wall_tolerance = 1e-12 * max(float(np.ptp(self.h)), self.scene.interface.length_normal)
@@ -61,7 +65,7 @@ class GfmdCell:
         return StepSolution(state=r.u_hat, converged=r.converged, iterations=r.iterations, residual=r.residual,
                             gap=r.gap, t_n=r.t_z, fields=lambda: fields,
                             u_x=r.u_x if self.physics.tangential else None,
-                            messages=() if r.converged else (r.message,))
+                            messages=() if r.converged else (r.message,), algorithm=r.method)
 
 
 def backends():
@@ -70,36 +74,44 @@ def backends():
             "(GFMD_JIT)")
 
 
+def chain(physics, settings):
+    """The key of the algorithm chain (`gfmd.chains.CHAINS`) that relaxes the steps of this model and settings."""
+    return chain_key(Problem(physics, InterfaceLaw(physics), None), settings)
+
+
 def integrator(physics, settings):
-    """Which GFMD integrator relaxes the steps (gfmd.solver.relax), in words."""
-    if physics.law.constraint and physics.law.adhesive:  # the cohesive wall (gfmd.solver._relax_cohesive_wall)
-        return ("integrator: " + ("damped Störmer–Verlet" if settings.method == "verlet" else "FIRE on mass-weighted modes")
-                + ", CZ attraction off the wall, projected onto the wall (cohesive wall)")
-    if physics.law.constraint and settings.method == "fire" and settings.hard_wall == "cg":
-        return ("integrator: projected preconditioned conjugate gradients (hard wall): on the contact pressures while "
-                f"the contact set holds at most {settings.dual_contact_limit:g} of the nodes, on the displacements "
-                "off the wall beyond (solver.method = fire selects it, Settings.hard_wall = \"fire\" the FIRE "
-                "projection)")
-    if (settings.method == "fire" and settings.cohesive == "ncg" and not physics.tangential
-            and type(physics.law) is NormalCohesive):
-        return ("integrator: nonlinear preconditioned conjugate gradients with a Newton line search (normal-only "
-                "cohesive law; FIRE as fallback, Settings.cohesive = \"fire\" selects FIRE)")
-    if settings.method == "verlet":
-        return "integrator: damped Störmer–Verlet (seed §2)" + (", projected onto the wall" if physics.law.constraint
-                                                                 else "")
-    if physics.tangential and not physics.law.constraint:  # the coupled law (gfmd.solver._relax_coupled_fire)
-        return ("integrator: FIRE on mass-weighted modes; where FIRE stalls, Newton–Krylov on the law's tangent "
-                "(locally stable equilibria only), then damped Störmer–Verlet (coupled law)")
-    return "integrator: FIRE on mass-weighted modes" + (", projected onto the wall" if physics.law.constraint else "")
+    """Which GFMD algorithms relax the steps (`gfmd.chains`), in words."""
+    key = chain(physics, settings)
+    return (f"integrator: {describe(key, settings)} (gfmd.chains {key[0]} / {key[1]}: solver.method = "
+            f"{settings.method!r}; each step's algorithm is in curve.csv's algorithm column)")
+
+
+def describe_scene(scene, settings=None):
+    """What relaxes the steps of `scene`, in words, for the CLI's progress line: "GFMD ncg (then fire where it
+    stalls)" (the model built without a profile: the chain depends on the law and the unknowns only)."""
+    physics = build_model(scene)
+    settings = settings or settings_of(scene)
+    return f"GFMD {describe(chain(physics, settings), settings)}"
+
+
+def settings_of(scene):
+    """The `Settings` of the scene's [solver] keys."""
+    return Settings(method=scene.solver.method, tolerance=scene.solver.tolerance,
+                    max_iterations=scene.solver.max_iterations)
+
+
+def method_label(physics, settings):
+    """The Result's method label: "gfmd-" and the chain's key ("gfmd-ncg", "gfmd-cg", "gfmd-fire", "gfmd-verlet")."""
+    return f"gfmd-{chain(physics, settings)[1]}"
 
 
 def prepare(scene, h, realization=0, settings=None, method_name=None):
     """The GFMD cell of `scene` with profile h (m); settings default from scene.solver."""
     physics = build_model(scene, h)
     if settings is None:
-        settings = Settings(method=scene.solver.method, tolerance=scene.solver.tolerance,
-                            max_iterations=scene.solver.max_iterations)
-    return GfmdCell(scene=scene, h=h, physics=physics, law=InterfaceLaw(physics), settings=settings, method=method_name or f"gfmd-{settings.method}")
+        settings = settings_of(scene)
+    return GfmdCell(scene=scene, h=h, physics=physics, law=InterfaceLaw(physics), settings=settings,
+                    method=method_name or method_label(physics, settings))
 
 
 def run_realization(scene, realization=0, settings=None, progress=None, method_name=None, *, checkpoint=None,
@@ -116,7 +128,7 @@ def run_realization(scene, realization=0, settings=None, progress=None, method_n
     progress, checkpoint, resume
         The hooks of `contact.ramp.run_ramp`.
     method_name : str, optional
-        The Result's method label (default "gfmd-<integrator>").
+        The Result's method label (default `method_label`: "gfmd-" and the chain's key, e.g. "gfmd-ncg").
 
     Returns
     -------

@@ -160,3 +160,63 @@ def test_the_fe_check_sees_a_violation(source):
         assert "reference.fem._probe_for_test" in fe_core_imports()
     finally:
         fake.unlink()
+
+
+#: one module per GFMD algorithm (issue 22): each is `solve(problem, start, settings) -> Relaxed` over the
+#: problem of gfmd.problem, and none imports another: a fallback is a link of its law's chain (gfmd.chains)
+ALGORITHMS = ROOT / "gfmd" / "algorithms"
+
+
+def algorithm_cross_imports(folder=ALGORITHMS):
+    """{algorithm module: the other algorithm modules it imports}."""
+    paths = sorted(p for p in folder.glob("*.py") if p.name != "__init__.py")
+    names = {module_name(p) for p in paths}
+    wrong = {}
+    for path in paths:
+        me = module_name(path)
+        bad = {a for t in imports(path) for a in names - {me} if t == a or t.startswith(a + ".")}
+        if bad:
+            wrong[me] = sorted(bad)
+    return wrong
+
+
+def test_no_algorithm_imports_another():
+    wrong = algorithm_cross_imports()
+    assert not wrong, "; ".join(f"{m} imports {', '.join(t)}" for m, t in wrong.items())
+
+
+@pytest.mark.parametrize("source", ["from .ncg import solve\n", "from . import dynamics\n",
+                                    "def f():\n    from gfmd.algorithms import coupled_newton\n",
+                                    "import gfmd.algorithms.hard_wall_primal_cg\n"])
+def test_the_algorithm_check_sees_a_violation(source):
+    fake = ALGORITHMS / "_probe_for_test.py"
+    fake.write_text(source)
+    try:
+        assert "gfmd.algorithms._probe_for_test" in algorithm_cross_imports()
+    finally:
+        fake.unlink()
+
+
+def test_every_algorithm_solves_the_problem():
+    """Each algorithm module has solve(problem, start, settings), and the chains name only those modules."""
+    import importlib
+    import inspect
+
+    from gfmd import chains
+
+    modules = {p.stem for p in ALGORITHMS.glob("*.py") if p.name != "__init__.py"}
+    for name in modules:
+        parameters = list(inspect.signature(importlib.import_module(f"gfmd.algorithms.{name}").solve).parameters)
+        assert parameters == ["problem", "start", "settings"], (name, parameters)
+    assert set(chains.ALGORITHMS) == modules
+    assert {link.algorithm for chain in chains.CHAINS.values() for link in chain} <= modules
+
+
+#: the most lines a module of the methods may have (the developers' guide: "rarely over ~500")
+METHOD_MODULE_LINES = 500
+
+
+def test_gfmd_modules_stay_small():
+    long = {module_name(p): n for p in (ROOT / "gfmd").rglob("*.py")
+            if (n := len(p.read_text().splitlines())) > METHOD_MODULE_LINES}
+    assert not long, f"gfmd modules over {METHOD_MODULE_LINES} lines: {long}"

@@ -9,7 +9,7 @@
 * scipy.fft and ducc0 (when installed) give the same equilibria; the backend choice is checked;
 * cost guard by counts (not times): the CG needs at most a third of FIRE's FFT pairs on a
   warm-started self-affine step;
-* the dual CG (contact pressures, `_relax_hard_wall_dual`) reaches the primal's equilibrium
+* the dual CG (contact pressures, `gfmd.algorithms.hard_wall_dual_cg`) reaches the primal's equilibrium
   (half-plane and layer, same contact set), passes the same independent KKT check, hands over to
   the primal past `dual_contact_limit`, and needs fewer FFT pairs than the primal on the same ramp;
   its preconditioner, the band of K_AA, is symmetric positive definite for any contact set.
@@ -23,7 +23,8 @@ from contact import surfaces
 from contact.loading import indenter_surface
 from contact.model import build_model
 from contact.scene import default_scene
-from gfmd import solver as gs
+from gfmd import fft as gfft
+from gfmd.algorithms import hard_wall_dual_cg
 from gfmd.solver import InterfaceLaw, Settings, relax
 
 TOL = 1e-10
@@ -169,7 +170,7 @@ def test_dual_hands_over_to_the_primal_past_its_contact_limit():
     assert {r.method for r in out} >= {"cg-dual", "cg-dual→cg", "cg"}  # dual; handed over in a step; primal at once
     for d, r, a in zip(deltas, out, areas):
         # the dual never ends on a set past its transient limit (a guess that already passes is returned as is)
-        assert r.method != "cg-dual" or a <= gs.DUAL_TRANSIENT_FACTOR * 2e-3 or r.iterations == 0
+        assert r.method != "cg-dual" or a <= hard_wall_dual_cg.DUAL_TRANSIENT_FACTOR * 2e-3 or r.iterations == 0
         assert kkt_violation(model, z_of(d), r.u_z) < TOL * (1 + 1e-3)
 
 
@@ -195,7 +196,7 @@ def test_band_stiffness_is_symmetric_positive_definite(n, picks, half_width):
     act = np.unique(np.asarray(picks) % n)
     if act.size == n:  # the dual's contact set is never every node (a half-plane's K_AA is then singular)
         act = act[1:]
-    band = gs._band_stiffness(k_kernel, act, n, half_width).toarray()
+    band = hard_wall_dual_cg._band_stiffness(k_kernel, act, n, half_width).toarray()
     dense = np.fft.irfft(np.abs(q) * 2 * np.pi, n=n)[(act[:, None] - act[None, :]) % n]
     near = np.abs(act[:, None] - act[None, :]) <= half_width
     np.testing.assert_allclose(band, np.where(near, dense, 0.0), rtol=0, atol=1e-14)
@@ -203,7 +204,7 @@ def test_band_stiffness_is_symmetric_positive_definite(n, picks, half_width):
     assert np.min(np.linalg.eigvalsh(band)) > 0
 
 
-@pytest.mark.skipif(gs._ducc_fft is None, reason="ducc0 not installed (the `fast` extra)")
+@pytest.mark.skipif(gfft._ducc_fft is None, reason="ducc0 not installed (the `fast` extra)")
 @pytest.mark.parametrize("law_name", ["hard-wall", "cohesive"])
 def test_fft_backends_agree(monkeypatch, law_name):
     sc, h, _, _, wall_tol = case()
@@ -222,14 +223,14 @@ def test_fft_backends_agree(monkeypatch, law_name):
 
 
 def test_fft_backend_choice(monkeypatch):
-    assert gs.fft_backend("scipy") == "scipy"
+    assert gfft.fft_backend("scipy") == "scipy"
     with pytest.raises(ValueError, match="GFMD_FFT"):
-        gs.fft_backend("fftw")
-    monkeypatch.setattr(gs, "_ducc_fft", None)
-    assert gs.fft_backend("auto") == "scipy"
+        gfft.fft_backend("fftw")
+    monkeypatch.setattr(gfft, "_ducc_fft", None)
+    assert gfft.fft_backend("auto") == "scipy"
     with pytest.raises(ImportError, match="ducc0"):
-        gs.fft_backend("ducc0")
+        gfft.fft_backend("ducc0")
     x = np.random.default_rng(1).standard_normal(64)
-    fft = gs._Fft(64, "scipy")
+    fft = gfft.Fft(64, "scipy")
     np.testing.assert_allclose(fft.irfft(fft.rfft(x)), x, atol=1e-14)
     assert fft.pairs == 1

@@ -13,10 +13,11 @@ def test_every_mutation_applies_exactly(tmp_path):
     otherwise silently drop a mutation from the score)."""
     tree = mu.copy_tree(mu.ROOT, tmp_path / "tree")
     for m in mu.MUTATIONS:
-        before = (tree / m.path).read_text()
+        before = [(tree / p).read_text() for p in m.paths]
         mu.apply(m, tree)
-        after = (tree / m.path).read_text()
-        assert after != before and after.count(m.new) >= m.count, m.id
+        after = [(tree / p).read_text() for p in m.paths]
+        assert all(a != b for a, b in zip(after, before)), m.id
+        assert sum(a.count(m.new) for a in after) >= m.count, m.id
     with pytest.raises(ValueError, match="occurs 0 times"):
         mu.apply(mu.MUTATIONS[0], tree)  # already applied: the snippet is gone
 

@@ -25,8 +25,11 @@ import pytest
 
 from contact.loading import indenter_surface, realization_steps
 from contact.scene import load_scene
-from gfmd import solver as gs
+from gfmd import chains, solver as gs
+from gfmd.algorithms import coupled_newton, dynamics
 from gfmd.loading import prepare, run_realization
+from gfmd.problem import Problem, coupled_stability
+from gfmd.stopping import finish
 
 BASE = Path(__file__).resolve().parents[1] / "studies" / "seed" / "fig3_small_base.toml"
 
@@ -66,7 +69,7 @@ def test_fig8_last_step_converges(fig8_step):
     assert r.converged, r.message
     assert r.residual < cell.settings.tolerance
     assert r.method in ("fire", "fire→newton"), r.method
-    assert r.iterations < gs.COUPLED_FIRE_BUDGET + gs.COUPLED_NEWTON_ITERATIONS
+    assert r.iterations < chains.COUPLED_FIRE_BUDGET + coupled_newton.COUPLED_NEWTON_ITERATIONS
     # the slip regime the step is in (what makes the dynamics fail)
     dt, dn = cell.scene.interface.length_tangential, cell.scene.interface.length_normal
     assert np.max(np.abs(r.u_x)) > 3 * dt and np.min(r.gap) < -5 * dn
@@ -74,10 +77,10 @@ def test_fig8_last_step_converges(fig8_step):
 
 def test_fig8_last_step_is_a_flutter_point_of_damped_dynamics(fig8_step):
     cell, previous, current, (_, z100) = fig8_step
-    eq = gs._relax_coupled_newton(cell.physics, cell.law, z100, 2 * current - previous, cell.settings, 0.0)
+    eq = coupled_newton.solve(Problem(cell.physics, cell.law, z100), 2 * current - previous, cell.settings)
     assert eq.converged and eq.iterations <= 20, eq.message
-    drift = gs._relax_cohesive(cell.physics, cell.law, z100, eq.u_hat,
-                               replace(cell.settings, method="verlet", max_iterations=10_000, tolerance=0.0), 0.0)
+    drift = dynamics.solve(Problem(cell.physics, cell.law, z100), eq.u_hat,
+                            replace(cell.settings, method="verlet", max_iterations=10_000, tolerance=0.0))
     assert drift.residual > 1e3 * cell.settings.tolerance, (
         f"Verlet stayed at the equilibrium (residual {drift.residual:.3g} p_ref): the flutter diagnosis no longer holds")
 
@@ -85,38 +88,38 @@ def test_fig8_last_step_is_a_flutter_point_of_damped_dynamics(fig8_step):
 def test_newton_agrees_with_fire_and_is_a_fixed_point(fig8_step):
     cell, previous, current, (z99, _) = fig8_step
     s = cell.settings
-    r = gs._relax_coupled_newton(cell.physics, cell.law, z99, previous, s, 0.0)
+    r = coupled_newton.solve(Problem(cell.physics, cell.law, z99), previous, s)
     assert r.converged, r.message
-    fire = gs._finish(cell.physics, cell.law, z99, current, 0, 0.0, True, "", 0.0)
+    fire = finish(Problem(cell.physics, cell.law, z99), current, 0, 0.0, True, "")
     # two states with max nodal residual < tol·p_ref: K(q_1)-bound as in test_solver_ncg, loose factor
     m = cell.physics
     k1 = min(abs(m.k_xx[1]), abs(m.k_zz[1])) - abs(m.k_xz[1])
     bound = 2 * s.tolerance * m.reference_traction * np.sqrt(m.nodes) / k1
     for a, b in ((r.u_z, fire.u_z), (r.u_x, fire.u_x)):
         assert np.max(np.abs(a - b)) < 10 * bound + 1e-6 * cell.scene.interface.length_normal
-    again = gs._relax_coupled_newton(cell.physics, cell.law, z99, r.u_hat, s, 0.0)
+    again = coupled_newton.solve(Problem(cell.physics, cell.law, z99), r.u_hat, s)
     assert again.converged and again.iterations == 0
 
 
 def test_newton_failure_is_reported(fig8_step, monkeypatch):
     cell, _previous, current, (_, z100) = fig8_step
-    monkeypatch.setattr(gs, "COUPLED_NEWTON_ITERATIONS", 1)
-    r = gs._relax_coupled_newton(cell.physics, cell.law, z100, current, cell.settings, 0.0)
+    monkeypatch.setattr(coupled_newton, "COUPLED_NEWTON_ITERATIONS", 1)
+    r = coupled_newton.solve(Problem(cell.physics, cell.law, z100), current, cell.settings)
     assert not r.converged and "Newton" in r.message and r.residual > cell.settings.tolerance
 
 
 def test_newton_equilibrium_is_locally_stable(fig8_step):
     """The accepted state passes the FE reference's test on the eigenvalues nearest 0 (measured 0.030 φn/δn²)."""
     cell, previous, current, (_, z100) = fig8_step
-    eq = gs._relax_coupled_newton(cell.physics, cell.law, z100, 2 * current - previous, cell.settings, 0.0)
-    lowest = gs._coupled_stability(cell.physics, cell.law, z100, eq.u_hat)
+    eq = coupled_newton.solve(Problem(cell.physics, cell.law, z100), 2 * current - previous, cell.settings)
+    lowest = coupled_stability(cell.physics, cell.law, z100, eq.u_hat)
     assert lowest is not None and 0.01 < lowest / cell.law.k_int_z < 0.1
 
 
 def test_unstable_newton_equilibrium_is_rejected(fig8_step, monkeypatch):
     """A Newton state that fails the stability test is not accepted: the step goes on to Verlet, says why."""
     cell, previous, current, (_, z100) = fig8_step
-    monkeypatch.setattr(gs, "_coupled_stability", lambda *a: -1.0 * cell.law.k_int_z)
+    monkeypatch.setattr(chains, "coupled_stability", lambda *a: -1.0 * cell.law.k_int_z)
     s = replace(cell.settings, max_iterations=4000)
     r = gs.relax(cell.physics, cell.law, z100, 2 * current - previous, s)
     assert not r.converged and r.method == "fire→newton→verlet"

@@ -24,7 +24,8 @@ from contact import surfaces
 from contact.loading import indenter_surface
 from contact.model import build_model
 from contact.scene import default_scene
-from gfmd import kernels, solver as gs
+from gfmd import fft as gfft, kernels
+from gfmd.algorithms import ncg as gs
 from gfmd.solver import InterfaceLaw, Settings, relax
 
 TOL = 1e-10
@@ -80,13 +81,13 @@ def test_ncg_equals_fire(length_normal, thickness):
     assert bound < 1e-3 * length_normal
 
 
-@pytest.mark.skipif(gs._ducc_fft is None, reason="ducc0 not installed (the `fast` extra)")
+@pytest.mark.skipif(gfft._ducc_fft is None, reason="ducc0 not installed (the `fast` extra)")
 def test_ncg_fft_backends_agree(monkeypatch):
     sc, h, model, law, z_of = case()
     out = {}
     for backend in ("scipy", "ducc0"):
         monkeypatch.setenv("GFMD_FFT", backend)
-        assert gs.fft_backend() == backend
+        assert gfft.fft_backend() == backend
         out[backend] = ramp(model, law, z_of, 1.5e-9 * np.arange(1, 4), Settings(tolerance=TOL))
     for a, b in zip(out["scipy"], out["ducc0"]):
         assert a.method == b.method == "ncg"

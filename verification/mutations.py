@@ -37,11 +37,15 @@ ROOT = Path(__file__).resolve().parent.parent
 @dataclass(frozen=True)
 class Mutation:
     id: str
-    path: str  # relative to the repository root
-    old: str  # exact snippet (must occur `count` times)
+    path: str | tuple  # relative to the repository root; a tuple: the snippet's sites spread over these files
+    old: str  # exact snippet (must occur `count` times in all)
     new: str
     what: str
     count: int = 1
+
+    @property
+    def paths(self):
+        return (self.path,) if isinstance(self.path, str) else tuple(self.path)
 
 
 MUTATIONS = (
@@ -68,18 +72,21 @@ MUTATIONS = (
              "    backward = (h - np.roll(h, 2)) / spacing", "seed Eq. 6: backward difference off by one node"),
     Mutation("p-scale", "contact/observables.py", "    return float(-np.mean(traction_z))",
              "    return float(-1.01 * np.mean(traction_z))", "mean pressure p scaled by 1.01"),
-    Mutation("stop-early-cohesive", "gfmd/solver.py",
+    Mutation("stop-early-cohesive", ("gfmd/algorithms/dynamics.py", "gfmd/algorithms/ncg.py",
+                                     "gfmd/algorithms/hard_wall_dynamics.py"),
              "/ model.reference_traction\n            if residual < settings.tolerance:",
              "/ model.reference_traction\n            if residual < 1e4 * settings.tolerance:",
              "GFMD cohesive FIRE (normal and coupled law), NCG and the FIRE hard wall stop at 10⁴ × their "
              "tolerance", count=3),
-    Mutation("stop-early-hard-wall", "gfmd/solver.py",
-             'if settings.method == "fire" and settings.hard_wall == "cg":\n',
-             'if settings.method == "fire" and settings.hard_wall == "cg":\n'
-             "            settings = replace(settings, tolerance=1e4 * settings.tolerance)\n",
+    Mutation("stop-early-hard-wall", "gfmd/chains.py",
+             "    chain = CHAINS[chain_key(problem, settings)]\n",
+             "    chain = CHAINS[chain_key(problem, settings)]\n"
+             '    if chain_key(problem, settings)[1] in ("cg", "cg-primal"):\n'
+             "        settings = replace(settings, tolerance=1e4 * settings.tolerance)\n",
              "GFMD hard-wall CG (dual and primal) stops at 10⁴ × its tolerance (and says it converged)"),
-    Mutation("verlet-is-fire", "gfmd/solver.py", 'fire = None if settings.method == "verlet" else _Fire(settings)',
-             "fire = _Fire(settings)", "method verlet silently runs FIRE", count=2),
+    Mutation("verlet-is-fire", ("gfmd/algorithms/dynamics.py", "gfmd/algorithms/hard_wall_dynamics.py"),
+             'fire = None if settings.method == "verlet" else Fire(settings)',
+             "fire = Fire(settings)", "method verlet silently runs FIRE", count=2),
     Mutation("kappa-fit", "contact/observables.py", "return float(x @ y / (x @ x)), int(use.sum())",
              "return 1.02 * float(x @ y / (x @ x)), int(use.sum())", "κ fit 2 % high"),
     Mutation("fe-quadrature", "reference/fem/assembly.py", "    np.add.at(w, pos, ones[top_s])",
@@ -113,14 +120,15 @@ def copy_tree(root, dest, ref=None):
 
 
 def apply(mutation, tree):
-    """Apply `mutation` in the copied tree; ValueError if its snippet does not occur exactly `count` times."""
-    path = tree / mutation.path
-    text = path.read_text()
-    found = text.count(mutation.old)
-    if found != mutation.count:
-        raise ValueError(f"{mutation.id}: the snippet occurs {found} times in {mutation.path}, expected "
-                         f"{mutation.count} (the source moved: update verification/mutations.py)")
-    path.write_text(text.replace(mutation.old, mutation.new))
+    """Apply `mutation` in the copied tree; ValueError if its snippet does not occur exactly `count` times
+    (over all its files, each of which must hold it at least once)."""
+    texts = {p: (tree / p).read_text() for p in mutation.paths}
+    found = {p: t.count(mutation.old) for p, t in texts.items()}
+    if sum(found.values()) != mutation.count or not all(found.values()):
+        raise ValueError(f"{mutation.id}: the snippet occurs {sum(found.values())} times in "
+                         f"{', '.join(mutation.paths)} ({found}), expected {mutation.count} (the source moved: update verification/mutations.py)")
+    for p, t in texts.items():
+        (tree / p).write_text(t.replace(mutation.old, mutation.new))
 
 
 def run_suite(tree, timeout=1800, pytest_args=()):

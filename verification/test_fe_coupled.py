@@ -47,11 +47,11 @@ range was chosen; `test_gfmd_coupled_slip_regime` records the differences of the
 (N = 128, ν = 0.3: 950, 7 580, 33 060 iterations, then no convergence in 3e4, residual 1e-2–1e2
 p_ref; the reported 4–14 p_ref from 45 nm) because FIRE's power test assumes a potential; the
 per-mode critically damped Verlet converges there, so coupled-law FIRE now falls back to Verlet
-(`gfmd.solver.COUPLED_FIRE_BUDGET`), which converges to 47.8 nm (ν = 0.3, N = 128; Verlet alone: 57 nm at N = 64)
+(`gfmd.chains.COUPLED_FIRE_BUDGET`), which converges to 47.8 nm (ν = 0.3, N = 128; Verlet alone: 57 nm at N = 64)
 and to 28 nm (ν = 0.1, N = 128; 26 nm at N = 64). Beyond, explicit damped dynamics with a fixed step cannot follow the
 law's growing, non-symmetric local stiffness: its equilibria there become flutter points of damped
 dynamics, so after FIRE's budget the step now goes first to Newton–Krylov on the law's tangent, which
-accepts only locally stable equilibria (`gfmd.solver._relax_coupled_newton`, tests/test_solver_coupled.py). `test_gfmd_coupled_slip_regime`
+accepts only locally stable equilibria (`gfmd.algorithms.coupled_newton`, tests/test_solver_coupled.py). `test_gfmd_coupled_slip_regime`
 runs into that regime (N = 128, ν = 0.3, δ to 40 nm) and records the differences, informational.
 """
 

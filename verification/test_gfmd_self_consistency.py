@@ -16,11 +16,11 @@ it means one integrator stopped on a wrong state.
 
 Cases (`verification.scenes.small_sinusoid`, one parameter set a line in CASES):
 
-* hard-wall sinusoid (the brief's case): `gfmd.solver._relax_hard_wall` runs FIRE or
+* hard-wall sinusoid (the brief's case): `gfmd.algorithms.hard_wall_dynamics` runs FIRE or
   the damped Verlet (uniform mass, per-mode damping, projection) by `Settings.method`.
   The test fails on identical iteration counts and fields, so that a regression that
   routes both to one integrator is not mistaken for evidence about Verlet.
-* cohesive sinusoid (φn* = 0.15, normal-only CZ): `gfmd.solver._relax_cohesive` runs FIRE or
+* cohesive sinusoid (φn* = 0.15, normal-only CZ): `gfmd.algorithms.dynamics` runs FIRE or
   Verlet; the same identity check applies.
 
 "FIRE" is `verification.runs` method "gfmd-fire-only": solver.method = "fire" with the

@@ -22,6 +22,13 @@ def _checks(scene):
     return check(scene)
 
 
+def _gfmd_description(scene):
+    """GFMD's algorithms for the scene in words ("GFMD ncg (then fire where it stalls)"), as gfmd.chains picks them."""
+    from gfmd.loading import describe_scene
+
+    return describe_scene(scene)
+
+
 def _method_overrides(args):
     """--method as scene keys (gfmd_contact.scenes.METHOD_CHOICES): fe → method.name; fire/verlet → GFMD
     with that integrator."""
@@ -100,7 +107,7 @@ def _cmd_run(args):
         print(f"WARNING: {w}", file=sys.stderr)
     for n in notes:
         print(f"note: {n}", file=sys.stderr)
-    method = "FE" if scene.method.name == "fe" else f"GFMD {scene.solver.method}"
+    method = "FE" if scene.method.name == "fe" else _gfmd_description(scene)
     print(f"scene {scene.name!r}: {scene.surface.realizations} realization(s), {scene.loading.steps} load steps, "
           f"method {method}; results go to {out}/ as they are computed", file=sys.stderr)
     try:

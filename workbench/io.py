@@ -1,12 +1,15 @@
 """Result files of a run directory: written as the run goes, assembled at its end.
 
 Units: SI (see `contact.conventions`). A finished run directory holds
-  curve.csv       one row per (realization, step): realization, seed + CURVE_COLUMNS (SI)
+  curve.csv       one row per (realization, step): realization, seed + CURVE_COLUMNS (SI) and, for
+                  GFMD, `algorithm`: what relaxed the step ("ncg", "ncg→fire", "cg-dual", ...)
   mean_curve.csv  per step: δ, U and, for each of workbench.averages.AVERAGED, the mean over
                   realizations, its standard error and the count n of realizations with a value
   fields.npz      x, h_r<i> and, for the saved steps, r<i>_s<k>_<field> (FIELD_NAMES)
   scene.toml      the fully resolved scene
-  meta.json       "complete", code version, method, model solved and why, notes, messages,
+  meta.json       "complete", code version, method (GFMD: "gfmd-" and its algorithm chain's key, e.g.
+                  "gfmd-ncg"), "algorithms" (GFMD: load steps per algorithm label, all realizations),
+                  model solved and why, notes, messages,
                   timings, "resume" {"realizations_reused", "steps_reused"}, platform
 ḡ_r is written as "nan" at steps without contact (undefined, seed Eq. 5).
 
@@ -23,6 +26,7 @@ half-written result; files get the permissions of the process umask.
 
 from __future__ import annotations
 
+import collections
 import csv
 import dataclasses
 import functools
@@ -134,10 +138,12 @@ def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
     results = sorted(results, key=lambda r: r.realization)
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(("realization", "seed") + CURVE_COLUMNS)
+    labelled = any("algorithms" in r.diagnostics for r in results)  # an extra text column: old readers skip it
+    writer.writerow(("realization", "seed") + CURVE_COLUMNS + (("algorithm",) if labelled else ()))
     for r in results:
         for k in range(len(r.curve["step"])):
-            writer.writerow([r.realization, r.seed] + [_fmt(r.curve[c][k]) for c in CURVE_COLUMNS])
+            writer.writerow([r.realization, r.seed] + [_fmt(r.curve[c][k]) for c in CURVE_COLUMNS]
+                            + ([step_algorithm(r, k)] if labelled else []))
     _atomic_write(out / "curve.csv", buf.getvalue())
     cols = ensemble_average(results)
     buf = io.StringIO()
@@ -164,6 +170,7 @@ def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
         "steps_run": [len(r.curve["step"]) for r in results],
         "all_converged": all(r.all_converged for r in results),
         "notes": [n for r in results for n in r.notes],
+        **({"algorithms": algorithm_counts(results)} if labelled else {}),
         "messages": [m for r in results for m in r.messages],
         "resume": resume or {"realizations_reused": 0, "steps_reused": 0},
         "timings": {**(timings or {}),
@@ -172,6 +179,18 @@ def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
     _atomic_write(out / "meta.json", json.dumps(meta, indent=2))
     shutil.rmtree(out / PARTIAL, ignore_errors=True)
     return out
+
+
+def step_algorithm(result, k):
+    """The algorithm label of row k of `result` (Result.diagnostics["algorithms"]; "" where unknown)."""
+    labels = result.diagnostics.get("algorithms", [])
+    return labels[k] if k < len(labels) else ""
+
+
+def algorithm_counts(results):
+    """{algorithm label: load steps it relaxed} over `results`, most steps first ("" where unknown)."""
+    counts = collections.Counter(step_algorithm(r, k) for r in results for k in range(len(r.curve["step"])))
+    return dict(counts.most_common())
 
 
 def _fmt(v):
@@ -260,7 +279,8 @@ def _save_state(out, result, state, done):
               "text": np.array(json.dumps({"method": result.method, "model": result.model,
                                            "reasons": list(result.reasons), "messages": list(result.messages),
                                            "notes": list(result.notes),
-                                           "fallback_steps": list(result.diagnostics.get("fallback_steps", []))}))}
+                                           "fallback_steps": list(result.diagnostics.get("fallback_steps", [])),
+                                           "algorithms": list(result.diagnostics.get("algorithms", []))}))}
     if not done:
         arrays.update(current=state.current, previous=state.previous)
     _atomic_write(_part(out, result.realization, ".state.npz"), _npz_bytes(arrays, compress=False),
@@ -349,6 +369,8 @@ def load_part(out, scene, realization):
                     reasons=tuple(text["reasons"]), messages=text["messages"], notes=text["notes"])
     if text.get("fallback_steps"):
         result.diagnostics["fallback_steps"] = [k for k in text["fallback_steps"] if k <= step]
+    if text.get("algorithms"):
+        result.diagnostics["algorithms"] = text["algorithms"][:step + 1]
     with open(_part(out, realization, ".csv")) as fh:
         rows = [row for row in csv.DictReader(fh) if None not in row.values() and row.get(CURVE_COLUMNS[-1])]
     for row in rows:

@@ -258,6 +258,17 @@ def _snapshot(scene, curves, fields, realization, snapshot_delta):
     return fig
 
 
+def method_text(meta):
+    """What solved the run, for the legends: meta.json's method, and where a GFMD run's steps name their
+    algorithms (meta "algorithms"), the steps per algorithm: "gfmd-ncg: ncg 198 steps, ncg→fire 2"."""
+    method = meta.get("method", "")
+    counts = meta.get("algorithms") or {}
+    if not counts:
+        return method
+    return f"{method}: " + ", ".join(f"{name or '?'} {n}{' steps' if i == 0 else ''}"
+                                     for i, (name, n) in enumerate(counts.items()))
+
+
 def make_figures(run_dir, snapshot_delta=None, realization=None):
     """The figures of `run_dir` as {name: matplotlib Figure} (names: `FIGURES`; no snapshot without saved fields).
 
@@ -282,6 +293,7 @@ def make_figures(run_dir, snapshot_delta=None, realization=None):
     e_star = scene.material.contact_modulus
     law = law_from_scene(scene)
     label = f"{law.name}, $\\varphi_n^* = {scene.interface.phi_n_star:g}$" if law.adhesive else law.name
+    label += f"; {method_text(meta)}" if method_text(meta) else ""
     nc = nonconverged(st)
     figs = {"area_vs_reduced_pressure": _load_area(scene, st, e_star, label, nc)}
     adhesive = law.adhesive

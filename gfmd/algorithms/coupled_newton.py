@@ -1,0 +1,118 @@
+"""Newton–Krylov on the coupled law's nodal balance (seed Eq. 2; no dynamics, no potential needed).
+
+The coupled chain's fallback where FIRE stalls (`gfmd.chains`): deep in the slip regime the
+equilibria are flutter points of any damped dynamics (tests/test_solver_coupled.py).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.sparse.linalg import gmres
+
+from contact import laws
+
+from ..fft import Fft
+from ..problem import Elastic, coupled_operators
+from ..stopping import finish
+
+#: Newton iterations a coupled-law step gets after FIRE stalls; each solves the linearised balance by GMRES
+#: (restart COUPLED_GMRES_RESTART, at most COUPLED_GMRES_CYCLES cycles).
+COUPLED_NEWTON_ITERATIONS = 60
+COUPLED_GMRES_RESTART = 60
+COUPLED_GMRES_CYCLES = 5
+#: Newton step: largest nodal move per iteration in units of min(δn, δt) (trust region), GMRES relative tolerance
+COUPLED_NEWTON_MAX_MOVE = 2.0
+COUPLED_NEWTON_FORCING = 1e-3
+
+
+def solve(problem, start, settings):
+    """Newton–Krylov on the coupled law's nodal balance f(u) = t(u) − K u = 0 (no dynamics).
+
+    Each iteration solves (K + D) δu = f by GMRES, D the nodal 2×2 tangent of Eq. 2
+    (`contact.laws.jacobian_coupled`, ∂t/∂u = −D since Δn = z_ind − u_z, Δt = −u_x), K applied
+    by FFT, preconditioned by the inverse of the FIRE mass M_q = K(q) + ⟨k_loc⟩ (`gfmd.problem.Elastic`),
+    to relative tolerance COUPLED_NEWTON_FORCING; the step is capped so that no node moves
+    more than COUPLED_NEWTON_MAX_MOVE·min(δn, δt) and halved until ‖f‖₂ decreases (a step
+    into the law's overflow range counts as no decrease). Half-plane: the mean modes stay
+    clamped (the operator acts on zero-mean fields). Stops on the solver's residual
+    (max |f| < tolerance·p_ref); `iterations` counts Newton iterations, `fft_pairs` includes
+    GMRES's products. Not converged (message says why) after COUPLED_NEWTON_ITERATIONS or
+    when the line search finds no decrease.
+    """
+    model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
+    u_hat = start  # the step's initial displacements (c, N//2+1), rfft
+    n, c = model.nodes, model.components
+    fft = Fft(n)
+    p_ref = model.reference_traction
+    u_hat = np.array(u_hat, dtype=complex, copy=True)
+    clamp = model.half_plane
+    if clamp:
+        u_hat[:, 0] = 0.0
+    stiff = Elastic(model, 0.0, 0.0)
+    max_move = COUPLED_NEWTON_MAX_MOVE * law.law.length_scale
+
+    def force(uh):
+        """(f_hat, f, u): the nodal force (mean removed where clamped); raises on overflow."""
+        u = fft.irfft(uh)
+        t, _ = law.traction(u, z_ind)
+        fh = fft.rfft(t) - stiff.stiffness(uh)
+        if clamp:
+            fh[:, 0] = 0.0
+        return fh, fft.irfft(fh), u
+
+    def project(x):
+        return x - x.mean(axis=1, keepdims=True) if clamp else x
+
+    try:
+        _, f, u = force(u_hat)
+    except laws.CompressionOverflowError as exc:
+        out = finish(problem, u_hat, 0, np.inf, False, f"diverged: {exc}")
+        out.method, out.stalled = "newton", out.message
+        return out
+    residual = float(np.max(np.abs(f))) / p_ref
+    message, converged, it = "", residual < settings.tolerance, 0
+    while not converged:
+        if it >= COUPLED_NEWTON_ITERATIONS:
+            message = f"not converged after {it} Newton iterations (residual {residual:.3g} p_ref)"
+            break
+        it += 1
+        a_op, m_op, _ = coupled_operators(model, law, z_ind, u, fft)
+        du, _ = gmres(a_op, f.ravel(), M=m_op, rtol=COUPLED_NEWTON_FORCING,
+                      restart=COUPLED_GMRES_RESTART, maxiter=COUPLED_GMRES_CYCLES)
+        du = project(du.reshape(c, n))
+        largest = float(np.max(np.abs(du)))
+        if not np.isfinite(largest) or largest == 0.0:
+            message = f"Newton step not finite or zero (residual {residual:.3g} p_ref)"
+            break
+        du_hat = fft.rfft(du)
+        if clamp:
+            du_hat[:, 0] = 0.0
+        norm0 = float(np.sqrt(np.einsum("ij,ij->", f, f)))
+        step = min(1.0, max_move / largest)
+        accepted = False
+        while step > 1e-3:
+            try:
+                trial = force(u_hat + step * du_hat)
+            except laws.CompressionOverflowError:
+                step *= 0.5
+                continue
+            if np.sqrt(np.einsum("ij,ij->", trial[1], trial[1])) <= (1.0 - 1e-4 * step) * norm0:
+                accepted = True
+                break
+            step *= 0.5
+        if not accepted:
+            message = f"Newton line search found no decrease of |f| (iteration {it}, residual {residual:.3g} p_ref)"
+            break
+        u_hat = u_hat + step * du_hat
+        _, f, u = trial
+        residual = float(np.max(np.abs(f))) / p_ref
+        if not np.isfinite(residual):
+            message = "diverged: non-finite force residual"
+            break
+        converged = residual < settings.tolerance
+    pairs = fft.pairs
+    out = finish(problem, u_hat, it, residual, converged, message)
+    out.fft_pairs = pairs + 0.5
+    out.method = "newton"
+    out.stalled = "" if out.converged else out.message  # the chain may go on (`gfmd.chains`)
+    return out

@@ -1,0 +1,209 @@
+"""Which GFMD algorithms relax a load step: one chain per law and solver key, declared once as data.
+
+A chain is a tuple of `Link`s: the first algorithm relaxes the step; where it stalls (`Relaxed.stalled`),
+the next one runs, from the step's guess or from where the one before stopped, with the iterations
+left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, joined by "→"
+("ncg→fire": the NCG stalled, FIRE finished the step). The key is `chain_key`'s reading of
+`Settings.method` (the scene's solver.method), `hard_wall`, `cohesive` and `dual_contact_limit`:
+
+* hard wall, method "fire" (default): the dual CG while the contact set holds at most
+  `dual_contact_limit` (15 %) of the nodes, then the primal CG (`dual_contact_limit = 0`: the primal
+  alone); ``hard_wall = "fire"``: projected FIRE; method "verlet": projected Verlet.
+* normal-only cohesive law (a potential), method "fire": the NCG, FIRE after a stall
+  (``cohesive = "fire"``: FIRE alone); "verlet": Verlet.
+* coupled law (seed Eq. 2, no potential), method "fire": FIRE; after a stall (`COUPLED_FIRE_BUDGET`)
+  Newton–Krylov from the guess, then from FIRE's end state, a converged state kept only where
+  locally stable (`gfmd.problem.coupled_stability`, the FE reference's criterion); then Verlet from
+  the guess. Method "verlet": Verlet.
+* cohesive wall: projected FIRE, or Verlet (method "verlet").
+
+Why the coupled chain: FIRE's restarts test the power f·v, a descent test only for forces f = −∇E;
+the coupled law has no potential, and at strongly non-symmetric states (large slip under
+compression) FIRE's weakly damped inertia circulates: started at the FE equilibrium of such a state
+it drifts away (residual 8e-3 → 0.19 p_ref in 3e4 iterations) while per-mode critically damped
+Verlet converges in 410. Deeper in the slip regime Verlet fails the same way: fig8_small (ν = 0.1,
+c = 0.5, φn* = 0.15, seed 2, N = 4096) at δ = 20 nm has a static equilibrium (Newton: 8
+iterations) whose eigenvalues of J nearest 0 all have Re λ > 0, but damped inertial dynamics
+started on it drift off: the tangent's antisymmetric part (circulatory forces at the slipping,
+compressed contact edge) makes the equilibrium a flutter point of second-order dynamics, which no
+mass weighting or damping of the diagonal modes removes (tests/test_solver_coupled.py). Newton
+converges to unstable equilibria as well, hence the acceptance test.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from contact import laws
+
+from .algorithms import (cohesive_wall, coupled_newton, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
+                         hard_wall_primal_cg, ncg)
+from .problem import Problem, coupled_stability
+from .stopping import finish
+
+#: the algorithms by name (gfmd.algorithms: one module each, `solve(problem, start, settings) -> Relaxed`)
+ALGORITHMS = {"hard_wall_dual_cg": hard_wall_dual_cg.solve, "hard_wall_primal_cg": hard_wall_primal_cg.solve,
+              "hard_wall_dynamics": hard_wall_dynamics.solve, "ncg": ncg.solve, "dynamics": dynamics.solve,
+              "coupled_newton": coupled_newton.solve, "cohesive_wall": cohesive_wall.solve}
+
+#: FIRE iterations a coupled-law step gets before the Newton–Krylov / damped-Verlet fallback. Measured (layer
+#: D = L, sinusoid a = 50 nm, φn* = 0.01, c = 0.5, ν = 0.3): FIRE needs ≤ 790 iterations per step
+#: up to δ = 32 nm (N = 64; ≤ 350 at N = 128), then 950, 7 580, 33 060 and fails (residual 1e-2 to
+#: 1e2 p_ref) from δ ≈ 39 nm (N = 128), where Verlet converges in 500–1 140. Budget ≈ 2.5 × 790.
+COUPLED_FIRE_BUDGET = 2000
+
+
+@dataclass(frozen=True)
+class Link:
+    """One algorithm of a chain.
+
+    options: Settings fields this link sets, e.g. (("method", "verlet"),); starts: where it starts,
+    tried in turn until one is kept: "guess" (the step's), "end" (where the link before stopped),
+    "finite end" (that, unless its residual was not finite); budget: its iterations, "all"
+    (max_iterations), "left" (what the links before left), "rest" (that, at least 1), "coupled fire"
+    (min(COUPLED_FIRE_BUDGET, max_iterations // 2)); accept: "locally stable" keeps a converged state
+    only where the tangent's eigenvalues nearest 0 have Re λ > 0.
+    """
+
+    algorithm: str
+    options: tuple = ()
+    starts: tuple = ("guess",)
+    budget: str = "all"
+    accept: str = ""
+
+
+_VERLET = (("method", "verlet"),)
+#: {(law kind, key): chain}: the law kinds of `gfmd.problem.Problem.kind`, the keys of `chain_key`
+CHAINS = {
+    ("hard-wall", "cg"): (Link("hard_wall_dual_cg"), Link("hard_wall_primal_cg", starts=("end",), budget="left")),
+    ("hard-wall", "cg-primal"): (Link("hard_wall_primal_cg"),),
+    ("hard-wall", "fire"): (Link("hard_wall_dynamics"),),
+    ("hard-wall", "verlet"): (Link("hard_wall_dynamics"),),
+    ("cohesive", "ncg"): (Link("ncg"), Link("dynamics", budget="rest")),
+    ("cohesive", "fire"): (Link("dynamics"),),
+    ("cohesive", "verlet"): (Link("dynamics"),),
+    ("coupled", "fire"): (Link("dynamics", budget="coupled fire"),
+                          Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
+                          Link("dynamics", options=_VERLET, budget="rest")),
+    ("coupled", "verlet"): (Link("dynamics"),),
+    ("cohesive-wall", "fire"): (Link("cohesive_wall"),),
+    ("cohesive-wall", "verlet"): (Link("cohesive_wall"),),
+}
+
+#: the algorithms' labels (`Relaxed.method`) and the start names in words, for messages and reports
+WORDS = {"hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG",
+         "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov"}
+STARTS = {"guess": "the step's guess", "end": "the end state of the one before",
+          "finite end": "the end state of the one before"}
+
+
+def chain_key(problem, settings):
+    """(law kind, key) of `CHAINS` for this problem and settings; ValueError naming a bad Settings field."""
+    kind = problem.kind
+    if kind == "cohesive-wall":
+        return kind, "verlet" if settings.method == "verlet" else "fire"
+    if kind == "hard-wall":
+        if settings.method == "fire" and settings.hard_wall == "cg":
+            if not 0.0 <= settings.dual_contact_limit <= 1.0:
+                raise ValueError(f"Settings.dual_contact_limit = {settings.dual_contact_limit!r}: expected a fraction "
+                                 "of the nodes in [0, 1] (0: the primal CG only)")
+            return kind, "cg" if settings.dual_contact_limit > 0 else "cg-primal"
+        if settings.hard_wall not in ("cg", "fire"):
+            raise ValueError(f"Settings.hard_wall = {settings.hard_wall!r}: expected 'cg' or 'fire'")
+        return kind, "verlet" if settings.method == "verlet" else "fire"
+    if kind == "coupled":
+        return kind, "fire" if settings.method == "fire" else "verlet"
+    if settings.method == "fire" and settings.cohesive not in ("ncg", "fire"):
+        raise ValueError(f"Settings.cohesive = {settings.cohesive!r}: expected 'ncg' or 'fire'")
+    if settings.method == "fire" and settings.cohesive == "ncg" and type(problem.law.law) is laws.NormalCohesive:
+        return kind, "ncg"
+    return kind, "verlet" if settings.method == "verlet" else "fire"
+
+
+def labels(key, settings):
+    """The `Relaxed.method` labels of the chain `CHAINS[key]`'s algorithms in order, e.g. ("ncg", "fire")."""
+    fixed = {"hard_wall_dual_cg": "cg-dual", "hard_wall_primal_cg": "cg", "ncg": "ncg", "coupled_newton": "newton"}
+    return tuple(fixed.get(link.algorithm) or ("verlet" if dict(link.options).get("method", settings.method) == "verlet"
+                                               else "fire") for link in CHAINS[key])
+
+
+def describe(key, settings):
+    """The chain in words: "ncg (then fire where it stalls)"."""
+    first, *rest = labels(key, settings)
+    return first + (f" (then {' → '.join(rest)} where it stalls)" if rest else "")
+
+
+def _budget(link, settings, used):
+    if link.budget == "all":
+        return settings.max_iterations
+    if link.budget == "coupled fire":
+        return min(COUPLED_FIRE_BUDGET, settings.max_iterations // 2)
+    left = settings.max_iterations - used
+    return left if link.budget == "left" else max(left, 1)
+
+
+def _rejected(problem, link, r):
+    """Why a converged state fails the link's acceptance test ("" if it passes)."""
+    if link.accept != "locally stable":
+        return ""
+    lowest = coupled_stability(problem.model, problem.law, problem.z_ind, r.u_hat)
+    if lowest is not None and lowest <= 0.0:  # not the state damped dynamics would settle in
+        return (f"reached an equilibrium that is not locally stable (an eigenvalue of the tangent with Re λ = "
+                f"{lowest / problem.law.k_int_z:.3g} φn/δn²: a slip or snap-through instability), rejected")
+    return ""
+
+
+def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
+    """Relax one load step from the initial guess `u_hat` (c, N//2+1) along its chain; returns `Relaxed`.
+
+    z_ind: indenter surface z_ind(x) (m) at this step; wall_tolerance (m): gap below which a wall node
+    counts as touching the wall. iterations and fft_pairs add up every algorithm that ran.
+    """
+    problem = Problem(model, law, z_ind, wall_tolerance)
+    chain = CHAINS[chain_key(problem, settings)]
+    used, pairs, names, notes = 0, 0.0, [], []
+    before = None  # the last link's final result: "end" starts from it
+    for i, link in enumerate(chain):
+        options = dict(link.options)
+        budget = _budget(link, settings, used)
+        if budget != settings.max_iterations:
+            options["max_iterations"] = budget
+        run = replace(settings, **options) if options else settings
+        last_link = i == len(chain) - 1
+        result = None
+        for start in link.starts:
+            if start == "guess":
+                origin = u_hat
+            elif start == "end" or np.isfinite(before.residual):
+                origin = before.u_hat
+            else:
+                continue
+            r = ALGORITHMS[link.algorithm](problem, origin, run)
+            used += r.iterations
+            pairs += r.fft_pairs
+            if r.method and (not names or names[-1] != r.method):
+                names.append(r.method)
+            why = _rejected(problem, link, r) if r.converged else ""
+            where = "" if start == "guess" or i == 0 else f" from {STARTS[start]}"
+            label = WORDS.get(r.method) or WORDS.get(link.algorithm, link.algorithm)
+            if r.converged and not why or not r.converged and (last_link or not r.stalled):
+                result = r
+                break
+            notes.append(f"{label}{where} stopped ({why or r.stalled})")
+            result = None
+        if result is not None:
+            break
+        before = r
+    else:  # every link stalled or was rejected: the last state is the answer, not converged
+        result = r
+        result.converged = False
+    if result.u_z is None:  # a stall has no fields yet
+        result = finish(problem, result.u_hat, result.iterations, result.residual, False, result.stalled)
+    if notes:
+        result.message = "; ".join(notes) + f"; restarted with {WORDS.get(names[-1], names[-1])}: " + (
+            result.message or "converged")
+    result.iterations, result.fft_pairs = used, pairs
+    result.method, result.stalled = "→".join(names), ""
+    return result

@@ -1,0 +1,336 @@
+"""One load step's problem, for every GFMD algorithm: the elastic energy in Fourier space, the
+interface law, their gradient and Hessian product, and the hard wall's constraint and its dual.
+
+Units: SI (see `contact.conventions`). The unknowns are the rfft coefficients û of the surface
+displacement (components (x, z), or z alone); the nodal force (Pa, the negative gradient of the
+energy per node area) is (reference-formulas §5.2)
+
+    f̂ = rfft(t_interface(u)) − K(q) û,      Δn = z_ind − u_z,  Δt = −u_x,
+
+with the q = 0 mode clamped on a half-plane (⟨u⟩ = 0, the far-field load its multiplier). Where
+the law has a potential (the normal-only CZ, `contact.laws.potential_normal`), f = −(1/l) ∇E with
+E(u) = l Σ_j [½ u_j (K u)_j + V(Δn_j)] (J/m, l = L/N); the coupled law (seed Eq. 2) has none and
+only the balance f = 0 and its tangent J = K + D (`Problem.tangent_times`). The hard wall is the
+constraint u_z ≤ z_ind (KKT: contact pressure ≥ 0 on the wall, f = 0 off it; `wall_balance`,
+`mean_shift`); its dual, over the contact pressures P ≥ 0 with u = −G P (G = K⁻¹), is
+min ½ PᵀGP + z_indᵀP (gradient: the gap, `Problem.dual_gap`). The cohesive wall adds Eq. 3's
+attraction off the wall to the same constraint.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.fft
+
+from contact import laws
+
+from .fft import Fft
+
+
+class InterfaceLaw:
+    """The interface law on the solver's unknowns: tractions on the body for displacements (SI).
+
+    The law is `model.law` (`contact.laws`: the law object `contact.model.build_model` chose for
+    the model's unknowns; Eq. 2 where u_x is solved). `interface` and `work_tangential` are
+    accepted for the callers that pass them and not used: the law object already holds the
+    scene's φn, δn, φt, δt. This class only maps displacements u (c, N) to gaps, Δn = z_ind − u_z
+    and Δt = −u_x, and the law's tractions back onto the components solved.
+    """
+
+    def __init__(self, model, interface=None, work_tangential=None):
+        self.model = model
+        self.law = model.law
+        # a constraint (the hard wall) has no traction function: the algorithms project instead
+        self.constraint = self.law.constraint
+        # initial slopes of the law (Pa/m): the interface stiffness in Verlet's mode frequencies
+        self.k_int_x, self.k_int_z = (0.0, 0.0) if self.constraint else self.law.initial_stiffness
+
+    def _gaps(self, u, z_ind):
+        return z_ind - u[-1], (-u[0] if self.model.tangential else None)
+
+    def mean_stiffness(self, u, z_ind):
+        """Spatial means (k_x, k_z) of the law's local tangent stiffness ∂T_t/∂Δt, ∂T_n/∂Δn (Pa/m).
+
+        A long-wavelength mode sees the interface stiffness averaged over the cell,
+        so M_q = K(q) + ⟨k_loc⟩ keeps those modes at the elastic frequency; out of contact
+        ⟨k_loc⟩ ≈ 0 and M_q = K(q).
+        """
+        if self.constraint:
+            return 0.0, 0.0
+        dn_dn, _, _, dt_dt = self.law.tangent(*self._gaps(u, z_ind))
+        return float(np.mean(np.maximum(dt_dt, 0))), float(np.mean(np.maximum(dn_dn, 0)))
+
+    def traction(self, u, z_ind):
+        """(t, Δn): tractions (c, N) on the body and the normal gap, for displacements u (c, N)."""
+        gap, slip = self._gaps(u, z_ind)
+        t = np.zeros_like(u)
+        if self.constraint:  # zero off the wall; the wall's reaction is `gfmd.stopping.finish`'s
+            return t, gap
+        t_n, t_t = self.law.tractions(gap, slip)
+        t[-1] = t_n
+        if self.model.tangential:
+            t[0] = t_t
+        return t, gap
+
+
+class Elastic:
+    """K(q) and mass operators M_q = K(q) + ⟨k_loc⟩ of a model on the rfft half-spectrum."""
+
+    def __init__(self, model, k_int_x, k_int_z):
+        self.model = model
+        self.clamp = model.half_plane
+        if model.tangential:
+            a = model.k_xx + k_int_x
+            b = model.k_xz
+            d = model.k_zz + k_int_z
+            det = (a * d - np.abs(b) ** 2).real
+            if self.clamp:
+                det[0] = np.inf
+            self.mass = (a, b, d)
+            self.inv_mass = (d / det, -b / det, a / det)
+        else:
+            m = model.k_zz + k_int_z
+            inv = np.zeros_like(m)
+            nz = m > 0
+            inv[nz] = 1.0 / m[nz]
+            if self.clamp:
+                inv[0] = 0.0
+            self.mass = (m,)
+            self.inv_mass = (inv,)
+
+    @staticmethod
+    def _apply(blocks, x):
+        if len(blocks) == 1:
+            return blocks[0] * x
+        a, b, d = blocks
+        return np.stack([a * x[0] + b * x[1], np.conj(b) * x[0] + d * x[1]])
+
+    def stiffness(self, x):
+        """K(q) x for spectra x of shape (c, nq)."""
+        m = self.model
+        return self._apply((m.k_xx, m.k_xz, m.k_zz) if m.tangential else (m.k_zz,), x)
+
+    def mass_times(self, x):
+        return self._apply(self.mass, x)
+
+    def inverse_mass_times(self, x):
+        return self._apply(self.inv_mass, x)
+
+
+@dataclass
+class Problem:
+    """One load step: the model (`contact.model.Model`: K(q), unknowns, p_ref), the law on its
+    unknowns, the indenter surface z_ind (m) and the gap below which a node touches a wall (m)."""
+
+    model: object
+    law: InterfaceLaw
+    z_ind: np.ndarray
+    wall_tolerance: float = 0.0
+
+    @property
+    def kind(self):
+        """The law's kind, the key of `gfmd.chains.CHAINS`' first level."""
+        if self.law.constraint:
+            return "cohesive-wall" if self.law.law.adhesive else "hard-wall"
+        return "coupled" if self.model.tangential else "cohesive"
+
+    def displacements(self, u_hat):
+        """u (c, N) of the spectra û."""
+        return scipy.fft.irfft(u_hat, n=self.model.nodes, axis=-1)
+
+    def force(self, u_hat):
+        """The nodal force f (c, N) in Pa at û: t(u) − K u (q = 0 removed on a half-plane). On a wall the
+        constraint's reaction is not in it (`wall_balance`)."""
+        u = self.displacements(u_hat)
+        t, _ = self.law.traction(u, self.z_ind)
+        f_hat = scipy.fft.rfft(t, axis=-1) - Elastic(self.model, 0.0, 0.0).stiffness(u_hat)
+        if self.model.half_plane:
+            f_hat[:, 0] = 0.0
+        return self.displacements(f_hat)
+
+    def energy(self, u_hat):
+        """E(u) = l Σ_j [½ u_j (K u)_j + V(Δn_j)] (J/m), f = −(1/l) ∂E/∂u; inf where a wall is penetrated.
+        The coupled law has no potential (ValueError)."""
+        if self.kind == "coupled":
+            raise ValueError("the coupled law (seed Eq. 2) has no potential: the problem is the balance f = 0")
+        u = self.displacements(u_hat)
+        ku = self.displacements(Elastic(self.model, 0.0, 0.0).stiffness(u_hat))
+        gap = self.z_ind - u[-1]
+        if self.law.constraint and float(np.min(gap)) < -self.wall_tolerance:
+            return np.inf
+        cz = self.law.law
+        interface = 0.0 if self.kind == "hard-wall" else np.sum(laws.potential_normal(gap, cz.work_normal,
+                                                                                       cz.length_normal))
+        return (self.model.length / self.model.nodes) * float(0.5 * np.sum(u * ku) + interface)
+
+    def tangent_times(self, u_hat, v):
+        """J v = (K + D) v (Pa) for nodal fields v (c, N): the Hessian product per node area (the force's
+        derivative is −J; D the nodal tangent of the law, `contact.laws`; zero on a hard wall)."""
+        a_op, _, _ = coupled_operators(self.model, self.law, self.z_ind, self.displacements(u_hat),
+                                       Fft(self.model.nodes))
+        return a_op.matvec(np.asarray(v, float).ravel()).reshape(v.shape)
+
+    def dual_gap(self, pressure):
+        """The dual's gradient, the gap Δ = z_ind + G P (m) for nodal wall pressures P ≥ 0 (Pa), normal only."""
+        g = Elastic(self.model, 0.0, 0.0).inv_mass[0]
+        return self.z_ind + scipy.fft.irfft(np.real(g) * scipy.fft.rfft(pressure), n=self.model.nodes)
+
+
+def mean_shift(u_z, z_ind, pinned=None):
+    """Scalar c with ⟨min(u_z + c, z_ind)⟩ = 0 (m): Euclidean projection onto {u ≤ z_ind, ⟨u⟩ = 0}.
+
+    φ(c) = ⟨min(u + c, b)⟩ is concave, increasing and piecewise linear; Newton started
+    left of the root approaches it monotonically from below and ends in a few steps.
+    `pinned` nodes are held on the wall (u = z_ind) and take no shift.
+    """
+    if pinned is not None and pinned.any():
+        return _pinned_shift(u_z, z_ind, pinned, u_z.size)
+    # at c0 = min(b − u) every node is free, so φ(c0) = ⟨u⟩ + c0; if that is ≥ 0 the root
+    # lies in the all-free range, c = −⟨u⟩; otherwise Newton from c0 (left of the root).
+    mean_u = float(np.mean(u_z))
+    c = float(np.min(z_ind - u_z))
+    if mean_u + c >= 0.0:
+        return -mean_u
+    for _ in range(100):
+        free = u_z + c < z_ind
+        phi = np.mean(np.where(free, u_z + c, z_ind))
+        slope = np.mean(free)
+        if phi >= 0.0 or slope == 0.0:
+            if slope == 0.0 and phi < 0.0:
+                raise ValueError("hard wall everywhere below the mean plane: full contact reached, "
+                                 "the clamped half-plane cannot be indented further")
+            return c
+        step = -phi / slope
+        c += step
+        if step <= 1e-15 * (abs(c) + np.max(np.abs(z_ind))):
+            return c
+    return c
+
+
+def _pinned_shift(u_z, z_ind, pinned, n_total):
+    """`mean_shift` with pinned nodes fixed at z_ind: ⟨where(pinned, b, min(u + c, b))⟩ = 0."""
+    target = -float(np.sum(z_ind[pinned])) / n_total  # required mean of the others, times their share
+    u, b = u_z[~pinned], z_ind[~pinned]
+    share = u.size / n_total
+    # ⟨min(u + c, b)⟩_others · share = target  ⇔  ⟨min(u + c − t, b − t)⟩ = 0 with t = target/share
+    t = target / share
+    return mean_shift(u - t, b - t)
+
+
+def project_onto_wall(u, v, z_ind, stuck, clamp):
+    """Positions onto {u ≤ z_ind} (on a half-plane also ⟨u⟩ = 0, the stuck nodes pinned on the wall);
+    the velocity into the wall of the projected nodes is removed (v in place). Returns the new u."""
+    shift = mean_shift(u, z_ind, stuck) if clamp else 0.0
+    projected = np.where(stuck, z_ind, np.minimum(u + shift, z_ind))
+    hit = projected < u + shift
+    v[hit] = np.minimum(v[hit], 0.0)
+    return projected
+
+
+def wall_balance(model, ku, on_wall):
+    """Elastic plus far-field force on every node of a hard-wall configuration (Pa).
+
+    −(Ku)_j, plus on a half-plane the uniform far-field load p that keeps ⟨u⟩ = 0,
+    p = mean of (Ku) over the free nodes. On wall nodes, a positive value is the
+    contact pressure the wall must supply; on free nodes it is the residual.
+    """
+    free = ~on_wall
+    p = float(np.mean(ku[free])) if model.half_plane and free.any() else 0.0
+    return p - ku
+
+
+def wall_net_force_from(model, ku, on_wall):
+    """`wall_net_force` for a given K u (Pa): (net force, stuck mask)."""
+    force = wall_balance(model, ku, on_wall)
+    stuck = on_wall & (force > 0)
+    return np.where(stuck, 0.0, force), stuck
+
+
+def wall_net_force(model, k, u, on_wall, n):
+    """(net nodal force (Pa), stuck mask) of a hard-wall configuration.
+
+    Net force = `wall_balance` + wall reaction: "stuck" nodes are on the wall and
+    pushed into it, so the wall cancels their force.
+    """
+    force = wall_balance(model, scipy.fft.irfft(k * scipy.fft.rfft(u), n=n), on_wall)
+    stuck = on_wall & (force > 0)
+    return np.where(stuck, 0.0, force), stuck
+
+
+def coupled_operators(model, law, z_ind, u, fft):
+    """(A, M⁻¹, project) at displacements u (c, N): the coupled balance's tangent A = K + D as a
+    scipy LinearOperator on flattened (c, N) nodal fields (D: the nodal 2×2 law tangent, rows and
+    columns (x, z); ∂f/∂u = −A), the inverse FIRE mass M⁻¹ (`Elastic` with ⟨k_loc⟩) as its
+    preconditioner, and the projection onto zero-mean fields where the half-plane clamps the mean."""
+    from scipy.sparse.linalg import LinearOperator
+
+    n, c = model.nodes, model.components
+    clamp = model.half_plane
+    stiff = Elastic(model, 0.0, 0.0)
+    mass = Elastic(model, *law.mean_stiffness(u, z_ind))
+    if law.constraint:
+        d_nn = d_nt = d_tn = d_tt = 0.0
+    else:
+        d_nn, d_nt, d_tn, d_tt = law.law.tangent(z_ind - u[-1], -u[0])
+
+    def project(x):
+        return x - x.mean(axis=1, keepdims=True) if clamp else x
+
+    def a_times(v):
+        v = project(v.reshape(c, n))
+        vh = fft.rfft(v)
+        if clamp:
+            vh[:, 0] = 0.0
+        out = fft.irfft(stiff.stiffness(vh))
+        if c == 1:
+            out += d_nn * v
+        else:
+            out += np.stack([d_tt * v[0] + d_tn * v[1], d_nt * v[0] + d_nn * v[1]])
+        return project(out).ravel()
+
+    def m_inv(v):
+        vh = fft.rfft(v.reshape(c, n))
+        if clamp:
+            vh[:, 0] = 0.0
+        return fft.irfft(mass.inverse_mass_times(vh)).ravel()
+
+    size = c * n
+    return (LinearOperator((size, size), matvec=a_times, dtype=float),
+            LinearOperator((size, size), matvec=m_inv, dtype=float), project)
+
+
+#: eigenvalues of the tangent nearest 0 that `coupled_stability` computes (shift-invert Arnoldi)
+COUPLED_STABILITY_EIGENVALUES = 6
+#: GMRES inside `coupled_stability`: restart and cycles
+STABILITY_GMRES_RESTART = 120
+STABILITY_GMRES_CYCLES = 20
+
+
+def coupled_stability(model, law, z_ind, u_hat):
+    """Smallest Re λ (Pa/m) among the COUPLED_STABILITY_EIGENVALUES eigenvalues nearest 0 of the
+    tangent J = K + D at u_hat (None if Arnoldi found none). The FE reference's test of a coupled
+    equilibrium (`reference.fem.solver.locally_stable`: every eigenvalue of W⁻¹J has Re λ > 0,
+    W the nodal weights, uniform here) restricted to the eigenvalues a fold or a slip instability
+    sends through 0: shift-invert ARPACK on J⁻¹, each solve by GMRES (M⁻¹-preconditioned)."""
+    from scipy.sparse.linalg import ArpackNoConvergence, LinearOperator, eigs, gmres
+
+    fft = Fft(model.nodes)
+    a_op, m_op, project = coupled_operators(model, law, z_ind, fft.irfft(u_hat), fft)
+    shape = (model.components, model.nodes)
+
+    def solve(b):
+        x, _ = gmres(a_op, project(b.reshape(shape)).ravel(), M=m_op, rtol=1e-8,
+                     restart=STABILITY_GMRES_RESTART, maxiter=STABILITY_GMRES_CYCLES)
+        return x
+
+    inverse = LinearOperator(a_op.shape, matvec=solve, dtype=float)
+    k = COUPLED_STABILITY_EIGENVALUES
+    try:
+        mu = eigs(inverse, k=k, which="LM", return_eigenvectors=False, tol=1e-4, maxiter=100 * k)
+    except ArpackNoConvergence as exc:
+        mu = exc.eigenvalues
+    mu = np.asarray(mu)
+    mu = mu[np.isfinite(mu) & (np.abs(mu) > 0)]
+    return float(np.min((1.0 / mu).real)) if mu.size else None

@@ -1,0 +1,85 @@
+"""What every GFMD algorithm takes and returns: `Settings` (its parameters) and `Relaxed` (one step's state).
+
+Units: SI (see `contact.conventions`); the integrators' parameters are dimensionless (time unit 1/ω0,
+ω0 = 1). Which algorithm runs is `gfmd.chains`' choice from `Settings.method`, `hard_wall`, `cohesive`
+and `dual_contact_limit`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Integrator parameters (dimensionless; time unit 1/ω0 with ω0 = 1)."""
+
+    method: str = "fire"
+    tolerance: float = 1e-8
+    max_iterations: int = 200_000
+    check_every: int = 10
+    # FIRE (Bitzek et al. 2006 defaults, FIRE 2.0 back-step)
+    dt_start: float = 0.3
+    dt_max: float = 1.0
+    n_min: int = 5
+    f_inc: float = 1.1
+    f_dec: float = 0.5
+    alpha_start: float = 0.1
+    f_alpha: float = 0.99
+    # Verlet: ω_max Δt
+    verlet_omega_dt: float = 1.0
+    # cohesive laws: largest nodal move per iteration, in units of min(δn, δt)
+    max_move: float = 0.5
+    # FIRE, cohesive laws: iterations between re-evaluations of the mean interface stiffness
+    mass_refresh: int = 100
+    # hard wall with method "fire": "cg" (projected preconditioned CG, default) or "fire" (FIRE)
+    hard_wall: str = "cg"
+    # cohesive normal-only law (a potential) with method "fire": "ncg" (nonlinear preconditioned CG with
+    # a Newton line search, FIRE as fallback) or "fire" (FIRE alone, the integrator before issue 13)
+    cohesive: str = "ncg"
+    # NCG line search: stop when |dE/dα| ≤ line_search_tol · |dE/dα(0)|
+    line_search_tol: float = 0.1
+    # hard-wall CG: release the wall nodes that pull away once their forces' norm exceeds
+    # proportioning × the free nodes' residual norm (Dostál's MPRGP proportioning test)
+    proportioning: float = 0.3
+    # hard-wall CG: solve for the contact pressures (the dual CG) while the contact set holds at
+    # most this fraction of the nodes, else for the displacements (the primal CG); 0: always the latter
+    dual_contact_limit: float = 0.15
+
+
+@dataclass
+class Relaxed:
+    """Equilibrium of one load step: fields on the N nodes (SI) and solver record.
+
+    An algorithm that gives the step up for the next one of its chain (`gfmd.chains`) returns
+    `stalled` (why) with its end state u_hat, iterations and FFT pairs; its fields may then be None.
+    """
+
+    u_hat: np.ndarray  # (c, N//2+1) rfft of u
+    u_z: np.ndarray  # m
+    u_x: np.ndarray  # m (zeros when not solved)
+    gap: np.ndarray  # Δn (m)
+    t_z: np.ndarray  # traction on the body (Pa), = T_n
+    t_x: np.ndarray  # Pa, = T_t
+    iterations: int
+    residual: float  # max |r| / p_ref
+    converged: bool
+    message: str = ""
+    fft_pairs: float = 0.0  # rfft+irfft pairs the relaxation used (0 where not counted)
+    #: the algorithms that produced this state, joined by "→" where a fallback ran: "ncg", "ncg→fire",
+    #: "fire", "verlet", "cg-dual", "cg-dual→cg", "cg", "fire→newton", "fire→newton→verlet"
+    method: str = ""
+    stalled: str = ""  # non-empty: the algorithm hands the step over to the next of its chain (why)
+
+
+def stall(u_hat, iterations, residual, fft_pairs, method, reason):
+    """A `Relaxed` without fields: the algorithm stopped early and hands over (`Relaxed.stalled`)."""
+    return Relaxed(u_hat=u_hat, u_z=None, u_x=None, gap=None, t_z=None, t_x=None, iterations=iterations,
+                   residual=float(residual), converged=False, fft_pairs=fft_pairs, method=method, stalled=reason)
+
+
+def not_converged(iterations, residual):
+    """The message of a step that used its iterations up."""
+    return f"not converged after {iterations} iterations (residual {residual:.3g} p_ref)"

@@ -1,0 +1,176 @@
+"""The GFMD solver as algorithms over one problem (issue 22): the problem's energy, gradient and
+Hessian product agree with each other, the chains are data that `relax` walks, and the labels
+(`Relaxed.method`, the Result's method, its per-step algorithms) name what ran.
+
+* `Problem.force` is −(1/l) ∇E of `Problem.energy` (central differences of E along random
+  directions; the tolerance from the difference's truncation error, measured by halving the step),
+  `Problem.tangent_times` the derivative of −force (the same test one order up), and
+  `Problem.dual_gap` the gap z_ind − u of u = −G P;
+* every chain key is reachable from some Settings and names only algorithm modules; replacing a
+  chain in `gfmd.chains.CHAINS` changes what `relax` runs (the dispatch reads the data);
+* a default cohesive ramp reports "gfmd-ncg" and one label per step, and the hard-wall FIRE and the
+  cohesive wall now say "fire" where `Relaxed.method` used to be empty.
+"""
+
+import numpy as np
+import pytest
+
+from contact import surfaces
+from contact.loading import indenter_surface
+from contact.model import build_model
+from contact.scene import default_scene
+from gfmd import chains
+from gfmd.loading import prepare, run_realization
+from gfmd.problem import Problem
+from gfmd.solver import InterfaceLaw, Settings, relax
+
+
+def problem(law="cohesive", nodes=256, delta=3e-9, thickness=None, **extra):
+    length = 1.28e-6
+    kw = {"surface.nodes": nodes, "surface.length": length, "surface.rolloff_wavelength": length / 8,
+          "surface.rollon_wavelength": 4 * length / nodes, "interface.law": law,
+          "interface.length_normal": 1e-9, **extra}
+    if thickness is not None:
+        kw["material.thickness"] = thickness
+    sc = default_scene().replace(**kw)
+    h = surfaces.profile(sc.surface, 0)
+    model = build_model(sc, h)
+    d0 = sc.loading.initial_separation
+    return Problem(model, InterfaceLaw(model), indenter_surface(h, d0, d0 + delta), 1e-12 * float(np.ptp(h)))
+
+
+def converged_state(p, settings=Settings(tolerance=1e-10)):
+    r = relax(p.model, p.law, p.z_ind, np.zeros((p.model.components, p.model.nodes // 2 + 1), complex), settings,
+              p.wall_tolerance)
+    assert r.converged, r.message
+    return r
+
+
+def central_difference(f, x, v, eps):
+    return (f(x + eps * v) - f(x - eps * v)) / (2 * eps)
+
+
+@pytest.mark.parametrize("thickness", [None, 0.32e-6])
+def test_force_is_the_negative_energy_gradient(thickness):
+    """d/dε E(u + ε v) = −l Σ f·v, checked at a state in contact (the law's nonlinear range)."""
+    p = problem(thickness=thickness)
+    u_hat = converged_state(p).u_hat
+    rng = np.random.default_rng(3)
+    spacing = p.model.length / p.model.nodes
+    for _ in range(3):
+        v = rng.standard_normal(p.model.nodes) * p.model.law.length_normal * 1e-2
+        if p.model.half_plane:
+            v -= v.mean()
+        v_hat = np.fft.rfft(v)[None, :]
+        slope = -spacing * float(np.sum(p.force(u_hat) * v))
+
+        def energy(s):
+            return p.energy(u_hat + s * v_hat)
+
+        coarse, fine = central_difference(energy, 0.0, 1.0, 1e-1), central_difference(energy, 0.0, 1.0, 5e-2)
+        # central differences: error ∝ ε², so |fine − exact| ≈ |coarse − fine| / 3; allow 3× that + round-off
+        scale = abs(energy(0.0)) + spacing * float(np.sum(np.abs(p.force(u_hat) * v)))
+        assert abs(fine - slope) <= abs(coarse - fine) + 1e-9 * scale, (fine, slope, coarse)
+
+
+def test_tangent_is_the_derivative_of_minus_the_force():
+    p = problem()
+    u_hat = converged_state(p).u_hat
+    rng = np.random.default_rng(5)
+    v = rng.standard_normal((1, p.model.nodes)) * p.model.law.length_normal * 1e-2
+    v -= v.mean()
+    v_hat = np.fft.rfft(v, axis=-1)
+    jv = p.tangent_times(u_hat, v)
+
+    def force(s):
+        return p.force(u_hat + s * v_hat)
+
+    coarse, fine = -central_difference(force, 0.0, 1.0, 1e-1), -central_difference(force, 0.0, 1.0, 5e-2)
+    error = np.max(np.abs(fine - jv))
+    assert error <= np.max(np.abs(coarse - fine)) + 1e-9 * np.max(np.abs(jv)), error
+
+
+def test_dual_gap_is_the_gap_of_the_pressures_displacement():
+    """u = −G P: the gap z_ind − u = z_ind + G P, and K u = −P on every mode but a half-plane's mean."""
+    p = problem("hard-wall")
+    pressure = np.maximum(np.random.default_rng(2).standard_normal(p.model.nodes), 0.0) * 1e6
+    gap = p.dual_gap(pressure)
+    u = p.z_ind - gap
+    ku = np.fft.irfft(np.real(p.model.k_zz) * np.fft.rfft(u), n=p.model.nodes)
+    np.testing.assert_allclose(ku, -(pressure - pressure.mean()), atol=1e-9 * np.max(pressure))
+
+
+def test_energy_is_infinite_through_the_wall_and_undefined_for_the_coupled_law():
+    p = problem("hard-wall")
+    u_hat = np.fft.rfft(p.z_ind + 1e-9)[None, :]  # every node 1 nm through the wall
+    assert p.energy(u_hat) == np.inf
+    coupled = problem(**{"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3})
+    assert coupled.kind == "coupled"
+    with pytest.raises(ValueError, match="no potential"):
+        coupled.energy(np.zeros((2, coupled.model.nodes // 2 + 1), complex))
+
+
+SETTINGS_OF_KEY = {"cg": Settings(), "cg-primal": Settings(dual_contact_limit=0.0),
+                   "fire": Settings(hard_wall="fire", cohesive="fire"), "verlet": Settings(method="verlet"),
+                   "ncg": Settings()}
+LAW_OF_KIND = {"hard-wall": ("hard-wall", {}), "cohesive": ("cohesive", {}), "cohesive-wall": ("cohesive-wall", {}),
+               "coupled": ("cohesive", {"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3})}
+
+
+@pytest.mark.parametrize("key", sorted(chains.CHAINS))
+def test_every_chain_is_reachable_and_labels_what_ran(key):
+    kind, name = key
+    law, extra = LAW_OF_KIND[kind]
+    p = problem(law, **extra)
+    settings = SETTINGS_OF_KEY[name]
+    assert chains.chain_key(p, settings) == key
+    r = converged_state(p, Settings(**{**settings.__dict__, "tolerance": 1e-8}))
+    ran = r.method.split("→")
+    assert ran and set(ran) <= set(chains.labels(key, settings)), (r.method, chains.labels(key, settings))
+    assert ran[0] in chains.labels(key, settings)[:2]  # the first (or, past the dual's limit, the primal)
+
+
+def test_relax_walks_the_chain_it_is_given(monkeypatch):
+    """The chain is data: the cohesive NCG chain replaced by FIRE alone, relax runs FIRE."""
+    p = problem()
+    assert converged_state(p).method == "ncg"
+    monkeypatch.setitem(chains.CHAINS, ("cohesive", "ncg"), (chains.Link("dynamics"),))
+    assert converged_state(p).method == "fire"
+
+
+def test_a_stall_passes_the_step_on_and_every_iteration_counts(monkeypatch):
+    """NCG cut to 3 iterations: FIRE finishes from the guess; iterations add both, the message says why."""
+    from gfmd.algorithms import ncg
+
+    p = problem()
+    monkeypatch.setattr(ncg, "NCG_BUDGET", 3)
+    r = converged_state(p)
+    assert r.method == "ncg→fire" and "NCG stopped" in r.message and "FIRE" in r.message
+    alone = converged_state(p, Settings(tolerance=1e-10, cohesive="fire"))
+    assert r.iterations == alone.iterations + 3
+    np.testing.assert_array_equal(r.u_hat, alone.u_hat)  # FIRE from the same guess: the same iterates
+
+
+@pytest.mark.parametrize("law, settings, label", [
+    ("hard-wall", Settings(hard_wall="fire"), "fire"), ("hard-wall", Settings(method="verlet"), "verlet"),
+    ("cohesive-wall", Settings(), "fire"), ("cohesive-wall", Settings(method="verlet"), "verlet")])
+def test_projected_dynamics_name_themselves(law, settings, label):
+    p = problem(law, nodes=128)
+    assert converged_state(p, Settings(**{**settings.__dict__, "tolerance": 1e-7})).method == label
+
+
+def test_ramp_results_name_the_algorithm_of_every_step():
+    """A default cohesive ramp: the Result says gfmd-ncg (not gfmd-fire) and one label per step."""
+    sc = default_scene().replace(**{"surface.nodes": 256, "surface.length": 320e-9, "surface.realizations": 1,
+                                    "surface.rolloff_wavelength": 160e-9, "surface.rollon_wavelength": 10e-9,
+                                    "interface.length_normal": 2.5e-9, "loading.steps": 4,
+                                    "loading.final_penetration": 4e-9, "loading.initial_separation": 20e-9})
+    result = run_realization(sc)
+    assert result.method == "gfmd-ncg"
+    assert len(result.diagnostics["algorithms"]) == len(result.curve["step"])
+    assert set(result.diagnostics["algorithms"]) <= {"ncg", "ncg→fire"}
+    assert any("integrator: ncg (then fire where it stalls)" in r for r in result.reasons)
+    hard = sc.replace(**{"interface.law": "hard-wall"})
+    assert prepare(hard, surfaces.profile(hard.surface, 0)).method == "gfmd-cg"
+    verlet = sc.replace(**{"solver.method": "verlet"})
+    assert prepare(verlet, surfaces.profile(verlet.surface, 0)).method == "gfmd-verlet"
