@@ -79,7 +79,7 @@ from contact.errors import SceneError
 from contact.result import CURVE_COLUMNS
 from contact.scene import Scene, load_scene, scene_from_dict, scene_to_dict, scene_to_toml
 
-from . import io
+from . import io, safe_files
 from .averages import AVERAGED, ensemble_average
 
 STUDY_KEYS = ("name", "description", "base", "scene", "axes", "zip")
@@ -336,10 +336,17 @@ def run_task(scene, task_dir, command=None, progress=_report_step):
     The directory is a one-realization `gfmd run` directory (workbench.io): every load step
     is checkpointed; a complete one is reused, an interrupted one continues from its last step.
     """
-    from .ensemble import _run_into
-
     reuse_freed_arrays()
     out = Path(task_dir)
+    # a second execution of the same task (Dask may run one twice, at once) waits here for the first and
+    # then finds its result published (meta.json "complete", written last, every file by atomic rename)
+    with safe_files.locked(out, wait=-1, what="task directory", command=command):
+        return _run_task_locked(scene, out, command, progress)
+
+
+def _run_task_locked(scene, out, command, progress):
+    from .ensemble import _run_into
+
     if io.run_complete(out):
         diff = io.stored_scene_differences(out, scene)
         if diff:
@@ -367,7 +374,7 @@ def prepare_study_dir(out, study):
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise io.RunDirError(f"--out {str(out)!r} is an existing file, not a directory: choose another --out")
-    existing = sorted(p.name for p in out.iterdir()) if out.is_dir() else []
+    existing = sorted(p.name for p in out.iterdir() if p.name != safe_files.LOCK_NAME) if out.is_dir() else []
     if existing and not any(n in ("tasks", "study.json") for n in existing):
         raise io.RunDirError(f"--out {out} is not empty and holds no study ({', '.join(existing[:6])}): "
                              "choose another --out")
@@ -422,17 +429,31 @@ def readdress_tasks(out, unique):
     return moved
 
 
-def run_study(study, out, *, workers=None, scheduler=None, progress=True, command=None):
+def run_study(study, out, *, workers=None, scheduler=None, progress=True, command=None, wait=0):
     """Run every task of `study` into `out` (module docstring); returns the study.json dict.
 
     workers: processes of the local cluster (default: all cores); scheduler: the address of an
     existing Dask scheduler instead. Interruptible (KeyboardInterrupt): the local cluster is
-    closed at once and the exception propagates; what finished stays on disk.
+    closed at once and the exception propagates; what finished stays on disk. The directory is
+    locked meanwhile (`safe_files.DirLock`): another process writing it is refused
+    (`safe_files.LockHeld`) unless `wait` (seconds, -1 for ever) lets it end first. A task that
+    could not write its files (`safe_files.WriteFailed`: disk full, …) is raised after the
+    cluster closed, before the study's tables are written.
     """
+    out = Path(out).resolve()
+    if out.exists() and not out.is_dir():
+        raise io.RunDirError(f"--out {str(out)!r} is an existing file, not a directory: choose another --out")
+    command = command or " ".join(sys.argv)
+    note = (lambda line: print(f"note: {line}", file=sys.stderr)) if progress else None
+    advice = "wait for it to end (or add --wait to wait for it), or stop it first; or choose another --out"
+    with safe_files.locked(out, wait=wait, what="study directory", command=command, advice=advice, note=note):
+        return _run_study_locked(study, out, workers, scheduler, progress, command)
+
+
+def _run_study_locked(study, out, workers, scheduler, progress, command):
     from tqdm import tqdm
 
-    out = prepare_study_dir(Path(out).resolve(), study)
-    command = command or " ".join(sys.argv)
+    out = prepare_study_dir(out, study)
     tasks = study.tasks
     unique = {t.key: t for t in tasks}
     moved = readdress_tasks(out, unique)
@@ -458,6 +479,7 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True, comman
         bar = tqdm(total=len(unique), initial=len(done), desc=f"{study.name}: tasks", unit="task",
                    disable=not progress)
         steps = [steps_saved]
+        write_failed = []
 
         def stepped(event):
             steps[0] += 1
@@ -475,6 +497,8 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True, comman
                     outcomes[key] = future.result()
                 else:
                     exc = future.exception()
+                    if isinstance(exc, safe_files.WriteFailed):
+                        write_failed.append(exc)
                     tb = "".join(traceback.format_exception(type(exc), exc, future.traceback()))
                     failures[key] = {"error": f"{type(exc).__name__}: {exc}", "traceback": tb}
                     bar.set_description(f"{study.name}: tasks ({len(failures)} failed)")
@@ -488,6 +512,8 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True, comman
             bar.close()
             _close(client, cluster)
             logger.setLevel(level)
+        if write_failed:
+            raise write_failed[0]
     wall = time.perf_counter() - start
     rows, results = _collect(study, out, tasks, failures)
     _write_tables(study, out, rows, results)
@@ -612,9 +638,7 @@ def _write_tables(study, out, rows, results):
             w.writerow([str(s)] + params + [io._fmt(cols[c][k]) for c in summary_columns()])
     io._atomic_write(out / "summary.csv", buf.getvalue())
     dataset = summary_dataset(study, averages)
-    tmp = out / ".summary.nc.tmp"
-    dataset.to_netcdf(tmp, engine="scipy")
-    os.replace(tmp, out / "summary.nc")
+    io._atomic_write(out / "summary.nc", bytes(dataset.to_netcdf(engine="scipy")), binary=True)
 
 
 def _coordinate(values):
