@@ -129,6 +129,12 @@ def die_with_parent():
         os._exit(1)
 
 
+def process_command():
+    """This process's command line as typed: `python -m gfmd ARGS` reads "gfmd ARGS"."""
+    name = Path(sys.argv[0]).name if sys.argv and sys.argv[0] else "python"
+    return " ".join(["gfmd" if name in ("gfmd", "__main__.py") else name] + sys.argv[1:])
+
+
 def _alive(pid):
     try:
         os.kill(pid, 0)
@@ -168,7 +174,7 @@ class DirLock:
         self.directory = Path(directory)
         self.path = self.directory / LOCK_NAME
         self.what = what
-        self.command = command or " ".join([Path(sys.argv[0]).name] + sys.argv[1:])
+        self.command = command or process_command()
         self.advice = advice or "wait for it to end (or add --wait), or stop it first"
         self.took_over = None  # the holder dict of a lock left by a process that ended without releasing it
         self._fd = None
