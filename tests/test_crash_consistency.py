@@ -124,9 +124,9 @@ def crash_study(tmp_path, seed, gap, r, steps):
 
 
 def test_study_killed_at_random_moments_resumes_bit_equal(tmp_path):
-    report = crash_study(tmp_path, seed=28, gap=8, r=1, steps=6)
+    report = crash_study(tmp_path, seed=28, gap=14, r=1, steps=6)
     spread, _, _ = summarize("gfmd study run", report, 2 * 7)
-    assert len(report["kills"]) >= 8
+    assert len(report["kills"]) >= 5
     assert set(spread) >= {"load steps (row, state, fields)", "final tables"}
 
 

@@ -57,6 +57,7 @@ Dask cluster; DIR must then be on a file system every worker sees (the same abso
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import dataclasses
 import functools
@@ -352,6 +353,7 @@ def _run_task_locked(scene, out, command, progress):
         if diff:
             raise StudyError(f"{out} holds a finished task of another scene ({'; '.join(diff)}): a default "
                              "changed since it ran; remove that task directory to recompute it")
+        io.remove_temporaries(out)
         return {"status": "reused", "steps_reused": 0, "steps_run": 0}
     resume = (out / "scene.toml").is_file()
     io.prepare_run_dir(out, scene, resume=resume, overwrite=not resume, command=command)
@@ -379,8 +381,11 @@ def prepare_study_dir(out, study):
         raise io.RunDirError(f"--out {out} is not empty and holds no study ({', '.join(existing[:6])}): "
                              "choose another --out")
     (out / "tasks").mkdir(parents=True, exist_ok=True)
-    io._atomic_write(out / "study.toml", study.text)
-    io._atomic_write(out / "base_scene.toml", scene_to_toml(study.base))
+    for p in [*out.glob(".*.tmp"), *(out / "figures").glob(".*.tmp")]:  # a killed writer's (we hold the lock)
+        p.unlink(missing_ok=True)
+    for name, text in (("study.toml", study.text), ("base_scene.toml", scene_to_toml(study.base))):
+        if not (out / name).is_file() or (out / name).read_text() != text:  # a rerun rewrites nothing unchanged
+            io._atomic_write(out / name, text)
     return out
 
 
@@ -461,6 +466,10 @@ def _run_study_locked(study, out, workers, scheduler, progress, command):
         print(f"{study.name}: {moved} task director{'y' if moved == 1 else 'ies'} written under an older "
               "address moved to the current one (same scene)", file=sys.stderr)
     done = {k for k in unique if io.run_complete(out / "tasks" / k)}
+    for k in done:  # the lock file a killed task left after it completed: taken and released (so removed)
+        if (out / "tasks" / k / safe_files.LOCK_NAME).exists():
+            with contextlib.suppress(safe_files.LockHeld), safe_files.locked(out / "tasks" / k, what="task"):
+                pass
     pending = [t for k, t in unique.items() if k not in done]
     record = _record(study, out, tasks, {}, {}, complete=False)
     io._atomic_write(out / "study.json", json.dumps(record, indent=2))
