@@ -117,13 +117,6 @@ def _note(line):
     print(f"note: {line}", file=sys.stderr)
 
 
-def _plots_unfinished(out):
-    """True if out/plots is missing or a plotter was killed there (its lock file is left)."""
-    from .safe_files import LOCK_NAME
-
-    return not (out / "plots").is_dir() or (out / "plots" / LOCK_NAME).exists()
-
-
 def _draw(out):
     """The run's figures; a failure to write them (the results are complete) is exit 2 with what to do."""
     from .plots import plot_run
@@ -144,11 +137,10 @@ def _run_locked(args, scene, out, warnings, notes):
     from . import io
 
     out = io.prepare_run_dir(out, scene, resume=args.resume, overwrite=args.overwrite)
-    if args.resume and io.run_complete(out):
-        redraw = not args.no_plot and _plots_unfinished(out)
+    if args.resume and io.run_complete(out):  # its figures may be missing (a kill, a full disk): drawn again
         print(f"{out}: this run is complete; nothing to resume"
-              + (" (its figures were unfinished: drawing them)" if redraw else ""), file=sys.stderr)
-        return _draw(out) if redraw else 0
+              + ("" if args.no_plot else "; drawing its figures again (--no-plot skips them)"), file=sys.stderr)
+        return 0 if args.no_plot else _draw(out)
     for w in warnings:
         print(f"WARNING: {w}", file=sys.stderr)
     for n in notes:

@@ -117,7 +117,8 @@ def _run_into(job, progress):
                              checkpoint=partial(io.save_step, out))
     export = method_of(scene).export
     if export is not None:
-        export(result, out / "vtu" / f"realization{realization}")
+        with safe_files.writing(out / "vtu" / f"realization{realization}"):
+            export(result, out / "vtu" / f"realization{realization}")
     io.save_realization(out, result)
     return realization, reused, len(result.curve["step"]) - reused
 

@@ -210,6 +210,9 @@ def prepare_run_dir(out, scene, *, resume=False, overwrite=False, command=None):
                               "the same scene (or omit the scene file to take it from the directory), or choose "
                               "another --out")
         remove_temporaries(out)
+        (out / PARTIAL).mkdir(exist_ok=True)
+        if not (out / "meta.json").is_file():  # a start cut short after scene.toml
+            _atomic_write(out / "meta.json", json.dumps(_meta_base(scene, scene.method.name, command), indent=2))
         return out
     if existing and resume:
         raise RunDirError(f"--resume: {out} is not empty but holds no scene.toml ({', '.join(existing)}): it is not a "
@@ -227,10 +230,11 @@ def prepare_run_dir(out, scene, *, resume=False, overwrite=False, command=None):
         for name in existing:
             path = out / name
             shutil.rmtree(path) if path.is_dir() else path.unlink()
-    (out / PARTIAL).mkdir(parents=True, exist_ok=True)
+    out.mkdir(parents=True, exist_ok=True)
     _atomic_write(out / "scene.toml", scene_to_toml(scene))
     meta = _meta_base(scene, scene.method.name, command)
     _atomic_write(out / "meta.json", json.dumps(meta, indent=2))
+    (out / PARTIAL).mkdir(exist_ok=True)
     return out
 
 
