@@ -255,3 +255,19 @@ def test_fewer_rows_than_saved_steps_restart_the_realization(tmp_path, monkeypat
     assert (f"note: {csv_path}: 2 rows for 5 saved steps, consistent only up to step 1") in err
     assert "realization 0 restarts from step 0 (5 saved steps dropped)" in err
     assert_same_run(ref, out)
+
+
+def test_verify_is_one_writer_of_its_reports(tmp_path, monkeypatch, capsys):
+    import workbench.cli
+
+    monkeypatch.setenv("GFMD_REPORT_DIR", str(tmp_path / "reports"))
+    calls = []
+    monkeypatch.setattr(workbench.cli.subprocess, "call", lambda cmd, cwd=None: calls.append(cmd) or 0)
+    with safe_files.DirLock(tmp_path / "reports", command="gfmd verify"):
+        assert main(["verify"]) == 2
+        line = capsys.readouterr().err.strip().splitlines()[-1]
+        assert line.startswith(f"gfmd: error: {tmp_path / 'reports'}: the report folder is being written by pid "
+                               f"{os.getpid()}") and "command 'gfmd verify'" in line and "--wait" in line
+        assert not calls
+    assert main(["verify"]) == 0 and len(calls) == 1
+    assert not (tmp_path / "reports" / safe_files.LOCK_NAME).exists()

@@ -194,3 +194,21 @@ def test_study_write_sites_fail_cleanly_then_resume(tmp_path, monkeypatch, capsy
     for task in (ref / "tasks").iterdir():
         assert_same_run(task, out / "tasks" / task.name)
     assert not list(out.rglob("*.tmp"))
+
+
+@pytest.mark.parametrize("where, code", [("partial/realization0.csv", errno.ENOSPC), ("/.fields.npz", errno.EFBIG)])
+def test_fe_run_write_errors_then_resume(tmp_path, monkeypatch, capsys, where, code):
+    from test_cli_fe import fe_scene
+
+    sc = fe_scene("cohesive", "self-affine").replace(**{"method.name": "fe", "loading.steps": 3})
+    path = write_scene(tmp_path, sc)
+    ref, out = tmp_path / "ref", tmp_path / "out"
+    assert main(["run", str(path), "--out", str(ref), "--quiet", "--no-plot"]) == 0
+    inject = Injector(monkeypatch, where=where, code=code)
+    capsys.readouterr()
+    assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"]) == 2
+    line = error_line(capsys.readouterr().err)
+    assert line.startswith(f"gfmd: error: cannot write {target_of(inject.hit)}: {WHY[code]}"), line
+    monkeypatch.undo()
+    assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot", "--resume"]) == 0
+    assert_same_run(ref, out)

@@ -79,7 +79,7 @@ def atomic_write(path, data, binary=False):
     with writing(path):
         try:
             fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-            with os.fdopen(fd, "wb" if binary else "w") as fh:
+            with os.fdopen(fd, "wb") if binary else os.fdopen(fd, "w", encoding="utf-8") as fh:
                 fh.write(data)
             os.chmod(tmp, file_mode())
             os.replace(tmp, path)
