@@ -41,8 +41,19 @@ _WHY = {errno.ENOSPC: "no space left on the device", errno.EDQUOT: "disk quota e
         errno.EACCES: "permission denied", errno.EPERM: "operation not permitted"}
 
 
+#: errors of the disk, not of one file: a study stops on them (exit 2) instead of failing one task
+DISK_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS})
+
+
 class WriteFailed(OSError):
-    """A file could not be written: the message names it and why (one line)."""
+    """A file could not be written: the message names it and why (one line); code: the errno."""
+
+    def __init__(self, message, code=None):
+        super().__init__(message)
+        self.code = code
+
+    def __reduce__(self):  # through a process pool or Dask with its code
+        return type(self), (str(self), self.code)
 
 
 class LockHeld(OSError):
@@ -62,7 +73,7 @@ def writing(path):
         raise
     except OSError as exc:
         name = errno.errorcode.get(exc.errno, "")
-        raise WriteFailed(f"cannot write {path}: {_why(exc)}{f' ({name})' if name else ''}") from exc
+        raise WriteFailed(f"cannot write {path}: {_why(exc)}{f' ({name})' if name else ''}", exc.errno) from exc
 
 
 def file_mode():
@@ -92,6 +103,7 @@ def atomic_write(path, data, binary=False):
 def save_figure(fig, path, **kwargs):
     """fig.savefig into memory, then `atomic_write` to `path` (a figure is never left half-written)."""
     buf = io.BytesIO()
+    buf.name = str(path)  # what the figure is for (a file object's name, as open() gives)
     fig.savefig(buf, **kwargs)
     atomic_write(path, buf.getvalue(), binary=True)
 

@@ -442,8 +442,9 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True, comman
     closed at once and the exception propagates; what finished stays on disk. The directory is
     locked meanwhile (`safe_files.DirLock`): another process writing it is refused
     (`safe_files.LockHeld`) unless `wait` (seconds, -1 for ever) lets it end first. A task that
-    could not write its files (`safe_files.WriteFailed`: disk full, …) is raised after the
-    cluster closed, before the study's tables are written.
+    could not write its files for a reason of the disk (`safe_files.DISK_ERRNOS`: no space, quota,
+    file-size limit, read-only) stops the study: its `safe_files.WriteFailed` is raised after the
+    cluster closed, before the study's tables are written; any other failure fails that task only.
     """
     out = Path(out).resolve()
     if out.exists() and not out.is_dir():
@@ -506,7 +507,7 @@ def _run_study_locked(study, out, workers, scheduler, progress, command):
                     outcomes[key] = future.result()
                 else:
                     exc = future.exception()
-                    if isinstance(exc, safe_files.WriteFailed):
+                    if isinstance(exc, safe_files.WriteFailed) and exc.code in safe_files.DISK_ERRNOS:
                         write_failed.append(exc)
                     tb = "".join(traceback.format_exception(type(exc), exc, future.traceback()))
                     failures[key] = {"error": f"{type(exc).__name__}: {exc}", "traceback": tb}
