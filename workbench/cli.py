@@ -105,7 +105,7 @@ def _cmd_run(args):
     advice = ("wait for it to end (or add --wait to wait for it), or stop it first; to run beside it, choose "
               "another --out")
     try:
-        with safe_files.locked(out, wait=args.wait, what="run directory", advice=advice, note=_note):
+        with safe_files.locked(out, wait=getattr(args, "wait", 0), what="run directory", advice=advice, note=_note):
             return _run_locked(args, scene, out, warnings, notes)
     except safe_files.WriteFailed as exc:
         print(f"gfmd: error: {exc}; the files written before are intact: free space or fix the permissions, then "
@@ -182,7 +182,7 @@ def _cmd_plot(args):
     from .plots import plot_run
 
     for path in plot_run(args.dir, snapshot_delta=args.delta, fmt=args.format, realization=args.realization,
-                         wait=args.wait):
+                         wait=getattr(args, "wait", 0)):
         print(f"wrote {path}")
     return 0
 
@@ -231,7 +231,7 @@ def _cmd_verify(args):
     reports = Path(os.environ.get("GFMD_REPORT_DIR") or root / "reports")
     print(f"running {' '.join(cmd[2:])} in {root}; the report goes to {reports / 'index.html'}",
           file=sys.stderr)
-    with locked(reports, wait=args.wait, what="report folder", command="gfmd verify",
+    with locked(reports, wait=getattr(args, "wait", 0), what="report folder", command="gfmd verify",
                 advice="wait for that `gfmd verify` to end (or add --wait to wait for it)"):
         return subprocess.call(cmd, cwd=root)
 
@@ -253,7 +253,7 @@ def _cmd_study_run(args):
     try:
         with _interrupt_signals():
             record = run_study(study, out, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet,
-                               command=command, wait=args.wait)
+                               command=command, wait=getattr(args, "wait", 0))
     except WriteFailed as exc:
         print(f"gfmd: error: {exc}; the files written before are intact: free space or fix the permissions, then "
               f"continue with: {command}", file=sys.stderr)
