@@ -8,7 +8,8 @@ the run's curve.csv (wall_s aside), mean_curve.csv, fields.npz, scene.toml and m
 (timings, date, command, resume counts aside), and the study's study.csv (wall_s aside),
 summary.csv and summary.nc must equal an uninterrupted run's bit for bit: the methods are
 deterministic and the warm start is saved bit for bit, so no tolerance applies. The kill
-points are printed (pytest -s) and checked to reach every phase of the run.
+points are printed (pytest -s) and checked to reach every phase of the run, and no resume may
+lose a saved step (the steps on disk never decrease from one kill to the next).
 """
 
 import csv
@@ -45,7 +46,8 @@ def phase(kill):
         return "load steps (row, state, fields)"
     if path.startswith(("plots", "figures")):
         return "figures"
-    if Path(path).name in ("scene.toml", "study.toml", "base_scene.toml") or "meta.json" in path and "tasks" not in path:
+    start = ("scene.toml", "study.toml", "base_scene.toml")
+    if Path(path).name in start or "meta.json" in path and "tasks" not in path:
         return "start (scene, meta)"
     return "final tables"
 
@@ -54,9 +56,11 @@ def summarize(name, report, total_steps):
     kills = report["kills"]
     spread = Counter(phase(k) for k in kills)
     stages = Counter(k["stage"] for k in kills)
-    fractions = sorted(round(k["steps_on_disk"] / total_steps, 2) for k in kills)
+    fractions = [round(k["steps_on_disk"] / total_steps, 2) for k in kills]
     print(f"\n{name}: {len(kills)} kills; phases {dict(spread)}; stages {dict(stages)}; "
-          f"saved steps at the kills (fraction of {total_steps}): {fractions}")
+          f"saved steps at the kills, in order (fraction of {total_steps}): {fractions}")
+    saved = [k["steps_on_disk"] for k in kills]
+    assert saved == sorted(saved), "a resume lost saved load steps"  # nothing finished is lost
     return spread, stages, fractions
 
 
