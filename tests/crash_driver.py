@@ -116,7 +116,8 @@ def progress(kind, out):
     dirs = [out] if kind == "run" else sorted((out / "tasks").glob("*")) if (out / "tasks").is_dir() else []
     steps = 0
     for d in dirs:
-        if (d / "curve.csv").is_file() and not (d / "partial").is_dir():
+        meta = d / "meta.json"
+        if meta.is_file() and json.loads(meta.read_text()).get("complete"):  # partial/ may be half removed
             steps += sum(1 for _ in open(d / "curve.csv")) - 1
             continue
         for state in (d / "partial").glob("*.state.npz") if (d / "partial").is_dir() else []:

@@ -78,7 +78,7 @@ def crash_run(tmp_path, sc, seed, gap, extra=()):
     assert_same_run(ref, out)
     figures = sorted(p.name for p in (ref / "plots").iterdir())
     assert figures and figures == sorted(p.name for p in (out / "plots").iterdir())
-    assert not list(out.rglob("*.tmp")) and not list(out.rglob(".gfmd.lock"))
+    assert not list(out.rglob("*.tmp")) and not list(out.rglob(".gfmd.lock")) and not list(out.rglob("partial"))
     return report
 
 
@@ -123,7 +123,7 @@ def crash_study(tmp_path, seed, gap, r, steps):
     for task in (ref / "tasks").iterdir():
         assert_same_run(task, out / "tasks" / task.name)
     assert json.loads((out / "study.json").read_text())["complete"] is True
-    assert not list(out.rglob("*.tmp")) and not list(out.rglob(".gfmd.lock"))
+    assert not list(out.rglob("*.tmp")) and not list(out.rglob(".gfmd.lock")) and not list(out.rglob("partial"))
     return report
 
 

@@ -210,7 +210,8 @@ def prepare_run_dir(out, scene, *, resume=False, overwrite=False, command=None):
                               "the same scene (or omit the scene file to take it from the directory), or choose "
                               "another --out")
         remove_temporaries(out)
-        if run_complete(out):
+        if run_complete(out):  # partial/ outlives a kill between the final meta.json and its removal
+            shutil.rmtree(out / PARTIAL, ignore_errors=True)
             return out
         (out / PARTIAL).mkdir(exist_ok=True)
         if not (out / "meta.json").is_file():  # a start cut short after scene.toml

@@ -66,6 +66,7 @@ import io as _io
 import itertools
 import json
 import os
+import shutil
 import sys
 import time
 import tomllib
@@ -467,10 +468,12 @@ def _run_study_locked(study, out, workers, scheduler, progress, command):
         print(f"{study.name}: {moved} task director{'y' if moved == 1 else 'ies'} written under an older "
               "address moved to the current one (same scene)", file=sys.stderr)
     done = {k for k in unique if io.run_complete(out / "tasks" / k)}
-    for k in done:  # the lock file a killed task left after it completed: taken and released (so removed)
-        if (out / "tasks" / k / safe_files.LOCK_NAME).exists():
-            with contextlib.suppress(safe_files.LockHeld), safe_files.locked(out / "tasks" / k, what="task"):
-                pass
+    for k in done:  # what a task killed after it completed left: its lock file, partial/, temporaries
+        task_dir = out / "tasks" / k
+        if (task_dir / safe_files.LOCK_NAME).exists() or (task_dir / io.PARTIAL).exists():
+            with contextlib.suppress(safe_files.LockHeld), safe_files.locked(task_dir, what="task"):
+                shutil.rmtree(task_dir / io.PARTIAL, ignore_errors=True)
+                io.remove_temporaries(task_dir)
     pending = [t for k, t in unique.items() if k not in done]
     record = _record(study, out, tasks, {}, {}, complete=False)
     io._atomic_write(out / "study.json", json.dumps(record, indent=2))
