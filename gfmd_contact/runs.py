@@ -77,7 +77,7 @@ class RunResult:
         Columns: realization, seed, step, U (m, imposed displacement), delta (m, penetration
         δ), p (Pa, mean pressure, > 0 compressive), a_rel (relative contact area), g_r and g
         (rms gradients of the contact nodes and of the whole profile; g_r NaN without
-        contact), iterations, residual (relative), converged (0/1), wall_s (s).
+        contact), iterations, residual (relative), converged (0/1), wall_s (s) and, for GFMD, algorithm (what relaxed the step).
         """
         import pandas as pd
 
@@ -89,7 +89,7 @@ class RunResult:
         for col in ("realization", "seed", "step", "iterations", "converged"):
             if col in table:
                 table[col] = table[col].astype(int)
-        return table[["realization", "seed"] + [c for c in CURVE_COLUMNS]]
+        return table[["realization", "seed"] + list(CURVE_COLUMNS) + [c for c in ("algorithm",) if c in table]]
 
     @functools.cached_property
     def mean_curve(self):
@@ -193,7 +193,7 @@ def open_run(directory):
     return RunResult(directory)
 
 
-def compute(scene, out, workers=None, progress=True):
+def compute(scene, out, workers=None, progress=True, note=None):
     """Run every realization into the prepared run directory `out` and write its final files.
 
     The one path of `run` and `gfmd run` (after the checks and `workbench.io.prepare_run_dir`).
@@ -207,6 +207,8 @@ def compute(scene, out, workers=None, progress=True):
         Worker processes (None: the scene's output.workers; 0: all cores).
     progress : bool
         A tqdm progress bar over load steps.
+    note : callable, optional
+        Called with one line per repair of damaged partial files (`workbench.io.load_part`).
 
     Returns
     -------
@@ -217,14 +219,14 @@ def compute(scene, out, workers=None, progress=True):
     from workbench.ensemble import run_to_directory
 
     start = time.perf_counter()
-    results, resume = run_to_directory(scene, out, workers=workers, progress=progress)
+    results, resume = run_to_directory(scene, out, workers=workers, progress=progress, note=note)
     elapsed = time.perf_counter() - start
     io.write_run(out, scene, results, timings={"total_s": elapsed, "workers": workers}, resume=resume)
     return results, resume, elapsed
 
 
 def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=True, resume=False,
-        overwrite=False):
+        overwrite=False, wait=0):
     """Run a scene (every realization) into a run directory and return its result.
 
     Parameters
@@ -248,6 +250,8 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
         Continue an interrupted run in `out` (finished realizations are reused).
     overwrite : bool
         Replace an earlier run in `out` (only the files a run writes are removed).
+    wait : float
+        Seconds to wait for another process that writes `out` (0: refuse at once, None: for ever).
 
     Returns
     -------
@@ -266,7 +270,7 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
         The scene's resolution/stability warnings, and non-converged load steps
         (listed in ``result.meta["messages"]``).
     """
-    from workbench import io
+    from workbench import io, safe_files
 
     scene = load_scene(scene) if not isinstance(scene, Scene) else scene
     keys = method_changes(method)
@@ -276,12 +280,17 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
         scene = change(scene, keys)
     found, _notes = check(scene)  # refusals happen here, before any file is touched
     out = Path(out) if out is not None else Path(tempfile.mkdtemp(prefix=f"gfmd-{scene.name}-"))
-    out = io.prepare_run_dir(out, scene, resume=resume, overwrite=overwrite, command=f"gfmd_contact.run(out={out})")
-    if resume and io.run_complete(out):
-        return open_run(out)
-    for w in found:
-        warnings.warn(w, stacklevel=2)
-    results, _, _ = compute(scene, out, workers=workers, progress=progress)
+    with safe_files.locked(out, wait=wait, what="run directory", command=f"gfmd_contact.run(out={str(out)!r})",
+                           advice="wait for it to end (wait=seconds), or choose another out",
+                           note=lambda line: warnings.warn(line, stacklevel=4)):
+        out = io.prepare_run_dir(out, scene, resume=resume, overwrite=overwrite,
+                                 command=f"gfmd_contact.run(out={out})")
+        if resume and io.run_complete(out):
+            return open_run(out)
+        for w in found:
+            warnings.warn(w, stacklevel=2)
+        results, _, _ = compute(scene, out, workers=workers, progress=progress,
+                                note=lambda line: warnings.warn(line, stacklevel=4))
     bad = [m for r in results for m in r.messages]
     if bad:
         warnings.warn(f"{len(bad)} non-converged load step(s): {'; '.join(bad[:3])}", stacklevel=2)

@@ -143,7 +143,9 @@ def write_results(path, records, session=None):
     doc = results_document(records, session)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(doc, indent=1, allow_nan=False), encoding="utf-8")
+    from workbench.safe_files import atomic_write  # a kill or a full disk never leaves half a results.json
+
+    atomic_write(path, json.dumps(doc, indent=1, allow_nan=False))
     return doc
 
 

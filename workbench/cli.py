@@ -98,11 +98,50 @@ def _cmd_run(args):
         name = json.loads((Path(args.out) / "meta.json").read_text()).get("scene_name", scene.name)
         scene = dataclasses.replace(scene, name=name)
     warnings, notes = _checks(scene)  # refusals happen here, before any file is touched
-    out = io.prepare_run_dir(Path(args.out or f"results/{scene.name}"), scene, resume=args.resume,
-                             overwrite=args.overwrite)
-    if args.resume and io.run_complete(out):
-        print(f"{out}: this run is complete; nothing to resume", file=sys.stderr)
-        return 0
+    out = Path(args.out or f"results/{scene.name}")
+    if out.exists() and not out.is_dir():
+        raise io.RunDirError(f"--out {str(out)!r} is an existing file, not a directory: choose another --out")
+    from . import safe_files
+
+    advice = ("wait for it to end (or add --wait to wait for it), or stop it first; to run beside it, choose "
+              "another --out")
+    try:
+        with safe_files.locked(out, wait=getattr(args, "wait", 0), what="run directory", advice=advice, note=_note):
+            return _run_locked(args, scene, out, warnings, notes)
+    except safe_files.WriteFailed as exc:
+        print(f"gfmd: error: {exc}; the files written before are intact: free space or fix the permissions, then "
+              f"continue with: {_resume_command(args, out)}", file=sys.stderr)
+        return 2
+
+
+def _note(line):
+    print(f"note: {line}", file=sys.stderr)
+
+
+def _draw(out):
+    """The run's figures; a failure to write them (the results are complete) is exit 2 with what to do."""
+    from .plots import plot_run
+    from .safe_files import WriteFailed
+
+    try:
+        for path in plot_run(out):
+            print(f"wrote {path}", file=sys.stderr)
+    except WriteFailed as exc:
+        print(f"gfmd: error: {exc}; the results in {out}/ are complete: make {out / 'plots'} writable (or free "
+              f"space), then draw the figures with: gfmd plot {out}", file=sys.stderr)
+        return 2
+    return 0
+
+
+def _run_locked(args, scene, out, warnings, notes):
+    """`gfmd run` in the locked run directory `out`."""
+    from . import io
+
+    out = io.prepare_run_dir(out, scene, resume=args.resume, overwrite=args.overwrite)
+    if args.resume and io.run_complete(out):  # its figures may be missing (a kill, a full disk): drawn again
+        print(f"{out}: this run is complete; nothing to resume"
+              + ("" if args.no_plot else "; drawing its figures again (--no-plot skips them)"), file=sys.stderr)
+        return 0 if args.no_plot else _draw(out)
     for w in warnings:
         print(f"WARNING: {w}", file=sys.stderr)
     for n in notes:
@@ -114,7 +153,8 @@ def _cmd_run(args):
         from gfmd_contact.runs import compute  # the one path of gfmd run and gfmd_contact.run
 
         with _interrupt_signals():
-            results, resume, elapsed = compute(scene, out, workers=args.workers, progress=not args.quiet)
+            results, resume, elapsed = compute(scene, out, workers=args.workers, progress=not args.quiet,
+                                               note=_note)
     except KeyboardInterrupt:
         print(f"\ngfmd: interrupted: {_on_disk(scene, out)}; continue with: {_resume_command(args, out)}",
               file=sys.stderr)
@@ -128,11 +168,8 @@ def _cmd_run(args):
     bad = [m for r in results for m in r.messages]
     for m in bad:
         print(f"WARNING: {m}", file=sys.stderr)
-    if not args.no_plot:
-        from .plots import plot_run
-
-        for path in plot_run(out):
-            print(f"wrote {path}", file=sys.stderr)
+    if not args.no_plot and _draw(out):
+        return 2
     print(f"results in {out}/ (curve.csv, mean_curve.csv, fields.npz, scene.toml, meta.json) after {elapsed:.1f} s",
           file=sys.stderr)
     return 1 if bad else 0
@@ -141,7 +178,8 @@ def _cmd_run(args):
 def _cmd_plot(args):
     from .plots import plot_run
 
-    for path in plot_run(args.dir, snapshot_delta=args.delta, fmt=args.format, realization=args.realization):
+    for path in plot_run(args.dir, snapshot_delta=args.delta, fmt=args.format, realization=args.realization,
+                         wait=getattr(args, "wait", 0)):
         print(f"wrote {path}")
     return 0
 
@@ -182,10 +220,17 @@ def _cmd_verify(args):
               f"next to the gfmd package; this gfmd runs from {Path(__file__).resolve().parent}): clone the "
               "repository, `pip install -e \".[test]\"` there and run `gfmd verify` again", file=sys.stderr)
         return 2
+    import os
+
+    from .safe_files import locked
+
     cmd = [sys.executable, "-m", "pytest", "verification"] + (["--full"] if args.full else []) + args.pytest_args
-    print(f"running {' '.join(cmd[2:])} in {root}; the report goes to {root / 'reports' / 'index.html'}",
+    reports = Path(os.environ.get("GFMD_REPORT_DIR") or root / "reports")
+    print(f"running {' '.join(cmd[2:])} in {root}; the report goes to {reports / 'index.html'}",
           file=sys.stderr)
-    return subprocess.call(cmd, cwd=root)
+    with locked(reports, wait=getattr(args, "wait", 0), what="report folder", command="gfmd verify",
+                advice="wait for that `gfmd verify` to end (or add --wait to wait for it)"):
+        return subprocess.call(cmd, cwd=root)
 
 
 def _cmd_study_run(args):
@@ -200,10 +245,16 @@ def _cmd_study_run(args):
           f"results go to {out}/", file=sys.stderr)
     command = f"gfmd study run {args.study} --out {out}" + (f" --workers {args.workers}" if args.workers else "") \
         + (f" --scheduler {args.scheduler}" if args.scheduler else "")
+    from .safe_files import WriteFailed
+
     try:
         with _interrupt_signals():
             record = run_study(study, out, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet,
-                               command=command)
+                               command=command, wait=getattr(args, "wait", 0))
+    except WriteFailed as exc:
+        print(f"gfmd: error: {exc}; the files written before are intact: free space or fix the permissions, then "
+              f"continue with: {command}", file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
         from .study import done_tasks
 
@@ -255,6 +306,22 @@ def _count(minimum):
     return parse
 
 
+def _seconds(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
+    if not value >= 0:
+        raise argparse.ArgumentTypeError(f"{text}: must be a number of seconds ≥ 0")
+    return value
+
+
+def _wait_option(parser, what):
+    parser.add_argument("--wait", nargs="?", type=_seconds, const=-1, default=0, metavar="SECONDS",
+                        help=f"if another process is writing the {what}, wait for it to end (at most SECONDS; "
+                             "default: refuse at once, exit 2)")
+
+
 def build_parser():
     parser = argparse.ArgumentParser(prog="gfmd", description="GFMD for rough adhesive line contacts (SI units).")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -271,6 +338,7 @@ def build_parser():
                           "continues from its last saved step (the scene file may be omitted: taken from --out)")
     run.add_argument("--overwrite", action="store_true", help="replace the results of an earlier run in --out")
     run.add_argument("--no-plot", action="store_true", help="skip the figures")
+    _wait_option(run, "run directory")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     run.set_defaults(func=_cmd_run)
     plot = sub.add_parser("plot", help="seed-style figures of a run directory (into DIR/plots/)")
@@ -280,6 +348,7 @@ def build_parser():
     plot.add_argument("--realization", type=int, metavar="I",
                       help="realization of the interface snapshot, as in curve.csv's `realization` column "
                            "(default: the first one with saved fields)")
+    _wait_option(plot, "plot folder")
     plot.set_defaults(func=_cmd_plot)
     scene = sub.add_parser("scene", help="print a commented example scene or check a scene file")
     scene.add_argument("--example", action="store_true")
@@ -290,6 +359,7 @@ def build_parser():
     verify.add_argument("--full", action="store_true", help="include the expensive studies")
     verify.add_argument("pytest_args", nargs="*",
                         help="passed to pytest (after --, e.g. gfmd verify -- -x -k westergaard)")
+    _wait_option(verify, "report folder")
     verify.set_defaults(func=_cmd_verify)
     study = sub.add_parser("study", help="parameter studies: a grid of scenes × realizations on Dask")
     study_sub = study.add_subparsers(dest="study_command", required=True)
@@ -303,6 +373,7 @@ def build_parser():
                       help="send the tasks to an existing Dask cluster (e.g. tcp://HOST:8786) instead; --out must "
                            "be on a file system every worker sees")
     srun.add_argument("--quiet", action="store_true", help="no progress bar")
+    _wait_option(srun, "study directory")
     srun.set_defaults(func=_cmd_study_run)
     splot = study_sub.add_parser("plot", help="seed-style figures of a study directory (into DIR/figures/): "
                                  "overlays of the parameter sets, hard-wall reference, κ fit, snapshot")

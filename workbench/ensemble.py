@@ -22,7 +22,7 @@ from functools import partial
 
 from tqdm import tqdm
 
-from . import io
+from . import io, safe_files
 from .methods import method_of, run_realization
 
 _progress_queue = None  # set in each worker process by _init_worker
@@ -30,6 +30,7 @@ _progress_queue = None  # set in each worker process by _init_worker
 
 def _init_worker(queue):
     global _progress_queue
+    safe_files.die_with_parent()  # a kill -9 of the main process ends its workers too: no orphan writes on
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the main process decides what an interrupt does
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     _progress_queue = queue
@@ -116,22 +117,27 @@ def _run_into(job, progress):
                              checkpoint=partial(io.save_step, out))
     export = method_of(scene).export
     if export is not None:
-        export(result, out / "vtu" / f"realization{realization}")
+        with safe_files.writing(out / "vtu" / f"realization{realization}"):
+            export(result, out / "vtu" / f"realization{realization}")
     io.save_realization(out, result)
     return realization, reused, len(result.curve["step"]) - reused
 
 
-def run_to_directory(scene, out, workers=None, progress=True):
+def run_to_directory(scene, out, workers=None, progress=True, note=None):
     """Run every realization into the prepared run directory `out` (workbench.io.prepare_run_dir).
 
     Every load step is on disk as soon as it is computed; realizations already done
     there are reused and an interrupted one continues from its last saved step (so a
     second call after an interrupt resumes). Returns (results, resume), results read
     back from disk in realization order, resume = {"realizations_reused", "steps_reused"}
-    (steps_reused: the saved steps of interrupted realizations that were continued).
+    (steps_reused: the saved steps of interrupted realizations that were continued). A repair
+    of damaged partial files (`workbench.io.load_part`) is reported through note(line).
     """
     count = scene.surface.realizations
-    parts = [io.load_part(out, scene, i) for i in range(count)]
+    notes = []
+    parts = [io.load_part(out, scene, i, notes=notes) for i in range(count)]
+    for line in notes if note is not None else ():
+        note(line)
     done = [i for i, p in enumerate(parts) if p is not None and p[2]]
     saved = sum(len(p[0].curve["step"]) for p in parts if p is not None)
     jobs = [(scene, i, out) for i in range(count) if i not in done]

@@ -47,6 +47,7 @@ from contact import surfaces
 from contact.result import CURVE_COLUMNS, FIELD_NAMES, Result
 from contact.scene import load_scene, scene_to_dict, scene_to_toml
 
+from . import safe_files
 from .averages import ensemble_average
 
 #: files and folders a run directory may hold (what --overwrite removes)
@@ -84,24 +85,11 @@ def code_version():
 
 
 def _file_mode():
-    """Permissions of a new file under the process umask (mkstemp alone would give 0600)."""
-    mask = os.umask(0)
-    os.umask(mask)
-    return 0o666 & ~mask
+    return safe_files.file_mode()
 
 
 def _atomic_write(path, data, binary=False):
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb" if binary else "w") as fh:
-            fh.write(data)
-        os.chmod(tmp, _file_mode())
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    safe_files.atomic_write(path, data, binary=binary)
 
 
 def _npz_bytes(arrays, compress=True):
@@ -233,13 +221,20 @@ def prepare_run_dir(out, scene, *, resume=False, overwrite=False, command=None):
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise RunDirError(f"--out {str(out)!r} is an existing file, not a directory: choose another --out")
-    existing = sorted(p.name for p in out.iterdir()) if out.is_dir() else []
+    existing = sorted(p.name for p in out.iterdir() if p.name != safe_files.LOCK_NAME) if out.is_dir() else []
     if existing and resume and (out / "scene.toml").is_file():
         diff = stored_scene_differences(out, scene)
         if diff:
             raise RunDirError(f"--resume: {out} holds a run of another scene ({'; '.join(diff)}); resume with "
                               "the same scene (or omit the scene file to take it from the directory), or choose "
                               "another --out")
+        remove_temporaries(out)
+        if run_complete(out):  # partial/ outlives a kill between the final meta.json and its removal
+            shutil.rmtree(out / PARTIAL, ignore_errors=True)
+            return out
+        (out / PARTIAL).mkdir(exist_ok=True)
+        if not (out / "meta.json").is_file():  # a start cut short after scene.toml
+            _atomic_write(out / "meta.json", json.dumps(_meta_base(scene, scene.method.name, command), indent=2))
         return out
     if existing and resume:
         raise RunDirError(f"--resume: {out} is not empty but holds no scene.toml ({', '.join(existing)}): it is not a "
@@ -257,11 +252,20 @@ def prepare_run_dir(out, scene, *, resume=False, overwrite=False, command=None):
         for name in existing:
             path = out / name
             shutil.rmtree(path) if path.is_dir() else path.unlink()
-    (out / PARTIAL).mkdir(parents=True, exist_ok=True)
+    out.mkdir(parents=True, exist_ok=True)
     _atomic_write(out / "scene.toml", scene_to_toml(scene))
     meta = _meta_base(scene, scene.method.name, command)
     _atomic_write(out / "meta.json", json.dumps(meta, indent=2))
+    (out / PARTIAL).mkdir(exist_ok=True)
     return out
+
+
+def remove_temporaries(out):
+    """Remove the temporary files (.NAME.*.tmp) a killed writer left in `out`, partial/ and plots/
+    (call only while holding the directory's lock: nobody else is writing them)."""
+    for d in (Path(out), Path(out) / PARTIAL, Path(out) / "plots"):
+        for p in d.glob(".*.tmp") if d.is_dir() else []:
+            p.unlink(missing_ok=True)
 
 
 def run_complete(out):
@@ -303,16 +307,8 @@ def save_step(out, result, state):
     loses at most that one step.
     """
     k = state.step
-    path = _part(out, result.realization, ".csv")
     row = [_fmt(result.curve[c][-1]) for c in CURVE_COLUMNS]
-    new = not path.is_file()
-    with open(path, "a") as fh:
-        if new:
-            fh.write(",".join(CURVE_COLUMNS) + "\n")
-        fh.write(",".join(row) + "\n")
-        fh.flush()
-    if new:
-        os.chmod(path, _file_mode())
+    safe_files.append_line(_part(out, result.realization, ".csv"), ",".join(row), header=",".join(CURVE_COLUMNS))
     if k in result.fields:
         _save_fields(out, result, k)
     _save_state(out, result, state, done=False)
@@ -322,8 +318,10 @@ def start_part(out, realization, result=None):
     """Before a realization (re)starts: its CSV holds exactly the rows of `result` (a
     `load_part` result to continue) or none, dropping a row cut short by a kill."""
     path = _part(out, realization, ".csv")
-    if result is None:
-        path.unlink(missing_ok=True)
+    if result is None:  # a fresh start: no state (it may be one that could not be continued), no rows
+        with safe_files.writing(path):
+            _part(out, realization, ".state.npz").unlink(missing_ok=True)
+            path.unlink(missing_ok=True)
         return
     buf = io.StringIO()
     buf.write(",".join(CURVE_COLUMNS) + "\n")
@@ -346,23 +344,72 @@ def save_realization(out, result):
     _save_state(out, result, RampState(step=last, current=None, previous=None), done=True)
 
 
-def load_part(out, scene, realization):
-    """(result, state, done) of a realization found in out/partial, or None if it has no state.
+def consistent_rows(path, last_step):
+    """The longest prefix of a partial CSV that a checkpoint can trust: complete rows (newline-ended,
+    every column a number) numbered 0, 1, 2, … up to `last_step`; (rows as dicts, rows in the file)."""
+    try:
+        lines = Path(path).read_text().split("\n")
+    except FileNotFoundError:
+        return [], 0
+    total = sum(1 for line in lines[1:] if line)
+    if lines[0] != ",".join(CURVE_COLUMNS):
+        return [], total
+    rows = []
+    for i, line in enumerate(lines[1:-1]):  # the text after the last newline is a row cut short
+        values = line.split(",")
+        if i > last_step or len(values) != len(CURVE_COLUMNS):
+            break
+        try:
+            row = {c: (int(float(v)) if c in ("step", "iterations", "converged") else float(v))
+                   for c, v in zip(CURVE_COLUMNS, values)}
+        except ValueError:
+            break
+        if row["step"] != i:
+            break
+        rows.append(row)
+    return rows, total
+
+
+def load_part(out, scene, realization, notes=None):
+    """(result, state, done) of a realization found in out/partial, or None if it has no usable state.
 
     result holds the steps up to state.step (lists, ready to be continued), its saved
     fields, messages, reasons and notes; state is the `contact.loading.RampState` to
-    resume from (its arrays None when done).
+    resume from (its arrays None when done). Damage is repaired, not refused: rows after
+    the saved step (a kill between a row and its state, a second writer) are dropped; a CSV
+    whose consistent prefix (`consistent_rows`) ends before the saved step, or an unreadable
+    state, leaves no warm start to continue from: None (the realization restarts). Each repair
+    appends one line to `notes` (a list) if given.
     """
     from contact.loading import RampState
 
     path = _part(out, realization, ".state.npz")
     if not path.is_file():
         return None
-    with np.load(path) as z:
-        step, done, slip = int(z["step"]), bool(z["done"]), bool(z["slip_warned"])
-        text = json.loads(str(z["text"]))
-        current = z["current"] if "current" in z else None
-        previous = z["previous"] if "previous" in z else None
+    csv_path = _part(out, realization, ".csv")
+    try:
+        with np.load(path) as z:
+            step, done, slip = int(z["step"]), bool(z["done"]), bool(z["slip_warned"])
+            text = json.loads(str(z["text"]))
+            current = z["current"] if "current" in z else None
+            previous = z["previous"] if "previous" in z else None
+    except (OSError, ValueError, KeyError, EOFError) as exc:
+        if notes is not None:
+            notes.append(f"{path}: unreadable ({exc}): realization {realization} restarts from step 0")
+        return None
+    rows, total = consistent_rows(csv_path, step)
+    if len(rows) < step + 1:
+        if notes is not None:
+            notes.append(f"{csv_path}: {total} rows for {step + 1} saved steps, consistent only up to step "
+                         f"{len(rows) - 1} (rows missing, cut or out of order: written by another process?); the "
+                         f"warm start of that step is not on disk: realization {realization} restarts from step 0 "
+                         f"({step + 1} saved steps dropped)")
+        return None
+    if total > len(rows) and notes is not None:
+        notes.append(f"{csv_path}: {total} rows for {step + 1} saved steps: kept steps 0–{step}, dropped "
+                     f"{total - len(rows)} row(s) written after the last saved step (a process killed between a row "
+                     f"and its checkpoint, or a second writer); realization {realization} continues from step "
+                     f"{step + 1}")
     h = surfaces.profile(scene.surface, realization)
     result = Result(scene=scene, method=text["method"], model=text["model"], realization=realization,
                     x=surfaces.grid(scene.surface.nodes, scene.surface.length), h=h,
@@ -371,17 +418,8 @@ def load_part(out, scene, realization):
         result.diagnostics["fallback_steps"] = [k for k in text["fallback_steps"] if k <= step]
     if text.get("algorithms"):
         result.diagnostics["algorithms"] = text["algorithms"][:step + 1]
-    with open(_part(out, realization, ".csv")) as fh:
-        rows = [row for row in csv.DictReader(fh) if None not in row.values() and row.get(CURVE_COLUMNS[-1])]
     for row in rows:
-        k = int(row["step"])
-        if k > step:
-            break
-        result.append_step(**{c: (int(float(row[c])) if c in ("step", "iterations", "converged") else float(row[c]))
-                              for c in CURVE_COLUMNS})
-    if len(result.curve["step"]) != step + 1:
-        raise RunDirError(f"{path.parent}: realization {realization} has {len(result.curve['step'])} rows for "
-                          f"{step + 1} saved steps; the partial files are damaged: rerun with --overwrite")
+        result.append_step(**row)
     for k in range(step + 1):
         f = _part(out, realization, f"_step{k}.npz")
         if f.is_file():
@@ -396,7 +434,8 @@ def load_part(out, scene, realization):
 def read_run(out_dir):
     """Read a run directory: (scene, curves, fields, meta).
 
-    curves: {realization: {column: array}} (CURVE_COLUMNS and the realization's "seed");
+    curves: {realization: {column: array}} (CURVE_COLUMNS, the realization's "seed" and, for an
+    unfinished GFMD run, "algorithm");
     fields: the npz as a dict of arrays. An
     unfinished run (meta "complete": false) is read from its partial/ files: the steps
     done so far.
@@ -415,6 +454,10 @@ def read_run(out_dir):
             raise FileNotFoundError(f"{out}: an unfinished run with no completed load step yet")
         curves = {r.realization: {**{c: np.asarray(r.curve[c], float) for c in CURVE_COLUMNS},
                                   "seed": np.full(len(r.curve["step"]), float(r.seed))} for r in results}
+        if any("algorithms" in r.diagnostics for r in results):  # as curve.csv's `algorithm` column
+            for r in results:
+                curves[r.realization]["algorithm"] = np.array([step_algorithm(r, k)
+                                                               for k in range(len(r.curve["step"]))])
         fields = {"x": results[0].x}
         for r in results:
             fields[f"h_r{r.realization}"] = r.h

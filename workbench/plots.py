@@ -30,6 +30,7 @@ from matplotlib import rc_context
 from matplotlib.container import ErrorbarContainer
 from matplotlib.figure import Figure
 
+from . import safe_files
 from .averages import mean_standard_error
 from .io import read_run
 from contact.laws import law_from_scene
@@ -310,22 +311,24 @@ def make_figures(run_dir, snapshot_delta=None, realization=None):
     return figs
 
 
-def plot_run(run_dir, snapshot_delta=None, fmt="png", realization=None):
+def plot_run(run_dir, snapshot_delta=None, fmt="png", realization=None, wait=0):
     """Write the figures of `run_dir` into run_dir/plots/ as `fmt` (png, svg or pdf); returns their paths.
 
     snapshot_delta, realization: see `make_figures`. Raises ValueError for an unknown
-    format or a realization not in the run.
+    format or a realization not in the run. The folder is locked while figures are written
+    (`safe_files.DirLock`; wait: seconds to wait for another plotter, -1 for ever); each figure is
+    written atomically, so a kill leaves the figures before it intact and plots/.gfmd.lock behind.
     """
     if fmt not in FORMATS:
         raise ValueError(f"--format {fmt!r}: choose one of {', '.join(FORMATS)}")
     run_dir = Path(run_dir)
     figs = make_figures(run_dir, snapshot_delta=snapshot_delta, realization=realization)
     out = run_dir / "plots"
-    out.mkdir(exist_ok=True)
     paths = []
-    for name, fig in figs.items():
-        path = out / f"{name}.{fmt}"
-        with rc_context({"pdf.fonttype": 42}):  # TrueType in PDFs: text stays editable
-            fig.savefig(path, format=fmt, dpi=200)
-        paths.append(path)
+    with safe_files.locked(out, wait=wait, what="plot folder"):  # one plotter at a time; each figure atomic
+        for name, fig in figs.items():
+            path = out / f"{name}.{fmt}"
+            with rc_context({"pdf.fonttype": 42}):  # TrueType in PDFs: text stays editable
+                safe_files.save_figure(fig, path, format=fmt, dpi=200)
+            paths.append(path)
     return paths

@@ -57,6 +57,7 @@ Dask cluster; DIR must then be on a file system every worker sees (the same abso
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import dataclasses
 import functools
@@ -65,6 +66,7 @@ import io as _io
 import itertools
 import json
 import os
+import shutil
 import sys
 import time
 import tomllib
@@ -79,7 +81,7 @@ from contact.errors import SceneError
 from contact.result import CURVE_COLUMNS
 from contact.scene import Scene, load_scene, scene_from_dict, scene_to_dict, scene_to_toml
 
-from . import io
+from . import io, safe_files
 from .averages import AVERAGED, ensemble_average
 
 STUDY_KEYS = ("name", "description", "base", "scene", "axes", "zip")
@@ -336,15 +338,23 @@ def run_task(scene, task_dir, command=None, progress=_report_step):
     The directory is a one-realization `gfmd run` directory (workbench.io): every load step
     is checkpointed; a complete one is reused, an interrupted one continues from its last step.
     """
-    from .ensemble import _run_into
-
     reuse_freed_arrays()
     out = Path(task_dir)
+    # a second execution of the same task (Dask may run one twice, at once) waits here for the first and
+    # then finds its result published (meta.json "complete", written last, every file by atomic rename)
+    with safe_files.locked(out, wait=-1, what="task directory", command=command):
+        return _run_task_locked(scene, out, command, progress)
+
+
+def _run_task_locked(scene, out, command, progress):
+    from .ensemble import _run_into
+
     if io.run_complete(out):
         diff = io.stored_scene_differences(out, scene)
         if diff:
             raise StudyError(f"{out} holds a finished task of another scene ({'; '.join(diff)}): a default "
                              "changed since it ran; remove that task directory to recompute it")
+        io.remove_temporaries(out)
         return {"status": "reused", "steps_reused": 0, "steps_run": 0}
     resume = (out / "scene.toml").is_file()
     io.prepare_run_dir(out, scene, resume=resume, overwrite=not resume, command=command)
@@ -367,13 +377,16 @@ def prepare_study_dir(out, study):
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise io.RunDirError(f"--out {str(out)!r} is an existing file, not a directory: choose another --out")
-    existing = sorted(p.name for p in out.iterdir()) if out.is_dir() else []
+    existing = sorted(p.name for p in out.iterdir() if p.name != safe_files.LOCK_NAME) if out.is_dir() else []
     if existing and not any(n in ("tasks", "study.json") for n in existing):
         raise io.RunDirError(f"--out {out} is not empty and holds no study ({', '.join(existing[:6])}): "
                              "choose another --out")
     (out / "tasks").mkdir(parents=True, exist_ok=True)
-    io._atomic_write(out / "study.toml", study.text)
-    io._atomic_write(out / "base_scene.toml", scene_to_toml(study.base))
+    for p in [*out.glob(".*.tmp"), *(out / "figures").glob(".*.tmp")]:  # a killed writer's (we hold the lock)
+        p.unlink(missing_ok=True)
+    for name, text in (("study.toml", study.text), ("base_scene.toml", scene_to_toml(study.base))):
+        if not (out / name).is_file() or (out / name).read_text() != text:  # a rerun rewrites nothing unchanged
+            io._atomic_write(out / name, text)
     return out
 
 
@@ -422,17 +435,32 @@ def readdress_tasks(out, unique):
     return moved
 
 
-def run_study(study, out, *, workers=None, scheduler=None, progress=True, command=None):
+def run_study(study, out, *, workers=None, scheduler=None, progress=True, command=None, wait=0):
     """Run every task of `study` into `out` (module docstring); returns the study.json dict.
 
     workers: processes of the local cluster (default: all cores); scheduler: the address of an
     existing Dask scheduler instead. Interruptible (KeyboardInterrupt): the local cluster is
-    closed at once and the exception propagates; what finished stays on disk.
+    closed at once and the exception propagates; what finished stays on disk. The directory is
+    locked meanwhile (`safe_files.DirLock`): another process writing it is refused
+    (`safe_files.LockHeld`) unless `wait` (seconds, -1 for ever) lets it end first. A task that
+    could not write its files for a reason of the disk (`safe_files.DISK_ERRNOS`: no space, quota,
+    file-size limit, read-only) stops the study: its `safe_files.WriteFailed` is raised after the
+    cluster closed, before the study's tables are written; any other failure fails that task only.
     """
+    out = Path(out).resolve()
+    if out.exists() and not out.is_dir():
+        raise io.RunDirError(f"--out {str(out)!r} is an existing file, not a directory: choose another --out")
+    command = command or " ".join(sys.argv)
+    note = (lambda line: print(f"note: {line}", file=sys.stderr)) if progress else None
+    advice = "wait for it to end (or add --wait to wait for it), or stop it first; or choose another --out"
+    with safe_files.locked(out, wait=wait, what="study directory", command=command, advice=advice, note=note):
+        return _run_study_locked(study, out, workers, scheduler, progress, command)
+
+
+def _run_study_locked(study, out, workers, scheduler, progress, command):
     from tqdm import tqdm
 
-    out = prepare_study_dir(Path(out).resolve(), study)
-    command = command or " ".join(sys.argv)
+    out = prepare_study_dir(out, study)
     tasks = study.tasks
     unique = {t.key: t for t in tasks}
     moved = readdress_tasks(out, unique)
@@ -440,6 +468,12 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True, comman
         print(f"{study.name}: {moved} task director{'y' if moved == 1 else 'ies'} written under an older "
               "address moved to the current one (same scene)", file=sys.stderr)
     done = {k for k in unique if io.run_complete(out / "tasks" / k)}
+    for k in done:  # what a task killed after it completed left: its lock file, partial/, temporaries
+        task_dir = out / "tasks" / k
+        if (task_dir / safe_files.LOCK_NAME).exists() or (task_dir / io.PARTIAL).exists():
+            with contextlib.suppress(safe_files.LockHeld), safe_files.locked(task_dir, what="task"):
+                shutil.rmtree(task_dir / io.PARTIAL, ignore_errors=True)
+                io.remove_temporaries(task_dir)
     pending = [t for k, t in unique.items() if k not in done]
     record = _record(study, out, tasks, {}, {}, complete=False)
     io._atomic_write(out / "study.json", json.dumps(record, indent=2))
@@ -458,6 +492,7 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True, comman
         bar = tqdm(total=len(unique), initial=len(done), desc=f"{study.name}: tasks", unit="task",
                    disable=not progress)
         steps = [steps_saved]
+        write_failed = []
 
         def stepped(event):
             steps[0] += 1
@@ -475,6 +510,8 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True, comman
                     outcomes[key] = future.result()
                 else:
                     exc = future.exception()
+                    if isinstance(exc, safe_files.WriteFailed) and exc.code in safe_files.DISK_ERRNOS:
+                        write_failed.append(exc)
                     tb = "".join(traceback.format_exception(type(exc), exc, future.traceback()))
                     failures[key] = {"error": f"{type(exc).__name__}: {exc}", "traceback": tb}
                     bar.set_description(f"{study.name}: tasks ({len(failures)} failed)")
@@ -488,6 +525,8 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True, comman
             bar.close()
             _close(client, cluster)
             logger.setLevel(level)
+        if write_failed:
+            raise write_failed[0]
     wall = time.perf_counter() - start
     rows, results = _collect(study, out, tasks, failures)
     _write_tables(study, out, rows, results)
@@ -612,9 +651,7 @@ def _write_tables(study, out, rows, results):
             w.writerow([str(s)] + params + [io._fmt(cols[c][k]) for c in summary_columns()])
     io._atomic_write(out / "summary.csv", buf.getvalue())
     dataset = summary_dataset(study, averages)
-    tmp = out / ".summary.nc.tmp"
-    dataset.to_netcdf(tmp, engine="scipy")
-    os.replace(tmp, out / "summary.nc")
+    io._atomic_write(out / "summary.nc", bytes(dataset.to_netcdf(engine="scipy")), binary=True)
 
 
 def _coordinate(values):

@@ -32,6 +32,7 @@ import numpy as np
 from matplotlib import rc_context
 from matplotlib.figure import Figure
 
+from . import safe_files
 from .averages import mean_standard_error
 from .claims import (LAW_KEYS, KEY_LABELS, _param_text, kappa_per_realization, read_study_dir, reduced_pressure_of,
                      reference_of, set_label, stats, varying)
@@ -341,13 +342,13 @@ def save_figures(figs, out, fmt="png"):
     if fmt not in FORMATS:
         raise ValueError(f"--format {fmt!r}: choose one of {', '.join(FORMATS)}")
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     paths = []
-    for name, fig in figs.items():
-        path = out / f"{name}.{fmt}"
-        with rc_context({"svg.fonttype": "none"}):
-            fig.savefig(path, format=fmt, dpi=150)
-        paths.append(path)
+    with safe_files.locked(out, what="figure folder"):  # one writer at a time; each figure atomic
+        for name, fig in figs.items():
+            path = out / f"{name}.{fmt}"
+            with rc_context({"svg.fonttype": "none"}):
+                safe_files.save_figure(fig, path, format=fmt, dpi=150)
+            paths.append(path)
     return paths
 
 

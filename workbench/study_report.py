@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from . import claims as C
+from . import safe_files
 from .study_plots import make_study_figures
 
 _VERDICT_COLOR = {C.REPRODUCED: "#d9f2d9", C.NOT_REPRODUCED: "#f8d0d0", C.INCONCLUSIVE: "#fff2c6",
@@ -132,7 +133,7 @@ def write_report(dirs, out=None, figures=True):
             + "<h2>Effect sizes and verdicts: definitions</h2>" + _definitions()
             + "".join(sections) + "</body></html>")
     out = Path(out) if out else dirs[0] / "report.html"
-    out.write_text(page)
+    safe_files.atomic_write(out, page)
     return out
 
 
