@@ -36,7 +36,7 @@ from . import surfaces
 from .loading import (RampState, field_step_indices, realization_label, realization_steps, slip_warning,
                       start_warning)
 from .model import WARNING
-from .observables import rms_gradient, step_observables
+from .observables import step_observables
 from .result import FIELD_NAMES, Result
 
 
@@ -142,7 +142,8 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
         if solved.relaxed:
             obs = observe(scene, h, solved.gap, solved.t_n)
         else:  # no state of this step: nothing observed (ḡ is the profile's, known without one)
-            obs = {"p": np.nan, "a_rel": np.nan, "g_r": np.nan, "g": rms_gradient(h, scene.surface.spacing)}
+            # (observe still runs, on the step's gap and zero traction, so a cell's per-step records stay one a step)
+            obs = dict(observe(scene, h, solved.gap, np.zeros_like(solved.gap)), p=np.nan, a_rel=np.nan, g_r=np.nan)
         converged = solved.converged and solved.relaxed
         residual = float(solved.residual)
         result.append_step(step=k, U=displacement, delta=displacement - d0, iterations=iterations,

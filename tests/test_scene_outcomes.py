@@ -1,0 +1,201 @@
+"""Every accepted scene ends the documented way (issue 26), property-based.
+
+Scenes are drawn over the ranges the scene check accepts (log-uniform lengths, moduli, φn*,
+δn; every surface kind and law; 1–12 load steps; small N so that an example is fast) and run
+through the CLI entry point (`workbench.cli.main`, in this process) into a temporary
+directory. The only outcomes allowed are the documented ones:
+
+* exit 2, refused before any compute: one line naming a scene key, and nothing written;
+* exit 0 or 1 with the complete result files: curve.csv with one row per load step run, no
+  sentinel number (every number finite, or NaN where nothing was computed, and then only on a
+  step marked not converged), mean_curve.csv, fields.npz with N values per saved field,
+  meta.json "complete": true; exit 1 exactly when a step is not converged, each such step
+  named in a message ("step k");
+* never a traceback (an exception out of `main`).
+
+GFMD on every kind and law; the FE reference (finite layers, 16–64 nodes) on the laws it
+models. CI runs `max_examples` = GFMD_EXAMPLES and FE_EXAMPLES (~60–90 s on 2 cores);
+the `slow` variants draw more.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from hypothesis import HealthCheck, given, settings, strategies as st
+
+from contact.result import CURVE_COLUMNS, FIELD_NAMES
+from workbench.cli import main
+
+GFMD_EXAMPLES, FE_EXAMPLES = 25, 12
+SLOW_FACTOR = 8
+KINDS = ("self-affine", "sinusoid", "cylinder", "flat", "file")
+#: "section.key" as the scene names its keys (contact.scene): a refusal must name one
+SECTIONS = ("surface", "material", "interface", "loading", "solver", "output", "method")
+KEY = re.compile(r"\b(" + "|".join(SECTIONS) + r")\.[a-z_]+")
+
+
+def log_uniform(lo, hi):
+    return st.floats(math.log(lo), math.log(hi)).map(math.exp)
+
+
+@st.composite
+def scenes(draw, method="gfmd"):
+    """A scene dict (TOML tables) and, for kind "file", the heights to write next to it."""
+    fe = method == "fe"
+    kind = draw(st.sampled_from(KINDS))
+    nodes = draw(st.sampled_from((16, 32, 64) if fe else (16, 32, 64, 128, 256)))
+    length = draw(log_uniform(1e-8, 1e-3))
+    spacing = length / nodes
+    surface = {"kind": kind, "length": length, "nodes": nodes}
+    heights = None
+    scale = draw(log_uniform(1e-4, 0.3)) * length  # height scale of the profile (m)
+    if kind == "self-affine":
+        rollon = draw(st.floats(2.0, 8.0)) * spacing
+        surface.update(hurst=draw(st.floats(0.1, 0.95)), h_rms=scale,
+                       rolloff_wavelength=draw(st.floats(1.5, 10.0)) * rollon if rollon * 10 < length else length,
+                       rollon_wavelength=rollon, seed=draw(st.integers(0, 1000)),
+                       realizations=draw(st.integers(1, 2)))
+        surface["rolloff_wavelength"] = min(surface["rolloff_wavelength"], length)
+    elif kind == "sinusoid":
+        surface["amplitude"] = scale
+    elif kind == "cylinder":
+        surface["radius"] = draw(log_uniform(0.05, 1e3)) * length  # sharp to blunt
+    elif kind == "file":
+        x = np.arange(nodes) / nodes
+        rng = np.random.default_rng(draw(st.integers(0, 1000)))
+        heights = scale * (np.cos(2 * np.pi * x) + 0.3 * rng.standard_normal(nodes))
+        surface["path"] = "heights.npy"
+    ptp = {"self-affine": 6 * scale, "sinusoid": 2 * scale, "flat": 0.0, "file": 3 * scale,
+           "cylinder": length**2 / (8 * surface.get("radius", 1.0))}[kind]
+    youngs = draw(log_uniform(1e6, 1e12))
+    nu = draw(st.floats(-0.5, 0.5))
+    thick = draw(log_uniform(0.05, 20.0)) * length if fe or draw(st.booleans()) else "inf"
+    if isinstance(thick, float) and nu == 0.5:
+        nu = 0.49
+    laws = ("hard-wall", "cohesive") if fe else ("hard-wall", "cohesive", "cohesive-wall")
+    law = draw(st.sampled_from(laws))
+    dn = draw(log_uniform(1e-3, 1e2)) * spacing
+    interface = {"law": law, "phi_n_star": draw(log_uniform(1e-3, 2.0)), "length_normal": dn}
+    if law == "cohesive" and draw(st.booleans()):  # the coupled law
+        interface.update(tangential_ratio=draw(log_uniform(0.05, 3.0)),
+                         length_tangential=draw(log_uniform(0.1, 10.0)) * dn)
+    rule = draw(st.sampled_from(("traction-tolerance", "compressive", "gap")))
+    interface["contact_rule"] = rule
+    if rule == "traction-tolerance":
+        interface["contact_tolerance"] = draw(log_uniform(1e-5, 0.3))
+    elif rule == "gap":
+        interface["contact_gap"] = draw(log_uniform(0.1, 10.0))
+    d0 = draw(log_uniform(0.1, 30.0)) * (dn if law != "hard-wall" else max(ptp, spacing))
+    final = draw(st.floats(-0.5, 0.9)) * max(ptp, dn)
+    if final <= -d0:
+        final = 0.5 * d0
+    loading = {"initial_separation": d0, "final_penetration": final, "steps": draw(st.integers(1, 12))}
+    solver = {"method": draw(st.sampled_from(("fire", "verlet"))), "max_iterations": draw(st.integers(50, 3000)),
+              "tolerance": draw(log_uniform(1e-10, 1e-5))}
+    scene = {"surface": surface, "material": {"youngs_modulus": youngs, "poisson_ratio": nu, "thickness": thick},
+             "interface": interface, "loading": loading, "solver": solver,
+             "output": {"field_steps": draw(st.integers(0, 12)), "workers": 1}}
+    if fe:
+        scene["method"] = {"name": "fe", "order": draw(st.sampled_from((1, 2)))}
+    return scene, heights
+
+
+def _toml(scene):
+    def value(v):
+        if isinstance(v, str):
+            return json.dumps(v)
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        return repr(v)
+
+    return "\n".join(f"[{section}]\n" + "\n".join(f"{k} = {value(v)}" for k, v in table.items()) + "\n"
+                     for section, table in scene.items())
+
+
+def run_cli(scene, heights, tmp):
+    """(exit code, stderr) of `gfmd run scene.toml --out tmp/out` in this process."""
+    tmp.mkdir(parents=True)
+    (tmp / "scene.toml").write_text(_toml(scene))
+    if heights is not None:
+        np.save(tmp / "heights.npy", heights)
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        code = main(["run", str(tmp / "scene.toml"), "--out", str(tmp / "out"), "--quiet", "--no-plot"])
+    return code, err.getvalue()
+
+
+def assert_documented_end(code, err, out, scene):
+    """The documented outcomes (module docstring); `out` is the run directory."""
+    assert code in (0, 1, 2), (code, err)
+    if code == 2:
+        lines = [ln for ln in err.splitlines() if ln.startswith("gfmd: error:")]
+        assert lines, err
+        assert KEY.search(lines[0]), f"a refusal must name the scene key: {lines[0]}"
+        assert not out.exists() or not any(out.iterdir()), f"refused after writing: {sorted(out.iterdir())}"
+        return
+    meta = json.loads((out / "meta.json").read_text())
+    assert meta["complete"] is True
+    curve = pd.read_csv(out / "curve.csv")
+    assert list(curve.columns) == ["realization", "seed", *CURVE_COLUMNS]
+    realizations = scene["surface"].get("realizations", 1)
+    assert sorted(curve["realization"].unique()) == list(range(realizations))
+    numbers = curve.drop(columns=["realization", "seed"]).to_numpy(float)
+    assert not np.isinf(numbers).any(), "an infinite number in curve.csv"
+    assert not (np.abs(numbers) >= 1e300).any(), "a sentinel number (1e300) in curve.csv"
+    steps = scene["loading"]["steps"]
+    bad = curve["converged"] == 0
+    for r, rows in curve.groupby("realization"):
+        assert list(rows["step"]) == list(range(len(rows))) and 1 <= len(rows) <= steps + 1
+    # NaN where nothing was computed: only on a step marked not converged (g_r is NaN out of contact)
+    missing = curve[["p", "a_rel", "residual"]].isna().any(axis=1)
+    assert not (missing & ~bad).any(), curve[missing & ~bad]
+    assert (code == 1) == bool(bad.any()), (code, curve[bad])
+    for _, row in curve[bad].iterrows():
+        assert f"step {int(row['step'])} " in err, f"non-converged step {int(row['step'])} not named:\n{err}"
+    fields = np.load(out / "fields.npz")
+    n = scene["surface"]["nodes"]
+    for key in fields.files:
+        if key[0] == "r" and key.split("_", 2)[-1] in FIELD_NAMES:
+            assert fields[key].shape == (n,), (key, fields[key].shape)
+    assert (out / "mean_curve.csv").is_file()
+
+
+@settings(max_examples=GFMD_EXAMPLES, deadline=None, suppress_health_check=list(HealthCheck))
+@given(drawn=scenes("gfmd"))
+def test_every_gfmd_scene_ends_the_documented_way(drawn, tmp_path_factory):
+    scene, heights = drawn
+    tmp = tmp_path_factory.mktemp("scene")
+    code, err = run_cli(scene, heights, tmp / "s")
+    assert_documented_end(code, err, tmp / "s" / "out", scene)
+
+
+@settings(max_examples=FE_EXAMPLES, deadline=None, suppress_health_check=list(HealthCheck))
+@given(drawn=scenes("fe"))
+def test_every_fe_scene_ends_the_documented_way(drawn, tmp_path_factory):
+    scene, heights = drawn
+    tmp = tmp_path_factory.mktemp("scene")
+    code, err = run_cli(scene, heights, tmp / "s")
+    assert_documented_end(code, err, tmp / "s" / "out", scene)
+
+
+@pytest.mark.slow
+@settings(max_examples=GFMD_EXAMPLES * SLOW_FACTOR, deadline=None, suppress_health_check=list(HealthCheck))
+@given(drawn=scenes("gfmd"))
+def test_every_gfmd_scene_ends_the_documented_way_many(drawn, tmp_path_factory):
+    test_every_gfmd_scene_ends_the_documented_way.hypothesis.inner_test(drawn, tmp_path_factory)
+
+
+@pytest.mark.slow
+@settings(max_examples=FE_EXAMPLES * SLOW_FACTOR, deadline=None, suppress_health_check=list(HealthCheck))
+@given(drawn=scenes("fe"))
+def test_every_fe_scene_ends_the_documented_way_many(drawn, tmp_path_factory):
+    test_every_fe_scene_ends_the_documented_way.hypothesis.inner_test(drawn, tmp_path_factory)
