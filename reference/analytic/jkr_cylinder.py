@@ -83,7 +83,7 @@ def half_width(load, radius, e_star, work):
     def residual(a):
         return _load(a, R, E, w) - F
 
-    if residual(a_c) >= 0.0:  # F at or within round-off of F_c = F(a_c): the pull-off point itself
+    if F <= F_c or residual(a_c) >= 0.0:  # F at or within round-off of F_c = F(a_c): the pull-off point itself
         return a_c
 
     hi = 2.0 * a_c
