@@ -199,3 +199,103 @@ def test_every_gfmd_scene_ends_the_documented_way_many(drawn, tmp_path_factory):
 @given(drawn=scenes("fe"))
 def test_every_fe_scene_ends_the_documented_way_many(drawn, tmp_path_factory):
     test_every_fe_scene_ends_the_documented_way.hypothesis.inner_test(drawn, tmp_path_factory)
+
+
+# -- the issue's reproductions, deterministic ------------------------------------------------------
+
+
+def _example_scene(tmp, **changes):
+    """`gfmd scene --example` at 1,024 nodes (λs,H above the spacing), 1 realization, with `changes`."""
+    from contact.scene import example_scene_text
+
+    text = example_scene_text()
+    for old, new in {"nodes = 131072": "nodes = 1024", "rollon_wavelength = 2.5e-9": "rollon_wavelength = 4e-8",
+                     "realizations = 10": "realizations = 1", "workers = 0": "workers = 1", **changes}.items():
+        assert old in text, old
+        text = text.replace(old, new)
+    tmp.mkdir(parents=True, exist_ok=True)
+    (tmp / "scene.toml").write_text(text)
+    return tmp / "scene.toml"
+
+
+@pytest.mark.parametrize("steps", ["200", "5"])
+def test_tiny_length_normal_is_refused_before_compute(tmp_path, steps):
+    """Issue 26: δn = 1e-15 m in the example scene at 1,024 nodes ended in `KeyError: 'u_z is not a file
+    in the archive'`. Every load step presses past the law's range there: refused, naming the key."""
+    path = _example_scene(tmp_path, **{"length_normal = 1e-9": "length_normal = 1e-15",
+                                       "steps = 200 ": f"steps = {steps} "})
+    for argv in (["scene", "--check", str(path)], ["run", str(path), "--out", str(tmp_path / "out"), "--quiet"]):
+        err = io.StringIO()
+        with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+            assert main(argv) == 2
+        assert "gfmd: error: loading.steps" in err.getvalue() and "−600 δn" in err.getvalue(), err.getvalue()
+    assert not (tmp_path / "out").exists()
+
+
+def test_gfmd_step_without_state_is_marked_not_a_crash(tmp_path, monkeypatch):
+    """A GFMD step whose iterate leaves the law's range (CompressionOverflowError) used to be recorded as
+    residual = 1e300, p = -0.0 beside a_rel > 0, with empty field files that the assembly then crashed on.
+    Now: exit 1, the step named, NaN observables and residual, N NaN values per saved field."""
+    import gfmd.loading
+    from contact.laws import CompressionOverflowError
+
+    relax, calls = gfmd.loading.relax, []
+
+    def overflow_from_step_3(physics, law, z_ind, guess, settings, wall_tolerance):
+        calls.append(1)
+        if len(calls) > 3:  # steps 0-2 relax, every later solve fails
+            raise CompressionOverflowError("normal gap Δn = -1e6 δn is beyond the law's range (injected)")
+        return relax(physics, law, z_ind, guess, settings, wall_tolerance)
+
+    monkeypatch.setattr(gfmd.loading, "relax", overflow_from_step_3)
+    path = _example_scene(tmp_path, **{"steps = 200 ": "steps = 5 ", "field_steps = 5 ": "field_steps = 6 "})
+    scene = tomllib_load(path)
+    code, err = run_cli_file(path, tmp_path / "out")
+    assert_documented_end(code, err, tmp_path / "out", scene)
+    curve = pd.read_csv(tmp_path / "out" / "curve.csv")
+    lost = curve["converged"] == 0
+    assert code == 1 and lost.sum() >= 1 and curve.loc[lost, ["p", "a_rel", "residual"]].isna().all().all()
+    fields = np.load(tmp_path / "out" / "fields.npz")
+    for k in curve.loc[lost, "step"]:
+        assert np.isnan(fields[f"r0_s{k}_u_z"]).all() and fields[f"r0_s{k}_u_z"].shape == (1024,)
+
+
+def test_fe_diverged_iterate_is_a_non_converged_step(tmp_path, monkeypatch):
+    """Issue 26: `[method] name = "fe"` with coupled cohesive laws ended in a traceback
+    `reference.fem.law.LawRangeError: normal gap down to -984.4 δn … the iterate diverged`. A diverged
+    Newton iterate (here: injected from step 3 on, 1,000 δn deep) is a non-converged step: exit 1."""
+    from test_cli_fe import fe_scene
+
+    import reference.fem.solver as fem_solver
+    from contact.scene import scene_to_toml
+
+    solve_step, calls = fem_solver.SurfaceProblem.solve_step, []
+
+    def diverging(self, u0, z_ind, tol, fallback_from=None):
+        u, res, it, ok, how = solve_step(self, u0, z_ind, tol, fallback_from=fallback_from)
+        calls.append(1)
+        if len(calls) > 3:
+            return u + 1e3 * self.dn, res, it, False, how
+        return u, res, it, ok, how
+
+    monkeypatch.setattr(fem_solver.SurfaceProblem, "solve_step", diverging)
+    sc = fe_scene("cohesive", "self-affine").replace(**{"method.name": "fe", "loading.steps": 5,
+                                                        "interface.tangential_ratio": 0.5})
+    (tmp_path / "scene.toml").write_text(scene_to_toml(sc))
+    code, err = run_cli_file(tmp_path / "scene.toml", tmp_path / "out")
+    assert_documented_end(code, err, tmp_path / "out", tomllib_load(tmp_path / "scene.toml"))
+    curve = pd.read_csv(tmp_path / "out" / "curve.csv")
+    assert code == 1 and (curve["converged"] == 0).any() and "outside the law's range" in err
+
+
+def tomllib_load(path):
+    import tomllib
+
+    return tomllib.loads(Path(path).read_text())
+
+
+def run_cli_file(path, out):
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        code = main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"])
+    return code, err.getvalue()
