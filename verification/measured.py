@@ -133,3 +133,16 @@ def write(study, entries, description=""):
     p.parent.mkdir(parents=True, exist_ok=True)
     p.write_text(_dumps(doc) + "\n", encoding="utf-8")
     return p
+
+
+def node_bound(stored, nodes, extra=1):
+    """Bound on |Δa_rel| from a stored |Δa_rel| plus `extra` nodes (issue 26: no comparison of two rounded floats).
+
+    a_rel is a count of contact nodes over N, so the difference of two is a whole number of nodes, k/N.
+    The data keep SIGNIFICANT_DIGITS digits: "stored + 1/N" could fall a hair below the (k + 1)/N it
+    means (3/512 stored as 0.005859, and 4/512 > 0.005859 + 1/512), so a pass would hinge on the last
+    digit kept. Here the stored value is rounded to its whole node count m and the bound is
+    (m + extra + ½)/N: every k ≤ m + extra passes, every larger k fails, whatever the rounding.
+    """
+    return (round(stored * nodes) + extra + 0.5) / nodes
+

@@ -32,12 +32,12 @@ def source():
     e = measured.entry(fs.NAME, fs.KEY)
     return (f"verification.studies.fe_selfaffine (verification/data/fe_selfaffine.json [{fs.KEY}], "
             f"{e['code_version']}, {e['date']}): t_n, p ≤ {SAFETY:g} × the stored difference at the same N; "
-            f"ḡ_r ≤ max({SAFETY:g} × stored, 1/N); |Δa_rel| ≤ stored + 1/N")
+            f"ḡ_r ≤ max({SAFETY:g} × stored, 1/N); |Δa_rel| ≤ stored + 1/N (in whole nodes, measured.node_bound)")
 
 
 def bounds(n, hurst):
     s = {m: fs.stored(m, n, hurst) for m in fs.METRICS}
-    return ({"tn": SAFETY * s["tn"], "p": SAFETY * s["p"], "g": max(SAFETY * s["g"], 1 / n), "a": s["a"] + 1 / n}, s)
+    return ({"tn": SAFETY * s["tn"], "p": SAFETY * s["p"], "g": max(SAFETY * s["g"], 1 / n), "a": measured.node_bound(s["a"], n)}, s)
 
 
 @pytest.mark.parametrize("hurst", [0.8, 0.2])
