@@ -486,40 +486,10 @@ def scene_from_dict(d, name="scene"):
     if solver.unknowns == "coupled" and interface.law != "cohesive":
         _fail("solver.unknowns", solver.unknowns, f"needs interface.law = \"cohesive\" (got {interface.law!r}: "
               "the hard wall and the cohesive wall are frictionless and always normal-only); use \"auto\"")
-    loading = _loading(d.get("loading", {}))
-    _check_step_in_law_range(interface, loading)
     return Scene(surface=_surface(d.get("surface", {})), material=material, interface=interface,
-                 loading=loading, solver=solver, output=_output(d.get("output", {})),
+                 loading=_loading(d.get("loading", {})), solver=solver, output=_output(d.get("output", {})),
                  method=_method(d.get("method", {})), name=name)
 
-
-def _check_step_in_law_range(interface, loading):
-    """Refuse a cohesive scene whose load step presses beyond the law's range (issue 26).
-
-    The cohesive law is evaluated for Δn ≥ −MAX_COMPRESSION δn only (`contact.laws`: e^600 is
-    finite, e^710 is not). A step starts from the last equilibrium, whose contact nodes sit within a
-    few δn of Δn = 0, and lowers the indenter by ΔU = (δ0 + final)/steps; the step where contact
-    starts (or the next one) then starts some node at Δn ≈ −min(ΔU, final penetration). Beyond the
-    range no method can evaluate that start: every later step would fail (measured:
-    verification/studies/length_normal_limit.py, data/length_normal_limit.json). So
-    min(ΔU, final) ≤ MAX_COMPRESSION δn is required, i.e. loading.steps ≥ (δ0 + final)/(600 δn).
-    """
-    from .laws import MAX_COMPRESSION
-
-    if interface.law != "cohesive" or loading.final_penetration <= 0:
-        return
-    dn, d0, final = interface.length_normal, loading.initial_separation, loading.final_penetration
-    step = (d0 + final) / loading.steps
-    if min(step, final) > MAX_COMPRESSION * dn:
-        need = math.ceil((d0 + final) / (MAX_COMPRESSION * dn))
-        more = (f"loading.steps ≥ {need}" if final <= MAX_COMPRESSION * dn or need <= MAX_STEPS else
-                f"final_penetration ≤ {MAX_COMPRESSION:g} δn")
-        _fail("loading.steps", loading.steps,
-              f"a load step ΔU = (δ0 + final_penetration)/steps = {step:.3g} m is {step / dn:.3g} δn "
-              f"(interface.length_normal = {dn:.3g} m), and the final penetration {final / dn:.3g} δn: a step "
-              f"would press the surface beyond the cohesive law's range Δn ≥ −{MAX_COMPRESSION:g} δn, where the "
-              f"exponential repulsion overflows, so no step in contact can be solved. Use {more}, or a larger "
-              "interface.length_normal")
 
 
 def load_scene(path):

@@ -86,10 +86,6 @@ def scene_dicts(draw):
     solver = {"method": draw(st.sampled_from(["fire", "verlet"])), "tolerance": draw(st.floats(1e-15, 0.5)),
               "max_iterations": draw(st.integers(1, 10**7))}
     output = {"field_steps": draw(st.integers(0, 100)), "workers": draw(st.integers(0, 64))}
-    final = loading["final_penetration"]
-    if interface["law"] == "cohesive" and final > 0:  # keep the load step within the law's range (else refused)
-        loading["final_penetration"] = min(final, 600 * dn)
-        loading["steps"] = max(loading["steps"], math.ceil((d0 + loading["final_penetration"]) / (600 * dn)))
     return {"surface": surface, "material": material, "interface": interface, "loading": loading,
             "solver": solver, "output": output}
 
