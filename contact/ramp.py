@@ -142,7 +142,7 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
         if solved.relaxed:
             obs = observe(scene, h, solved.gap, solved.t_n)
         else:  # no state of this step: nothing observed (ḡ is the profile's, known without one)
-            # (observe still runs, on the step's gap and zero traction, so a cell's per-step records stay one a step)
+            # (observe still runs, on the step's gap and zero traction, so a cell keeps one per-step record per step)
             obs = dict(observe(scene, h, solved.gap, np.zeros_like(solved.gap)), p=np.nan, a_rel=np.nan, g_r=np.nan)
         converged = solved.converged and solved.relaxed
         residual = float(solved.residual)
