@@ -89,10 +89,40 @@ def preflight(scene):
         h = surfaces.profile(scene.surface, i)
         if i == 0:
             warnings = list(build_model(scene, h).warnings)
-        _, note = realization_steps(scene, h, i)
+        steps, note = realization_steps(scene, h, i)
         if note:
             notes.append(note)
+        check_step_in_law_range(scene, steps, i)
     return warnings, notes
+
+
+def check_step_in_law_range(scene, steps, realization=0):
+    """Refuse (SceneError naming loading.steps) a cohesive ramp that presses beyond the law's range (issue 26).
+
+    The cohesive law is evaluated for Δn ≥ −MAX_COMPRESSION δn only (`contact.laws`: e^600 is finite,
+    e^710 is not). A step starts from the last equilibrium, whose contact nodes sit within a few δn of
+    Δn = 0, and lowers the indenter by ΔU = (δ0 + final)/steps; so the last step of a ramp that reaches
+    δ_last > 0 (past the closest points) starts some node at Δn ≈ −min(ΔU, δ_last) or deeper. Beyond the
+    range no method can evaluate that start, and every later step fails as well. `steps`: the
+    displacements U this realization runs (`realization_steps`, cut at its own full-contact limit).
+    Measured: verification/studies/length_normal_limit.py (data/length_normal_limit.json).
+    """
+    from .errors import SceneError
+    from .laws import MAX_COMPRESSION
+
+    if scene.interface.law != "cohesive" or not np.size(steps):
+        return
+    lo, dn, d0 = scene.loading, scene.interface.length_normal, scene.loading.initial_separation
+    step = (d0 + lo.final_penetration) / lo.steps
+    last = float(steps[-1]) - d0
+    if last > 0 and min(step, last) > MAX_COMPRESSION * dn:
+        need = int(np.ceil((d0 + lo.final_penetration) / (MAX_COMPRESSION * dn)))
+        raise SceneError(
+            f"loading.steps = {lo.steps}: a load step ΔU = (δ0 + final_penetration)/steps = {step:.3g} m is "
+            f"{step / dn:.3g} δn (interface.length_normal = {dn:.3g} m), and {realization_label(scene, realization)} "
+            f"is pressed to δ = {last / dn:.3g} δn: a step would press the surface beyond the cohesive law's range "
+            f"Δn ≥ −{MAX_COMPRESSION:g} δn, where the exponential repulsion overflows, so no step in contact can be "
+            f"solved. Use loading.steps ≥ {need}, or a larger interface.length_normal")
 
 
 def start_warning(scene, model, min_gap):

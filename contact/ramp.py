@@ -37,7 +37,7 @@ from .loading import (RampState, field_step_indices, realization_label, realizat
                       start_warning)
 from .model import WARNING
 from .observables import step_observables
-from .result import Result
+from .result import FIELD_NAMES, Result
 
 
 @dataclass
@@ -67,6 +67,7 @@ class StepSolution:
     keep: dict = field(default_factory=dict)
     fallback: bool = False
     algorithm: str = ""
+    relaxed: bool = True
 
 
 def _extrapolated(state, previous):
@@ -144,12 +145,19 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
                 result.reasons = tuple(result.reasons) + (WARNING + slipped,)
                 state.slip_warned = True
         observe = getattr(cell, "observe", None) or step_observables  # the cell's own observables if it has them
-        obs = observe(scene, h, solved.gap, solved.t_n)
+        if solved.relaxed:
+            obs = observe(scene, h, solved.gap, solved.t_n)
+        else:  # no state of this step: nothing observed (ḡ is the profile's, known without one)
+            # (observe still runs, on the step's gap and zero traction, so a cell keeps one per-step record per step)
+            obs = dict(observe(scene, h, solved.gap, np.zeros_like(solved.gap)), p=np.nan, a_rel=np.nan, g_r=np.nan)
+        converged = solved.converged and solved.relaxed
+        residual = float(solved.residual)
         result.append_step(step=k, U=displacement, delta=displacement - d0, iterations=iterations,
-                           residual=float(solved.residual) if np.isfinite(solved.residual) else 1e300,
-                           converged=int(solved.converged), wall_s=wall, **obs)
+                           residual=residual if np.isfinite(residual) else np.nan,  # NaN: no finite residual
+                           converged=int(converged), wall_s=wall, **obs)
         if k in keep:
-            result.fields[k] = solved.fields()
+            result.fields[k] = (solved.fields() if solved.relaxed
+                                else {name: np.full(h.size, np.nan) for name in FIELD_NAMES})
             for name, value in solved.keep.items():
                 result.diagnostics.setdefault(name, {})[k] = value
         state.step, state.current, state.previous = k, current, previous

@@ -491,6 +491,7 @@ def scene_from_dict(d, name="scene"):
                  method=_method(d.get("method", {})), name=name)
 
 
+
 def load_scene(path):
     """Read and validate a TOML scene file; a relative surface.path is taken relative to the file.
 

@@ -59,9 +59,13 @@ class GfmdCell:
         try:
             r = relax(self.physics, self.law, z_ind, guess, self.settings, wall_tolerance)
         except CompressionOverflowError as exc:  # the extrapolated guess left the law's range
-            return StepSolution(state=guess, converged=False, iterations=0, residual=np.inf, gap=z_ind,
-                                t_n=np.zeros_like(z_ind), fields=dict, messages=(str(exc),))
+            return StepSolution(state=guess, converged=False, iterations=0, residual=np.nan, gap=z_ind,
+                                t_n=np.zeros_like(z_ind), fields=dict, messages=(str(exc),), relaxed=False)
         fields = {"u_z": r.u_z, "u_x": r.u_x, "gap": r.gap, "t_n": r.t_z, "t_t": r.t_x}
+        if not all(np.all(np.isfinite(v)) for v in fields.values()):  # a diverged iterate: no state of the step
+            return StepSolution(state=guess, converged=False, iterations=r.iterations, residual=np.nan, gap=z_ind,
+                                t_n=np.zeros_like(z_ind), fields=dict, relaxed=False,
+                                messages=(r.message or "diverged: non-finite displacements",))
         return StepSolution(state=r.u_hat, converged=r.converged, iterations=r.iterations, residual=r.residual,
                             gap=r.gap, t_n=r.t_z, fields=lambda: fields,
                             u_x=r.u_x if self.physics.tangential else None,

@@ -126,3 +126,23 @@ def test_hertz_limit():
 def test_bad_input_raises(call):
     with pytest.raises(ValueError):
         call()
+
+
+@pytest.mark.parametrize("ulps", [-12, -3, -1, 1, 3, 12])
+def test_half_width_accepts_pull_off_load_within_round_off(ulps):
+    """Issue 26: on an AVX2 machine numpy's cbrt put load(a_c) one ulp below pull_off_load, and
+    half_width raised "below the pull-off load". A load a few ulps either side of F_c is F_c."""
+    F_c = jkr.pull_off_load(R, E_STAR, W)
+    F = F_c
+    for _ in range(abs(ulps)):
+        F = np.nextafter(F, math.copysign(math.inf, ulps))
+    a = jkr.half_width(F, R, E_STAR, W)
+    # F − F_c = ½|F_c|(Δa/a_c)² on the stable branch: |F − F_c| ≤ 16 ε|F_c| gives Δa ≤ √(32 ε) a_c
+    assert A_C <= a <= A_C * (1 + math.sqrt(2 * jkr.PULL_OFF_ROUNDING))
+    assert jkr.half_width(jkr.load(A_C, R, E_STAR, W), R, E_STAR, W) == pytest.approx(A_C, rel=1e-7)
+
+
+def test_half_width_refuses_beyond_round_off():
+    F_c = jkr.pull_off_load(R, E_STAR, W)
+    with pytest.raises(ValueError, match="pull-off"):
+        jkr.half_width(F_c - 2 * jkr.PULL_OFF_ROUNDING * abs(F_c), R, E_STAR, W)

@@ -144,3 +144,5 @@ def write(study, entries, description=""):
     p.parent.mkdir(parents=True, exist_ok=True)
     p.write_text(_dumps(doc) + "\n", encoding="utf-8")
     return p
+
+

@@ -220,11 +220,12 @@ def _versus_delta(st, values, ylabel, title, label, nc, zero_line=False):
 
 
 def saved_steps(curves, fields, realization):
-    """Steps of `realization` whose fields were saved (and that its curve has), ascending."""
+    """Steps of `realization` whose fields were saved (and that its curve has), ascending; a step the method
+    has no state of (NaN fields, `contact.ramp.StepSolution.relaxed`) has nothing to draw and is left out."""
     r = realization
     steps = sorted(int(k.split("_")[1][1:]) for k in fields if k.startswith(f"r{r}_s") and k.endswith("_u_z"))
     have = {int(s) for s in np.asarray(curves[r]["step"], float)}
-    return [s for s in steps if s in have]
+    return [s for s in steps if s in have and np.all(np.isfinite(fields[f"r{r}_s{s}_u_z"]))]
 
 
 def _snapshot(scene, curves, fields, realization, snapshot_delta):

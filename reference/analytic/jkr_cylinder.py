@@ -22,6 +22,15 @@ from scipy.optimize import brentq
 from ._validate import finite, nonnegative, positive, scalar
 
 
+#: |F − F_c| ≤ PULL_OFF_ROUNDING·|F_c| is round-off, not a load below pull-off: `load(a_c)` and
+#: `pull_off_load` round independently (two cube roots, each 1–4 ulp by numpy's SIMD target, a square
+#: root and ~15 products). To first order, with u = ε/2 and a cube root c·u off,
+#: |load(a_c) − F_c|/|F_c| ≤ (1/3)·err(F_H) + (4/3)·err(√) + u + err(F_c) ≈ (13 + 2.4 c)·u, as F_H = |F_c|/3
+#: and √(2πE*wa_c) = (4/3)|F_c| at a_c: 8 ε for c = 1, 10 ε for c = 4; 16 ε bounds both. The half-width
+#: a load F_c(1 − 16 ε) would imply lies within √(32 ε) a_c ≈ 8e-8 a_c of a_c (F − F_c = ½|F_c|(Δa/a_c)²).
+PULL_OFF_ROUNDING = 16 * np.finfo(float).eps
+
+
 def load(half_width, radius, e_star, work):
     """Line load F = πE*a²/(4R) − √(2πE*wa) [N/m] at contact half-width a ≥ 0 [m] (§4.1)."""
     a = nonnegative("half_width", half_width)
@@ -55,7 +64,8 @@ def half_width(load, radius, e_star, work):
     """Contact half-width a [m] on the stable branch (a ≥ a_c) for scalar line load F [N/m] (§4.1).
 
     Inverse of `load` restricted to the branch that is stable under load
-    control. Raises ValueError for F < F_c (the cylinder has pulled off).
+    control. Raises ValueError for F < F_c (the cylinder has pulled off); a load within round-off of
+    F_c (`PULL_OFF_ROUNDING`) is F_c, and gives a_c.
     """
     F = float(finite("load", load))
     R = float(positive("radius", radius))
@@ -67,13 +77,14 @@ def half_width(load, radius, e_star, work):
         return float(np.sqrt(4.0 * F * R / (np.pi * E)))
     a_c = pull_off_half_width(R, E, w)
     F_c = pull_off_load(R, E, w)
-    if F < F_c:
+    if F < F_c - PULL_OFF_ROUNDING * abs(F_c):
         raise ValueError(f"load = {F!r} N/m is below the pull-off load {F_c!r} N/m: no contact")
-    if F == F_c:
-        return a_c
 
     def residual(a):
         return _load(a, R, E, w) - F
+
+    if F <= F_c or residual(a_c) >= 0.0:  # F at or within round-off of F_c = F(a_c): the pull-off point itself
+        return a_c
 
     hi = 2.0 * a_c
     while residual(hi) < 0.0:

@@ -390,7 +390,14 @@ class FeCell:
         z_ind = surface_indenter(prob.h_surface, prob.h_min, loading.initial_separation, displacement)
         u_new, res, its, ok, how = prob.solve_step(guess, z_ind, self.tolerance, fallback_from=fallback)
         sol = u_new if ok or np.all(np.isfinite(u_new)) else fallback
-        tt, tn, gap = prob.tractions(sol, z_ind)
+        try:
+            tt, tn, gap = prob.tractions(sol, z_ind)
+        except LawRangeError as exc:  # a diverged iterate beyond the law's range: a non-converged step, no state
+            self._reaction = np.nan  # recorded by observe(), once per step
+            gap = z_ind - prob.split(fallback)[1]
+            return StepSolution(state=fallback, converged=False, iterations=its, residual=np.nan, gap=gap[vp],
+                                t_n=np.zeros_like(gap[vp]), fields=dict, messages=(f"{how}: not converged, {exc}",),
+                                fallback=how != "newton", relaxed=False)
         self._reaction = prob.reaction_pressure(sol)  # recorded by observe(), once per step
         ux, uz = prob.split(sol)
         messages = (() if how == "newton" else (how,)) + (() if ok else (f"not converged, residual {res:.3g}",))
