@@ -7,7 +7,9 @@ Units: SI (see `contact.conventions`). A finished run directory holds
   fields.npz      x, h_r<i> and, for the saved steps, r<i>_s<k>_<field> (FIELD_NAMES)
   scene.toml      the fully resolved scene
   meta.json       "complete", code version, method, model solved and why, notes, messages,
-                  timings, "resume" {"realizations_reused", "steps_reused"}, platform
+                  timings, "resume" {"realizations_reused", "steps_reused"}, platform, "stickiness"
+                  (the scene's diagnostics before any run, `contact.stickiness.as_dict`: per key
+                  value (null where not defined), unit, formula, reading or reason)
 ḡ_r is written as "nan" at steps without contact (undefined, seed Eq. 5).
 
 While a run goes, scene.toml and meta.json ("complete": false) are written before any
@@ -39,7 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
-from contact import surfaces
+from contact import stickiness, surfaces
 from contact.result import CURVE_COLUMNS, FIELD_NAMES, Result
 from contact.scene import load_scene, scene_to_dict, scene_to_toml
 
@@ -120,6 +122,7 @@ def _meta_base(scene, method, command):
         "date": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
         "command": command or " ".join(sys.argv),
         "units": "SI: m, Pa, J/m^2; see contact/conventions.py",
+        "stickiness": stickiness.as_dict(scene),  # before any run: contact.stickiness (value null = n/a, reason)
     }
 
 
