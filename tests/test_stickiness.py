@@ -223,3 +223,22 @@ def test_process_zone_warning_below_the_measured_limit_only(factor, warned):
 def test_no_process_zone_warning_without_adhesion():
     sc = scene("sinusoid", **{"interface.law": "hard-wall", "surface.nodes": 16})
     assert st.resolution_warnings(sc) == []
+
+
+def test_study_netcdf_carries_the_per_set_diagnostics():
+    from workbench.study import summary_dataset
+
+    study = study_from_dict({"scene": scene_to_dict(scene("cylinder")),
+                             "axes": {"surface.radius": [1e-6, 4e-6]},
+                             "zip": {"interface.law": ["hard-wall", "cohesive"]}})
+    ds = summary_dataset(study, {})  # no task finished yet: the diagnostics are there before any run
+    lam = ds["stickiness_maugis_lambda"]
+    assert lam.dims == ("surface.radius", "zip") and lam.attrs["units"] == "1"
+    assert ds["stickiness_process_zone"].attrs["units"] == "m"
+    for s, sc in enumerate(study.scenes):
+        value = float(lam.values[study.index[s]])
+        if sc.interface.law == "hard-wall":
+            assert np.isnan(value)
+        else:
+            assert value == pytest.approx(float(maugis_dugdale.maugis_parameter_from_cohesive_law(
+                sc.work_normal, 1e-9, sc.surface.radius, E_STAR)), rel=1e-13)

@@ -45,7 +45,8 @@ naming the key.
                      netCDF4/HDF5 dependency): dims = the [axes] keys (coordinates: their values),
                      "zip" (coordinates: the zipped keys) if there is a [zip], and "step"; data
                      variables delta, U, set and the columns of summary.csv (NaN / n = 0 where a set
-                     has fewer steps); attributes: units, the study file's text
+                     has fewer steps; the stickiness_<key> variables per set, without "step");
+                     attributes: units, the study file's text
   DIR/study.json     tasks_total, tasks_reused, tasks_run, tasks_failed, steps_reused, every
                      task (set, parameters, realization, seed, key, status, code version of
                      the run that computed it, messages), the failures with their tracebacks,
@@ -639,6 +640,10 @@ def _write_tables(study, out, rows, results):
     os.replace(tmp, out / "summary.nc")
 
 
+def _float_or_nan(value):
+    return float("nan") if value is None else float(value)
+
+
 def _coordinate(values):
     """Axis values as one netCDF3-writable array: numbers as float/int, anything mixed as text."""
     if all(isinstance(v, bool) for v in values):
@@ -681,6 +686,14 @@ def summary_dataset(study, averages):
         else:
             attrs = {"long_name": f"mean of {c} over realizations" if c in AVERAGED else c, "units": UNITS[c]}
         variables[c] = (dims + ["step"], values, attrs)
+    sticky = [stickiness_dict(scene) for scene in study.scenes]  # per set, before any run (contact.stickiness)
+    for key in STICKINESS_KEYS:
+        cells = np.full(shape, np.nan)  # NaN: not defined for the set's scene
+        for s, idx in enumerate(study.index):
+            cells[idx] = _float_or_nan(sticky[s][key]["value"])
+        variables[f"stickiness_{key}"] = (dims, cells, {
+            "long_name": f"stickiness diagnostic {key} of the set (contact.stickiness; NaN: not defined)",
+            "units": sticky[0][key]["unit"] if sticky else "1"})
     return xr.Dataset(variables, coords=coords,
                       attrs={"study": study.name, "study_text": study.text,
                              "conventions": "SI units; p > 0 compressive; see contact/conventions.py"})
