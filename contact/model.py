@@ -26,7 +26,9 @@ Rules
 Checks (`scene_warnings`): a scene with an adhesive law is checked before any work for
 
 * resolution of the cohesive length, δn ≥ MIN_LENGTH_NORMAL_NODES·l (l = L/N);
-* a start inside the jump-in range, δ0 < δ_jump (the law's `jump_in_separation`).
+* a start inside the jump-in range, δ0 < δ_jump (the law's `jump_in_separation`);
+* resolution of the process zone, l_pz = E* w/σ_max² ≥ a measured limit in nodes
+  (`contact.stickiness.resolution_warnings`; the limit: verification/data/process_zone.json).
 
 They are warnings by default (`solver.checks = "warn"`): the model's reasons carry
 them (printed by the CLI, written to meta.json, tagged in the description) and the
@@ -66,7 +68,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import kernels
+from . import kernels, stickiness
 from .laws import jump_in_separation, law_from_scene  # noqa: F401 (jump_in_separation: kept importable here)
 from .observables import rms_gradient
 
@@ -218,4 +220,5 @@ def scene_warnings(scene, model):
             f"jumps into contact from δ_jump = {gap / dn:.3g} δn, so the first step may already jump "
             f"(the approach is then not recorded). Pick δ0 ≥ {gap / dn:.3g} δn = {gap:.3g} m "
             "(contact.model.jump_in_separation)")
+    found += stickiness.resolution_warnings(scene)
     return found

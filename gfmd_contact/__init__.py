@@ -9,6 +9,7 @@ Scenes (frozen, validated; errors name the key)::
     scene = gc.default_scene()                      # or gc.example_scene(), gc.load_scene("s.toml" | text | dict)
     scene = gc.change(scene, {"surface.nodes": 1024, "interface.phi_n_star": 0.05})
     found, notes = gc.check(scene)                  # the warnings and notes of `gfmd run`, before any work
+    gc.stickiness(scene)                            # process zone, Johnson α, Maugis λ, ... (n/a with the reason)
 
 Runs::
 
@@ -39,10 +40,10 @@ from workbench.study import StudyError
 from .figures import plot_run, plot_study, run_figures, study_figures
 from .runs import RunResult, open_run, run
 from .scenes import (change, check, default_scene, example_scene, load_scene, save_scene, scene_dict,
-                     scene_toml)
+                     scene_toml, stickiness)
 from .studies import StudyResult, load_study, make_study, open_study, run_study, study_text
 
 __all__ = ["Scene", "SceneError", "RunDirError", "StudyError", "default_scene", "example_scene",
-           "load_scene", "change", "check", "save_scene", "scene_dict", "scene_toml", "run", "open_run",
+           "load_scene", "change", "check", "stickiness", "save_scene", "scene_dict", "scene_toml", "run", "open_run",
            "RunResult", "make_study", "study_text", "load_study", "run_study", "open_study", "StudyResult",
            "run_figures", "plot_run", "study_figures", "plot_study"]

@@ -177,6 +177,29 @@ def check(scene):
     return preflight(scene)
 
 
+def stickiness(scene):
+    """The stickiness diagnostics of a scene, before any run (what `gfmd scene --check` prints).
+
+    Process zone l_pz = E* w/σ_max² (m, and in nodes, against its measured limit), Johnson α
+    (sinusoid), Maugis λ (cylinder), Tabor-like μ_rough and Persson–Tosatti θ (rough profiles);
+    Pastewka–Robbins is not defined for line contacts. Formulas and their 1+1-D forms:
+    `contact.stickiness` and docs/stickiness.rst.
+
+    Parameters
+    ----------
+    scene : Scene
+
+    Returns
+    -------
+    dict
+        {key: {"value": float or None, "unit", "formula", "reading" or "reason"}}: value None
+        (n/a) where the quantity is not defined for the scene, with the reason.
+    """
+    from contact.stickiness import as_dict
+
+    return as_dict(scene)
+
+
 def save_scene(scene, path):
     """Write the fully resolved scene as TOML to `path`; returns the Path (`load_scene` reads it back equal)."""
     path = Path(path)

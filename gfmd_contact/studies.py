@@ -149,14 +149,16 @@ class StudyResult:
     @functools.cached_property
     def table(self):
         """study.csv as a DataFrame: one row per (task, step); columns set, the varied keys,
-        realization, seed, task and curve.csv's (step, U, delta (m), p (Pa), a_rel, g_r, g, …)."""
+        realization, seed, task, curve.csv's (step, U, delta (m), p (Pa), a_rel, g_r, g, …) and the set's
+        stickiness_<key> columns (`contact.stickiness`; NaN where not defined)."""
         import pandas as pd
 
         return pd.read_csv(self.dir / "study.csv")
 
     @functools.cached_property
     def summary_table(self):
-        """summary.csv as a DataFrame: per set and step, the means, standard errors and counts."""
+        """summary.csv as a DataFrame: per set and step, the means, standard errors and counts, and the set's
+        stickiness_<key> columns."""
         import pandas as pd
 
         return pd.read_csv(self.dir / "summary.csv")

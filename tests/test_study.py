@@ -18,9 +18,10 @@ import time
 import numpy as np
 import pytest
 
+from contact import stickiness
 from workbench import io
 from workbench.cli import main
-from workbench.study import load_study, study_from_dict
+from workbench.study import load_study, stickiness_columns, study_from_dict
 
 BASE = """
 [surface]
@@ -231,7 +232,7 @@ def test_study_tables(reference):
     table = rows(out / "study.csv")
     assert list(table[0]) == ["set", "material.poisson_ratio", "interface.law", "interface.phi_n_star",
                               "realization", "seed", "task", "step", "U", "delta", "p", "a_rel", "g_r", "g",
-                              "iterations", "residual", "converged", "wall_s"]
+                              "iterations", "residual", "converged", "wall_s"] + stickiness_columns()
     assert len(table) == 8 * 41
     assert {(r["set"], r["material.poisson_ratio"], r["interface.law"]) for r in table} == \
         {("0", "0.3", "hard-wall"), ("1", "0.3", "cohesive"), ("2", "0.45", "hard-wall"), ("3", "0.45", "cohesive")}
@@ -245,6 +246,14 @@ def test_study_tables(reference):
     assert row["p_n"] == "2"
     hard = next(r for r in summary if r["set"] == "2" and r["step"] == "40")
     assert float(hard["p"]) != float(row["p"])  # the sets really differ
+    # the per-set stickiness columns: the set scene's diagnostics before any run, "nan" where not defined
+    study = load_study(path)
+    for r in table[::41] + summary[::41]:
+        expected = stickiness.as_dict(study.scenes[int(r["set"])])
+        for key, value in expected.items():
+            cell = r[f"stickiness_{key}"]
+            assert (cell == "nan") if value["value"] is None else float(cell) == value["value"], (r["set"], key)
+    assert {r["stickiness_tabor_rough"] == "nan" for r in summary} == {True, False}  # hard wall n/a, cohesive not
 
 
 def test_netcdf_round_trip_equals_summary_csv(reference):

@@ -198,6 +198,10 @@ def _cmd_scene(args):
             print(f"WARNING: {w}", file=sys.stderr)
         for n in notes:
             print(f"note: {n}", file=sys.stderr)
+        from contact.stickiness import lines as stickiness_lines
+
+        for line in stickiness_lines(scene):  # the diagnostics of contact.stickiness (n/a: with the reason)
+            print(f"stickiness: {line}")
         print(f"{args.check}: valid scene; surface {scene.surface.kind}, N = {scene.surface.nodes}, "
               f"law {scene.interface.law}" + (f"; {len(warnings)} warning(s)" if warnings else "")
               + (f"; {len(notes)} realization(s) stop early" if notes else ""))

@@ -10,7 +10,9 @@ Units: SI (see `contact.conventions`). A finished run directory holds
   meta.json       "complete", code version, method (GFMD: "gfmd-" and its algorithm chain's key, e.g.
                   "gfmd-ncg"), "algorithms" (GFMD: load steps per algorithm label, all realizations),
                   model solved and why, notes, messages,
-                  timings, "resume" {"realizations_reused", "steps_reused"}, platform
+                  timings, "resume" {"realizations_reused", "steps_reused"}, platform, "stickiness"
+                  (the scene's diagnostics before any run, `contact.stickiness.as_dict`: per key
+                  value (null where not defined), unit, formula, reading or reason)
 ḡ_r is written as "nan" at steps without contact (undefined, seed Eq. 5).
 
 While a run goes, scene.toml and meta.json ("complete": false) are written before any
@@ -43,7 +45,7 @@ from pathlib import Path
 
 import numpy as np
 
-from contact import surfaces
+from contact import stickiness, surfaces
 from contact.result import CURVE_COLUMNS, FIELD_NAMES, Result
 from contact.scene import load_scene, scene_to_dict, scene_to_toml
 
@@ -112,6 +114,7 @@ def _meta_base(scene, method, command):
         "date": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
         "command": command or " ".join(sys.argv),
         "units": "SI: m, Pa, J/m^2; see contact/conventions.py",
+        "stickiness": stickiness.as_dict(scene),  # before any run: contact.stickiness (value null = n/a, reason)
     }
 
 

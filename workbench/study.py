@@ -32,16 +32,21 @@ naming the key.
                      `contact.result.CURVE_COLUMNS`: step, U (m), delta (m), p (Pa, > 0 compressive,
                      per unit area of the mean plane), a_rel (1), g_r (1: rms gradient of the
                      contact nodes, "nan" without contact), g (1: of the whole profile),
-                     iterations, residual (relative), converged (0/1), wall_s (s)
+                     iterations, residual (relative), converged (0/1), wall_s (s), then the set's
+                     stickiness diagnostics before any run, stickiness_<key> for every key of
+                     `contact.stickiness.KEYS` (process_zone m, process_zone_nodes, johnson_alpha,
+                     maugis_lambda, tabor_rough, persson_tosatti, pastewka_robbins: 1; "nan" where a
+                     quantity is not defined for the set's scene, meta.json of a task says why)
   DIR/summary.csv    per set and step: set, the axis columns, step, delta (m), U (m) and for each
                      of p, a_rel, g_r, g (`workbench.averages.AVERAGED`) the mean over the set's
                      realizations, <name>_se (its standard error, 0 for one value) and <name>_n
-                     (realizations with a value at that step)
+                     (realizations with a value at that step), then the stickiness_<key> columns
   DIR/summary.nc     the same as a labelled N-D dataset (xarray; netCDF3 through scipy, so no
                      netCDF4/HDF5 dependency): dims = the [axes] keys (coordinates: their values),
                      "zip" (coordinates: the zipped keys) if there is a [zip], and "step"; data
                      variables delta, U, set and the columns of summary.csv (NaN / n = 0 where a set
-                     has fewer steps); attributes: units, the study file's text
+                     has fewer steps; the stickiness_<key> variables per set, without "step");
+                     attributes: units, the study file's text
   DIR/study.json     tasks_total, tasks_reused, tasks_run, tasks_failed, steps_reused, every
                      task (set, parameters, realization, seed, key, status, code version of
                      the run that computed it, messages), the failures with their tracebacks,
@@ -80,6 +85,8 @@ import numpy as np
 from contact.errors import SceneError
 from contact.result import CURVE_COLUMNS
 from contact.scene import Scene, load_scene, scene_from_dict, scene_to_dict, scene_to_toml
+from contact.stickiness import KEYS as STICKINESS_KEYS
+from contact.stickiness import as_dict as stickiness_dict
 
 from . import io, safe_files
 from .averages import AVERAGED, ensemble_average
@@ -635,23 +642,43 @@ def summary_columns():
     return cols
 
 
+def stickiness_columns():
+    """The per-set stickiness columns of study.csv / summary.csv: "stickiness_<key>" (contact.stickiness.KEYS)."""
+    return [f"stickiness_{k}" for k in STICKINESS_KEYS]
+
+
+def _stickiness_cells(study):
+    """{set: [text per stickiness column]}: the set scene's diagnostics before any run ("nan" where n/a)."""
+    cells = {}
+    for s, scene in enumerate(study.scenes):
+        values = stickiness_dict(scene)
+        cells[s] = [io._fmt(values[k]["value"]) if values[k]["value"] is not None else "nan"
+                    for k in STICKINESS_KEYS]
+    return cells
+
+
 def _write_tables(study, out, rows, results):
+    sticky = _stickiness_cells(study)
     buf = _io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["set"] + study.keys + ["realization", "seed", "task"] + list(CURVE_COLUMNS))
-    w.writerows(rows)
+    w.writerow(["set"] + study.keys + ["realization", "seed", "task"] + list(CURVE_COLUMNS) + stickiness_columns())
+    w.writerows(row + sticky[int(row[0])] for row in rows)
     io._atomic_write(out / "study.csv", buf.getvalue())
     averages = {s: ensemble_average(rs) for s, rs in sorted(results.items()) if rs}
     buf = _io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["set"] + study.keys + summary_columns())
+    w.writerow(["set"] + study.keys + summary_columns() + stickiness_columns())
     for s, cols in averages.items():
         params = [_axis_text(study.sets[s][k]) for k in study.keys]
         for k in range(cols["step"].size):
-            w.writerow([str(s)] + params + [io._fmt(cols[c][k]) for c in summary_columns()])
+            w.writerow([str(s)] + params + [io._fmt(cols[c][k]) for c in summary_columns()] + sticky[s])
     io._atomic_write(out / "summary.csv", buf.getvalue())
     dataset = summary_dataset(study, averages)
     io._atomic_write(out / "summary.nc", bytes(dataset.to_netcdf(engine="scipy")), binary=True)
+
+
+def _float_or_nan(value):
+    return float("nan") if value is None else float(value)
 
 
 def _coordinate(values):
@@ -696,6 +723,14 @@ def summary_dataset(study, averages):
         else:
             attrs = {"long_name": f"mean of {c} over realizations" if c in AVERAGED else c, "units": UNITS[c]}
         variables[c] = (dims + ["step"], values, attrs)
+    sticky = [stickiness_dict(scene) for scene in study.scenes]  # per set, before any run (contact.stickiness)
+    for key in STICKINESS_KEYS:
+        cells = np.full(shape, np.nan)  # NaN: not defined for the set's scene
+        for s, idx in enumerate(study.index):
+            cells[idx] = _float_or_nan(sticky[s][key]["value"])
+        variables[f"stickiness_{key}"] = (dims, cells, {
+            "long_name": f"stickiness diagnostic {key} of the set (contact.stickiness; NaN: not defined)",
+            "units": sticky[0][key]["unit"] if sticky else "1"})
     return xr.Dataset(variables, coords=coords,
                       attrs={"study": study.name, "study_text": study.text,
                              "conventions": "SI units; p > 0 compressive; see contact/conventions.py"})
