@@ -22,26 +22,26 @@ Persson–Tosatti θ      U_el/(w L), U_el/L = ½ Σ_{q≠0} k(q)|ĥ_q|²   self
 Pastewka–Robbins       not defined for line contacts (`PASTEWKA_ROBBINS_REASON`)
 =====================  ==========================================  ============================
 
-The process-zone resolution limit is measured (verification/studies/process_zone.py → the data
-file `PROCESS_ZONE_DATA`, read by `measured_process_zone_limit`): below it the grid error of an
-adhesive sinusoid exceeds 1 %, and `resolution_warnings` says so.
+The process-zone resolution limit is measured (verification/studies/process_zone.py writes
+verification/data/process_zone.json; `PROCESS_ZONE_LIMIT` holds its value, as the core's other
+measured limits do, and tests/test_stickiness.py fails when the two differ): below it the grid
+error of an adhesive sinusoid exceeds 1 %, and `resolution_warnings` says so.
 """
 
 from __future__ import annotations
 
-import functools
-import json
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from . import kernels, surfaces
 from .laws import law_from_scene
 
-#: the measured process-zone limit (verification/studies/process_zone.py writes it; packaged with verification)
-PROCESS_ZONE_DATA = Path(__file__).resolve().parent.parent / "verification" / "data" / "process_zone.json"
+#: l_pz/l below which the adhesive sinusoid's grid error exceeds PROCESS_ZONE_ERROR (verification/studies/
+#: process_zone.py, entry "ci" of verification/data/process_zone.json; the core does not read verification/)
+PROCESS_ZONE_LIMIT = 2.668
+PROCESS_ZONE_ERROR = 0.01
 #: kinds of profile the rough-surface measures (Tabor-like μ_rough, Persson–Tosatti θ) apply to
 ROUGH_KINDS = ("self-affine", "file")
 PASTEWKA_ROBBINS_REASON = (
@@ -162,17 +162,11 @@ def persson_tosatti_ratio(energy_per_length, work):
 
 
 # ------------------------------------------------------------------------------------- the scene
-@functools.lru_cache(maxsize=1)
 def measured_process_zone_limit():
-    """(l_pz/l limit, source text) from `PROCESS_ZONE_DATA` (entry "ci", value min_process_zone_nodes)."""
-    if not PROCESS_ZONE_DATA.is_file():
-        raise FileNotFoundError(f"{PROCESS_ZONE_DATA}: the measured process-zone limit is missing; "
-                                "regenerate it with `python -m verification.studies.process_zone --write`")
-    entry = json.loads(PROCESS_ZONE_DATA.read_text(encoding="utf-8"))["entries"]["ci"]
-    values = entry["values"]
-    source = (f"measured: adhesive-sinusoid grid error > {100 * values['error_limit']:g} % below it, "
-              "verification/data/process_zone.json")
-    return float(values["min_process_zone_nodes"]), source
+    """(l_pz/l limit, source text): `PROCESS_ZONE_LIMIT`, measured by verification/studies/process_zone.py."""
+    source = (f"measured: adhesive-sinusoid grid error > {100 * PROCESS_ZONE_ERROR:g} % below it, "
+              "verification/studies/process_zone.py")
+    return PROCESS_ZONE_LIMIT, source
 
 
 def _na(key, label, unit, formula, reason):

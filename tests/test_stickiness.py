@@ -1,11 +1,12 @@
 """Stickiness diagnostics (contact.stickiness, docs/stickiness.rst): each formula against a value worked
 out by hand or with plain numpy, Johnson α and Maugis λ against the analytic reference modules, the
 n/a rules, the lines of `gfmd scene --check`, meta.json's "stickiness", the study-table columns, and
-the process-zone warning on both sides of the measured limit read from verification/data/process_zone.json.
+the process-zone warning on both sides of the measured limit (the core's constant, tied to verification/data/process_zone.json here).
 """
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,7 +23,7 @@ from workbench.study import _stickiness_cells, stickiness_columns, study_from_di
 
 E, NU = 70e9, 0.45
 E_STAR = E / (1 - NU**2)
-DATA = st.PROCESS_ZONE_DATA
+DATA = Path(__file__).resolve().parent.parent / "verification" / "data" / "process_zone.json"
 
 
 def scene(kind="self-affine", **extra):
@@ -198,7 +199,7 @@ def stored():
 def test_the_stored_limit_is_what_its_study_derives_and_it_is_tight():
     values = stored()
     limit = values["min_process_zone_nodes"]
-    assert st.measured_process_zone_limit()[0] == limit
+    assert st.measured_process_zone_limit()[0] == limit and st.PROCESS_ZONE_ERROR == values["error_limit"]
     assert pz_study.limit(values["cases"]) == pytest.approx(limit, rel=1e-3)  # stored to 4 digits
     points = [(r["lpz_nodes"], max(r["p_error"], r["a_rel_error"])) for c in values["cases"] for r in c["rows"]]
     assert all(e <= values["error_limit"] for x, e in points if x >= limit)
@@ -217,7 +218,7 @@ def test_process_zone_warning_below_the_measured_limit_only(factor, warned):
     found = [w for w in build_model(sc).warnings if w.startswith("under-resolved process zone")]
     assert bool(found) is warned
     if warned:
-        assert f"< {limit:.3g} l" in found[0] and "verification/data/process_zone.json" in found[0]
+        assert f"< {limit:.3g} l" in found[0] and "verification/studies/process_zone.py" in found[0]
 
 
 def test_no_process_zone_warning_without_adhesion():

@@ -2,7 +2,7 @@
 
 Study, scene and metric: `verification.studies.process_zone` (adhesive sinusoid, w = 7 J/m², δn = 0.1 nm,
 l_pz = E* w/σ_max² = 0.93 nm; error = max over 8 loads of |Δp̄|/max|p̄| and |Δa_rel| against N = 8192).
-The stored limit (verification/data/process_zone.json, read by the check) lies between the grids
+The stored limit (verification/data/process_zone.json; the check's constant equals it) lies between the grids
 N = 2048 (l_pz/l = 1.90) and N = 3072 (2.85) of this case. Re-measured here: the error at N = 2048
 must exceed the 1 % that defines the limit and the check must warn there; at N = 3072 the error must
 stay within 1 % and the check must not warn. A limit stored too low (a wrong data file, a unit
