@@ -147,10 +147,11 @@ def assert_documented_end(code, err, out, scene):
     meta = json.loads((out / "meta.json").read_text())
     assert meta["complete"] is True
     curve = pd.read_csv(out / "curve.csv")
-    assert list(curve.columns) == ["realization", "seed", *CURVE_COLUMNS]
+    gfmd = scene.get("method", {}).get("name", "gfmd") == "gfmd"  # GFMD labels each step's algorithm
+    assert list(curve.columns) == ["realization", "seed", *CURVE_COLUMNS, *(["algorithm"] if gfmd else [])]
     realizations = scene["surface"].get("realizations", 1)
     assert sorted(curve["realization"].unique()) == list(range(realizations))
-    numbers = curve.drop(columns=["realization", "seed"]).to_numpy(float)
+    numbers = curve.drop(columns=["realization", "seed", "algorithm"], errors="ignore").to_numpy(float)
     assert not np.isinf(numbers).any(), "an infinite number in curve.csv"
     assert not (np.abs(numbers) >= 1e300).any(), "a sentinel number (1e300) in curve.csv"
     steps = scene["loading"]["steps"]
