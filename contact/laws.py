@@ -312,6 +312,10 @@ class _ExponentialCohesive:
         """e^{−2} φn/δn² (Pa/m): −∂T_n/∂Δn at Δn = 2δn."""
         return np.exp(-2) * self.work_normal / self.length_normal**2
 
+    def potential(self, delta_n):
+        """V(Δn) = −φn (1 + Δn/δn) e^{−Δn/δn} (J/m²), `potential_normal` (T_n = dV/dΔn at Δt = 0)."""
+        return potential_normal(delta_n, self.work_normal, self.length_normal)
+
 
 @dataclass(frozen=True)
 class NormalCohesive(_ExponentialCohesive):
@@ -475,7 +479,8 @@ _BUILDERS = {"hard-wall": _hard_wall, "cohesive": _cohesive, "cohesive-wall": _c
 
 
 def law_from_scene(scene, tangential=None):
-    """The interface law of `scene` as an object (HardWall, NormalCohesive, CoupledCohesive or CohesiveWall).
+    """The interface law of `scene` as an object (HardWall, NormalCohesive, CoupledCohesive, CohesiveWall, or for
+    interface.law = "user" the `contact.user_law.UserLaw` the scene carries, with the scene's contact rule).
 
     tangential=None: the law the scene describes (cohesive: c = 0 → Eq. 3, c > 0 → Eq. 2).
     True / False: the law as solved with / without the tangential unknowns u_x, which
@@ -483,6 +488,11 @@ def law_from_scene(scene, tangential=None):
     solver.unknowns = "coupled" forces u_x), or Eq. 3 (u_x ≡ 0, so Δt = 0). φn and φt are
     the scene's (`Scene.work_normal`, `Scene.work_tangential`).
     """
+    if scene.interface.law == "user":  # the law object the scene carries (`contact.user_law`), normal-only
+        from .user_law import scene_law
+        if tangential:
+            raise ValueError("a user law is normal-only: no tangential unknowns (contact.user_law)")
+        return scene_law(scene)
     return _BUILDERS[scene.interface.law](scene.interface, scene.work_normal, scene.work_tangential, tangential)
 
 
@@ -492,4 +502,6 @@ def law_from_interface(interface):
 
     φn = φn* δn E needs E, so its works of separation are NaN: use `law_from_scene` for tractions.
     """
+    if interface.law == "user":
+        raise ValueError("interface.law = \"user\": the law object is not in the Interface; use law_from_scene(scene)")
     return _BUILDERS[interface.law](interface, math.nan, math.nan, None)
