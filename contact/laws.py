@@ -28,6 +28,8 @@ from typing import ClassVar
 import numpy as np
 from scipy.special import lambertw
 
+from .user_law import scene_law
+
 #: largest compression Δn/δn (negative gap) the laws evaluate; e^{600} ≈ 4e260
 MAX_COMPRESSION = 600.0
 
@@ -489,7 +491,6 @@ def law_from_scene(scene, tangential=None):
     the scene's (`Scene.work_normal`, `Scene.work_tangential`).
     """
     if scene.interface.law == "user":  # the law object the scene carries (`contact.user_law`), normal-only
-        from .user_law import scene_law
         if tangential:
             raise ValueError("a user law is normal-only: no tangential unknowns (contact.user_law)")
         return scene_law(scene)

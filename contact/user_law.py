@@ -51,7 +51,6 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 from .errors import SceneError
-from .laws import _in_contact
 
 #: the derived quantities are found on Δn = s·length, s ∈ [0, SAMPLE_REACH], SAMPLE_POINTS points
 SAMPLE_REACH = 50.0
@@ -175,8 +174,11 @@ class UserLaw:
         return self.tolerance_gap
 
     def in_contact(self, gap, traction_z):
-        """Nodes with Δn ≤ contact_gap, or −t_z > 0 where contact_gap is None."""
-        return _in_contact(self, gap, traction_z)
+        """Nodes with Δn ≤ contact_gap, or −t_z > 0 where contact_gap is None (as `contact.laws`' laws)."""
+        threshold = self.contact_gap
+        if threshold is None:
+            return -np.asarray(traction_z) > 0.0
+        return np.asarray(gap) <= threshold
 
     def jump_in_separation(self, stiffness):
         """δ_jump (m) of a flat surface on a spring k (Pa/m): Δ* + T_n(Δ*)/k at the largest Δ* > Δ_peak with
