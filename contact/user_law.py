@@ -44,6 +44,7 @@ solver.unknowns = "coupled" for it.
 from __future__ import annotations
 
 import dataclasses
+import functools
 from dataclasses import dataclass, field
 from typing import Callable, ClassVar
 
@@ -194,6 +195,17 @@ class UserLaw:
                    xtol=1e-14 * self.length)
         return float(g + self._call("traction", np.array([g]))[0] / stiffness)
 
+    def far_gap(self, traction):
+        """Δ_far (m): beyond it |T_n| ≤ traction (Pa) on the whole sample grid (up to SAMPLE_REACH·length), inf if
+        |T_n| exceeds it at the grid's end. The NCG leaves nodes beyond it out of its nodal work and checks a
+        converged state with every node (`gfmd.algorithms.ncg`), so this is a saving, not an assumption."""
+        s = np.linspace(0.0, SAMPLE_REACH, SAMPLE_POINTS) * self.length
+        above = np.flatnonzero(np.abs(self._call("traction", s)) > traction)
+        if above.size == 0:
+            return 0.0
+        j = int(above[-1])
+        return np.inf if j + 1 >= s.size else float(s[j + 1])
+
     def potential(self, delta_n):
         """V(Δn) (J/m²), the user's energy."""
         return self._call("energy", np.asarray(delta_n, dtype=float))
@@ -218,8 +230,8 @@ class UserLaw:
     def for_scene(self, interface):
         """This law with the contact rule of a scene's `Interface` (rule "gap": contact_gap·interface.length_normal)."""
         i = interface
-        return dataclasses.replace(self, contact_rule=i.contact_rule, contact_tolerance=i.contact_tolerance,
-                                   rule_gap=i.contact_gap * i.length_normal if i.contact_rule == "gap" else None)
+        return _with_rule(self, i.contact_rule, i.contact_tolerance,
+                          i.contact_gap * i.length_normal if i.contact_rule == "gap" else None)
 
     def summary(self):
         """What meta.json records: name, description, length and the derived numbers (SI)."""
@@ -227,6 +239,14 @@ class UserLaw:
                 "peak_traction": self.peak_traction, "peak_gap": self.peak_gap,
                 "contact_gap": self.contact_gap, "steepest_softening": self.steepest_softening,
                 "reproducible_from_scene_toml": False}
+
+
+@functools.lru_cache(maxsize=64)
+def _with_rule(law, rule, tolerance, rule_gap):
+    """`UserLaw.for_scene`, built (and checked) once per law and rule: every load step asks for it."""
+    if (law.contact_rule, law.contact_tolerance, law.rule_gap) == (rule, tolerance, rule_gap):
+        return law
+    return dataclasses.replace(law, contact_rule=rule, contact_tolerance=tolerance, rule_gap=rule_gap)
 
 
 _ARG = {"energy": "energy", "traction": "traction", "tangent_fn": "tangent"}

@@ -4,6 +4,8 @@ Polak–Ribière+ CG, preconditioner K⁻¹ as the hard-wall CG, an FFT-free New
 elastic + CZ energy (`gfmd.problem`); 5–10× fewer FFT pairs per step than FIRE
 (benchmarks/results/bench_vs_tamaas.md). The law's nodal work runs on the nodes near the indenter
 only, the spectral algebra in `gfmd.kernels` (numpy, or fused numba kernels where installed).
+A user law (`contact.user_law`) takes the generic nodal path (`_UserNodes`: its traction and tangent on
+the near set, whose cut is the law's `far_gap`); Eq. 3 keeps its own (`_Eq3Nodes`), bit for bit as before.
 """
 
 from __future__ import annotations
@@ -96,7 +98,7 @@ def solve(problem, start, settings):
     clamp = model.half_plane
     cz = law.law
     p_ref = model.reference_traction
-    if getattr(cz, "user", False):  # a user law (contact.user_law): its callables on every node, no near set
+    if getattr(cz, "user", False):  # a user law (contact.user_law): its callables on the near set (`far_gap`)
         dn, nodal, user = float(cz.length_scale), _UserNodes(cz), True
     else:
         phi, dn = float(cz.work_normal), float(cz.length_normal)
@@ -114,7 +116,8 @@ def solve(problem, start, settings):
 
     g = preconditioner()
     products, direction, advance = kernels.ncg_kernels()  # the spectral algebra (numpy or fused)
-    cut = np.inf if user else _attraction_cut(NCG_FAR_FRACTION * settings.tolerance * p_ref / tn_scale)  # s_c
+    far = NCG_FAR_FRACTION * settings.tolerance * p_ref  # a far node's |T_n| is below this (Pa)
+    cut = cz.far_gap(far) / dn if user else _attraction_cut(far / tn_scale)  # s_c
     scaled_gap = nodal.state  # Eq. 3: (s, e^{−s}); a user law: (T_n, dT_n/dΔn)
 
     def near(margin, first=False):
@@ -352,7 +355,7 @@ class _UserNodes:
         return t
 
     def work(self, t, k, d):
-        return float(np.dot(t, d))
+        return dot(t, d)  # no BLAS (`gfmd.fft.dot`)
 
     def curvature_sum(self, t, k, d):
         return float(np.einsum("i,i,i->", k, d, d))
