@@ -234,6 +234,8 @@ def test_refusals_name_the_key():
         gc.run(SCENE, law=morse(0.05, 2e-9), workers=2, progress=False)
     with pytest.raises(SceneError, match="expected a user law"):
         gc.with_law(SCENE, lambda g: g)
+    with pytest.raises(gc.StudyError, match="cannot hold the user law"):
+        gc.make_study(gc.with_law(SCENE, law), axes={"surface.nodes": [64, 128]})
 
 
 def test_with_law_survives_changes():
