@@ -7,7 +7,6 @@ the FE's curves to the solvers' tolerance (two converged states of one problem).
 """
 
 import dataclasses
-import json
 import math
 import subprocess
 import sys
@@ -138,8 +137,8 @@ def test_a_morse_law_derives_its_known_numbers():
     assert law.peak_traction == pytest.approx(phi / (2 * ell), rel=1e-14)
     x = (1 - math.sqrt(1 - tol * math.e)) / 2  # 2(1 − x)x φ/ℓ = tol·e·φ/(2ℓ), the decaying branch's root
     assert law.contact_gap == pytest.approx(-ell * math.log(x), rel=1e-13)
-    # −k = (2φ/ℓ²)(e^{−s} − 2e^{−2s}) is largest at e^{−s} = 1/4, φ/(4ℓ²); the grid (0.01 ℓ) meets s = ln 4 to
-    # ±0.005, where −k falls short by ½|k''|δs² = ½ (φ/(4ℓ²))·2·0.005² relative... ≤ 3e-5
+    # −k = (2φ/ℓ²)(x − 2x²), x = e^{−s}, is largest at x = 1/4: φ/(4ℓ²). The grid (spacing 0.01 ℓ) meets s = ln 4
+    # to δs ≤ 0.005, where −k falls short by ½·|d²(x − 2x²)/ds²|·δs² / (1/8) = ½·(1/4)·δs²·8 = δs² ≤ 2.5e-5
     assert law.steepest_softening == pytest.approx(phi / (4 * ell**2), rel=3e-5)
     assert law.in_contact(np.array([0.0, 10 * ell]), np.zeros(2)).tolist() == [True, False]
 
@@ -174,7 +173,7 @@ def test_the_fe_on_eq3_as_a_user_law_matches_its_own_built_in_law():
 
 # ---------------------------------------------------------------- the chain and its labels
 
-def _problem(scene, u=None):
+def _problem(scene):
     model = build_model(scene)
     z = np.full(model.nodes, scene.loading.initial_separation)
     return Problem(model, InterfaceLaw(model), z)
