@@ -15,7 +15,8 @@ returning inf/NaN.
 The equations are module functions (`traction_normal`, `traction_coupled`, ...; the FE
 reference calls them). The laws as a solver or check sees them are objects, one per law,
 built once from the scene by `law_from_scene`: `HardWall`, `NormalCohesive` (Eq. 3),
-`CoupledCohesive` (Eq. 2), `CohesiveWall` (Eq. 3's attraction with a hard-wall repulsion). Callers ask the object (its contact rule, peak traction,
+`CoupledCohesive` (Eq. 2), `CohesiveWall` (Eq. 3's attraction with a hard-wall repulsion), and for
+interface.law = "user" the `contact.user_law.UserLaw` the scene carries (the user's V, T_n, dT_n/dΔn). Callers ask the object (its contact rule, peak traction,
 jump-in separation, whether u_x is needed, ...) instead of branching on the law's name.
 """
 

@@ -193,7 +193,8 @@ class Scene:
         if "interface.work_normal" in sections and "interface.phi_n_star" not in sections:
             d["interface"].pop("phi_n_star", None)  # φn given for the stored φn*: rederived from it
         new = scene_from_dict(d, name=self.name)
-        return dataclasses.replace(new, user_law=self.user_law) if self.user_law is not None else new
+        keep = self.user_law is not None and new.interface.law == "user"  # the user law goes with interface.law
+        return dataclasses.replace(new, user_law=self.user_law) if keep else new
 
 
 _SECTIONS = {"surface": Surface, "material": Material, "interface": Interface,

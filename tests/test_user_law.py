@@ -241,3 +241,4 @@ def test_with_law_survives_changes():
     scene = gc.with_law(SCENE, eq3(PHI, DN))
     changed = gc.change(scene, {"surface.nodes": 128})
     assert changed.user_law is scene.user_law and changed.interface.law == "user"
+    assert gc.change(scene, {"interface.law": "cohesive"}).user_law is None
