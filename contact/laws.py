@@ -15,7 +15,8 @@ returning inf/NaN.
 The equations are module functions (`traction_normal`, `traction_coupled`, ...; the FE
 reference calls them). The laws as a solver or check sees them are objects, one per law,
 built once from the scene by `law_from_scene`: `HardWall`, `NormalCohesive` (Eq. 3),
-`CoupledCohesive` (Eq. 2), `CohesiveWall` (Eq. 3's attraction with a hard-wall repulsion). Callers ask the object (its contact rule, peak traction,
+`CoupledCohesive` (Eq. 2), `CohesiveWall` (Eq. 3's attraction with a hard-wall repulsion), and for
+interface.law = "user" the `contact.user_law.UserLaw` the scene carries (the user's V, T_n, dT_n/dΔn). Callers ask the object (its contact rule, peak traction,
 jump-in separation, whether u_x is needed, ...) instead of branching on the law's name.
 """
 
@@ -27,6 +28,8 @@ from typing import ClassVar
 
 import numpy as np
 from scipy.special import lambertw
+
+from .user_law import scene_law
 
 #: largest compression Δn/δn (negative gap) the laws evaluate; e^{600} ≈ 4e260
 MAX_COMPRESSION = 600.0
@@ -312,6 +315,10 @@ class _ExponentialCohesive:
         """e^{−2} φn/δn² (Pa/m): −∂T_n/∂Δn at Δn = 2δn."""
         return np.exp(-2) * self.work_normal / self.length_normal**2
 
+    def potential(self, delta_n):
+        """V(Δn) = −φn (1 + Δn/δn) e^{−Δn/δn} (J/m²), `potential_normal` (T_n = dV/dΔn at Δt = 0)."""
+        return potential_normal(delta_n, self.work_normal, self.length_normal)
+
 
 @dataclass(frozen=True)
 class NormalCohesive(_ExponentialCohesive):
@@ -475,7 +482,8 @@ _BUILDERS = {"hard-wall": _hard_wall, "cohesive": _cohesive, "cohesive-wall": _c
 
 
 def law_from_scene(scene, tangential=None):
-    """The interface law of `scene` as an object (HardWall, NormalCohesive, CoupledCohesive or CohesiveWall).
+    """The interface law of `scene` as an object (HardWall, NormalCohesive, CoupledCohesive, CohesiveWall, or for
+    interface.law = "user" the `contact.user_law.UserLaw` the scene carries, with the scene's contact rule).
 
     tangential=None: the law the scene describes (cohesive: c = 0 → Eq. 3, c > 0 → Eq. 2).
     True / False: the law as solved with / without the tangential unknowns u_x, which
@@ -483,6 +491,10 @@ def law_from_scene(scene, tangential=None):
     solver.unknowns = "coupled" forces u_x), or Eq. 3 (u_x ≡ 0, so Δt = 0). φn and φt are
     the scene's (`Scene.work_normal`, `Scene.work_tangential`).
     """
+    if scene.interface.law == "user":  # the law object the scene carries (`contact.user_law`), normal-only
+        if tangential:
+            raise ValueError("a user law is normal-only: no tangential unknowns (contact.user_law)")
+        return scene_law(scene)
     return _BUILDERS[scene.interface.law](scene.interface, scene.work_normal, scene.work_tangential, tangential)
 
 
@@ -492,4 +504,6 @@ def law_from_interface(interface):
 
     φn = φn* δn E needs E, so its works of separation are NaN: use `law_from_scene` for tractions.
     """
+    if interface.law == "user":
+        raise ValueError("interface.law = \"user\": the law object is not in the Interface; use law_from_scene(scene)")
     return _BUILDERS[interface.law](interface, math.nan, math.nan, None)

@@ -143,6 +143,8 @@ class Scene:
     output: Output = field(default_factory=Output)
     method: Method = field(default_factory=Method)
     name: str = "scene"
+    #: interface.law = "user": the `contact.user_law.UserLaw` (Python callables; not in the TOML, kept by replace)
+    user_law: object = field(default=None, repr=False)
 
     @property
     def work_normal(self):
@@ -190,7 +192,9 @@ class Scene:
                     d["interface"].pop(name, None)
         if "interface.work_normal" in sections and "interface.phi_n_star" not in sections:
             d["interface"].pop("phi_n_star", None)  # φn given for the stored φn*: rederived from it
-        return scene_from_dict(d, name=self.name)
+        new = scene_from_dict(d, name=self.name)
+        keep = self.user_law is not None and new.interface.law == "user"  # the user law goes with interface.law
+        return dataclasses.replace(new, user_law=self.user_law) if keep else new
 
 
 _SECTIONS = {"surface": Surface, "material": Material, "interface": Interface,
@@ -214,7 +218,7 @@ MAX_REALIZATIONS = 10**5
 MIN_SCALE, MAX_SCALE = 1e-30, 1e30
 #: TOML integers are 64-bit signed
 _MAX_INT = 2**63 - 1
-_LAWS = ("hard-wall", "cohesive", "cohesive-wall")
+_LAWS = ("hard-wall", "cohesive", "cohesive-wall", "user")  # "user": contact.user_law, from Python only
 #: interface.contact_rule (which nodes count as contact; `contact.laws`, README "Modelling assumptions"), and
 #: the [interface] keys that apply to one rule only: a key of another rule is an error, not ignored (as
 #: surface keys of another kind), and `scene_to_dict` writes only the chosen rule's keys
@@ -381,6 +385,9 @@ def _interface(d, material):
     if law == "cohesive-wall" and c != 0:
         _fail("interface.tangential_ratio", c, "must be 0 for interface.law = \"cohesive-wall\" (the CZ attraction "
               "with a hard-wall repulsion is frictionless)")
+    if law == "user" and c != 0:
+        _fail("interface.tangential_ratio", c, "must be 0 for interface.law = \"user\" (a user law is normal-only: "
+              "a coupled law has no potential and needs a non-symmetric tangent, contact.user_law)")
     rule = d.get("contact_rule", i.contact_rule)
     if not isinstance(rule, str) or rule not in _RULE_KEYS:
         _fail("interface.contact_rule", rule, f"must be one of {list(_RULE_KEYS)}")
@@ -485,7 +492,7 @@ def scene_from_dict(d, name="scene"):
     solver = _solver(d.get("solver", {}))
     if solver.unknowns == "coupled" and interface.law != "cohesive":
         _fail("solver.unknowns", solver.unknowns, f"needs interface.law = \"cohesive\" (got {interface.law!r}: "
-              "the hard wall and the cohesive wall are frictionless and always normal-only); use \"auto\"")
+              "the hard wall, the cohesive wall and a user law are normal-only); use \"auto\"")
     return Scene(surface=_surface(d.get("surface", {})), material=material, interface=interface,
                  loading=_loading(d.get("loading", {})), solver=solver, output=_output(d.get("output", {})),
                  method=_method(d.get("method", {})), name=name)

@@ -16,6 +16,9 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   locally stable (`gfmd.problem.coupled_stability`, the FE reference's criterion); then Verlet from
   the guess. Method "verlet": Verlet.
 * cohesive wall: projected FIRE, or Verlet (method "verlet").
+* user law (`contact.user_law`, normal-only, a potential): as the normal-only cohesive law, the NCG (its
+  generic nodal path: the user's traction and tangent on every node) and FIRE after a stall; the labels are
+  the same ("ncg", "ncg→fire"), the law's name is in the model description and meta.json.
 
 Why the coupled chain: FIRE's restarts test the power f·v, a descent test only for forces f = −∇E;
 the coupled law has no potential, and at strongly non-symmetric states (large slip under
@@ -88,6 +91,9 @@ CHAINS = {
                           Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                           Link("dynamics", options=_VERLET, budget="rest")),
     ("coupled", "verlet"): (Link("dynamics"),),
+    ("user", "ncg"): (Link("ncg"), Link("dynamics", budget="rest")),
+    ("user", "fire"): (Link("dynamics"),),
+    ("user", "verlet"): (Link("dynamics"),),
     ("cohesive-wall", "fire"): (Link("cohesive_wall"),),
     ("cohesive-wall", "verlet"): (Link("cohesive_wall"),),
 }
@@ -117,7 +123,8 @@ def chain_key(problem, settings):
         return kind, "fire" if settings.method == "fire" else "verlet"
     if settings.method == "fire" and settings.cohesive not in ("ncg", "fire"):
         raise ValueError(f"Settings.cohesive = {settings.cohesive!r}: expected 'ncg' or 'fire'")
-    if settings.method == "fire" and settings.cohesive == "ncg" and type(problem.law.law) is laws.NormalCohesive:
+    if settings.method == "fire" and settings.cohesive == "ncg" and (kind == "user" or
+                                                                     type(problem.law.law) is laws.NormalCohesive):
         return kind, "ncg"
     return kind, "verlet" if settings.method == "verlet" else "fire"
 

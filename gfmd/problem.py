@@ -8,7 +8,7 @@ energy per node area) is (reference-formulas §5.2)
     f̂ = rfft(t_interface(u)) − K(q) û,      Δn = z_ind − u_z,  Δt = −u_x,
 
 with the q = 0 mode clamped on a half-plane (⟨u⟩ = 0, the far-field load its multiplier). Where
-the law has a potential (the normal-only CZ, `contact.laws.potential_normal`), f = −(1/l) ∇E with
+the law has a potential (the normal-only CZ, `contact.laws.potential_normal`; a user law's energy), f = −(1/l) ∇E with
 E(u) = l Σ_j [½ u_j (K u)_j + V(Δn_j)] (J/m, l = L/N); the coupled law (seed Eq. 2) has none and
 only the balance f = 0 and its tangent J = K + D (`Problem.tangent_times`). The hard wall is the
 constraint u_z ≤ z_ind (KKT: contact pressure ≥ 0 on the wall, f = 0 off it; `wall_balance`,
@@ -23,8 +23,6 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.fft
-
-from contact import laws
 
 from .fft import Fft
 
@@ -131,9 +129,11 @@ class Problem:
 
     @property
     def kind(self):
-        """The law's kind, the key of `gfmd.chains.CHAINS`' first level."""
+        """The law's kind, the key of `gfmd.chains.CHAINS`' first level ("user": `contact.user_law`)."""
         if self.law.constraint:
             return "cohesive-wall" if self.law.law.adhesive else "hard-wall"
+        if getattr(self.law.law, "user", False):
+            return "user"
         return "coupled" if self.model.tangential else "cohesive"
 
     def displacements(self, u_hat):
@@ -161,8 +161,7 @@ class Problem:
         if self.law.constraint and float(np.min(gap)) < -self.wall_tolerance:
             return np.inf
         cz = self.law.law
-        interface = 0.0 if self.kind == "hard-wall" else np.sum(laws.potential_normal(gap, cz.work_normal,
-                                                                                       cz.length_normal))
+        interface = 0.0 if self.kind == "hard-wall" else np.sum(cz.potential(gap))
         return (self.model.length / self.model.nodes) * float(0.5 * np.sum(u * ku) + interface)
 
     def tangent_times(self, u_hat, v):

@@ -20,6 +20,11 @@ Runs::
     res.meta             # dict of meta.json (method, model, messages, timings)
     gc.open_run("runs/a")                           # the same for an existing run directory
 
+A user-defined interface law (normal-only; GFMD and the FE evaluate the callables, vectorised, SI)::
+
+    law = gc.user_law(energy=V, traction=T, tangent=dT, length=1e-9, name="my law")  # J/m², Pa (> 0 tensile), Pa/m
+    res = gc.run(scene, law=law)    # or gc.with_law(scene, law); scene.toml says interface.law = "user"
+
 Studies (a grid of scenes × realizations on Dask)::
 
     study = gc.make_study(scene, axes={"interface.phi_n_star": [0.01, 0.15]}, zip=None)
@@ -38,7 +43,9 @@ from workbench.io import RunDirError
 from workbench.study import StudyError
 
 from .figures import plot_run, plot_study, run_figures, study_figures
-from .runs import RunResult, open_run, run
+from contact.user_law import UserLaw, UserLawError, user_law
+
+from .runs import RunResult, open_run, run, with_law
 from .scenes import (change, check, default_scene, example_scene, load_scene, save_scene, scene_dict,
                      scene_toml, stickiness)
 from .studies import StudyResult, load_study, make_study, open_study, run_study, study_text
@@ -46,4 +53,4 @@ from .studies import StudyResult, load_study, make_study, open_study, run_study,
 __all__ = ["Scene", "SceneError", "RunDirError", "StudyError", "default_scene", "example_scene",
            "load_scene", "change", "check", "stickiness", "save_scene", "scene_dict", "scene_toml", "run", "open_run",
            "RunResult", "make_study", "study_text", "load_study", "run_study", "open_study", "StudyResult",
-           "run_figures", "plot_run", "study_figures", "plot_study"]
+           "run_figures", "plot_run", "study_figures", "plot_study", "user_law", "with_law", "UserLaw", "UserLawError"]

@@ -20,6 +20,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from contact.result import CURVE_COLUMNS, FIELD_NAMES
+from contact.errors import SceneError
 from contact.scene import Scene, load_scene as read_scene
 
 from .scenes import change, check, load_scene, method_changes
@@ -225,8 +226,50 @@ def compute(scene, out, workers=None, progress=True, note=None):
     return results, resume, elapsed
 
 
+def with_law(scene, law):
+    """The scene with a user-defined interface law (interface.law = "user"; `user_law` builds `law`).
+
+    The law's Python callables travel with the Scene object, not in its TOML: scene.toml records
+    interface.law = "user" only, and meta.json the law's name, numbers and that the run cannot be
+    reproduced from scene.toml alone.
+
+    Parameters
+    ----------
+    scene : Scene, str, pathlib.Path or dict
+        The scene, or anything `load_scene` reads. interface.tangential_ratio must be 0 (a user law
+        is normal-only).
+    law : contact.user_law.UserLaw
+        From `user_law`.
+
+    Returns
+    -------
+    Scene
+    """
+    from contact.user_law import UserLaw
+
+    if not isinstance(law, UserLaw):
+        raise SceneError(f"law = {law!r}: expected a user law from gfmd_contact.user_law(energy=..., traction=..., "
+                         "tangent=..., length=...)")
+    scene = load_scene(scene) if not isinstance(scene, Scene) else scene
+    return dataclasses.replace(change(scene, {"interface.law": "user"}), user_law=law)
+
+
+def _record_user_law(out, scene):
+    """meta.json of a user-law run: the law's summary and that scene.toml alone cannot reproduce it."""
+    from contact.laws import law_from_scene
+    from workbench import safe_files
+
+    path = Path(out) / "meta.json"
+    meta = json.loads(path.read_text())
+    meta["user_law"] = law_from_scene(scene).summary()
+    meta.setdefault("notes", []).append(
+        f"interface.law = \"user\" ({scene.user_law.name}): the law's Python callables are not in scene.toml, so "
+        "this run cannot be reproduced from scene.toml alone (nor with the gfmd command)")
+    safe_files.atomic_write(path, json.dumps(meta, indent=2))
+
+
 def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=True, resume=False,
-        overwrite=False, wait=0):
+        overwrite=False, wait=0, law=None):
     """Run a scene (every realization) into a run directory and return its result.
 
     Parameters
@@ -252,6 +295,9 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
         Replace an earlier run in `out` (only the files a run writes are removed).
     wait : float
         Seconds to wait for another process that writes `out` (0: refuse at once, None: for ever).
+    law : contact.user_law.UserLaw, optional
+        A user-defined interface law (`user_law`; sets interface.law = "user", `with_law`), solved by
+        GFMD and the FE. With workers other than 1 its callables must be picklable (module-level functions).
 
     Returns
     -------
@@ -273,6 +319,17 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
     from workbench import io, safe_files
 
     scene = load_scene(scene) if not isinstance(scene, Scene) else scene
+    if law is not None:
+        scene = with_law(scene, law)
+    if scene.user_law is not None and workers != 1:
+        import pickle
+
+        try:
+            pickle.dumps(scene.user_law)
+        except Exception as exc:  # noqa: BLE001 - lambdas, closures: say why and what to do
+            raise SceneError(f"workers = {workers!r} with a user law whose callables cannot be sent to worker processes "
+                             f"({type(exc).__name__}: {exc}): define them as module-level functions, or use workers=1"
+                             ) from None
     keys = method_changes(method)
     if realizations is not None:
         keys["surface.realizations"] = realizations
@@ -291,6 +348,8 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
             warnings.warn(w, stacklevel=2)
         results, _, _ = compute(scene, out, workers=workers, progress=progress,
                                 note=lambda line: warnings.warn(line, stacklevel=4))
+        if scene.user_law is not None:
+            _record_user_law(out, scene)
     bad = [m for r in results for m in r.messages]
     if bad:
         warnings.warn(f"{len(bad)} non-converged load step(s): {'; '.join(bad[:3])}", stacklevel=2)

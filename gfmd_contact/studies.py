@@ -83,10 +83,15 @@ def make_study(scene, axes=None, zip=None, name=None):
     Raises
     ------
     workbench.study.StudyError
-        Naming the key and value of a bad axis (every set is checked as `run` checks a scene).
+        Naming the key and value of a bad axis (every set is checked as `run` checks a scene), or a
+        scene with a user law (`user_law`): a study's tasks run from scene files, which cannot hold
+        its functions; loop over `run` instead.
     """
-    from workbench.study import study_from_dict
+    from workbench.study import StudyError, study_from_dict
 
+    if getattr(scene, "user_law", None) is not None:
+        raise StudyError("interface.law = \"user\": a study runs its tasks from scene files, which cannot hold the "
+                         "user law's Python functions; run each scene with gfmd_contact.run(scene, law=...) instead")
     text = study_text(scene, axes, zip, name)
     return study_from_dict(tomllib.loads(text), text=text, name=name or scene.name)
 

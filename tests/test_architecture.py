@@ -122,9 +122,10 @@ def test_the_check_sees_a_violation(tmp_path, monkeypatch):
 #: contact.observables (reference.fem.observables, through Cell.observe), contact.loading
 #: (z_ind: reference.fem.geometry), nor contact.kernels: the elastic kernels are what
 #: verification/test_fe_linear checks against the FE, so the FE solver must not use them (the
-#: verification tests may).
+#: verification tests may). contact.user_law: a user-defined law is an input (the user's callables), with
+#: nothing to be independent from; the FE's built-in laws stay its own.
 FE_MAY_IMPORT = {"contact", "contact.scene", "contact.surfaces", "contact.model", "contact.ramp", "contact.result",
-                 "contact.errors"}
+                 "contact.errors", "contact.user_law"}
 
 
 def fe_core_imports(root=ROOT):

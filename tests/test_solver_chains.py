@@ -12,6 +12,8 @@ Hessian product agree with each other, the chains are data that `relax` walks, a
   cohesive wall now say "fire" where `Relaxed.method` used to be empty.
 """
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -33,6 +35,13 @@ def problem(law="cohesive", nodes=256, delta=3e-9, thickness=None, **extra):
     if thickness is not None:
         kw["material.thickness"] = thickness
     sc = default_scene().replace(**kw)
+    if law == "user":  # seed Eq. 3 through the extension point (contact.user_law)
+        from contact import laws
+        from contact.user_law import user_law
+        phi, dn = sc.work_normal, sc.interface.length_normal
+        sc = dataclasses.replace(sc, user_law=user_law(lambda g: laws.potential_normal(g, phi, dn),
+                                                       lambda g: laws.traction_normal(g, phi, dn),
+                                                       lambda g: laws.stiffness_normal(g, phi, dn), dn))
     h = surfaces.profile(sc.surface, 0)
     model = build_model(sc, h)
     d0 = sc.loading.initial_separation
@@ -114,7 +123,8 @@ SETTINGS_OF_KEY = {"cg": Settings(), "cg-primal": Settings(dual_contact_limit=0.
                    "fire": Settings(hard_wall="fire", cohesive="fire"), "verlet": Settings(method="verlet"),
                    "ncg": Settings()}
 LAW_OF_KIND = {"hard-wall": ("hard-wall", {}), "cohesive": ("cohesive", {}), "cohesive-wall": ("cohesive-wall", {}),
-               "coupled": ("cohesive", {"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3})}
+               "coupled": ("cohesive", {"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3}),
+               "user": ("user", {})}
 
 
 @pytest.mark.parametrize("key", sorted(chains.CHAINS))

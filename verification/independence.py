@@ -21,6 +21,8 @@ PURPOSE = {
     "contact.ramp": "the load steps (the one δ ramp, its continuation and checkpoints)",
     "contact.result": "the result type the FE returns (curves, fields)",
     "contact.errors": "the error types",
+    "contact.user_law": "a user-defined law (interface.law = \"user\") only: the user's own functions, an input with "
+                        "nothing to be independent from; the built-in laws stay reference.fem.law's",
 }
 
 #: what the FE computes with its own code (module of reference.fem), not shared

@@ -4,6 +4,8 @@ Polak–Ribière+ CG, preconditioner K⁻¹ as the hard-wall CG, an FFT-free New
 elastic + CZ energy (`gfmd.problem`); 5–10× fewer FFT pairs per step than FIRE
 (benchmarks/results/bench_vs_tamaas.md). The law's nodal work runs on the nodes near the indenter
 only, the spectral algebra in `gfmd.kernels` (numpy, or fused numba kernels where installed).
+A user law (`contact.user_law`) takes the generic nodal path (`_UserNodes`: its traction and tangent on
+the near set, whose cut is the law's `far_gap`); Eq. 3 keeps its own (`_Eq3Nodes`), bit for bit as before.
 """
 
 from __future__ import annotations
@@ -95,9 +97,13 @@ def solve(problem, start, settings):
     fft = Fft(n)
     clamp = model.half_plane
     cz = law.law
-    phi, dn = float(cz.work_normal), float(cz.length_normal)
-    tn_scale, kn_scale = phi / dn, phi / dn**2
     p_ref = model.reference_traction
+    if getattr(cz, "user", False):  # a user law (contact.user_law): its callables on the near set (`far_gap`)
+        dn, nodal, user = float(cz.length_scale), _UserNodes(cz), True
+    else:
+        phi, dn = float(cz.work_normal), float(cz.length_normal)
+        tn_scale, kn_scale = phi / dn, phi / dn**2
+        nodal, user = _Eq3Nodes(dn, tn_scale, kn_scale), False
     budget = min(NCG_BUDGET, settings.max_iterations // 2) if settings.max_iterations > 1 else 1
     k = np.ascontiguousarray(np.real(model.k_zz), dtype=float)
 
@@ -110,19 +116,15 @@ def solve(problem, start, settings):
 
     g = preconditioner()
     products, direction, advance = kernels.ncg_kernels()  # the spectral algebra (numpy or fused)
-    cut = _attraction_cut(NCG_FAR_FRACTION * settings.tolerance * p_ref / tn_scale)  # s_c
-
-    def scaled_gap(gap_nodes):
-        """(s, e^{−s}) with s = Δn/δn, capped at −MAX_COMPRESSION against overflow."""
-        s = gap_nodes * (1.0 / dn)
-        np.maximum(s, -laws.MAX_COMPRESSION, out=s)
-        return s, np.exp(-s)
+    far = NCG_FAR_FRACTION * settings.tolerance * p_ref  # a far node's |T_n| is below this (Pa)
+    cut = cz.far_gap(far) / dn if user else _attraction_cut(far / tn_scale)  # s_c
+    scaled_gap = nodal.state  # Eq. 3: (s, e^{−s}); a user law: (T_n, dT_n/dΔn)
 
     def near(margin, first=False):
         """(near, Δn on it, s, e^{−s}) at the state uh: the nodes with Δn < (s_c + margin) δn
         (slice(None): every node), from a fresh irfft."""
         gap_all = z_ind - fft.irfft(uh)
-        if first:  # an initial guess out of the law's range raises, as FIRE's does
+        if first and not user:  # an initial guess out of the law's range raises, as FIRE's does
             laws._check_compression(gap_all, dn)
         idx = np.flatnonzero(gap_all < (cut + margin) * dn) if np.isfinite(cut) else None
         if idx is None or idx.size > NCG_NEAR_FULL * n:
@@ -134,8 +136,7 @@ def solve(problem, start, settings):
 
     def traction_hat():
         """(rfft(T_n), T_n on the near set), T_n = (φn/δn) s e^{−s} (seed Eq. 3) on the near set, 0 off it."""
-        t = sv * ev
-        t *= tn_scale
+        t = nodal.traction_new(sv, ev)
         if isinstance(idx, slice):
             return fft.rfft(t), t
         t_nodes[idx] = t
@@ -145,7 +146,7 @@ def solve(problem, start, settings):
         """max_j |f_j| / p_ref with every node's attraction (the converged state's check)."""
         gap_all = z_ind - fft.irfft(uh)
         s_all, e_all = scaled_gap(gap_all)
-        f_all = fft.rfft(tn_scale * s_all * e_all)
+        f_all = fft.rfft(nodal.traction(s_all, e_all))
         f_all -= k * uh
         if clamp:
             f_all[0] = 0.0
@@ -180,7 +181,7 @@ def solve(problem, start, settings):
                     residual, gap, sv, ev, f_hat = full_residual()
                     if not residual < settings.tolerance:  # it counts after all: every node is near from here
                         idx, restart, ratio = slice(None), True, None
-                        t = tn_scale * sv * ev
+                        t = nodal.traction(sv, ev)
                         continue
                 converged = True
                 break
@@ -213,17 +214,16 @@ def solve(problem, start, settings):
             c1 = dot(d, t) + slope0
 
             def curvature(s_a, e_a):  # d²E/dα² = d·Kd + Σ k_loc d², k_loc = (φn/δn²)(1 − s) e^{−s}
-                x = e_a * d
-                return c2 + kn_scale * (dot(x, d) - float(np.einsum("i,i,i->", s_a, x, d)))
+                return c2 + nodal.curvature_sum(s_a, e_a, d)
 
             alpha, found, gap_a, s_a, e_a = _ncg_line_search(curvature, c1, c2, slope0, gap, sv, ev, d, dn,
-                                                             tn_scale, scaled_gap, eta, settings.max_move)
+                                                             nodal.work, scaled_gap, eta, settings.max_move)
             if alpha * approach <= slack:
                 break
             margin = NCG_NEAR_MARGIN + 2.0 * alpha * approach / dn
             idx, gap, sv, ev = near(margin)
             slack = margin * dn
-            t = tn_scale * sv * ev
+            t = nodal.traction(sv, ev)
             t_nodes[:] = 0.0
         if not found and beta > 0.0:  # a conjugate direction failed: retry once along s = K⁻¹ f
             restart = True
@@ -246,10 +246,11 @@ def solve(problem, start, settings):
     return out
 
 
-def _ncg_line_search(curvature, c1, c2, slope0, gap, sv, ev, d, dn, tn_scale, scaled_gap, eta, max_move):
-    """Safeguarded Newton on dE/dα along d (`solve`): (α, found, Δn, s, e^{−s} at α).
+def _ncg_line_search(curvature, c1, c2, slope0, gap, sv, ev, d, dn, work, scaled_gap, eta, max_move):
+    """Safeguarded Newton on dE/dα along d (`solve`): (α, found, Δn, s, e^{−s} at α; a user law's T_n, k_loc).
 
-    dE/dα = c1 + α c2 − (φn/δn) Σ_j s_j e^{−s_j} d_j at Δn − α d; stops at |dE/dα| ≤ eta |dE/dα(0)|.
+    dE/dα = c1 + α c2 − Σ_j T_n(Δn_j − α d_j) d_j (`work`; Eq. 3: (φn/δn) Σ_j s_j e^{−s_j} d_j); stops at
+    |dE/dα| ≤ eta |dE/dα(0)|.
     found = False with α = 0: no step lowers E.
     """
     curv0 = curvature(sv, ev)
@@ -263,7 +264,7 @@ def _ncg_line_search(curvature, c1, c2, slope0, gap, sv, ev, d, dn, tn_scale, sc
         gap_a = d * (-alpha)
         gap_a += gap
         s_a, e_a = scaled_gap(gap_a)
-        p = c1 + alpha * c2 - tn_scale * float(np.einsum("i,i,i->", s_a, e_a, d))
+        p = c1 + alpha * c2 - work(s_a, e_a, d)
         if not np.isfinite(p):
             hi, p_hi = alpha, np.inf
         elif abs(p) <= eta * abs(slope0):
@@ -303,3 +304,58 @@ def _ncg_line_search(curvature, c1, c2, slope0, gap, sv, ev, d, dn, tn_scale, sc
         alpha = 0.0
     return alpha, found, gap_a, s_a, e_a
 
+
+
+class _Eq3Nodes:
+    """The nodal law work of seed Eq. 3 on the scaled gap: state (s, e^{−s}), s = Δn/δn (the built-in fast path)."""
+
+    def __init__(self, dn, tn_scale, kn_scale):
+        self.dn, self.tn_scale, self.kn_scale = dn, tn_scale, kn_scale
+
+    def state(self, gap_nodes):
+        """(s, e^{−s}) with s = Δn/δn, capped at −MAX_COMPRESSION against overflow."""
+        s = gap_nodes * (1.0 / self.dn)
+        np.maximum(s, -laws.MAX_COMPRESSION, out=s)
+        return s, np.exp(-s)
+
+    def traction_new(self, s, e):
+        """T_n = (φn/δn) s e^{−s} (Pa), as (s e^{−s}) φn/δn."""
+        t = s * e
+        t *= self.tn_scale
+        return t
+
+    def traction(self, s, e):
+        """T_n = (φn/δn) s e^{−s} (Pa)."""
+        return self.tn_scale * s * e
+
+    def work(self, s, e, d):
+        """Σ_j T_n,j d_j."""
+        return self.tn_scale * float(np.einsum("i,i,i->", s, e, d))
+
+    def curvature_sum(self, s, e, d):
+        """Σ_j k_loc,j d_j², k_loc = (φn/δn²)(1 − s) e^{−s}."""
+        x = e * d
+        return self.kn_scale * (dot(x, d) - float(np.einsum("i,i,i->", s, x, d)))
+
+
+class _UserNodes:
+    """The nodal law work of a user law (`contact.user_law`): state (T_n, dT_n/dΔn) from its callables."""
+
+    def __init__(self, law):
+        self.law = law
+
+    def state(self, gap_nodes):
+        """(T_n, k_loc) (Pa, Pa/m) at the gaps."""
+        return self.law.tractions(gap_nodes)[0], self.law.tangent(gap_nodes)[0]
+
+    def traction_new(self, t, k):
+        return t
+
+    def traction(self, t, k):
+        return t
+
+    def work(self, t, k, d):
+        return dot(t, d)  # no BLAS (`gfmd.fft.dot`)
+
+    def curvature_sum(self, t, k, d):
+        return float(np.einsum("i,i,i->", k, d, d))

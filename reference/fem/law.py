@@ -13,6 +13,10 @@ the body as t_z = T_n, t_x = T_t (reference-formulas §0).
     normal only (Eq. 3):   T_n = (φn/δn)(Δn/δn) e^{−Δn/δn}
 
 with φn = φn* δn E and φt = c φn* δt E (seed §2.1: φn* = φn/(δn E), c = φt*/φn*).
+
+A user-defined law (interface.law = "user", `contact.user_law`) has nothing to be independent from:
+the FE evaluates the user's callables through `UserZone`, which answers what `CohesiveZone` answers
+for the normal law.
 """
 
 from __future__ import annotations
@@ -92,6 +96,11 @@ class CohesiveZone:
                 -b * r * decay / self.delta_n,
                 b * (1.0 - 2.0 * r * r) * decay / self.delta_t)
 
+    @property
+    def peak_traction(self):
+        """φn/(e δn) (Pa): the flat profile's residual scale."""
+        return self.phi_n / (np.e * self.delta_n)
+
     # -- the seed's contact rule -------------------------------------------------------------------
     def contact_gap(self, tolerance):
         """Δtol (m): the gap on the decaying branch (Δn > δn) where T_n = tolerance·φn/δn (Eq. 3).
@@ -103,3 +112,37 @@ class CohesiveZone:
             raise ValueError(f"contact tolerance {tolerance!r} must lie in (0, 1/e), the peak of s e^(-s)")
         s = brentq(lambda v: v * np.exp(-v) - tolerance, 1.0, 800.0, xtol=1e-15, rtol=4 * np.finfo(float).eps)
         return s * self.delta_n
+
+
+class UserZone:
+    """A user law (`contact.user_law.UserLaw`, normal-only) as the FE's Newton sees a law: T_n, dT_n/dΔn, V.
+
+    delta_n is the law's length (the Newton step limit 0.5 δn), phi_n = e·peak_traction·length so that
+    φn/(e δn) is its peak traction and φn/δn² a stiffness scale (pseudo-transient continuation's mass).
+    """
+
+    def __init__(self, law):
+        if law.tangential:
+            raise ValueError("the FE solves normal-only user laws")
+        self.user = law
+        self.delta_n = law.length
+        self.phi_n = np.e * law.peak_traction * law.length
+        self.phi_t, self.delta_t = 0.0, 1.0
+
+    @property
+    def peak_traction(self):
+        return self.user.peak_traction
+
+    def normal(self, gap_n):
+        return self.user.tractions(gap_n)[0]
+
+    def normal_slope(self, gap_n):
+        return self.user.tangent(gap_n)[0]
+
+    def normal_potential(self, gap_n):
+        return self.user.potential(gap_n)
+
+    def contact_gap(self, tolerance):
+        """Δtol (m) of the user law at this tolerance (`contact.user_law`: T_n = tolerance·e·peak_traction)."""
+        import dataclasses
+        return dataclasses.replace(self.user, contact_tolerance=tolerance, contact_rule="traction-tolerance").contact_gap

@@ -49,10 +49,11 @@ import scipy.linalg
 import scipy.sparse as sp
 
 from contact.ramp import StepSolution
+from contact.user_law import scene_law
 
 from .assembly import build_cell
 from .geometry import fourier_interpolate, surface_indenter
-from .law import CohesiveZone, LawRangeError
+from .law import CohesiveZone, LawRangeError, UserZone
 from .observables import cohesive_observables, rms_gradient
 from .quadrature import fourier_evaluate, gauss_surface_quadrature
 
@@ -108,7 +109,7 @@ class SurfaceProblem:
                 "the FE reference models a finite layer only: material.thickness = inf (half-plane) cannot be "
                 f"meshed. Use a depth, e.g. material.thickness = {2 * scene.surface.length:g} m (D = 2L: the "
                 "fundamental mode's compliance equals the half-plane's to ~1e-9), and run GFMD with the same depth.")
-        if i.law not in ("cohesive",):
+        if i.law not in ("cohesive", "user"):
             raise NotImplementedError(f"interface.law = {i.law!r}: SurfaceProblem solves the cohesive law; the hard "
                                       "wall is reference.fem.hardwall (run_realization routes it there)")
         self.scene = scene
@@ -122,11 +123,12 @@ class SurfaceProblem:
         self.ns = self.cell.surface_x.size
         self.h_surface = fourier_interpolate(h, self.ns // h.size)
         self.w = self.cell.weights
-        self.law = CohesiveZone.from_scene(scene)  # the FE's own law (reference.fem.law)
+        # the FE's own law (reference.fem.law); a user law's callables (nothing to be independent from)
+        self.law = UserZone(scene_law(scene)) if i.law == "user" else CohesiveZone.from_scene(scene)
         self.phi_n, self.dn = self.law.phi_n, self.law.delta_n
         self.phi_t, self.dt = self.law.phi_t, self.law.delta_t
         g = rms_gradient(h, scene.surface.spacing)
-        self.p_ref = m.contact_modulus * g if g > 0 else self.phi_n / (math.e * self.dn)
+        self.p_ref = m.contact_modulus * g if g > 0 else self.law.peak_traction
         self.wt = np.tile(self.w, 2 if self.tangential else 1)
         if quadrature == "gauss":
             self.gauss = gauss_surface_quadrature(self.cell.surface_x, scene.surface.length, order)
