@@ -90,6 +90,7 @@ class UserLaw:
     peak_traction: float = field(init=False, repr=False, compare=False)
     steepest_softening: float = field(init=False, repr=False, compare=False)
     tolerance_gap: float | None = field(init=False, repr=False, compare=False)
+    work_normal: float = field(init=False, repr=False, compare=False)
 
     constraint: ClassVar[bool] = False
     tangential: ClassVar[bool] = False
@@ -116,6 +117,15 @@ class UserLaw:
         set_(self, "peak_traction", peak)
         set_(self, "steepest_softening", max(0.0, float(np.max(-self._call("tangent_fn", s)))))
         set_(self, "tolerance_gap", self._tolerance_gap(s, t, i))
+        # work of separation w (J/m²): V far out minus its minimum (the unloaded equilibrium gap; Δn = 0 for Eq. 3,
+        # where V(0) = −φn and w = φn), both over the checked range CHECK_FROM … SAMPLE_REACH lengths
+        g = np.linspace(CHECK_FROM, SAMPLE_REACH, SAMPLE_POINTS) * self.length
+        v = self._call("energy", g)
+        j = int(np.argmin(v))
+        low = minimize_scalar(lambda x: float(self._call("energy", np.array([x]))[0]),
+                              bounds=(g[max(j - 1, 0)], g[min(j + 1, g.size - 1)]), method="bounded",
+                              options={"xatol": 1e-12 * self.length})
+        set_(self, "work_normal", float(v[-1] - min(float(low.fun), float(v[j]))))
 
     # -- calling the user's functions -----------------------------------------------------------------------
     def _call(self, key, gap):
@@ -238,6 +248,7 @@ class UserLaw:
         return {"name": self.name, "description": self.description, "length": self.length,
                 "peak_traction": self.peak_traction, "peak_gap": self.peak_gap,
                 "contact_gap": self.contact_gap, "steepest_softening": self.steepest_softening,
+                "work_normal": self.work_normal,
                 "reproducible_from_scene_toml": False}
 
 

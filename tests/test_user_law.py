@@ -128,6 +128,14 @@ def test_eq3_through_the_extension_point_derives_the_built_in_numbers():
     assert user.jump_in_separation(2 * built_in.steepest_softening) == 0.0
     # steepest softening: the max of −dT_n/dΔn on the grid (spacing 0.01 δn); s = 2 is a grid point
     assert user.steepest_softening == pytest.approx(built_in.steepest_softening, rel=1e-12)
+    # w = V(50 δn) − min V = φn (1 − 51 e^{−50}): the far end's energy is 1e-20 φn
+    assert user.work_normal == pytest.approx(built_in.work_normal, rel=1e-14)
+    from contact import stickiness
+
+    assert stickiness.resolution_warnings(user_scene(sc)) == stickiness.resolution_warnings(sc)
+    # l_pz = E* w/σ_max²: w from Brent at xatol 1e-12 δn on V's quadratic minimum, round-off of a few ε
+    assert (stickiness.as_dict(user_scene(sc))["process_zone"]["value"]
+            == pytest.approx(stickiness.as_dict(sc)["process_zone"]["value"], rel=1e-13))
 
 
 def test_a_morse_law_derives_its_known_numbers():
@@ -135,6 +143,7 @@ def test_a_morse_law_derives_its_known_numbers():
     law = morse(phi, ell)
     assert law.peak_gap == pytest.approx(ell * math.log(2), rel=1e-9)  # e^{−s} = 1/2
     assert law.peak_traction == pytest.approx(phi / (2 * ell), rel=1e-14)
+    assert law.work_normal == pytest.approx(phi, rel=1e-14)  # V(0) = −φ, V(50 ℓ) ≈ −2e^{−50} φ
     x = (1 - math.sqrt(1 - tol * math.e)) / 2  # 2(1 − x)x φ/ℓ = tol·e·φ/(2ℓ), the decaying branch's root
     assert law.contact_gap == pytest.approx(-ell * math.log(x), rel=1e-13)
     # −k = (2φ/ℓ²)(x − 2x²), x = e^{−s}, is largest at x = 1/4: φ/(4ℓ²). The grid (spacing 0.01 ℓ) meets s = ln 4
