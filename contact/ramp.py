@@ -33,7 +33,7 @@ from typing import Any, Callable
 import numpy as np
 
 from . import surfaces
-from .loading import (RampState, field_step_indices, realization_label, realization_steps, slip_warning,
+from .loading import (RampState, extrapolation_allowed, field_step_indices, realization_label, realization_steps, slip_warning,
                       start_warning)
 from .model import WARNING
 from .observables import step_observables
@@ -117,7 +117,7 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
     for k in range(state.step + 1, steps.size):
         displacement = steps[k]
         t0 = time.perf_counter()
-        extrapolate = cell.extrapolate and k >= 2
+        extrapolate = cell.extrapolate and extrapolation_allowed(scene.loading, k)  # not across a turning point
         guess = _extrapolated(current, previous) if extrapolate else current
         solved = cell.solve(displacement, guess, current)
         iterations = solved.iterations
