@@ -48,6 +48,7 @@ from contact.result import CURVE_COLUMNS, FIELD_NAMES, Result
 from contact.scene import load_scene, scene_to_dict, scene_to_toml
 
 from .averages import ensemble_average
+from .cycles import has_path, mean_columns, meta_cycles, realization_cycles
 
 #: files and folders a run directory may hold (what --overwrite removes)
 RUN_ENTRIES = ("curve.csv", "mean_curve.csv", "fields.npz", "scene.toml", "meta.json", "plots", "vtu", "partial")
@@ -139,13 +140,18 @@ def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     labelled = any("algorithms" in r.diagnostics for r in results)  # an extra text column: old readers skip it
-    writer.writerow(("realization", "seed") + CURVE_COLUMNS + (("algorithm",) if labelled else ()))
+    cycled = has_path(scene)  # a load path: branch, cycle, event columns (workbench.cycles)
+    writer.writerow(("realization", "seed") + CURVE_COLUMNS + (("algorithm",) if labelled else ())
+                    + (("branch", "cycle", "event") if cycled else ()))
     for r in results:
+        extra = realization_cycles(scene, r.curve)[1] if cycled else {}
         for k in range(len(r.curve["step"])):
             writer.writerow([r.realization, r.seed] + [_fmt(r.curve[c][k]) for c in CURVE_COLUMNS]
-                            + ([step_algorithm(r, k)] if labelled else []))
+                            + ([step_algorithm(r, k)] if labelled else []) + [extra[c][k] for c in extra])
     _atomic_write(out / "curve.csv", buf.getvalue())
     cols = ensemble_average(results)
+    if cycled:
+        cols.update(mean_columns(scene, cols["step"]))
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(list(cols))
@@ -171,6 +177,7 @@ def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
         "all_converged": all(r.all_converged for r in results),
         "notes": [n for r in results for n in r.notes],
         **({"algorithms": algorithm_counts(results)} if labelled else {}),
+        **(meta_cycles(scene, results) if cycled else {}),
         "messages": [m for r in results for m in r.messages],
         "resume": resume or {"realizations_reused": 0, "steps_reused": 0},
         "timings": {**(timings or {}),

@@ -1,0 +1,111 @@
+"""Load paths and cycle observables (issue 23 §1–3): scene keys, steps, warm starts, run files."""
+
+import json
+
+import numpy as np
+import pytest
+
+import gfmd_contact as gc
+from contact import cycle as cyc
+from contact import loading as L
+from contact.scene import SceneError, default_scene, load_scene, scene_to_toml
+
+NM = 1e-9
+
+
+def path_scene(path=(-8 * NM, 4 * NM, -8 * NM), steps=(6, 6), **extra):
+    d = {"surface.kind": "sinusoid", "surface.amplitude": 5 * NM, "surface.nodes": 128, "surface.length": 1e-6,
+         "surface.realizations": 1, "loading.path": list(path), "loading.steps": list(steps),
+         "output.field_steps": 2, "output.workers": 1}
+    d.update(extra)
+    return default_scene().replace(**d)
+
+
+def test_path_steps_branches_and_round_trip(tmp_path):
+    s = path_scene(path=(-8 * NM, 4 * NM, -2 * NM, 6 * NM, -8 * NM), steps=(6, 3, 4, 7))
+    lo = s.loading
+    assert lo.initial_separation == 8 * NM and lo.final_penetration == 6 * NM and lo.steps == 20
+    U = L.displacement_steps(lo)
+    assert U.size == 21 and U[0] == 0.0
+    corners = np.cumsum([0, 6, 3, 4, 7])
+    assert np.allclose(U[corners] - lo.initial_separation, lo.path, atol=1e-20)
+    branch, cycle = L.step_branches(lo)
+    assert list(branch[1:7]) == ["loading"] * 6 and list(branch[7:10]) == ["unloading"] * 3
+    assert list(cycle) == [0] * 10 + [1] * 11
+    # no extrapolation from a step across a corner: the first two steps after each corner start from the last state
+    allowed = [L.extrapolation_allowed(lo, k) for k in range(21)]
+    assert [k for k in range(2, 21) if not allowed[k]] == [7, 8, 10, 11, 14, 15]
+    (tmp_path / "s.toml").write_text(scene_to_toml(s))
+    assert load_scene(tmp_path / "s.toml").loading == s.loading
+
+
+def test_ramp_unchanged():
+    s = default_scene()
+    assert s.loading.path == () and "path" not in scene_to_toml(s)
+    assert np.array_equal(L.displacement_steps(s.loading),
+                          np.linspace(0, s.loading.initial_separation + s.loading.final_penetration, s.loading.steps + 1))
+    assert all(L.extrapolation_allowed(s.loading, k) for k in range(2, s.loading.steps + 1))
+
+
+@pytest.mark.parametrize("change, key", [
+    ({"loading.steps": [6, 0]}, "loading.steps"),
+    ({"loading.steps": [6]}, "loading.steps"),
+    ({"loading.path": [-8 * NM, float("inf")]}, "loading.path[1]"),
+    ({"loading.path": [-8 * NM, float("nan"), 1 * NM]}, "loading.path[1]"),
+    ({"loading.path": [2 * NM, 4 * NM]}, "loading.path[0]"),
+    ({"loading.path": [-8 * NM, -8 * NM]}, "loading.path[1]"),
+    ({"loading.path": [-8 * NM]}, "loading.path"),
+    ({"loading.final_penetration": 3 * NM, "loading.path": [-8 * NM, 4 * NM]}, "loading.final_penetration"),
+    ({"loading.control": "force"}, "loading.control"),
+])
+def test_bad_path_names_the_key(change, key):
+    with pytest.raises(SceneError, match=key.replace("[", r"\[").replace("]", r"\]")):
+        path_scene(**change)
+
+
+def test_cycle_observables_on_a_known_loop():
+    # a loop: load at p = 0 from δ = −2 to −1, jump to p = −1 at δ = 0, follow p = −1 + δ/5 up to δ = 1, back
+    # down to −1 and jump out to p = 0 on the way to −1.5
+    d = np.array([-2, -1, 0, 0.5, 1, 0.5, 0, -0.5, -1, -1.5, -2], float)
+    p = np.array([0, 0, -1, -0.9, -0.8, -0.9, -1, -1.1, -1.2, 0, 0], float)
+    a = np.array([0, 0, 0.3, 0.35, 0.4, 0.35, 0.3, 0.25, 0.2, 0, 0], float)
+    branch = np.array(["loading"] * 5 + ["unloading"] * 6, object)
+    rows = cyc.cycle_observables(d, p, a, branch, np.zeros(11, int))
+    (r,) = rows
+    # trapezoid along the steps: the branch in contact cancels between loading and unloading except on
+    # δ ∈ [−1, 0] (unloading only: +1.1) and the two sloped jump segments (−0.5 on loading, +0.3 on unloading)
+    assert r["hysteresis"] == pytest.approx(1.1 - 0.5 + 0.3, rel=1e-12) and r["closed"]
+    assert r["pull_off_pressure"] == -1.2 and r["pull_off_delta"] == -1
+    kinds = [(e["kind"], e["step"]) for e in r["events"]]
+    assert kinds == [("jump-in", 2), ("jump-out", 9)]
+    assert r["snap_off_delta"] == -1 and r["snap_off_step"] == 9
+
+
+def test_smooth_curve_has_no_jumps():
+    d = np.linspace(0, 1, 41)
+    p = np.concatenate([d[:21] ** 1.5, (d[:20] ** 1.5)[::-1]])
+    branch = np.array(["loading"] * 21 + ["unloading"] * 20, object)
+    assert cyc.jump_events(np.r_[d[:21], d[:20][::-1]], p, np.zeros(41), branch, np.zeros(41, int)) == []
+
+
+@pytest.fixture(scope="module")
+def cycle_run(tmp_path_factory):
+    s = path_scene(**{"interface.law": "cohesive"})
+    return s, gc.run(s, tmp_path_factory.mktemp("cyc") / "run", progress=False)
+
+
+def test_path_run_files(cycle_run):
+    s, res = cycle_run
+    curve, mean = res.curve, res.mean_curve
+    assert list(curve.columns[-3:]) == ["branch", "cycle", "event"]
+    assert list(curve["branch"]) == ["loading"] * 7 + ["unloading"] * 6
+    assert list(mean["branch"]) == list(curve["branch"]) and set(mean["cycle"]) == {0}
+    assert np.allclose(curve["delta"].iloc[[0, 6, 12]], s.loading.path, rtol=0, atol=1e-18)
+    meta = json.loads((res.dir / "meta.json").read_text())
+    (entry,) = meta["cycles"]
+    (c,) = entry["cycles"]
+    # the file's numbers are those of contact.cycle on the file's own curve
+    ref = cyc.cycle_observables(curve["delta"], curve["p"], curve["a_rel"], curve["branch"], curve["cycle"])[0]
+    assert c["hysteresis"] == ref["hysteresis"] and c["pull_off_pressure"] == ref["pull_off_pressure"]
+    assert c["pull_off_pressure"] == curve["p"][curve["branch"] == "unloading"].min() < 0
+    assert "hysteresis" in meta["cycle_units"] and meta["cycle_definitions"]

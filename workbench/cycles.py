@@ -1,0 +1,45 @@
+"""The cycle part of a run directory whose loading has a path (issue 23 §1–3): extra columns and meta.json.
+
+Units: SI (see `contact.conventions`). For a scene with `loading.path` (`contact.loading`):
+  curve.csv       + branch ("loading"/"unloading"), cycle (0, 1, ...) and event ("jump-in"/"jump-out"/""):
+                  what `contact.cycle.jump_events` finds at that step
+  mean_curve.csv  + branch and cycle per step (realizations share the steps, so the per-step means
+                  are per (branch, step) and never mix the branches)
+  meta.json       "cycles": per realization, per cycle, `contact.cycle.cycle_observables` (pull-off,
+                  snap-off δ, hysteresis W, events), with "cycle_units" and "cycle_definitions"
+A ramp (no path) writes none of these: its files are those of the seed's ramp.
+"""
+
+from __future__ import annotations
+
+from contact import cycle as cyc
+from contact.loading import step_branches
+
+
+def has_path(scene):
+    return bool(scene.loading.path)
+
+
+def realization_cycles(scene, curve):
+    """(per-cycle observables, per-step (branch, cycle, event) columns) of one realization's curve
+    (a dict of arrays with delta, p, a_rel)."""
+    branch, cycle = step_branches(scene.loading)
+    n = len(curve["delta"])
+    rows = cyc.cycle_observables(curve["delta"], curve["p"], curve["a_rel"], branch[:n], cycle[:n])
+    events = [e for r in rows for e in r["events"]]
+    return rows, {"branch": list(branch[:n]), "cycle": [int(c) for c in cycle[:n]],
+                  "event": cyc.step_events(n, events)}
+
+
+def meta_cycles(scene, results):
+    """meta.json entries of a path run: {"cycles": [{realization, seed, cycles}], units, definitions}."""
+    entries = [{"realization": r.realization, "seed": r.seed, "cycles": realization_cycles(scene, r.curve)[0]}
+               for r in results]
+    return {"cycles": entries, "cycle_units": cyc.UNITS,
+            "cycle_definitions": " ".join(cyc.__doc__.split("\n\n")[2:]).replace("\n", " ")}
+
+
+def mean_columns(scene, steps):
+    """{"branch", "cycle"} for the mean_curve.csv steps (array of step indices)."""
+    branch, cycle = step_branches(scene.loading)
+    return {"branch": [branch[k] for k in steps], "cycle": [int(cycle[k]) for k in steps]}
