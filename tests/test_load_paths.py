@@ -109,3 +109,24 @@ def test_path_run_files(cycle_run):
     assert c["hysteresis"] == ref["hysteresis"] and c["pull_off_pressure"] == ref["pull_off_pressure"]
     assert c["pull_off_pressure"] == curve["p"][curve["branch"] == "unloading"].min() < 0
     assert "hysteresis" in meta["cycle_units"] and meta["cycle_definitions"]
+
+
+def test_study_cycles_table(tmp_path):
+    """A study of path scenes writes cycles.csv: pull-off and W per task, equal to each task's meta.json."""
+    from workbench.cli import main
+
+    base = tmp_path / "base.toml"
+    base.write_text(scene_to_toml(path_scene(**{"interface.law": "cohesive", "surface.nodes": 64})))
+    (tmp_path / "study.toml").write_text('base = "base.toml"\n[axes]\n"interface.phi_n_star" = [0.05, 0.15]\n')
+    assert main(["study", "run", str(tmp_path / "study.toml"), "--out", str(tmp_path / "out"), "--workers", "1",
+                 "--quiet"]) == 0
+    import csv
+    with open(tmp_path / "out" / "cycles.csv") as fh:
+        table = list(csv.DictReader(fh))
+    assert [r["interface.phi_n_star"] for r in table] == ["0.05", "0.15"]
+    for r in table:
+        meta = json.loads((tmp_path / "out" / "tasks" / r["task"] / "meta.json").read_text())
+        c = meta["cycles"][0]["cycles"][0]
+        assert float(r["hysteresis"]) == c["hysteresis"] and float(r["pull_off_pressure"]) == c["pull_off_pressure"]
+    # more adhesion, more tensile pull-off
+    assert float(table[1]["pull_off_pressure"]) < float(table[0]["pull_off_pressure"]) < 0

@@ -43,3 +43,43 @@ def mean_columns(scene, steps):
     """{"branch", "cycle"} for the mean_curve.csv steps (array of step indices)."""
     branch, cycle = step_branches(scene.loading)
     return {"branch": [branch[k] for k in steps], "cycle": [int(cycle[k]) for k in steps]}
+
+
+#: columns of a study's cycles.csv after set, the axis columns, realization, seed, task
+STUDY_COLUMNS = ("cycle", "pull_off_pressure", "pull_off_delta", "snap_off_delta", "hysteresis", "closed",
+                 "jump_in", "jump_out")
+
+
+def write_study_cycles(study, out, tasks, axis_text, atomic_write):
+    """DIR/cycles.csv of a study whose tasks have load paths: one row per (task, cycle) with pull-off
+    (Pa, min p̄ on unloading), its δ and the snap-off δ (m), hysteresis W (J/m²), whether the cycle is
+    closed and its number of jump-in / jump-out events, from each finished task's meta.json "cycles".
+    Nothing is written when no task has a path."""
+    import csv
+    import io as _io
+    import json
+    from pathlib import Path
+
+    rows = []
+    for t in sorted(tasks, key=lambda t: (t.set, t.realization)):
+        meta = Path(out) / "tasks" / t.key / "meta.json"
+        if not meta.is_file():
+            continue
+        entries = json.loads(meta.read_text()).get("cycles") or []
+        params = [axis_text(study.sets[t.set][k]) for k in study.keys]
+        for e in entries:
+            for c in e["cycles"]:
+                kinds = [ev["kind"] for ev in c["events"]]
+                rows.append([str(t.set)] + params + [str(t.realization), str(t.seed), t.key, str(c["cycle"])]
+                            + ["" if c[k] is None else repr(c[k]) if isinstance(c[k], float) else str(c[k])
+                               for k in ("pull_off_pressure", "pull_off_delta", "snap_off_delta", "hysteresis",
+                                         "closed")]
+                            + [str(kinds.count("jump-in")), str(kinds.count("jump-out"))])
+    if not rows:
+        return None
+    buf = _io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["set"] + list(study.keys) + ["realization", "seed", "task"] + list(STUDY_COLUMNS))
+    w.writerows(rows)
+    atomic_write(Path(out) / "cycles.csv", buf.getvalue())
+    return Path(out) / "cycles.csv"
