@@ -130,3 +130,21 @@ def test_study_cycles_table(tmp_path):
         assert float(r["hysteresis"]) == c["hysteresis"] and float(r["pull_off_pressure"]) == c["pull_off_pressure"]
     # more adhesion, more tensile pull-off
     assert float(table[1]["pull_off_pressure"]) < float(table[0]["pull_off_pressure"]) < 0
+
+
+def test_cycle_figures(cycle_run):
+    from workbench import plots
+    from workbench.cycle_plots import CYCLE_FIGURES
+
+    s, res = cycle_run
+    figs = plots.make_figures(res.dir)
+    assert set(CYCLE_FIGURES) <= set(figs)
+    ax = figs["cycle_pressure_vs_delta"].axes[0]
+    gids = [a.get_gid() for a in ax.get_children()]
+    assert "loading" in gids and "unloading" in gids and "pull-off" in gids
+    assert gids.count("direction") == 2  # one arrow per segment of the path
+    meta = json.loads((res.dir / "meta.json").read_text())
+    events = [e["kind"] for c in meta["cycles"][0]["cycles"] for e in c["events"]]
+    assert sorted(g for g in gids if g in ("jump-in", "jump-out")) == sorted(events)
+    paths = plots.plot_run(res.dir)
+    assert {p.stem for p in paths} >= set(CYCLE_FIGURES)
