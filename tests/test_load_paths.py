@@ -148,3 +148,21 @@ def test_cycle_figures(cycle_run):
     assert sorted(g for g in gids if g in ("jump-in", "jump-out")) == sorted(events)
     paths = plots.plot_run(res.dir)
     assert {p.stem for p in paths} >= set(CYCLE_FIGURES)
+
+
+@pytest.mark.parametrize("method, stop", [("gfmd", 8), ("fe", 3)])
+def test_path_run_resumes_past_the_turning_point(tmp_path, monkeypatch, method, stop):
+    """Interrupted after an unloading step and resumed: the files equal an uninterrupted run's (GFMD and the FE,
+    through the one ramp)."""
+    from test_cli_fe import fe_scene
+    from test_run_dir import assert_same_run, interrupted_and_resumed
+
+    if method == "fe":
+        sc = fe_scene("cohesive", "sinusoid").replace(**{"method.name": "fe", "loading.path": [-2 * NM, 6 * NM, -2 * NM],
+                                                         "loading.steps": [3, 3]})
+    else:
+        sc = path_scene(**{"interface.law": "cohesive"})
+    ref, out = interrupted_and_resumed(tmp_path, monkeypatch, sc, (0, stop))
+    assert_same_run(ref, out)
+    meta = json.loads((ref / "meta.json").read_text())
+    assert meta["cycles"][0]["cycles"][0]["closed"] and meta["method"].startswith(method)
