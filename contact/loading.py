@@ -20,16 +20,20 @@ from .laws import law_from_scene
 from .model import build_model, softest_normal_stiffness
 
 
+def path_values(loading, offset=0.0):
+    """The path's value at every step k = 0 … steps: each segment's equal increments between its corners
+    (+ offset); δ (m) under displacement control, p̄ (Pa) under force control."""
+    parts = [np.array([loading.path[0] + offset])]
+    for s, n in enumerate(loading.segment_steps):
+        parts.append(np.linspace(loading.path[s] + offset, loading.path[s + 1] + offset, n + 1)[1:])
+    return np.concatenate(parts)
+
+
 def displacement_steps(loading):
     """Imposed indenter displacements U_k (m), k = 0 … steps: the ramp's equal increments from 0, or
     along a path (loading.path, corners of δ) each segment's equal increments, U = δ + δ0, δ0 = −path[0]."""
     if loading.path:
-        d0 = loading.initial_separation
-        parts = [np.array([loading.path[0] + d0])]
-        for s, n in enumerate(loading.segment_steps):
-            a, b = loading.path[s] + d0, loading.path[s + 1] + d0
-            parts.append(np.linspace(a, b, n + 1)[1:])
-        return np.concatenate(parts)
+        return path_values(loading, loading.initial_separation)
     total = loading.initial_separation + loading.final_penetration
     return np.linspace(0.0, total, loading.steps + 1)
 
@@ -106,6 +110,8 @@ def realization_steps(scene, h, realization=0):
     realization whose δ_max·(1 − FULL_CONTACT_MARGIN) lies below loading.final_penetration
     runs the common steps up to that δ and stops there; a layer has no such limit.
     """
+    if scene.loading.control == "force":  # the loads p̄_k (Pa); the δ limit is checked as the ramp goes
+        return path_values(scene.loading), None
     steps = displacement_steps(scene.loading)
     if not scene.material.half_plane:
         return steps, None

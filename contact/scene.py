@@ -197,8 +197,9 @@ class Scene:
                 if f"interface.{name}" not in sections:
                     d["interface"].pop(name, None)
         if "loading.path" in sections and isinstance(d.get("loading"), dict):
-            for name in ("initial_separation", "final_penetration"):  # a path replaces the ramp's keys
-                if f"loading.{name}" not in sections:
+            force = sections.get("loading.control", self.loading.control) == "force"
+            for name in ("final_penetration",) if force else ("initial_separation", "final_penetration"):
+                if f"loading.{name}" not in sections:  # a path replaces the ramp's keys
                     d["loading"].pop(name, None)
         elif any(k in sections for k in ("loading.initial_separation", "loading.final_penetration")) \
                 and isinstance(d.get("loading"), dict) and "loading.path" not in sections:
@@ -419,7 +420,7 @@ def _interface(d, material):
                      contact_tolerance=tol, contact_rule=rule, contact_gap=gap)
 
 
-_CONTROLS = ("displacement",)
+_CONTROLS = ("displacement", "force")
 
 
 def _path_loading(d):
@@ -462,16 +463,36 @@ def _path_loading(d):
                    path=tuple(corners), segment_steps=counts, control=d.get("control", "displacement"))
 
 
+def _force_loading(d):
+    """Force control: loading.path holds corners of p̄ (Pa, > 0 compressive), starting unloaded at 0 with the
+    indenter out of contact at δ = −initial_separation."""
+    if "final_penetration" in d:
+        _fail("loading.final_penetration", d["final_penetration"], "does not apply with loading.control = \"force\" "
+              "(the path gives the loads; δ follows from them)")
+    d0 = _number(d, "loading", "initial_separation", Loading().initial_separation)
+    if not 0 < d0 < math.inf:
+        _fail("loading.initial_separation", d0, "must be a finite number > 0 (m): under force control the indenter "
+              "starts out of contact, δ = −initial_separation")
+    path = d["path"]
+    if isinstance(path, (list, tuple)) and path and path[0] != 0:
+        _fail("loading.path[0]", path[0], "must be 0 under loading.control = \"force\": the path starts out of "
+              "contact, unloaded (p̄ = 0 Pa), at δ = −initial_separation")
+    lo = _path_loading({k: v for k, v in d.items() if k not in ("initial_separation", "control")})
+    return dataclasses.replace(lo, initial_separation=d0, final_penetration=0.0, control="force")
+
+
 def _loading(d):
     _check_keys(d, "loading", Loading)
     if "segment_steps" in d:
         _fail("loading.segment_steps", d["segment_steps"], "is derived: give loading.steps (an int or a list per "
               "segment of loading.path)")
     control = d.get("control", "displacement")
-    if control == "force":
-        _fail("loading.control", control, "force control is not implemented yet; use \"displacement\"")
     if not isinstance(control, str) or control not in _CONTROLS:
         _fail("loading.control", control, f"must be one of {list(_CONTROLS)}")
+    if control == "force" and "path" not in d:
+        _fail("loading.control", control, "\"force\" needs loading.path: the corners of the mean pressure p̄ (Pa)")
+    if control == "force":
+        return _force_loading(d)
     if "path" in d:
         return _path_loading(d)
     lo = Loading()
@@ -616,7 +637,9 @@ def scene_to_dict(scene):
     d["method"] = {k: v for k, v in d["method"].items() if k == "name" or k in METHOD_KEYS[scene.method.name]}
     if scene.loading.path:  # a path: the TOML keys path and steps (list); the rest is derived from them
         d["loading"] = {"path": list(scene.loading.path), "steps": list(scene.loading.segment_steps),
-                        "control": scene.loading.control}
+                        "control": scene.loading.control,
+                        **({"initial_separation": scene.loading.initial_separation}
+                           if scene.loading.control == "force" else {})}
     else:  # the seed's ramp: its keys only, as before paths existed
         d["loading"] = {k: d["loading"][k] for k in ("initial_separation", "final_penetration", "steps")}
     rule = scene.interface.contact_rule

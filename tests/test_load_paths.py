@@ -56,7 +56,8 @@ def test_ramp_unchanged():
     ({"loading.path": [-8 * NM, -8 * NM]}, "loading.path[1]"),
     ({"loading.path": [-8 * NM]}, "loading.path"),
     ({"loading.final_penetration": 3 * NM, "loading.path": [-8 * NM, 4 * NM]}, "loading.final_penetration"),
-    ({"loading.control": "force"}, "loading.control"),
+    ({"loading.control": "force"}, "loading.path[0]"),  # a force path starts unloaded at p̄ = 0
+    ({"loading.control": "push"}, "loading.control"),
 ])
 def test_bad_path_names_the_key(change, key):
     with pytest.raises(SceneError, match=key.replace("[", r"\[").replace("]", r"\]")):
