@@ -39,7 +39,7 @@ JUMP_RATIO = 3.0
 #: units of the per-cycle quantities (meta.json "cycle_units")
 UNITS = {"pull_off_pressure": "Pa (min p̄ on unloading; < 0 tensile)", "pull_off_delta": "m",
          "snap_off_delta": "m", "snap_off_step": "step index", "hysteresis": "J/m^2 (∮ p̄ dδ, > 0 dissipated)",
-         "closed": "bool", "delta_start": "m", "delta_end": "m",
+         "closed": "bool", "pull_off_load": "Pa (force control: the load at which contact was lost)", "delta_start": "m", "delta_end": "m",
          "events": "list: kind, step, branch, delta_before/after (m), p_before/after (Pa), a_rel_before/after"}
 
 
@@ -72,13 +72,17 @@ def hysteresis(delta, p):
     return float(np.sum(0.5 * (p[1:] + p[:-1]) * np.diff(delta)))
 
 
-def cycle_observables(delta, p, a_rel, branch, cycle):
+def cycle_observables(delta, p, a_rel, branch, cycle, events=None):
     """Per cycle, the dict of the module docstring (list ordered by cycle), from one realization's
     curve: δ (m), p̄ (Pa), a_rel and the steps' branch and cycle (`contact.loading.step_branches`,
-    cut to the steps run)."""
+    cut to the steps run). events: the run's own instability events (force control, `contact.force`,
+    with branch and cycle added) instead of those `jump_events` finds in p̄(δ); a cycle whose jump-out
+    detached the body (force control: the load could not be carried) also gets `pull_off_load`, that
+    load (Pa), while pull_off_pressure is the most tensile p̄ still carried."""
     delta, p, a = (np.asarray(v, float) for v in (delta, p, a_rel))
     branch, cycle = np.asarray(branch, object)[:delta.size], np.asarray(cycle, int)[:delta.size]
-    events = jump_events(delta, p, a, branch, cycle)
+    if events is None:
+        events = jump_events(delta, p, a, branch, cycle)
     out = []
     for c in np.unique(cycle):
         idx = np.flatnonzero(cycle == c)
@@ -93,6 +97,8 @@ def cycle_observables(delta, p, a_rel, branch, cycle):
             lost = [k for k in unload if a[k] == 0 and k > 0 and a[k - 1] > 0]
             if outs:
                 row["snap_off_delta"], row["snap_off_step"] = outs[-1]["delta_before"], outs[-1]["step"]
+                if outs[-1].get("detached"):
+                    row["pull_off_load"] = outs[-1]["load"]
             elif lost:
                 row["snap_off_delta"], row["snap_off_step"] = float(delta[lost[0]]), int(lost[0])
         row["hysteresis"] = hysteresis(delta[path], p[path])

@@ -167,3 +167,68 @@ def test_path_run_resumes_past_the_turning_point(tmp_path, monkeypatch, method, 
     assert_same_run(ref, out)
     meta = json.loads((ref / "meta.json").read_text())
     assert meta["cycles"][0]["cycles"][0]["closed"] and meta["method"].startswith(method)
+
+
+# ----------------------------------------------------------------------------- force control (contact.force)
+P_STAR = np.pi * 70e9 / (1 - 0.45**2) * 5 * NM / 1e-6  # Westergaard p* of the 5 nm sinusoid (Pa)
+
+
+def force_scene(top=0.3, **extra):
+    return path_scene(**{"interface.law": "cohesive", "interface.phi_n_star": 0.01, "loading.control": "force",
+                         "loading.initial_separation": 8 * NM, "loading.path": [0.0, top * P_STAR, -0.2 * P_STAR],
+                         "loading.steps": [4, 8], **extra})
+
+
+@pytest.fixture(scope="module")
+def force_run(tmp_path_factory):
+    s = force_scene()
+    return s, gc.run(s, tmp_path_factory.mktemp("force") / "run", progress=False)
+
+
+def test_force_control_follows_the_loads_and_records_the_jumps(force_run):
+    from contact import force
+
+    s, res = force_run
+    curve = res.curve
+    meta = json.loads((res.dir / "meta.json").read_text())
+    (c,) = meta["cycles"][0]["cycles"]
+    kinds = [(e["kind"], e["branch"], e["detached"]) for e in c["events"]]
+    assert kinds == [("jump-in", "loading", False), ("jump-out", "unloading", True)]  # one each, not per step
+    out = c["events"][1]["step"]
+    assert bool(curve["converged"].all())
+    tol = force.tolerance(s.loading)
+    carried = (curve["step"] < out) & (curve["step"] > 0)  # step 0: the start, δ = −δ0 (p̄ ≈ 0, the law's tail)
+    assert np.all(np.abs(curve["p"][carried] - curve["load"][carried]) <= tol)  # the load is carried ...
+    detached = curve["step"] >= out
+    assert np.all(curve["delta"][detached] == -s.loading.initial_separation)  # ... until the body detaches
+    assert np.all(curve["load"][detached] < curve["p"][detached])
+    assert c["pull_off_load"] == curve["load"][out] and c["pull_off_pressure"] == curve["p"][out - 1]
+    assert list(curve["event"].fillna("")) == [""] + ["jump-in"] + [""] * (out - 2) + ["jump-out"] + [""] * (12 - out)
+    assert any("detached" in n for n in meta["notes"])
+
+
+def test_force_path_beyond_full_contact_is_refused_naming_the_key(tmp_path, capsys):
+    from workbench.cli import main
+
+    (tmp_path / "s.toml").write_text(scene_to_toml(force_scene(top=20.0)))
+    assert main(["run", str(tmp_path / "s.toml"), "--out", str(tmp_path / "out"), "--quiet", "--no-plot"]) == 2
+    err = capsys.readouterr().err
+    assert "loading.path" in err and "beyond full contact" in err
+
+
+@pytest.mark.parametrize("change, key", [
+    ({"loading.final_penetration": 1 * NM}, "loading.final_penetration"),
+    ({"loading.path": [1e6, 2e6]}, "loading.path[0]"),
+    ({"loading.initial_separation": 0.0}, "loading.initial_separation"),
+    ({"loading.steps": [4, 0]}, "loading.steps"),
+])
+def test_bad_force_path_names_the_key(change, key):
+    with pytest.raises(SceneError, match=key.replace("[", r"\[").replace("]", r"\]")):
+        force_scene(**change)
+
+
+def test_force_run_resumes_after_the_jump(tmp_path, monkeypatch):
+    from test_run_dir import assert_same_run, interrupted_and_resumed
+
+    ref, out = interrupted_and_resumed(tmp_path, monkeypatch, force_scene(), (0, 2))
+    assert_same_run(ref, out)

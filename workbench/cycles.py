@@ -2,7 +2,9 @@
 
 Units: SI (see `contact.conventions`). For a scene with `loading.path` (`contact.loading`):
   curve.csv       + branch ("loading"/"unloading"), cycle (0, 1, ...) and event ("jump-in"/"jump-out"/""):
-                  what `contact.cycle.jump_events` finds at that step
+                  what `contact.cycle.jump_events` finds at that step (force control: the run's own
+                  instability events, `contact.force`), and under force control `load` (Pa): the
+                  prescribed p̄ of the step (`p` is the p̄ reached; they differ where the body detached)
   mean_curve.csv  + branch and cycle per step (realizations share the steps, so the per-step means
                   are per (branch, step) and never mix the branches)
   meta.json       "cycles": per realization, per cycle, `contact.cycle.cycle_observables` (pull-off,
@@ -13,27 +15,35 @@ A ramp (no path) writes none of these: its files are those of the seed's ramp.
 from __future__ import annotations
 
 from contact import cycle as cyc
-from contact.loading import step_branches
+from contact.loading import path_values, step_branches
 
 
 def has_path(scene):
     return bool(scene.loading.path)
 
 
-def realization_cycles(scene, curve):
-    """(per-cycle observables, per-step (branch, cycle, event) columns) of one realization's curve
-    (a dict of arrays with delta, p, a_rel)."""
+def realization_cycles(scene, curve, instabilities=None):
+    """(per-cycle observables, per-step (branch, cycle, event[, load]) columns) of one realization's curve
+    (a dict of arrays with delta, p, a_rel); instabilities: a force-controlled run's own events
+    (Result.diagnostics["instabilities"], `contact.force`), used instead of the jumps found in p̄(δ)."""
     branch, cycle = step_branches(scene.loading)
     n = len(curve["delta"])
-    rows = cyc.cycle_observables(curve["delta"], curve["p"], curve["a_rel"], branch[:n], cycle[:n])
+    given = None
+    if scene.loading.control == "force":
+        given = [{**e, "branch": str(branch[e["step"]]), "cycle": int(cycle[e["step"]])}
+                 for e in (instabilities or []) if e["step"] < n]
+    rows = cyc.cycle_observables(curve["delta"], curve["p"], curve["a_rel"], branch[:n], cycle[:n], events=given)
     events = [e for r in rows for e in r["events"]]
-    return rows, {"branch": list(branch[:n]), "cycle": [int(c) for c in cycle[:n]],
-                  "event": cyc.step_events(n, events)}
+    columns = {"branch": list(branch[:n]), "cycle": [int(c) for c in cycle[:n]], "event": cyc.step_events(n, events)}
+    if scene.loading.control == "force":  # the prescribed load of each step (p is the p̄ reached)
+        columns["load"] = [repr(float(v)) for v in path_values(scene.loading)[:n]]
+    return rows, columns
 
 
 def meta_cycles(scene, results):
     """meta.json entries of a path run: {"cycles": [{realization, seed, cycles}], units, definitions}."""
-    entries = [{"realization": r.realization, "seed": r.seed, "cycles": realization_cycles(scene, r.curve)[0]}
+    entries = [{"realization": r.realization, "seed": r.seed,
+                "cycles": realization_cycles(scene, r.curve, r.diagnostics.get("instabilities"))[0]}
                for r in results]
     return {"cycles": entries, "cycle_units": cyc.UNITS,
             "cycle_definitions": " ".join(cyc.__doc__.split("\n\n")[2:]).replace("\n", " ")}

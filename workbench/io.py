@@ -142,9 +142,10 @@ def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
     labelled = any("algorithms" in r.diagnostics for r in results)  # an extra text column: old readers skip it
     cycled = has_path(scene)  # a load path: branch, cycle, event columns (workbench.cycles)
     writer.writerow(("realization", "seed") + CURVE_COLUMNS + (("algorithm",) if labelled else ())
-                    + (("branch", "cycle", "event") if cycled else ()))
+                    + (("branch", "cycle", "event") if cycled else ())
+                    + (("load",) if cycled and scene.loading.control == "force" else ()))
     for r in results:
-        extra = realization_cycles(scene, r.curve)[1] if cycled else {}
+        extra = realization_cycles(scene, r.curve, r.diagnostics.get("instabilities"))[1] if cycled else {}
         for k in range(len(r.curve["step"])):
             writer.writerow([r.realization, r.seed] + [_fmt(r.curve[c][k]) for c in CURVE_COLUMNS]
                             + ([step_algorithm(r, k)] if labelled else []) + [extra[c][k] for c in extra])
@@ -287,7 +288,8 @@ def _save_state(out, result, state, done):
                                            "reasons": list(result.reasons), "messages": list(result.messages),
                                            "notes": list(result.notes),
                                            "fallback_steps": list(result.diagnostics.get("fallback_steps", [])),
-                                           "algorithms": list(result.diagnostics.get("algorithms", []))}))}
+                                           "algorithms": list(result.diagnostics.get("algorithms", [])),
+                                           "instabilities": list(result.diagnostics.get("instabilities", []))}))}
     if not done:
         arrays.update(current=state.current, previous=state.previous)
     _atomic_write(_part(out, result.realization, ".state.npz"), _npz_bytes(arrays, compress=False),
@@ -378,6 +380,8 @@ def load_part(out, scene, realization):
         result.diagnostics["fallback_steps"] = [k for k in text["fallback_steps"] if k <= step]
     if text.get("algorithms"):
         result.diagnostics["algorithms"] = text["algorithms"][:step + 1]
+    if text.get("instabilities"):  # force control's events (contact.force)
+        result.diagnostics["instabilities"] = [e for e in text["instabilities"] if e["step"] <= step]
     with open(_part(out, realization, ".csv")) as fh:
         rows = [row for row in csv.DictReader(fh) if None not in row.values() and row.get(CURVE_COLUMNS[-1])]
     for row in rows:
