@@ -3,13 +3,14 @@
 Units: SI (see `contact.conventions`). Method: every trial is a displacement-controlled equilibrium that
 the method's own cell solves (warm-started from the nearest accepted state), and the outer search moves U
 until the mean pressure p̄(U) reaches the prescribed P: march from the last accepted state in the
-direction of P (a stable branch has dp̄/dU > 0) with a step that grows ×1.5 while p̄ approaches P; once
+direction of P (a stable branch has dp̄/dU > 0) with a step that grows ×1.5 while p̄ approaches P and is
+halved (from the last state) where p̄ turns away, down to MIN_STEP × the first step; once
 P is bracketed, regula falsi (Illinois) down to |p̄ − P| ≤ FORCE_TOLERANCE · max|path|. Chosen over the
 mean mode as an extra unknown of GFMD because it is the same for every method (GFMD and the FE through the
 one ramp), reuses each method's verified displacement solver and warm starts, and every state it reports
 is a converged equilibrium; the cost is a few displacement solves per load step.
 
-Instability: where, marching towards P, p̄ moves away from P (past an extremum of p̄(U): the end of a
+Instability: where, marching towards P, p̄ moves away from P even over the shortest step (past an extremum of p̄(U): the end of a
 force-controlled branch, e.g. pull-off or a jump-in), no equilibrium near the previous one carries P.
 The search records an EVENT and keeps marching in the same direction to the first state with p̄ = P: the
 branch the system jumps to. If the marching reaches the start U = 0 (δ = −δ0) without reaching a
@@ -29,6 +30,8 @@ from .errors import SceneError
 
 #: |p̄ − P| ≤ FORCE_TOLERANCE · max|loading.path| ends the search
 FORCE_TOLERANCE = 1e-4
+#: an instability is declared only when p̄ turns away from the load over a U step ≤ MIN_STEP × the first step
+MIN_STEP = 1e-3
 #: most displacement solves of one load step before it is given up (recorded as not converged)
 MAX_TRIALS = 400
 
@@ -59,7 +62,7 @@ def solve_load(solve, observe, target, base, *, step, tolerance, u_max):
     if abs(obs0["p"] - target) <= tolerance and sol0 is not None:
         return LoadStep(sol0, U0, obs0, 0, True)
     iterations, h, unstable = 0, step, False
-    cur = (U0, state0, obs0, sol0)
+    cur, prev = (U0, state0, obs0, sol0), None
     for _ in range(MAX_TRIALS):
         U1 = cur[0] + s * h
         if U1 > u_max and cur[0] < u_max:
@@ -93,10 +96,21 @@ def solve_load(solve, observe, target, base, *, step, tolerance, u_max):
             U, sol, obs, its, ok = found
             event = _event(target, base, (U, obs)) if unstable else None
             return LoadStep(sol, U, obs, iterations + its, ok, event)
-        if (p1 - cur[2]["p"]) * s < 0:
-            unstable = True  # past an extremum of p̄(U): no equilibrium near the previous one
-        cur = (U1, sol.state, obs, sol)
-        h *= 1.5
+        if (p1 - cur[2]["p"]) * s < 0 and not unstable:  # p̄ turned away from P: a step too long, or the branch ends
+            if h > MIN_STEP * step:
+                h *= 0.5  # retry shorter from the last state: the branch may reach P before it turns
+                continue
+            if prev is not None:  # the extremum may lie behind cur: search [prev, U1] for it
+                ext, its = _extremum(solve, observe, target, s, prev, (U1, sol.state, obs, sol), step)
+                iterations += its
+                if ext is not None and (ext[2]["p"] - target) * s >= 0:  # it reaches P: bracketed
+                    U, sol, obs, its, ok = _refine(solve, observe, target, prev, ext, tolerance)
+                    return LoadStep(sol, U, obs, iterations + its, ok)
+            unstable = True  # past an extremum of p̄(U) within MIN_STEP·step: no equilibrium near the previous one
+            h = step  # then march on, growing, to the branch it jumps to
+        else:
+            h *= 1.5
+        prev, cur = (cur if not unstable else None), (U1, sol.state, obs, sol)
     return LoadStep(cur[3], cur[0], cur[2], iterations, False)
 
 
@@ -124,6 +138,38 @@ def _refine(solve, observe, target, a, b, tolerance, max_iter=80):
             fa *= 0.5  # Illinois: the end that stays has its value halved
         b, fb = (U, sol.state, obs, sol), f
     return b[0], b[3], b[2], its, False
+
+
+def _extremum(solve, observe, target, s, a, b, step, tol_rel=MIN_STEP):
+    """Golden-section search on [a, b] (states (U, state, obs, solution)) for the extremum of p̄(U) towards
+    the load (max of (p̄ − P)·s); returns (best state, iterations) or (None, its) if a solve failed."""
+    g = (np.sqrt(5.0) - 1.0) / 2.0
+    lo, hi = a, b
+    its, best = 0, max((a, b), key=lambda x: (x[2]["p"] - target) * s)
+
+    def at(U, near):
+        nonlocal its
+        sol = solve(U, near[1], near[1])
+        its += sol.iterations
+        return (U, sol.state, observe(sol), sol) if sol.converged else None
+
+    x1 = at(hi[0] - g * (hi[0] - lo[0]), lo)
+    x2 = at(lo[0] + g * (hi[0] - lo[0]), hi)
+    while x1 is not None and x2 is not None and abs(hi[0] - lo[0]) > tol_rel * step:
+        for x in (x1, x2):
+            if (x[2]["p"] - target) * s > (best[2]["p"] - target) * s:
+                best = x
+        if (best[2]["p"] - target) * s >= 0:
+            return best, its
+        if (x1[2]["p"] - target) * s > (x2[2]["p"] - target) * s:
+            hi, x2 = x2, x1
+            x1 = at(hi[0] - g * (hi[0] - lo[0]), lo)
+        else:
+            lo, x1 = x1, x2
+            x2 = at(lo[0] + g * (hi[0] - lo[0]), hi)
+    if x1 is None or x2 is None:
+        return None, its
+    return max((best, x1, x2), key=lambda x: (x[2]["p"] - target) * s), its
 
 
 def _event(target, base, after):

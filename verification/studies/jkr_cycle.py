@@ -14,6 +14,10 @@ branch down to the maximum of ḡ(a) at a_off (δ_off = h0 − ḡ(a_off)), wher
 (most tensile p̄ on unloading) = min p̄(a) over a ∈ [a_off, a_max]; hysteresis W = ∮ p̄ dδ =
 ∫_{a_off}^{a_in} p̄(a) ḡ'(a) da > 0 (the area between the branches, J/m²).
 
+Force control (`contact.force`, loads `FORCE_PATH` × p*): the pull-off load, the midpoint between the last
+load carried and the first that detached the body (±ΔP/2 = 2.5e-4 p*), against min p̄(a) (Johnson's
+load-controlled pull-off).
+
 GFMD numbers: the run's own `contact.cycle` observables from its curve (pull-off, snap-off δ from the
 jump-out, jump-in δ from the jump-in, W by the trapezoid rule) and the branch error max |p̄ − p̄_J(δ)|/p*
 over the attached steps with δ ≥ δ_off (loading after the jump-in, unloading before the snap-off).
@@ -50,7 +54,11 @@ START, TOP = -0.6 * H0, 0.6 * H0
 STEPS = (120, 480)
 D_REL = (0.04, 0.02, 0.01, 0.005)
 NODES = {"ci": 2048}
-METRICS = ("pull-off", "snap-off δ", "jump-in δ", "hysteresis", "loading branch", "unloading branch")
+METRICS = ("pull-off", "snap-off δ", "jump-in δ", "hysteresis", "loading branch", "unloading branch",
+           "pull-off (force control)")
+#: force control (contact.force): loads 0 → 0.2 p* → −0.085 p* → −0.105 p* in 4, 8 and 40 steps (ΔP = 5e-4 p*
+#: near pull-off); the pull-off load is the midpoint of the last load carried and the first that detached
+FORCE_PATH, FORCE_STEPS = (0.0, 0.2, -0.085, -0.105), (4, 8, 40)
 
 
 def _g(a):
@@ -112,8 +120,23 @@ def measure(nodes, d_rel):
               "snap-off δ": abs(row["snap_off_delta"] - ref["delta_off"]) / H0,
               "jump-in δ": abs(ins[0]["delta_after"]) / H0,
               "hysteresis": abs(row["hysteresis"] - ref["hysteresis"]) / ref["hysteresis"], **branch_err}
+    p_off, half, wall_f = force_pull_off(nodes, d_rel)
+    errors["pull-off (force control)"] = abs(p_off - ref["pull_off"]) / ps
+    numbers["force_pull_off_over_p_star"], numbers["force_pull_off_half_width"] = p_off / ps, half / ps
     curve = (list(d / H0), list(p / ps), list(branch))
-    return errors, numbers, curve, js.delta_n(d_rel), wall
+    return errors, numbers, curve, js.delta_n(d_rel), wall + wall_f
+
+
+def force_pull_off(nodes, d_rel):
+    """(pull-off load (Pa) under force control: midpoint of the last load carried and the first that detached,
+    its half-width (Pa), wall s)."""
+    ps = analytic()["p_star"]
+    s = scene(nodes, d_rel).replace(**{"loading.control": "force", "loading.initial_separation": -START,
+                                       "loading.path": [v * ps for v in FORCE_PATH], "loading.steps": list(FORCE_STEPS)})
+    result, wall = ac.run(s)
+    (out,) = [e for e in result.diagnostics.get("instabilities", []) if e.get("detached")]
+    carried = float(result.curve["p"][out["step"] - 1])
+    return 0.5 * (carried + out["load"]), 0.5 * abs(carried - out["load"]), wall
 
 
 def study(nodes):
