@@ -20,10 +20,59 @@ from .laws import law_from_scene
 from .model import build_model, softest_normal_stiffness
 
 
+def path_values(loading, offset=0.0):
+    """The path's value at every step k = 0 … steps: each segment's equal increments between its corners
+    (+ offset); δ (m) under displacement control, p̄ (Pa) under force control."""
+    parts = [np.array([loading.path[0] + offset])]
+    for s, n in enumerate(loading.segment_steps):
+        parts.append(np.linspace(loading.path[s] + offset, loading.path[s + 1] + offset, n + 1)[1:])
+    return np.concatenate(parts)
+
+
 def displacement_steps(loading):
-    """Imposed indenter displacements U_k (m), k = 0 … steps, equal increments from 0."""
+    """Imposed indenter displacements U_k (m), k = 0 … steps: the ramp's equal increments from 0, or
+    along a path (loading.path, corners of δ) each segment's equal increments, U = δ + δ0, δ0 = −path[0]."""
+    if loading.path:
+        return path_values(loading, loading.initial_separation)
     total = loading.initial_separation + loading.final_penetration
     return np.linspace(0.0, total, loading.steps + 1)
+
+
+def step_segments(loading):
+    """Per step k = 0 … steps: the index of the path segment it ends (step 0: segment 0; the ramp: all 0)."""
+    if not loading.path:
+        return np.zeros(loading.steps + 1, int)
+    return np.concatenate([[0]] + [np.full(n, s) for s, n in enumerate(loading.segment_steps)]).astype(int)
+
+
+def step_branches(loading):
+    """(branch, cycle) per step k = 0 … steps: branch "loading" where δ grows (step 0 too), "unloading"
+    where it falls; a cycle is a loading run and the unloading run after it (cycle 0, 1, ...: a new
+    cycle begins where δ turns from falling to growing)."""
+    segment = step_segments(loading)
+    if not loading.path:
+        return np.full(segment.size, "loading", dtype=object), np.zeros(segment.size, int)
+    rising = [b > a for a, b in zip(loading.path[:-1], loading.path[1:])]
+    seg_cycle, c = [], 0
+    for s, up in enumerate(rising):
+        if s > 0 and up and not rising[s - 1]:
+            c += 1
+        seg_cycle.append(c)
+    branch = np.array(["loading" if rising[s] else "unloading" for s in segment], dtype=object)
+    branch[0] = "loading"
+    return branch, np.array([seg_cycle[s] for s in segment], int)
+
+
+def extrapolation_allowed(loading, k):
+    """Whether step k may be warm-started by linear extrapolation from steps k−1 and k−2: they and k
+    lie on one segment of equal increments (never across a corner of a path, where the direction may
+    turn: an unloading step then starts from the last state, not from a guess beyond the turning point)."""
+    if k < 2:
+        return False
+    if not loading.path:
+        return True
+    segment = step_segments(loading)
+    return bool(segment[k] == segment[k - 1] == segment[k - 2])
 
 
 def field_step_indices(loading, count):
@@ -61,15 +110,18 @@ def realization_steps(scene, h, realization=0):
     realization whose δ_max·(1 − FULL_CONTACT_MARGIN) lies below loading.final_penetration
     runs the common steps up to that δ and stops there; a layer has no such limit.
     """
+    if scene.loading.control == "force":  # the loads p̄_k (Pa); the δ limit is checked as the ramp goes
+        return path_values(scene.loading), None
     steps = displacement_steps(scene.loading)
     if not scene.material.half_plane:
         return steps, None
     limit = float(np.mean(h) - np.min(h))
     stop = (1.0 - FULL_CONTACT_MARGIN) * limit
     d0 = scene.loading.initial_separation
-    if scene.loading.final_penetration <= stop:
+    if scene.loading.final_penetration <= stop or not np.any(steps - d0 > stop):
         return steps, None
-    kept = steps[steps - d0 <= stop]
+    below = steps - d0 <= stop
+    kept = steps[:int(np.argmin(below))]  # up to the first step beyond the limit (a path may come back below it)
     note = (f"{realization_label(scene, realization)} stops at step {kept.size - 1} (δ = {kept[-1] - d0:.4g} m) of "
             f"{steps.size - 1}: its full-contact limit mean(h) − min(h) = {limit:.4g} m lies below "
             f"loading.final_penetration = {scene.loading.final_penetration:.4g} m; a half-plane realization is "

@@ -26,6 +26,7 @@ uses `contact.observables.step_observables`.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass, field
 from typing import Any, Callable
@@ -33,7 +34,9 @@ from typing import Any, Callable
 import numpy as np
 
 from . import surfaces
-from .loading import (RampState, field_step_indices, realization_label, realization_steps, slip_warning,
+from .force import first_step, solve_load
+from .force import tolerance as load_tolerance
+from .loading import (FULL_CONTACT_MARGIN, RampState, extrapolation_allowed, field_step_indices, realization_label, realization_steps, slip_warning,
                       start_warning)
 from .model import WARNING
 from .observables import step_observables
@@ -72,6 +75,14 @@ class StepSolution:
 
 def _extrapolated(state, previous):
     return 2 * state - previous
+
+
+def _force_u_max(scene, h):
+    """The largest U (m) a force-controlled half-plane realization may reach: (1 − FULL_CONTACT_MARGIN) of its
+    full-contact limit mean(h) − min(h) beyond δ = 0 (`contact.loading.realization_steps`); a layer: none."""
+    if not scene.material.half_plane:
+        return np.inf
+    return scene.loading.initial_separation + (1.0 - FULL_CONTACT_MARGIN) * float(np.mean(h) - np.min(h))
 
 
 def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, resume=None):
@@ -115,18 +126,40 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
     keep = field_step_indices(scene.loading, scene.output.field_steps)
     d0 = scene.loading.initial_separation
     current, previous = state.current, state.previous
+    force = scene.loading.control == "force"  # steps are loads p̄_k (Pa): contact.force finds U for each
+    observe = getattr(cell, "observe", None) or step_observables  # the cell's own observables if it has them
     for k in range(state.step + 1, steps.size):
-        displacement = steps[k]
         t0 = time.perf_counter()
-        extrapolate = cell.extrapolate and k >= 2
-        guess = _extrapolated(current, previous) if extrapolate else current
-        solved = cell.solve(displacement, guess, current)
-        iterations = solved.iterations
-        if not solved.converged and extrapolate:  # retry from the last converged state
-            solved = cell.solve(displacement, current, current)
-            iterations += solved.iterations
+        event = None
+        if force and k > 0:
+            base = (float(result.curve["U"][-1]), current, {"p": float(result.curve["p"][-1]),
+                                                            "a_rel": float(result.curve["a_rel"][-1])}, None)
+            loaded = solve_load(cell.solve, lambda sol: observe(scene, h, sol.gap, sol.t_n), float(steps[k]), base,
+                                step=first_step(scene.loading), tolerance=load_tolerance(scene.loading),
+                                u_max=_force_u_max(scene, h))
+            solved, displacement, iterations, event = loaded.solved, loaded.U, loaded.iterations, loaded.event
+            solved = dataclasses.replace(solved, converged=loaded.converged)
+        else:
+            displacement = 0.0 if force else steps[k]
+            extrapolate = cell.extrapolate and extrapolation_allowed(scene.loading, k)  # not across a turning point
+            guess = _extrapolated(current, previous) if extrapolate else current
+            solved = cell.solve(displacement, guess, current)
+            iterations = solved.iterations
+            if not solved.converged and extrapolate:  # retry from the last converged state
+                solved = cell.solve(displacement, current, current)
+                iterations += solved.iterations
         wall = time.perf_counter() - t0
         where = f"{label}, step {k} (δ = {displacement - d0:.4g} m)"
+        if event is not None:
+            event.update(step=k, delta_before=event["U_before"] - d0, delta_after=event["U_after"] - d0)
+            result.diagnostics.setdefault("instabilities", []).append(event)
+            result.notes.append(
+                f"{where}: instability at the load p̄ = {event['load']:.6g} Pa: no equilibrium near the previous one "
+                f"(δ = {event['delta_before']:.4g} m, a_rel = {event['a_rel_before']:.4g}); "
+                + ("the body detached: no equilibrium carries this tensile load, the step records the indenter at its "
+                   f"start δ = {-d0:.4g} m with p̄ = {event['p_after']:.4g} Pa" if event["detached"] else
+                   f"continued on the branch it jumps to (δ = {event['delta_after']:.4g} m, "
+                   f"a_rel = {event['a_rel_after']:.4g})"))
         result.messages.extend(f"{where}: {m}" for m in solved.messages)
         if solved.fallback:
             result.diagnostics.setdefault("fallback_steps", []).append(k)
@@ -144,7 +177,6 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
             if slipped:
                 result.reasons = tuple(result.reasons) + (WARNING + slipped,)
                 state.slip_warned = True
-        observe = getattr(cell, "observe", None) or step_observables  # the cell's own observables if it has them
         if solved.relaxed:
             obs = observe(scene, h, solved.gap, solved.t_n)
         else:  # no state of this step: nothing observed (ḡ is the profile's, known without one)

@@ -14,7 +14,7 @@ import numpy as np
 #: per-step columns (SI; converged is 0/1, wall_s in seconds)
 CURVE_COLUMNS = ("step", "U", "delta", "p", "a_rel", "g_r", "g", "iterations", "residual", "converged", "wall_s")
 #: the keys Result.diagnostics may hold (see Result)
-DIAGNOSTICS = ("problem", "setup_s", "solutions", "wall_forces", "fallback_steps", "algorithms")
+DIAGNOSTICS = ("problem", "setup_s", "solutions", "wall_forces", "fallback_steps", "algorithms", "instabilities")
 #: per-node fields saved for selected steps: u_z, u_x, gap Δn (m), t_n = t_z, t_t = t_x (Pa)
 FIELD_NAMES = ("u_z", "u_x", "gap", "t_n", "t_t")
 
@@ -36,6 +36,9 @@ class Result:
     fallback_steps  FE: the steps at which the fallback solver ran (list)
     algorithms      GFMD: per step (list), the algorithms that relaxed it (`gfmd.chains`:
                     "ncg", "ncg→fire", "cg-dual", "fire→newton", ...; "" unknown)
+    instabilities   force control: the steps where no equilibrium near the previous one carried
+                    the load (`contact.force`): list of {step, kind, load, δ/U/p̄/a_rel before and
+                    after, detached}
     ==============  ===========================================================
     """
 

@@ -88,9 +88,17 @@ class Interface:
 
 @dataclass(frozen=True)
 class Loading:
+    """Displacement control: the seed's ramp (δ from −initial_separation to final_penetration in `steps`
+    equal increments), or, with `path`, a piecewise-linear path in δ = U − δ0 (m) through the corners
+    path[0], path[1], ... with segment_steps[s] increments on segment s (`contact.loading`). For a path,
+    initial_separation = −path[0], final_penetration = max(path) and steps = sum(segment_steps) (derived)."""
+
     initial_separation: float = 2e-9
     final_penetration: float = 40e-9
     steps: int = 200
+    path: tuple = ()  # corners of δ (m); () = the ramp
+    segment_steps: tuple = ()  # increments per segment of the path (TOML: loading.steps, an int or a list)
+    control: str = "displacement"  # "displacement" only (force control: not implemented yet)
 
 
 @dataclass(frozen=True)
@@ -190,6 +198,18 @@ class Scene:
             for name in _RULE_KEYS.get(self.interface.contact_rule, ()):  # the old rule's own keys go
                 if f"interface.{name}" not in sections:
                     d["interface"].pop(name, None)
+        if "loading.path" in sections and isinstance(d.get("loading"), dict):
+            force = sections.get("loading.control", self.loading.control) == "force"
+            for name in ("final_penetration",) if force else ("initial_separation", "final_penetration"):
+                if f"loading.{name}" not in sections:  # a path replaces the ramp's keys
+                    d["loading"].pop(name, None)
+        elif any(k in sections for k in ("loading.initial_separation", "loading.final_penetration")) \
+                and isinstance(d.get("loading"), dict) and "loading.path" not in sections:
+            if self.loading.path:  # back to a ramp: the path's keys go
+                d["loading"].pop("path", None)
+                d["loading"].pop("control", None)
+                if isinstance(d["loading"].get("steps"), list) and "loading.steps" not in sections:
+                    d["loading"]["steps"] = self.loading.steps
         if "interface.work_normal" in sections and "interface.phi_n_star" not in sections:
             d["interface"].pop("phi_n_star", None)  # φn given for the stored φn*: rederived from it
         new = scene_from_dict(d, name=self.name)
@@ -407,8 +427,81 @@ def _interface(d, material):
                      contact_tolerance=tol, contact_rule=rule, contact_gap=gap)
 
 
+_CONTROLS = ("displacement", "force")
+
+
+def _path_loading(d):
+    """A loading with `path` (Loading docstring): corners of δ (m) and the steps of each segment."""
+    for key in ("initial_separation", "final_penetration"):
+        if key in d:
+            _fail(f"loading.{key}", d[key], "does not apply with loading.path (the path gives δ0 = −path[0] and its "
+                  "deepest point); leave it out or leave out loading.path")
+    path = d["path"]
+    if not isinstance(path, (list, tuple)) or len(path) < 2:
+        _fail("loading.path", path, "must be a list of at least two displacements δ (m): the corners of the path")
+    corners = []
+    for i, v in enumerate(path):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            _fail(f"loading.path[{i}]", v, "must be a finite number (m)")
+        corners.append(float(v))
+    if corners[0] > 0:
+        _fail("loading.path[0]", corners[0], "must be ≤ 0: the path starts out of contact, δ0 = −path[0] ≥ 0 (m) "
+              "above the undeformed surface")
+    for i in range(1, len(corners)):
+        if corners[i] == corners[i - 1]:
+            _fail(f"loading.path[{i}]", corners[i], f"equals loading.path[{i - 1}]: a segment of zero length "
+                  "(consecutive corners must differ)")
+    segments = len(corners) - 1
+    steps = d.get("steps", Loading().steps)
+    if isinstance(steps, (list, tuple)):
+        if len(steps) != segments:
+            _fail("loading.steps", steps, f"must give one step count per segment of loading.path ({segments}), "
+                  "or one integer for all")
+        counts = tuple(_number({"steps": v}, "loading", "steps", 0, integer=True) for v in steps)
+    else:
+        counts = (_number(d, "loading", "steps", 0, integer=True),) * segments
+    for i, n in enumerate(counts):
+        if n < 1:
+            _fail("loading.steps", list(steps) if isinstance(steps, (list, tuple)) else steps,
+                  f"segment {i} (loading.path[{i}] → loading.path[{i + 1}]) has {n} steps: every segment needs ≥ 1")
+    if sum(counts) > MAX_STEPS:
+        _fail("loading.steps", steps, f"the path's steps add up to {sum(counts)} > {MAX_STEPS}")
+    return Loading(initial_separation=-corners[0] + 0.0, final_penetration=max(corners), steps=sum(counts),
+                   path=tuple(corners), segment_steps=counts, control=d.get("control", "displacement"))
+
+
+def _force_loading(d):
+    """Force control: loading.path holds corners of p̄ (Pa, > 0 compressive), starting unloaded at 0 with the
+    indenter out of contact at δ = −initial_separation."""
+    if "final_penetration" in d:
+        _fail("loading.final_penetration", d["final_penetration"], "does not apply with loading.control = \"force\" "
+              "(the path gives the loads; δ follows from them)")
+    d0 = _number(d, "loading", "initial_separation", Loading().initial_separation)
+    if not 0 < d0 < math.inf:
+        _fail("loading.initial_separation", d0, "must be a finite number > 0 (m): under force control the indenter "
+              "starts out of contact, δ = −initial_separation")
+    path = d["path"]
+    if isinstance(path, (list, tuple)) and path and path[0] != 0:
+        _fail("loading.path[0]", path[0], "must be 0 under loading.control = \"force\": the path starts out of "
+              "contact, unloaded (p̄ = 0 Pa), at δ = −initial_separation")
+    lo = _path_loading({k: v for k, v in d.items() if k not in ("initial_separation", "control")})
+    return dataclasses.replace(lo, initial_separation=d0, final_penetration=0.0, control="force")
+
+
 def _loading(d):
     _check_keys(d, "loading", Loading)
+    if "segment_steps" in d:
+        _fail("loading.segment_steps", d["segment_steps"], "is derived: give loading.steps (an int or a list per "
+              "segment of loading.path)")
+    control = d.get("control", "displacement")
+    if not isinstance(control, str) or control not in _CONTROLS:
+        _fail("loading.control", control, f"must be one of {list(_CONTROLS)}")
+    if control == "force" and "path" not in d:
+        _fail("loading.control", control, "\"force\" needs loading.path: the corners of the mean pressure p̄ (Pa)")
+    if control == "force":
+        return _force_loading(d)
+    if "path" in d:
+        return _path_loading(d)
     lo = Loading()
     d0 = _number(d, "loading", "initial_separation", lo.initial_separation)
     if d0 < 0 or math.isinf(d0):
@@ -550,6 +643,13 @@ def scene_to_dict(scene):
         d["surface"] = {k: v for k, v in d["surface"].items() if k in _COMMON_KEYS + _KIND_KEYS[kind]}
     d["material"]["thickness"] = "inf" if scene.material.half_plane else scene.material.thickness
     d["method"] = {k: v for k, v in d["method"].items() if k == "name" or k in METHOD_KEYS[scene.method.name]}
+    if scene.loading.path:  # a path: the TOML keys path and steps (list); the rest is derived from them
+        d["loading"] = {"path": list(scene.loading.path), "steps": list(scene.loading.segment_steps),
+                        "control": scene.loading.control,
+                        **({"initial_separation": scene.loading.initial_separation}
+                           if scene.loading.control == "force" else {})}
+    else:  # the seed's ramp: its keys only, as before paths existed
+        d["loading"] = {k: d["loading"][k] for k in ("initial_separation", "final_penetration", "steps")}
     rule = scene.interface.contact_rule
     d["interface"] = {k: v for k, v in d["interface"].items()
                       if k == "contact_rule" or not any(k in keys for keys in _RULE_KEYS.values())
@@ -564,6 +664,8 @@ def _toml_value(v):
         return repr(v)
     if isinstance(v, str):
         return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
     raise TypeError(f"cannot write {v!r} to TOML")
 
 

@@ -39,7 +39,6 @@ import platform
 import shutil
 import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 
@@ -51,6 +50,7 @@ from contact.scene import load_scene, scene_to_dict, scene_to_toml
 
 from . import safe_files
 from .averages import ensemble_average
+from .cycles import has_path, mean_columns, meta_cycles, realization_cycles
 
 #: files and folders a run directory may hold (what --overwrite removes)
 RUN_ENTRIES = ("curve.csv", "mean_curve.csv", "fields.npz", "scene.toml", "meta.json", "plots", "vtu", "partial")
@@ -130,13 +130,19 @@ def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     labelled = any("algorithms" in r.diagnostics for r in results)  # an extra text column: old readers skip it
-    writer.writerow(("realization", "seed") + CURVE_COLUMNS + (("algorithm",) if labelled else ()))
+    cycled = has_path(scene)  # a load path: branch, cycle, event columns (workbench.cycles)
+    writer.writerow(("realization", "seed") + CURVE_COLUMNS + (("algorithm",) if labelled else ())
+                    + (("branch", "cycle", "event") if cycled else ())
+                    + (("load",) if cycled and scene.loading.control == "force" else ()))
     for r in results:
+        extra = realization_cycles(scene, r.curve, r.diagnostics.get("instabilities"))[1] if cycled else {}
         for k in range(len(r.curve["step"])):
             writer.writerow([r.realization, r.seed] + [_fmt(r.curve[c][k]) for c in CURVE_COLUMNS]
-                            + ([step_algorithm(r, k)] if labelled else []))
+                            + ([step_algorithm(r, k)] if labelled else []) + [extra[c][k] for c in extra])
     _atomic_write(out / "curve.csv", buf.getvalue())
     cols = ensemble_average(results)
+    if cycled:
+        cols.update(mean_columns(scene, cols["step"]))
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(list(cols))
@@ -162,6 +168,7 @@ def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
         "all_converged": all(r.all_converged for r in results),
         "notes": [n for r in results for n in r.notes],
         **({"algorithms": algorithm_counts(results)} if labelled else {}),
+        **(meta_cycles(scene, results) if cycled else {}),
         "messages": [m for r in results for m in r.messages],
         "resume": resume or {"realizations_reused": 0, "steps_reused": 0},
         "timings": {**(timings or {}),
@@ -287,7 +294,8 @@ def _save_state(out, result, state, done):
                                            "reasons": list(result.reasons), "messages": list(result.messages),
                                            "notes": list(result.notes),
                                            "fallback_steps": list(result.diagnostics.get("fallback_steps", [])),
-                                           "algorithms": list(result.diagnostics.get("algorithms", []))}))}
+                                           "algorithms": list(result.diagnostics.get("algorithms", [])),
+                                           "instabilities": list(result.diagnostics.get("instabilities", []))}))}
     if not done:
         arrays.update(current=state.current, previous=state.previous)
     _atomic_write(_part(out, result.realization, ".state.npz"), _npz_bytes(arrays, compress=False),
@@ -421,6 +429,8 @@ def load_part(out, scene, realization, notes=None):
         result.diagnostics["fallback_steps"] = [k for k in text["fallback_steps"] if k <= step]
     if text.get("algorithms"):
         result.diagnostics["algorithms"] = text["algorithms"][:step + 1]
+    if text.get("instabilities"):  # force control's events (contact.force)
+        result.diagnostics["instabilities"] = [e for e in text["instabilities"] if e["step"] <= step]
     for row in rows:
         result.append_step(**row)
     for k in range(step + 1):

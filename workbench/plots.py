@@ -276,7 +276,7 @@ def make_figures(run_dir, snapshot_delta=None, realization=None):
 
     snapshot_delta: δ (m) of the interface snapshot (nearest saved step; default: last saved);
     realization: index (curve.csv `realization`) of the snapshot (default: the first present that
-    has saved fields). Raises ValueError for a realization not in the run, or one without saved
+    has saved fields). A run whose loading has a path adds `workbench.cycle_plots.CYCLE_FIGURES`. Raises ValueError for a realization not in the run, or one without saved
     fields (output.field_steps = 0, or it stopped before the first saved step) when others have them.
     """
     scene, curves, fields, meta = read_run(run_dir)
@@ -309,6 +309,9 @@ def make_figures(run_dir, snapshot_delta=None, realization=None):
     snap = _snapshot(scene, curves, fields, realization, snapshot_delta)
     if snap is not None:
         figs["interface_snapshot"] = snap
+    if scene.loading.path:  # a load path: the p̄–δ and a_rel–p̄ loops (workbench.cycle_plots)
+        from .cycle_plots import cycle_figures
+        figs.update(cycle_figures(scene, st, meta))
     return figs
 
 

@@ -41,6 +41,10 @@ naming the key.
                      of p, a_rel, g_r, g (`workbench.averages.AVERAGED`) the mean over the set's
                      realizations, <name>_se (its standard error, 0 for one value) and <name>_n
                      (realizations with a value at that step), then the stickiness_<key> columns
+  DIR/cycles.csv     only where the tasks' loading has a path (workbench.cycles): one row per (task,
+                     cycle): set, axis columns, realization, seed, task, cycle, pull_off_pressure (Pa,
+                     min p̄ on unloading, < 0 tensile), pull_off_delta and snap_off_delta (m),
+                     hysteresis (J/m², ∮ p̄ dδ), closed, jump_in and jump_out (event counts)
   DIR/summary.nc     the same as a labelled N-D dataset (xarray; netCDF3 through scipy, so no
                      netCDF4/HDF5 dependency): dims = the [axes] keys (coordinates: their values),
                      "zip" (coordinates: the zipped keys) if there is a [zip], and "step"; data
@@ -90,10 +94,12 @@ from contact.stickiness import as_dict as stickiness_dict
 
 from . import io, safe_files
 from .averages import AVERAGED, ensemble_average
+from .cycles import write_study_cycles
 
 STUDY_KEYS = ("name", "description", "base", "scene", "axes", "zip")
 #: files and folders a study directory holds
-STUDY_ENTRIES = ("tasks", "study.json", "study.toml", "base_scene.toml", "study.csv", "summary.csv", "summary.nc")
+STUDY_ENTRIES = ("tasks", "study.json", "study.toml", "base_scene.toml", "study.csv", "summary.csv", "summary.nc",
+                 "cycles.csv")
 TASK_NAME = "task"
 STEP_TOPIC = "gfmd-study-step"
 #: units of the summary columns (netCDF attributes)
@@ -537,6 +543,7 @@ def _run_study_locked(study, out, workers, scheduler, progress, command):
     wall = time.perf_counter() - start
     rows, results = _collect(study, out, tasks, failures)
     _write_tables(study, out, rows, results)
+    write_study_cycles(study, out, tasks, _axis_text, io._atomic_write)  # load paths only: cycles.csv
     record = _record(study, out, tasks, outcomes, failures, complete=True, wall=wall,
                      workers=None if scheduler else workers,
                      scheduler=scheduler, command=command)
