@@ -244,6 +244,8 @@ def test_rows_after_the_saved_step_are_dropped_and_said(tmp_path, monkeypatch, c
 
 
 def test_fewer_rows_than_saved_steps_restart_the_realization(tmp_path, monkeypatch, capsys):
+    """Consistent rows that end before the first saved step (saved: 4, 8) leave no warm start on disk:
+    the realization restarts from step 0, and says so."""
     sc = scene(**{"surface.realizations": 1})
     ref, out = interrupted(tmp_path, monkeypatch, sc, 4)
     csv_path = out / "partial" / "realization0.csv"
@@ -253,7 +255,8 @@ def test_fewer_rows_than_saved_steps_restart_the_realization(tmp_path, monkeypat
     assert main(["run", "--out", str(out), "--quiet", "--no-plot", "--resume"]) == 0
     err = capsys.readouterr().err
     assert (f"note: {csv_path}: 2 rows for 5 saved steps, consistent only up to step 1") in err
-    assert "realization 0 restarts from step 0 (5 saved steps dropped)" in err
+    assert ("no warm start of a step up to 1 is on disk (one is kept with the fields of each saved step, "
+            "output.field_steps): realization 0 restarts from step 0 (5 saved steps dropped)") in err
     assert_same_run(ref, out)
 
 

@@ -314,7 +314,10 @@ def save_step(out, result, state):
 
     Order: the curve row (appended, flushed), the step's fields if saved, then the state;
     `load_part` trusts a row only up to the state's step, so a kill between any two writes
-    loses at most that one step.
+    loses at most that one step. A saved step's fields file also keeps the warm start after it,
+    so rows lost before the state's step cost only the steps after the last saved one (a second,
+    rotating state file instead would write the state twice every step: +66 kB a step at
+    N = 4096, against +64 kB per saved step here, measured).
     """
     k = state.step
     row = [_fmt(result.curve[c][-1]) for c in CURVE_COLUMNS]
@@ -326,11 +329,13 @@ def save_step(out, result, state):
 
 def start_part(out, realization, result=None):
     """Before a realization (re)starts: its CSV holds exactly the rows of `result` (a
-    `load_part` result to continue) or none, dropping a row cut short by a kill."""
+    `load_part` result to continue) or none, dropping a row cut short by a kill, and the saved
+    fields of steps after them (dropped by a cut-back) are removed."""
     path = _part(out, realization, ".csv")
     last = len(result.curve["step"]) - 1 if result is not None else -1
     for f in Path(out, PARTIAL).glob(f"realization{realization}_step*.npz"):  # fields of dropped steps
-        if int(f.name[len(f"realization{realization}_step"):-4]) > last:
+        k = f.name[len(f"realization{realization}_step"):-4]
+        if k.isdigit() and int(k) > last:
             with safe_files.writing(f):
                 f.unlink(missing_ok=True)
     if result is None:  # a fresh start: no state (it may be one that could not be continued), no rows
