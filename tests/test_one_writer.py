@@ -244,6 +244,8 @@ def test_rows_after_the_saved_step_are_dropped_and_said(tmp_path, monkeypatch, c
 
 
 def test_fewer_rows_than_saved_steps_restart_the_realization(tmp_path, monkeypatch, capsys):
+    """Consistent rows that end before the first saved step (saved: 4, 8) leave no warm start on disk:
+    the realization restarts from step 0, and says so."""
     sc = scene(**{"surface.realizations": 1})
     ref, out = interrupted(tmp_path, monkeypatch, sc, 4)
     csv_path = out / "partial" / "realization0.csv"
@@ -253,8 +255,103 @@ def test_fewer_rows_than_saved_steps_restart_the_realization(tmp_path, monkeypat
     assert main(["run", "--out", str(out), "--quiet", "--no-plot", "--resume"]) == 0
     err = capsys.readouterr().err
     assert (f"note: {csv_path}: 2 rows for 5 saved steps, consistent only up to step 1") in err
-    assert "realization 0 restarts from step 0 (5 saved steps dropped)" in err
+    assert ("no warm start of a step up to 1 is on disk (one is kept with the fields of each saved step, "
+            "output.field_steps): realization 0 restarts from step 0 (5 saved steps dropped)") in err
     assert_same_run(ref, out)
+
+
+def _fe_scene(law):
+    from test_cli_fe import fe_scene
+
+    return fe_scene(law, "self-affine").replace(**{"method.name": "fe", "surface.realizations": 2, "loading.steps": 6,
+                                                   "output.field_steps": 3})
+
+
+# (scene, realization 1 interrupted after step `stop`, rows of each realization's CSV kept (a row out of order
+# follows them), the step each continues after): the saved steps are 2, 4, 6, 8 (GFMD) and 2, 4, 6 (the FE);
+# realization 0 was done, realization 1 interrupted
+CUT_BACK = {
+    "gfmd": (lambda: scene(**{"surface.realizations": 2, "output.field_steps": 4}), 5, (5, 4), (4, 2)),
+    "fe-cohesive": (lambda: _fe_scene("cohesive"), 4, (4, 3), (2, 2)),
+    "fe-hard-wall": (lambda: _fe_scene("hard-wall"), 4, (5, 3), (4, 2)),
+}
+
+
+@pytest.mark.parametrize("case", list(CUT_BACK))
+def test_fewer_rows_than_saved_steps_continue_from_the_last_saved_warm_start(tmp_path, monkeypatch, capsys, case):
+    """Fewer consistent rows than saved steps (rows lost or reordered by a foreign writer): each realization is cut
+    back to the last step j within its consistent rows whose saved fields carry the warm start, says how many
+    saved steps it dropped and continues from j + 1, to a result bit-equal to an uninterrupted run's (the saved
+    warm start is the ramp's own state after step j). Before: every such realization restarted from step 0."""
+    make, stop, kept, cont = CUT_BACK[case]
+    sc = make()
+    path = write_scene(tmp_path, sc)
+    ref, out = tmp_path / "ref", tmp_path / "out"
+    assert main(["run", str(path), "--out", str(ref), "--quiet", "--no-plot"]) == 0
+    original = workbench.io.save_step
+
+    def interrupt(out_dir, result, state):
+        original(out_dir, result, state)
+        if result.realization == 1 and state.step == stop:
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(workbench.io, "save_step", interrupt)
+    assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"]) == 130
+    last = [sc.loading.steps, stop]  # the saved step of each realization
+    for i, n in enumerate(kept):
+        csv_path = out / "partial" / f"realization{i}.csv"
+        lines = csv_path.read_text().splitlines(keepends=True)
+        csv_path.write_text("".join(lines[:1 + n] + lines[-1:]))  # steps 0..n-1, then the last one: out of order
+    ran = []
+
+    def count(out_dir, result, state):
+        ran.append((result.realization, state.step))
+        original(out_dir, result, state)
+
+    monkeypatch.setattr(workbench.io, "save_step", count)
+    capsys.readouterr()
+    assert main(["run", "--out", str(out), "--quiet", "--no-plot", "--resume"]) == 0
+    err = capsys.readouterr().err
+    for i, (n, j) in enumerate(zip(kept, cont)):
+        csv_path = out / "partial" / f"realization{i}.csv"
+        assert (f"note: {csv_path}: {n + 1} rows for {last[i] + 1} saved steps, consistent only up to step {n - 1} "
+                f"(rows missing, cut or out of order: written by another process?); kept steps 0–{j} (the last of "
+                f"them whose warm start is on disk, with its saved fields), dropped {last[i] - j} saved step(s): "
+                f"realization {i} continues from step {j + 1}") in err
+    steps = sc.loading.steps
+    assert sorted(ran) == [(i, k) for i, j in enumerate(cont) for k in range(j + 1, steps + 1)]
+    assert json.loads((out / "meta.json").read_text())["resume"]["steps_reused"] == sum(j + 1 for j in cont)
+    assert_same_run(ref, out)
+
+
+def test_cut_back_drops_the_messages_of_the_dropped_steps(tmp_path):
+    """A realization cut back to step j keeps exactly the messages, reasons and notes it had after step j."""
+    from gfmd.loading import run_realization
+
+    sc = scene(**{"surface.realizations": 1, "output.field_steps": 4})
+    out = tmp_path / "out"
+    (out / "partial").mkdir(parents=True)
+
+    def checkpoint(result, state):
+        result.messages.append(f"message of step {state.step}")
+        result.reasons = tuple(result.reasons) + (f"reason of step {state.step}",)
+        workbench.io.save_step(out, result, state)
+        if state.step == 7:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_realization(sc, 0, checkpoint=checkpoint)
+    csv_path = out / "partial" / "realization0.csv"
+    csv_path.write_text("".join(csv_path.read_text().splitlines(keepends=True)[:6]))  # steps 0..4
+    notes = []
+    result, state, done = workbench.io.load_part(out, sc, 0, notes=notes)
+    assert (state.step, done, len(result.curve["step"]), sorted(result.fields)) == (4, False, 5, [2, 4])
+    assert result.messages == [f"message of step {k}" for k in range(5)]
+    assert [r for r in result.reasons if r.startswith("reason")] == [f"reason of step {k}" for k in range(5)]
+    assert "dropped 3 saved step(s): realization 0 continues from step 5" in notes[0]
+    workbench.io.start_part(out, 0, result)  # the stale fields of the dropped step 6 go with the rows
+    assert sorted(p.name for p in (out / "partial").glob("*_step*.npz")) == ["realization0_step2.npz",
+                                                                           "realization0_step4.npz"]
 
 
 def test_verify_is_one_writer_of_its_reports(tmp_path, monkeypatch, capsys):
