@@ -20,6 +20,7 @@ import pytest
 
 from verification import ramp_records as rr
 from verification import scenes
+from verification.plots import table_plot
 from verification.runs import with_method
 from workbench.io import write_run
 from workbench.methods import run_realization
@@ -43,6 +44,9 @@ def test_ramp_records_recomputed_from_saved_fields(label, tmp_path, verification
     assert numbers["saved_steps"] == numbers["steps"] - 1, numbers  # every step but 0 saved
     assert numbers["unloading_steps"] > 0 and numbers["W_J_m2"], numbers
     failed = []
+    plots = [table_plot(["check", "max |Δ| / bound (or count)", "tolerance", "max |recorded − recomputed|"],
+                        [[n, f"{v:.3g}", t, f"{d:.3g}"] for n, (v, t, d) in checks.items()],
+                        title=f"{label}: curve.csv / meta.json vs the saved fields (harness's own numpy)")]
     for name, (value, tolerance, max_diff) in checks.items():
         ok = value <= tolerance
         verification_record(
@@ -55,7 +59,7 @@ def test_ramp_records_recomputed_from_saved_fields(label, tmp_path, verification
             notes=(f"max |recorded − recomputed| = {max_diff:.3g}; W recomputed {numbers['W_J_m2']} vs meta.json "
                    f"{numbers['W_recorded_J_m2']} J/m² (bound {numbers['W_bound_J_m2']}); step 0 has no saved fields: "
                    "its δ is checked against the path and W's first trapezoid uses its recorded p̄"),
-            scene=scene.name)
+            scene=scene, plots=plots if name == next(iter(checks)) else [])
         if not ok:
             failed.append((name, value, tolerance, max_diff))
     assert not failed, failed
