@@ -221,3 +221,13 @@ def test_gfmd_modules_stay_small():
     long = {module_name(p): n for p in (ROOT / "gfmd").rglob("*.py")
             if (n := len(p.read_text().splitlines())) > METHOD_MODULE_LINES}
     assert not long, f"gfmd modules over {METHOD_MODULE_LINES} lines: {long}"
+
+
+def test_ramp_records_check_uses_its_own_code():
+    """verification/ramp_records.py recomputes what the shared ramp records (issue 23): it imports no
+    project package (contact, gfmd, reference, workbench, gfmd_contact), only the standard library and numpy."""
+    tree = ast.parse((ROOT / "verification" / "ramp_records.py").read_text(encoding="utf-8"))
+    names = {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
+    names |= {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module and not n.level}
+    assert not any(isinstance(n, ast.ImportFrom) and n.level for n in ast.walk(tree))
+    assert {m.split(".")[0] for m in names} <= {"__future__", "csv", "json", "tomllib", "pathlib", "numpy"}, names

@@ -93,6 +93,19 @@ MUTATIONS = (
              "    np.add.at(w, pos, np.full_like(ones[top_s], length / xs.size))",
              "FE surface quadrature weights uniform (L/points each) instead of the FacetBasis load vector "
              "(Simpson l/3, 2l/3 for P2; P1 unchanged)"),
+    # the code every method shares (issue 23 "the shared ramp is checked, not trusted"): caught by
+    # verification/test_ramp_records.py, which recomputes the records from the saved fields
+    Mutation("ramp-delta-off-by-one", "contact/ramp.py", "delta=displacement - d0,",
+             "delta=steps[max(k - 1, 0)] - d0,",
+             "the ramp records δ of the previous step (bookkeeping off by one; the solve itself is right)"),
+    Mutation("g-spacing", "contact/observables.py",
+             "    return float(np.sqrt(np.mean(local_gradient_squared(h, spacing))))",
+             "    return float(np.sqrt(np.mean(local_gradient_squared(h, spacing * h.size / (h.size - 1)))))",
+             "whole-profile ḡ with the spacing L/(N − 1) instead of L/N"),
+    Mutation("hysteresis-sign", "contact/cycle.py",
+             "    return float(np.sum(0.5 * (p[1:] + p[:-1]) * np.diff(delta)))",
+             "    return -float(np.sum(0.5 * (p[1:] + p[:-1]) * np.diff(delta)))",
+             "hysteresis W = ∮ p̄ dδ with its sign flipped"),
     Mutation("wall-leak", "gfmd/loading.py", "wall_tolerance = 1e-12 * max(", "wall_tolerance = 1e-3 * max(",
              "hard wall: nodes within 1e-3 of the profile span count as on the wall (a leak)"),
 )

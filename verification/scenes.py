@@ -194,3 +194,20 @@ def small_sinusoid(law):
         "surface.kind": "sinusoid", "surface.amplitude": 5e-9, "surface.nodes": 256, "surface.length": 1e-6,
         "surface.realizations": 1, "interface.law": law, "loading.steps": 10,
         "loading.final_penetration": 4e-9})
+
+
+# ----------------------------------------------------------------------------- the shared ramp's records (issue 23)
+def ramp_check_layer(n=64):
+    """`jump_in_sinusoid` (layer D = L, φn* = 0.15, δn = 1 nm) through one load–unload cycle, δ: −10 → 30 →
+    −10 nm in 20 + 30 steps (jump-in on loading, jump-out on unloading), fields at every step 1 … 50."""
+    return jump_in_sinusoid(n).replace(**{"loading.path": [-10e-9, 30e-9, -10e-9], "loading.steps": [20, 30],
+                                          "output.field_steps": 50})
+
+
+def ramp_check_half_plane(n=256):
+    """Johnson's adhesive sinusoid of verification.studies.jkr_cycle at d/λ = 0.04 (h0 = 10 nm, L = 1 µm,
+    half-plane ν = 0.45, w = 3.898 J/m², δn = 0.553 nm) through δ: −6 → 6 → −6 nm in 30 + 40 steps,
+    fields at every step 1 … 70."""
+    s = sinusoid(n, 10e-9, 1e-6, law="cohesive", **{
+        "interface.work_normal": 3.8983390424365494, "interface.length_normal": 5.532822053374735e-10})
+    return s.replace(**{"loading.path": [-6e-9, 6e-9, -6e-9], "loading.steps": [30, 40], "output.field_steps": 70})
