@@ -64,3 +64,38 @@ def test_ramp_study_has_no_branch_columns():
     from workbench.study import summary_columns
 
     assert "branch" not in summary_columns() and summary_columns(True)[:3] == ["step", "branch", "cycle"]
+
+
+def test_pull_off_and_hysteresis_vs_axis(path_study):
+    """gfmd study plot --over AXIS draws pull-off and W vs AXIS: each point the mean ± SE of cycles.csv's rows."""
+    from workbench.cli import main
+    from workbench.study_cycle_plots import CYCLE_STUDY_FIGURES, cycle_study_figures
+
+    _, out = path_study
+    table = rows(out / "cycles.csv")
+    figs = cycle_study_figures(out, over="interface.phi_n_star")
+    assert set(figs) == set(CYCLE_STUDY_FIGURES)
+    drawn = {}
+    for name, column, factor in (("pull_off_vs_axis", "pull_off_pressure", 1e-6), ("hysteresis_vs_axis",
+                                                                                   "hysteresis", 1e3)):
+        (line,) = [c for c in figs[name].axes[0].containers if c.lines[0].get_gid() == "mean"]
+        x, y = (np.asarray(v, float) for v in line.lines[0].get_data())
+        assert list(x) == [0.05, 0.15]
+        for xi, yi, bar in zip(x, y, line.lines[2][0].get_segments()):
+            values = np.array([float(r[column]) for r in table if float(r["interface.phi_n_star"]) == xi])
+            assert values.size == 2  # two realizations
+            assert yi == pytest.approx(values.mean() * factor, rel=1e-12)
+            se = values.std(ddof=1) / np.sqrt(values.size) * factor
+            assert bar[1][1] - bar[0][1] == pytest.approx(2 * se, rel=1e-9, abs=1e-12 * abs(yi))
+        drawn[column] = y
+    assert drawn["pull_off_pressure"][1] < drawn["pull_off_pressure"][0] < 0  # more adhesion: more tensile
+    assert main(["study", "plot", str(out), "--over", "interface.phi_n_star"]) == 0
+    assert all((out / "figures" / f"{n}.png").is_file() for n in CYCLE_STUDY_FIGURES)
+    with pytest.raises(ValueError, match="--over 'surface.nodes'"):
+        cycle_study_figures(out, over="surface.nodes")
+
+
+def test_ramp_study_draws_no_cycle_figures(tmp_path):
+    from workbench.study_cycle_plots import cycle_study_figures
+
+    assert cycle_study_figures(tmp_path) == {}
