@@ -99,3 +99,33 @@ def test_ramp_study_draws_no_cycle_figures(tmp_path):
     from workbench.study_cycle_plots import cycle_study_figures
 
     assert cycle_study_figures(tmp_path) == {}
+
+
+def test_api_cycles(path_study):
+    """gc.open_study(...).cycles is cycles.csv; gc.open_run(task).cycles is its meta.json "cycles", one row per
+    (realization, cycle); a ramp run has none."""
+    import gfmd_contact as gc
+
+    _, out = path_study
+    study = gc.open_study(out)
+    table = study.cycles
+    assert len(table) == 4 and list(table.columns[:2]) == ["set", "interface.phi_n_star"]
+    assert table["pull_off_pressure"].tolist() == [float(r["pull_off_pressure"]) for r in rows(out / "cycles.csv")]
+    assert set(study.summary_table["branch"]) == {"loading", "unloading"}
+    res = study.task(set=1, realization=1)
+    cyc = res.cycles
+    meta = json.loads((res.dir / "meta.json").read_text())["cycles"]
+    assert cyc["realization"].tolist() == [e["realization"] for e in meta for _ in e["cycles"]]
+    assert cyc["hysteresis"].tolist() == [c["hysteresis"] for e in meta for c in e["cycles"]]
+    row = table[(table["set"] == 1) & (table["realization"] == 1)].iloc[0]
+    assert row["hysteresis"] == cyc["hysteresis"].iloc[0] and row["jump_out"] == cyc["jump_out"].iloc[0]
+
+
+def test_api_cycles_of_a_ramp_are_empty(tmp_path):
+    import gfmd_contact as gc
+
+    s = gc.default_scene().replace(**{"surface.nodes": 256, "surface.length": 320e-9, "surface.realizations": 1,
+                                      "loading.steps": 4, "output.field_steps": 2, "output.workers": 1,
+                                      "interface.law": "hard-wall"})
+    res = gc.run(s, tmp_path / "run", progress=False)
+    assert res.cycles.empty and "hysteresis" in res.cycles.columns
