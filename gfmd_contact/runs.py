@@ -100,7 +100,9 @@ class RunResult:
 
         Columns: step, delta (m), U (m) and, for each of p (Pa), a_rel, g_r, g, the mean over
         the realizations, ``<name>_se`` (its standard error, 0 for one value) and ``<name>_n``
-        (how many realizations have a value at that step).
+        (how many realizations have a value at that step). Under force control delta and U are means over
+        the realizations too (they share the loads, not δ) and load (Pa) is added; with a load path, branch
+        and cycle.
         """
         import pandas as pd
 
@@ -110,7 +112,9 @@ class RunResult:
         from workbench.averages import ensemble_average
 
         runs = [SimpleNamespace(realization=r, curve=c) for r, c in sorted(self._curves.items())]
-        return pd.DataFrame(ensemble_average(runs))
+        from workbench.cycles import step_loads
+
+        return pd.DataFrame(ensemble_average(runs, step_loads(self.scene)))
 
     @functools.cached_property
     def cycles(self):

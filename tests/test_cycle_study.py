@@ -129,3 +129,22 @@ def test_api_cycles_of_a_ramp_are_empty(tmp_path):
                                       "interface.law": "hard-wall"})
     res = gc.run(s, tmp_path / "run", progress=False)
     assert res.cycles.empty and "hysteresis" in res.cycles.columns
+
+
+def test_force_control_mean_curve_of_several_realizations(tmp_path):
+    """Under force control the realizations share the loads, not δ: mean_curve.csv averages δ and U per step and
+    carries the load (before: a ValueError while writing the run)."""
+    import gfmd_contact as gc
+    from test_load_paths import force_scene
+
+    s = force_scene(top=0.05, **{"surface.nodes": 64}).replace(**{
+        "surface.kind": "self-affine", "surface.hurst": 0.8, "surface.h_rms": 3e-9,
+        "surface.rolloff_wavelength": 0.5e-6, "surface.rollon_wavelength": 0.05e-6, "surface.realizations": 2})
+    with pytest.warns(UserWarning, match="under-resolved"):
+        res = gc.run(s, tmp_path / "run", progress=False)
+    curve, mean = res.curve, res.mean_curve
+    by_step = curve.groupby("step")
+    assert not np.array_equal(curve[curve.realization == 0]["delta"], curve[curve.realization == 1]["delta"])
+    assert np.allclose(mean["delta"], by_step["delta"].mean(), rtol=1e-15, atol=0)
+    assert mean["load"].tolist() == by_step["load"].first().tolist() == list(L.path_values(s.loading))
+    assert np.allclose(mean["p"], by_step["p"].mean(), rtol=1e-15, atol=0)

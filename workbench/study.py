@@ -98,7 +98,7 @@ from contact.stickiness import as_dict as stickiness_dict
 
 from . import io, safe_files
 from .averages import AVERAGED, ensemble_average
-from .cycles import has_path, mean_columns, write_study_cycles
+from .cycles import has_path, mean_columns, step_loads, write_study_cycles
 
 STUDY_KEYS = ("name", "description", "base", "scene", "axes", "zip")
 #: files and folders a study directory holds
@@ -677,7 +677,7 @@ def _write_tables(study, out, rows, results):
     w.writerow(["set"] + study.keys + ["realization", "seed", "task"] + list(CURVE_COLUMNS) + stickiness_columns())
     w.writerows(row + sticky[int(row[0])] for row in rows)
     io._atomic_write(out / "study.csv", buf.getvalue())
-    averages = {s: ensemble_average(rs) for s, rs in sorted(results.items()) if rs}
+    averages = {s: ensemble_average(rs, step_loads(study.scenes[s])) for s, rs in sorted(results.items()) if rs}
     cycled = study_has_paths(study)
     for s, cols in averages.items():  # a path: per step its branch and cycle (never mixed by the mean)
         if cycled:
