@@ -91,6 +91,7 @@ def test_pull_off_and_hysteresis_vs_axis(path_study):
     assert drawn["pull_off_pressure"][1] < drawn["pull_off_pressure"][0] < 0  # more adhesion: more tensile
     assert main(["study", "plot", str(out), "--over", "interface.phi_n_star"]) == 0
     assert all((out / "figures" / f"{n}.png").is_file() for n in CYCLE_STUDY_FIGURES)
+    assert set(cycle_study_figures(out)) == set(CYCLE_STUDY_FIGURES)  # without --over: the one varied axis
     with pytest.raises(ValueError, match="--over 'surface.nodes'"):
         cycle_study_figures(out, over="surface.nodes")
 
