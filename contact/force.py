@@ -17,7 +17,8 @@ branch the system jumps to. If the marching reaches the start U = 0 (δ = −δ0
 tensile P, the body has detached: no equilibrium carries the tensile load (the indenter would fly off);
 the step is recorded as the detached state at U = 0 with p̄ ≠ P (row `load` ≠ `p`) and the event says
 so. Step 0 is the start itself, the indenter at U = 0 (δ = −δ0, p̄ ≈ 0 from the law's tail), as in the
-ramp. A march that would pass the full-contact limit raises SceneError naming loading.path.
+ramp. A march that would pass the full-contact limit raises SceneError naming loading.path (for the hard
+wall on a half-plane the loads ≥ p̄_fc are refused before the run: `contact.loading.full_contact_pressure`).
 """
 
 from __future__ import annotations

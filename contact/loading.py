@@ -145,7 +145,54 @@ def preflight(scene):
         if note:
             notes.append(note)
         check_step_in_law_range(scene, steps, i)
+        check_force_path_below_full_contact(scene, h, i)
     return warnings, notes
+
+
+def full_contact_pressure(h, length, youngs_modulus, poisson_ratio):
+    """p̄_fc (Pa): the least mean pressure at which a hard wall with profile h (m) is in full contact
+    with a frictionless half-plane (reference-formulas §1.1, k(q) = E*|q|/2).
+
+    In full contact the surface follows the indenter, û_q = −ĥ_q on every q ≠ 0, so the contact pressure is
+    p(x) = p̄ + p_h(x) with p_h = −F⁻¹[k(q) ĥ_q] (zero mean, largest under the lowest points of h); a hard
+    wall carries no tension, so p(x) ≥ 0 everywhere needs p̄ ≥ p̄_fc = max_x F⁻¹[k ĥ](x). Sinusoid of
+    amplitude a, wavelength λ: p̄_fc = π E* a/λ = p* (Westergaard). On the grid the discrete transform is
+    exact for the nodal problem GFMD solves.
+    """
+    from .kernels import halfplane_normal
+
+    h = np.asarray(h, float)
+    q = 2 * np.pi * np.fft.rfftfreq(h.size, d=length / h.size)
+    return float(np.max(np.fft.irfft(halfplane_normal(q, youngs_modulus, poisson_ratio) * np.fft.rfft(h),
+                                     n=h.size)))
+
+
+def check_force_path_below_full_contact(scene, h, realization=0):
+    """Refuse (SceneError naming loading.path) a force path whose largest load a hard-wall half-plane
+    realization cannot carry below full contact: max(path) ≥ p̄_fc (`full_contact_pressure`).
+
+    Why it is exact before the run: on a half-plane δ is measured from the mean plane, so the hard wall is in
+    full contact only at δ_max = mean(h) − min(h), where p̄(δ) reaches p̄_fc (below it some gap is open, p̄ <
+    p̄_fc); every load ≥ p̄_fc needs δ_max, which the ramp does not reach (FULL_CONTACT_MARGIN), and
+    `contact.force` would refuse it while running. For a cohesive law no pre-run bound is known: the law's
+    tension and its soft repulsion move p̄ at δ_max by amounts only the solution gives; the run-time refusal
+    (`contact.force.solve_load`) stays for every law, also for loads just below p̄_fc that need δ > 0.998 δ_max.
+    A layer has no full-contact limit (its mean mode has a finite stiffness).
+    """
+    from .errors import SceneError
+
+    lo = scene.loading
+    if lo.control != "force" or not scene.material.half_plane or scene.interface.law != "hard-wall":
+        return
+    m = scene.material
+    p_fc = full_contact_pressure(h, scene.surface.length, m.youngs_modulus, m.poisson_ratio)
+    top = float(np.max(lo.path))
+    if top >= p_fc:
+        raise SceneError(
+            f"loading.path: the largest load p̄ = {top:.6g} Pa is beyond full contact: {realization_label(scene, realization)} "
+            f"is in full contact (hard wall on the half-plane) at p̄_fc = {p_fc:.6g} Pa (max of F⁻¹[E*|q|/2 ĥ], "
+            f"contact.loading.full_contact_pressure), reached only at δ_max = mean(h) − min(h), which the ramp does "
+            f"not reach; lower the path's largest load below {p_fc:.6g} Pa")
 
 
 def check_step_in_law_range(scene, steps, realization=0):

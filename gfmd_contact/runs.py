@@ -78,7 +78,9 @@ class RunResult:
         Columns: realization, seed, step, U (m, imposed displacement), delta (m, penetration
         δ), p (Pa, mean pressure, > 0 compressive), a_rel (relative contact area), g_r and g
         (rms gradients of the contact nodes and of the whole profile; g_r NaN without
-        contact), iterations, residual (relative), converged (0/1), wall_s (s) and, for GFMD, algorithm (what relaxed the step).
+        contact), iterations, residual (relative), converged (0/1), wall_s (s) and, for GFMD, algorithm (what relaxed the step);
+        a run with a load path adds branch ("loading"/"unloading"), cycle (0, 1, …), event ("jump-in"/"jump-out"
+        or empty) and, under force control, load (Pa, the prescribed p̄).
         """
         import pandas as pd
 
@@ -98,7 +100,9 @@ class RunResult:
 
         Columns: step, delta (m), U (m) and, for each of p (Pa), a_rel, g_r, g, the mean over
         the realizations, ``<name>_se`` (its standard error, 0 for one value) and ``<name>_n``
-        (how many realizations have a value at that step).
+        (how many realizations have a value at that step). Under force control delta and U are means over
+        the realizations too (they share the loads, not δ) and load (Pa) is added; with a load path, branch
+        and cycle.
         """
         import pandas as pd
 
@@ -108,7 +112,35 @@ class RunResult:
         from workbench.averages import ensemble_average
 
         runs = [SimpleNamespace(realization=r, curve=c) for r, c in sorted(self._curves.items())]
-        return pd.DataFrame(ensemble_average(runs))
+        from workbench.cycles import step_loads
+
+        return pd.DataFrame(ensemble_average(runs, step_loads(self.scene)))
+
+    @functools.cached_property
+    def cycles(self):
+        """meta.json "cycles" as a DataFrame: one row per (realization, cycle) of a run whose loading has a path.
+
+        Columns: realization, seed, cycle, pull_off_pressure (Pa, the most tensile p̄ on unloading, < 0
+        tensile), pull_off_delta (m, its δ), snap_off_delta (m) and snap_off_step, hysteresis (J/m², W = ∮ p̄ dδ
+        per unit area, > 0 dissipated), closed (the cycle ends at the δ it began), delta_start, delta_end (m),
+        jump_in, jump_out (numbers of events), under force control pull_off_load (Pa, the load at which
+        contact was lost; NaN where none), and events (the list of the cycle's jump events: kind, step,
+        branch, δ (m), p̄ (Pa), a_rel before and after). Definitions: meta["cycle_definitions"]
+        (`contact.cycle`). Empty (these columns, no rows) for a ramp, and for an unfinished run.
+        """
+        import pandas as pd
+
+        rows = []
+        for entry in self.meta.get("cycles") or []:
+            for c in entry["cycles"]:
+                kinds = [e["kind"] for e in c.get("events", [])]
+                rows.append({"realization": entry["realization"], "seed": entry["seed"], **c,
+                             "jump_in": kinds.count("jump-in"), "jump_out": kinds.count("jump-out")})
+        columns = ["realization", "seed", "cycle", "pull_off_pressure", "pull_off_delta", "snap_off_delta",
+                   "snap_off_step", "hysteresis", "closed", "delta_start", "delta_end", "jump_in", "jump_out"]
+        table = pd.DataFrame(rows)
+        columns += [c for c in table.columns if c not in columns and c != "events"] + ["events"]
+        return table.reindex(columns=columns)
 
     @functools.cached_property
     def _npz(self):

@@ -144,7 +144,9 @@ class StudyResult:
         Dimensions: one per [axes] key (coordinates: its values), "zip" (coordinates: the
         zipped keys) if the study has a [zip], and "step". Variables: delta, U (m), set
         (parameter set index) and, for each of p (Pa), a_rel, g_r, g, the mean over the set's
-        realizations, ``<name>_se`` (standard error) and ``<name>_n`` (count); units in attrs.
+        realizations, ``<name>_se`` (standard error) and ``<name>_n`` (count); units in attrs. A study of
+        load paths adds branch ("loading"/"unloading"; "" where a set has no such step) and cycle (0, 1, …;
+        −1 there) per step.
         """
         import xarray as xr
 
@@ -163,10 +165,28 @@ class StudyResult:
     @functools.cached_property
     def summary_table(self):
         """summary.csv as a DataFrame: per set and step, the means, standard errors and counts, and the set's
-        stickiness_<key> columns."""
+        stickiness_<key> columns; with load paths also branch and cycle of each step (after step)."""
         import pandas as pd
 
         return pd.read_csv(self.dir / "summary.csv")
+
+    @functools.cached_property
+    def cycles(self):
+        """cycles.csv as a DataFrame: one row per (task, cycle) of a study whose scenes have a load path.
+
+        Columns: set, the varied keys, realization, seed, task, cycle, pull_off_pressure (Pa, the most tensile
+        p̄ on unloading, < 0 tensile), pull_off_delta and snap_off_delta (m), hysteresis (J/m², W = ∮ p̄ dδ per
+        unit area), closed (True/False), jump_in and jump_out (numbers of events); NaN where a cycle has no
+        value (`workbench.cycles.write_study_cycles`). A ramp study has no cycles.csv: an empty DataFrame
+        with the columns that do not depend on the axes.
+        """
+        import pandas as pd
+        from workbench.cycles import STUDY_COLUMNS
+
+        path = self.dir / "cycles.csv"
+        if not path.is_file():
+            return pd.DataFrame(columns=["set", "realization", "seed", "task", *STUDY_COLUMNS])
+        return pd.read_csv(path)
 
     def task(self, set=0, realization=0):
         """The run directory of one task, as a `RunResult` (fields included).

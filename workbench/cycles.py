@@ -49,6 +49,11 @@ def meta_cycles(scene, results):
             "cycle_definitions": " ".join(cyc.__doc__.split("\n\n")[2:]).replace("\n", " ")}
 
 
+def step_loads(scene):
+    """The prescribed p̄ (Pa) of every step under force control (the realizations share these, not δ), else None."""
+    return path_values(scene.loading) if scene.loading.control == "force" else None
+
+
 def mean_columns(scene, steps):
     """{"branch", "cycle"} for the mean_curve.csv steps (array of step indices)."""
     branch, cycle = step_branches(scene.loading)

@@ -50,7 +50,7 @@ from contact.scene import load_scene, scene_to_dict, scene_to_toml
 
 from . import safe_files
 from .averages import ensemble_average
-from .cycles import has_path, mean_columns, meta_cycles, realization_cycles
+from .cycles import has_path, mean_columns, meta_cycles, realization_cycles, step_loads
 
 #: files and folders a run directory may hold (what --overwrite removes)
 RUN_ENTRIES = ("curve.csv", "mean_curve.csv", "fields.npz", "scene.toml", "meta.json", "plots", "vtu", "partial")
@@ -140,7 +140,7 @@ def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
             writer.writerow([r.realization, r.seed] + [_fmt(r.curve[c][k]) for c in CURVE_COLUMNS]
                             + ([step_algorithm(r, k)] if labelled else []) + [extra[c][k] for c in extra])
     _atomic_write(out / "curve.csv", buf.getvalue())
-    cols = ensemble_average(results)
+    cols = ensemble_average(results, step_loads(scene))
     if cycled:
         cols.update(mean_columns(scene, cols["step"]))
     buf = io.StringIO()

@@ -40,7 +40,10 @@ naming the key.
   DIR/summary.csv    per set and step: set, the axis columns, step, delta (m), U (m) and for each
                      of p, a_rel, g_r, g (`workbench.averages.AVERAGED`) the mean over the set's
                      realizations, <name>_se (its standard error, 0 for one value) and <name>_n
-                     (realizations with a value at that step), then the stickiness_<key> columns
+                     (realizations with a value at that step), then the stickiness_<key> columns;
+                     where a set's scene has loading.path, branch ("loading"/"unloading") and cycle
+                     (0, 1, ...) of each step follow step (the means are per step, so the branches
+                     never mix); a ramp study's files are unchanged
   DIR/cycles.csv     only where the tasks' loading has a path (workbench.cycles): one row per (task,
                      cycle): set, axis columns, realization, seed, task, cycle, pull_off_pressure (Pa,
                      min p̄ on unloading, < 0 tensile), pull_off_delta and snap_off_delta (m),
@@ -49,7 +52,8 @@ naming the key.
                      netCDF4/HDF5 dependency): dims = the [axes] keys (coordinates: their values),
                      "zip" (coordinates: the zipped keys) if there is a [zip], and "step"; data
                      variables delta, U, set and the columns of summary.csv (NaN / n = 0 where a set
-                     has fewer steps; the stickiness_<key> variables per set, without "step");
+                     has fewer steps; the stickiness_<key> variables per set, without "step"; with
+                     a path, branch (text, "" where no step) and cycle (int, -1 where no step));
                      attributes: units, the study file's text
   DIR/study.json     tasks_total, tasks_reused, tasks_run, tasks_failed, steps_reused, every
                      task (set, parameters, realization, seed, key, status, code version of
@@ -94,7 +98,7 @@ from contact.stickiness import as_dict as stickiness_dict
 
 from . import io, safe_files
 from .averages import AVERAGED, ensemble_average
-from .cycles import write_study_cycles
+from .cycles import has_path, mean_columns, step_loads, write_study_cycles
 
 STUDY_KEYS = ("name", "description", "base", "scene", "axes", "zip")
 #: files and folders a study directory holds
@@ -642,8 +646,10 @@ def _collect(study, out, tasks, failures):
     return rows, results
 
 
-def summary_columns():
-    cols = ["step", "delta", "U"]
+def summary_columns(cycled=False):
+    """summary.csv's columns after set and the axes; cycled (some set's scene has loading.path):
+    branch ("loading"/"unloading") and cycle (0, 1, ...) of each step after step (workbench.cycles)."""
+    cols = ["step"] + (["branch", "cycle"] if cycled else []) + ["delta", "U"]
     for name in AVERAGED:
         cols += [name, f"{name}_se", f"{name}_n"]
     return cols
@@ -671,17 +677,30 @@ def _write_tables(study, out, rows, results):
     w.writerow(["set"] + study.keys + ["realization", "seed", "task"] + list(CURVE_COLUMNS) + stickiness_columns())
     w.writerows(row + sticky[int(row[0])] for row in rows)
     io._atomic_write(out / "study.csv", buf.getvalue())
-    averages = {s: ensemble_average(rs) for s, rs in sorted(results.items()) if rs}
+    averages = {s: ensemble_average(rs, step_loads(study.scenes[s])) for s, rs in sorted(results.items()) if rs}
+    cycled = study_has_paths(study)
+    for s, cols in averages.items():  # a path: per step its branch and cycle (never mixed by the mean)
+        if cycled:
+            cols.update(mean_columns(study.scenes[s], cols["step"]))
     buf = _io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["set"] + study.keys + summary_columns() + stickiness_columns())
+    w.writerow(["set"] + study.keys + summary_columns(cycled) + stickiness_columns())
     for s, cols in averages.items():
         params = [_axis_text(study.sets[s][k]) for k in study.keys]
         for k in range(cols["step"].size):
-            w.writerow([str(s)] + params + [io._fmt(cols[c][k]) for c in summary_columns()] + sticky[s])
+            w.writerow([str(s)] + params + [_cell(cols[c][k]) for c in summary_columns(cycled)] + sticky[s])
     io._atomic_write(out / "summary.csv", buf.getvalue())
     dataset = summary_dataset(study, averages)
     io._atomic_write(out / "summary.nc", bytes(dataset.to_netcdf(engine="scipy")), binary=True)
+
+
+def study_has_paths(study):
+    """Whether some set's scene loads along a path (loading.path): its summaries then carry branch and cycle."""
+    return any(has_path(scene) for scene in study.scenes)
+
+
+def _cell(value):
+    return value if isinstance(value, str) else io._fmt(value)
 
 
 def _float_or_nan(value):
@@ -710,8 +729,16 @@ def summary_dataset(study, averages):
     data = {c: np.full(shape + [steps], 0 if c.endswith("_n") else np.nan,
                        dtype=np.int32 if c.endswith("_n") else float) for c in summary_columns()[1:]}
     set_index = np.full(shape, -1, dtype=np.int32)
+    cycled = study_has_paths(study)
+    if cycled:  # per set and step, from its scene's path (also where a set has no result yet)
+        branch, cycle = np.full(shape + [steps], "", dtype=object), np.full(shape + [steps], -1, dtype=np.int32)
     for s, idx in enumerate(study.index):
         set_index[idx] = s
+        if cycled:
+            n = study.scenes[s].loading.steps + 1
+            marks = mean_columns(study.scenes[s], np.arange(n))
+            branch[idx + (slice(0, n),)] = marks["branch"]
+            cycle[idx + (slice(0, n),)] = marks["cycle"]
         cols = averages.get(s)
         if cols is None:
             continue
@@ -730,6 +757,12 @@ def summary_dataset(study, averages):
         else:
             attrs = {"long_name": f"mean of {c} over realizations" if c in AVERAGED else c, "units": UNITS[c]}
         variables[c] = (dims + ["step"], values, attrs)
+    if cycled:
+        variables["branch"] = (dims + ["step"], branch, {
+            "long_name": "branch of the load path at the step: loading (δ grows) or unloading; empty: no step",
+            "units": "1"})
+        variables["cycle"] = (dims + ["step"], cycle, {
+            "long_name": "cycle of the load path at the step (0, 1, ...); -1: no step", "units": "1"})
     sticky = [stickiness_dict(scene) for scene in study.scenes]  # per set, before any run (contact.stickiness)
     for key in STICKINESS_KEYS:
         cells = np.full(shape, np.nan)  # NaN: not defined for the set's scene

@@ -22,6 +22,8 @@ area_vs_delta, gr_over_g_vs_delta (Fig. 4a–c), interface_snapshot (Fig. 5: one
 at the largest saved δ, indenter gray, adhesive surface green, non-adhesive red) and
 area_vs_pressure (Figs. 7–8: a_rel vs p/E*). Artists carry a gid ("mean", "reference",
 "kappa-fit", "fit-range", "partial", "nonconverged", "partial-study", "errorbar-label").
+A study of load paths (DIR/cycles.csv) adds pull_off_vs_axis and hysteresis_vs_axis against AXIS
+(`workbench.study_cycle_plots`; without --over: the one axis the study varies).
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ from .averages import mean_standard_error
 from .claims import (LAW_KEYS, KEY_LABELS, _param_text, kappa_per_realization, read_study_dir, reduced_pressure_of,
                      reference_of, set_label, stats, varying)
 from .plots import _NC_STYLE, _sci, error_bar_label
+from .study_cycle_plots import cycle_study_figures
 
 #: output formats of `plot_study`
 FORMATS = ("png", "svg")
@@ -335,6 +338,7 @@ def make_study_figures(study_dir, over=None, data=None):
         figs["interface_snapshot"] = snap
     figs["area_vs_pressure"] = _overlay(data, over, "p_E", "a_rel", r"relative contact area $a_\mathrm{rel}$",
                                         "Contact area vs mean pressure (seed Figs. 7–8)")
+    figs.update(cycle_study_figures(study_dir, over=over))  # load paths: pull-off and hysteresis vs the axis
     return figs
 
 
