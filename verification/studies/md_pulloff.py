@@ -53,8 +53,8 @@ WORK = 1.0
 PATH = (-1e-9, 2e-9, -0.8e-9, -3e-9)
 STEPS = (10, 14, 220)
 LAMBDAS = (0.3, 1.0, 3.0, 10.0)
-#: N per λ (doubling; the process zone d ≈ 5.8 E*δn²/φn shrinks as 1/λ²: 260, 29, 3.2, 0.29 node spacings at
-#: the coarsest N of λ = 0.3, 1, 3, 10 would be ... so the lists start where d ≳ 1–2 l)
+#: N per λ (doubling). The process zone d ≈ 5.8 E*δn²/φn (reference-formulas §4.2) shrinks as 1/λ²
+#: (680, 61, 6.8, 0.61 nm at λ = 0.3, 1, 3, 10), so each list starts near d/l ≈ 22, 4, 1.7, 1.2
 NODES = {0.3: (32, 64, 128, 256), 1.0: (64, 128, 256, 512), 3.0: (256, 512, 1024, 2048),
          10.0: (2048, 4096, 8192, 16384)}
 #: the N the CI test re-runs (the second level of each list)
