@@ -33,7 +33,7 @@ verification/data/md_pulloff.json (entry "ci"), which verification/test_md_pullo
 N = CI_NODES, the second level of each list). Measured (2026-11-25): e_∞ = +0.1082, +0.07048, +0.00962,
 +5.5e-5 at λ = 0.3, 1, 3, 10; F/F_u = −0.6635, −1.0346, −1.1765, −1.19046 vs MD −0.7440, −1.1130, −1.1880,
 −1.19052; at L = 8R −0.6632, −1.0339, −1.1758 against the §4.2 exponential-law table −0.663, −1.031, −1.176
-(λ = 1: 0.3% more adhesive than the table, whose load-controlled sweep stops at its last stable load step).
+(λ = 1: 0.3% apart, more than the table's 3 digits; its load step is not stated, so not asserted).
 """
 
 from __future__ import annotations
