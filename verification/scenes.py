@@ -164,6 +164,21 @@ def extremes_base(**overrides):
     return Scene().replace(**{**EXTREMES_BASE, **overrides})
 
 
+#: the load–unload path (δ in m) and steps per segment of `cycle_self_affine` (Δδ = 0.25 nm loading,
+#: 0.05 nm = δn/5 unloading: an unloading step of 2 δn leaves the attached branch at once)
+CYCLE_PATH, CYCLE_STEPS = (-8e-9, 4e-9, -8e-9), (48, 240)
+
+
+def cycle_self_affine(n, length_normal=0.25e-9, path=CYCLE_PATH, steps=CYCLE_STEPS):
+    """The extremes base profile (L = 256 nm, H = 0.8, h_rms = 4 nm, λr = 64 nm, λs,H = 4 nm, seed 1,
+    half-plane ν = 0.45, φn* = 0.15) on N = n nodes, stickier (δn = 0.25 nm), driven along the
+    displacement path `path` (m; δ0 = −path[0]) in `steps` steps per segment; no fields saved."""
+    base = {k: v for k, v in EXTREMES_BASE.items()
+            if k not in ("loading.initial_separation", "loading.final_penetration", "loading.steps")}
+    return Scene().replace(**{**base, "surface.nodes": n, "interface.length_normal": length_normal,
+                              "loading.path": list(path), "loading.steps": list(steps), "output.field_steps": 0})
+
+
 # ----------------------------------------------------------------------------- analytic cases (default half-plane)
 ANALYTIC_TOLERANCE = 1e-10  # solver tolerance (× p_ref) of every analytic case
 
