@@ -220,5 +220,28 @@ def scene_warnings(scene, model):
             f"jumps into contact from δ_jump = {gap / dn:.3g} δn, so the first step may already jump "
             f"(the approach is then not recorded). Pick δ0 ≥ {gap / dn:.3g} δn = {gap:.3g} m "
             "(contact.model.jump_in_separation)")
+    found += coarse_unloading_warnings(scene, dn)
     found += stickiness.resolution_warnings(scene)
     return found
+
+
+#: largest unloading step Δδ/δn of a displacement-controlled path measured to follow the attached branch
+#: (verification/studies/cycle_convergence.py, sticky rough cycle φn* = 0.15, δn = 0.25 nm, N = 2048: an
+#: unloading step of δn/5 follows it to snap-off at −2.3 nm; one of 2 δn leaves it at the first unloading
+#: step, every step converged, W < 0: a wrong cycle no residual shows)
+MAX_UNLOADING_STEP_LENGTHS = 0.2
+
+
+def coarse_unloading_warnings(scene, dn):
+    """["coarse unloading: …"] for a displacement path whose unloading steps exceed MAX_UNLOADING_STEP_LENGTHS δn."""
+    ld = scene.loading
+    if not ld.path or ld.control != "displacement":
+        return []
+    steps = [abs(b - a) / n for a, b, n in zip(ld.path[:-1], ld.path[1:], ld.segment_steps) if b < a]
+    if not steps or max(steps) <= MAX_UNLOADING_STEP_LENGTHS * dn * (1 + 1e-9):  # the measured step itself,
+        return []  # recomputed from other corners, passes whatever its last bits
+    worst = max(steps)
+    return [f"coarse unloading: an unloading step of loading.path is Δδ = {worst / dn:.3g} δn ({worst:.3g} m), above "
+            f"{MAX_UNLOADING_STEP_LENGTHS:g} δn, the largest measured to follow the attached branch: a coarser step "
+            "may leave it at once (every step converged, hysteresis W < 0; verification/studies/cycle_convergence.py); "
+            f"raise loading.steps of the unloading segments to ≥ Δδ/({MAX_UNLOADING_STEP_LENGTHS:g} δn)"]

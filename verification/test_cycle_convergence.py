@@ -132,3 +132,17 @@ def test_cycle_extreme(label, verification_record):
     assert not out["nan"]
     assert out["steps"] == out["steps_planned"]
     _check_outcome(label, out)
+
+
+def test_the_scene_check_warns_of_the_coarse_unloading_step_only():
+    """The coarse-step case above leaves the attached branch silently: the scene check says so before the run
+    (contact.model.MAX_UNLOADING_STEP_LENGTHS), and stays quiet for the steps measured to follow the branch."""
+    from contact.model import MAX_UNLOADING_STEP_LENGTHS, build_model, scene_warnings
+
+    def coarse(label):
+        scene = cc.EXTREMES[label][0]()
+        return [w for w in scene_warnings(scene, build_model(scene)) if w.startswith("coarse unloading")]
+
+    assert coarse("pull-off, coarse steps") and not coarse("pull-off, fine steps") and not coarse("sticky")
+    dn = cc.cycle_self_affine(2048).interface.length_normal
+    assert cc.coarse_unloading_step() == pytest.approx(MAX_UNLOADING_STEP_LENGTHS * dn, rel=1e-12)  # the measured step
