@@ -78,7 +78,7 @@ def load_study(study_dir):
             "set": int(r["set"]), "hard_wall": r.get("interface.law") == "hard-wall",
             "phi": _float(r.get("interface.phi_n_star")), "hurst": _float(r.get("surface.hurst", hurst0)),
             "h_rms": _float(r.get("surface.h_rms", hrms0)), "curves": {}, "theta": {}, "mu": {},
-            "pull_off": {}, "hysteresis": {}})
+            "pull_off": {}, "hysteresis": {}, "jumps": [0, 0]})
         seed = int(r["seed"])
         s["theta"][seed] = _float(r["stickiness_persson_tosatti"])
         s["mu"][seed] = _float(r["stickiness_tabor_rough"])
@@ -94,6 +94,8 @@ def load_study(study_dir):
             s = sets[r["set"]]
             s["pull_off"][int(r["seed"])] = _float(r["pull_off_pressure"])
             s["hysteresis"][int(r["seed"])] = _float(r["hysteresis"])
+            s["jumps"][0] += int(r["jump_in"])
+            s["jumps"][1] += int(r["jump_out"])
     return [sets[k] for k in sorted(sets, key=int)]
 
 
@@ -160,7 +162,7 @@ def table(root):
                    "phi_n_star": "" if s["hard_wall"] else f"{s['phi']:g}", "hurst": f"{s['hurst']:g}",
                    "h_rms_nm": f"{s['h_rms'] * 1e9:g}", "delta_eval_nm": f"{d * 1e9:.4g}",
                    "pull_off": stats(s["pull_off"]), "hysteresis": stats(s["hysteresis"]),
-                   "nl": stats(nl[s["set"]]), "dnl": eff,
+                   "nl": stats(nl[s["set"]]), "dnl": eff, "jumps": s["jumps"],
                    "theta": _mean(s["theta"]), "mu_rough": _mean(s["mu"])}
             rows.append(row)
             if not s["hard_wall"] and np.isfinite(eff[0]):
@@ -174,6 +176,19 @@ def table(root):
     return rows, note
 
 
+def _scale_line(root):
+    """The grid and realizations of the studies' base scene; a warning unless it is the seed's N = 2^17."""
+    dirs = sorted(p for p in Path(root).iterdir() if (p / "base_scene.toml").is_file())
+    scene = tomllib.loads((dirs[0] / "base_scene.toml").read_text())
+    n, r = scene["surface"]["nodes"], scene["surface"]["realizations"]
+    steps = scene["loading"]["steps"]
+    text = f"N = {n}, {r} realizations, steps per segment {steps}"
+    if n < 131072:
+        return (f"**Small scale ({text}): NOT the full-scale answer.** The full-scale studies "
+                "(N = 2^17, 10 realizations) are studies/beyond/fig*_cycle.toml.")
+    return f"Full scale ({text})."
+
+
 def render(root):
     """(table.md text, table.csv text) of the studies under `root`."""
     rows, note = table(root)
@@ -181,15 +196,15 @@ def render(root):
           "Written by `studies/beyond/report.py` from the committed `cycles.csv`, `study.csv` and `summary.csv`",
           f"under `{Path(root).name}/`. Mean ± SE over the realizations (n); ΔNL: NL(cohesive) − NL(hard wall",
           "of the same surface), paired by seed, delta-method SE (`workbench.claim_stats`). p̄_po: most tensile",
-          "p̄ on unloading (MPa, < 0 tensile); W = ∮ p̄ dδ (mJ/m²); NL = 2 a_rel(x_max/2)/a_rel(x_max) − 1 on the",
+          "p̄ on unloading (MPa, < 0 tensile); W = ∮ p̄ dδ (mJ/m²); jumps: summed over the realizations; NL = 2 a_rel(x_max/2)/a_rel(x_max) − 1 on the",
           "loading branch, x = p_r*, x_max at δ_eval; θ: Persson–Tosatti U_el(full contact)/(wL); μ_rough: Tabor-like.",
-          "", "**Small scale (N = 4096, λr/λsH = 64, 3 realizations, 0.25 nm steps): NOT the full-scale answer.**",
-          "The full-scale studies (N = 2^17, 10 realizations) are studies/beyond/fig*_cycle.toml.", "",
-          "| study | law | φn* | H | h_rms (nm) | δ_eval (nm) | p̄_po (MPa) | W (mJ/m²) | NL | ΔNL vs hard wall | θ | μ_rough |",
-          "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+          "", _scale_line(root), "",
+          "| study | law | φn* | H | h_rms (nm) | δ_eval (nm) | p̄_po (MPa) | W (mJ/m²) | jumps in/out | NL | ΔNL vs hard wall | θ | μ_rough |",
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         md.append(f"| {r['study']} | {r['law']} | {r['phi_n_star'] or '—'} | {r['hurst']} | {r['h_rms_nm']} | "
                   f"{r['delta_eval_nm']} | {_pm(*r['pull_off'], scale=1e-6)} | {_pm(*r['hysteresis'], scale=1e3)} | "
+                  f"{r['jumps'][0]}/{r['jumps'][1]} | "
                   f"{_pm(*r['nl'])} | {_pm(*r['dnl'])} | "
                   f"{'—' if not np.isfinite(r['theta']) else format(r['theta'], '.3g')} | "
                   f"{'—' if not np.isfinite(r['mu_rough']) else format(r['mu_rough'], '.3g')} |")
@@ -197,12 +212,13 @@ def render(root):
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(["study", "set", "law", "phi_n_star", "hurst", "h_rms_nm", "delta_eval_nm",
-                "pull_off_MPa", "pull_off_se", "hysteresis_mJ_m2", "hysteresis_se", "n",
+                "pull_off_MPa", "pull_off_se", "hysteresis_mJ_m2", "hysteresis_se", "n", "jump_in", "jump_out",
                 "nonlinearity", "nonlinearity_se", "dnl", "dnl_se", "theta", "mu_rough"])
     for r in rows:
         w.writerow([r["study"], r["set"], r["law"], r["phi_n_star"], r["hurst"], r["h_rms_nm"], r["delta_eval_nm"],
                     f"{r['pull_off'][0] * 1e-6:.6g}", f"{r['pull_off'][1] * 1e-6:.6g}",
                     f"{r['hysteresis'][0] * 1e3:.6g}", f"{r['hysteresis'][1] * 1e3:.6g}", r["pull_off"][2],
+                    r["jumps"][0], r["jumps"][1],
                     f"{r['nl'][0]:.6g}", f"{r['nl'][1]:.6g}", f"{r['dnl'][0]:.6g}", f"{r['dnl'][1]:.6g}",
                     f"{r['theta']:.6g}", f"{r['mu_rough']:.6g}"])
     return "\n".join(md), buf.getvalue()
