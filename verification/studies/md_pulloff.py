@@ -27,6 +27,15 @@ observed order = log2 of their ratios (least squares over the levels), Richardso
 doubled (same node spacing): e(2R) − e(R) is the periodic-image part.
 
     python -m verification.studies.md_pulloff [--write]
+    python -m verification.studies.md_pulloff --force-only [--write]   # entry "force" only, ≈ 5 s
+
+Force control (entry "force", λ = 1, 3 at the CI N): the same cylinder along p̄ = FORCE_PATH × |F_MD|/L, the
+last segment (0.8 → 1.2 |F_MD|) in steps Δ = 0.005 |F_MD|; the pull-off is the load at which the body
+detached (the run's own event, `contact.cycle` pull_off_load). For a line contact the load-controlled
+pull-off is the extremum dF/da = 0 (Baney & Hui 1997), the same minimum displacement control passes, so
+|F_force − F_disp| ≤ Δ + the outer search's tolerance + the displacement sampling error. Measured
+(2026-11-25): F_force/F_u = −1.0351, −1.1820 vs F_disp/F_u = −1.0346, −1.1767 (λ = 1, 3):
+(F_force − F_disp)/|F_MD| = −4.8e-4, −4.5e-3 ≤ 5.2e-3.
 
 N per λ in NODES (4 doublings each, ≈ 90 s in all, most of it λ = 10 at N ≤ 16384); `--write` stores them in
 verification/data/md_pulloff.json (entry "ci"), which verification/test_md_pulloff.py reads (it re-runs
