@@ -88,3 +88,45 @@ def test_md_pull_off_law_shape_error_falls_with_lambda(ci_runs):
     errors = [ci_runs[lam]["error"] for lam in mp.LAMBDAS]
     assert all(e > 0 for lam, e in zip(mp.LAMBDAS, errors) if lam <= 3.0), errors
     assert all(a > b for a, b in zip(errors, errors[1:])), errors
+
+
+# ------------------------------------------------------------------ force control (issue 23 §2, contact.force)
+@pytest.fixture(scope="module")
+def force_runs():
+    return {lam: mp.measure_force(mp.CI_NODES[lam], lam) for lam in mp.FORCE_LAMBDAS}
+
+
+@pytest.mark.parametrize("lam", mp.FORCE_LAMBDAS)
+def test_force_controlled_pull_off_equals_the_displacement_controlled_minimum(lam, force_runs, ci_runs,
+                                                                            verification_record):
+    """Baney & Hui (1997): for the line contact the load-controlled pull-off is the extremum dF/da = 0 of
+    F(a), the minimum of p̄ L that displacement control passes before it snaps off, so the two agree up to
+    the force path's resolution. The detach load F_force is the first load of the fine segment (step Δ) not
+    carried: the last load carried is ≥ F_min − tol and F_force = that − Δ < F_min + tol, i.e. F_force ∈
+    (F_min − Δ − tol, F_min + tol); the displacement-controlled F_disp is the sampled minimum, F_min ≤ F_disp
+    ≤ F_min + sampling. Hence |F_force − F_disp| ≤ Δ + tol + sampling (tol = the outer search's |p̄ − P|),
+    and sharper, F_force − tol ≤ F_disp ≤ F_carried + sampling (F_carried: the most tensile p̄ carried)."""
+    fx, dx = force_runs[lam], ci_runs[lam]
+    f_md = abs(fx["F_md"])
+    sampling = dx["sampling"] * dx["F_u"]
+    slack = REPRO * f_md  # machine-to-machine round-off of the two FIRE solutions
+    bound = (fx["step"] + fx["tolerance"] + sampling) / f_md + REPRO
+    diff = (fx["F"] - dx["F"]) / f_md
+    s = measured.entry(mp.NAME, "force")
+    stored = s["values"][f"lambda={lam:g}"]
+    rec = verification_record(
+        case=f"{CASE}/force-control/lambda-{lam:g}", metric="(F_force − F_disp)/|F_MD| at the CI N", value=float(diff),
+        tolerance=bound, methods=METHODS,
+        tolerance_source=(f"derived: (load step Δ = {fx['step'] / f_md:.4g} |F_MD| + search tolerance "
+                          f"{fx['tolerance'] / f_md:.2g} |F_MD| + displacement sampling {sampling / f_md:.2g} |F_MD|) + "
+                          f"{REPRO:g}; stored study verification/data/md_pulloff.json 'force' ({s['date']})"),
+        resolution={"N": mp.CI_NODES[lam], "lambda": lam, "force_path_over_F_md": list(mp.FORCE_PATH),
+                    "force_steps": list(mp.FORCE_STEPS)},
+        wall_s=fx["wall_s"], passed=bool(abs(diff) <= bound),
+        notes=(f"force control: detached at F/F_u = {fx['F'] / fx['F_u']:.5f} (last carried p̄L {fx['F_carried'] / fx['F_u']:.5f}); "
+               f"displacement control min p̄L {dx['F'] / dx['F_u']:.5f}; MD {fx['F_md'] / fx['F_u']:.5f}; "
+               f"e_force = {fx['error']:.4f}, e_disp = {dx['error']:.5f} (law-shape error, same in both)"))
+    assert rec.passed, (lam, diff, bound)
+    assert fx["F"] - fx["tolerance"] - slack <= dx["F"] <= fx["F_carried"] + sampling + slack, (fx, dx)
+    # the detach load lies on the load grid: the stored study's to its 4 digits
+    assert abs(fx["error"] - stored["error_force"]) <= 0.5e-3 * fx["step"] / f_md + REPRO, (fx["error"], stored)

@@ -27,6 +27,15 @@ observed order = log2 of their ratios (least squares over the levels), Richardso
 doubled (same node spacing): e(2R) − e(R) is the periodic-image part.
 
     python -m verification.studies.md_pulloff [--write]
+    python -m verification.studies.md_pulloff --force-only [--write]   # entry "force" only, ≈ 5 s
+
+Force control (entry "force", λ = 1, 3 at the CI N): the same cylinder along p̄ = FORCE_PATH × |F_MD|/L, the
+last segment (0.8 → 1.2 |F_MD|) in steps Δ = 0.005 |F_MD|; the pull-off is the load at which the body
+detached (the run's own event, `contact.cycle` pull_off_load). For a line contact the load-controlled
+pull-off is the extremum dF/da = 0 (Baney & Hui 1997), the same minimum displacement control passes, so
+|F_force − F_disp| ≤ Δ + the outer search's tolerance + the displacement sampling error. Measured
+(2026-11-25): F_force/F_u = −1.0351, −1.1820 vs F_disp/F_u = −1.0346, −1.1767 (λ = 1, 3):
+(F_force − F_disp)/|F_MD| = −4.8e-4, −4.5e-3 ≤ 5.2e-3.
 
 N per λ in NODES (4 doublings each, ≈ 90 s in all, most of it λ = 10 at N ≤ 16384); `--write` stores them in
 verification/data/md_pulloff.json (entry "ci"), which verification/test_md_pulloff.py reads (it re-runs
@@ -113,6 +122,64 @@ def measure(nodes, lam, length=LENGTH):
             "sampling": abs(y1 - vertex) * length / f_u, "snap_off_delta": row["snap_off_delta"], "wall_s": wall}
 
 
+#: force control (issue 23 §2): λ values and the load path in units of |F_MD|/L: load to a compressive p̄, unload
+#: coarsely to 0.8 of the MD pull-off, then FORCE_FINE steps across ±20 % of it (0.8 → 1.2 |F_MD|)
+FORCE_LAMBDAS = (1.0, 3.0)
+FORCE_PATH = (0.0, 1.0, -0.8, -1.2)
+FORCE_STEPS = (5, 9, 80)
+#: start of the force path: the indenter at δ = −δ0 (p̄ ≈ 0 from the law's tail, ≤ e^{-δ0/δn} of the peak)
+FORCE_SEPARATION = 3e-9
+
+
+def force_scene(nodes, lam, length=LENGTH):
+    """The cylinder of `scene` under force control along FORCE_PATH × |F_MD|/L (Pa)."""
+    f_md, _ = analytic(lam)
+    s = cylinder(nodes, RADIUS, length, law="cohesive",
+                 **{"interface.work_normal": WORK, "interface.length_normal": delta_n(lam)})
+    return s.replace(**{"loading.control": "force", "loading.initial_separation": FORCE_SEPARATION,
+                        "loading.path": [x * abs(f_md) / length for x in FORCE_PATH],
+                        "loading.steps": list(FORCE_STEPS), "output.field_steps": 0})
+
+
+def load_step(lam, length=LENGTH):
+    """Load step of the fine segment (N/m): |F_MD| × 0.4 / FORCE_STEPS[-1]."""
+    f_md, _ = analytic(lam)
+    return abs(f_md) * abs(FORCE_PATH[-1] - FORCE_PATH[-2]) / FORCE_STEPS[-1]
+
+
+def measure_force(nodes, lam, length=LENGTH):
+    """{"F": pull-off under force control (N/m) = the load at which the body detached (the run's own event,
+    `contact.cycle` pull_off_load × L), "F_carried": the last load still carried, "F_md", "F_u", "error",
+    "step" (N/m), "tolerance" (the outer search's |p̄ − P| × L), "wall_s"}."""
+    from contact import force
+
+    s = force_scene(nodes, lam, length)
+    result, wall = ac.run(s)
+    d, p, a = (np.asarray(result.curve[c], float) for c in ("delta", "p", "a_rel"))
+    branch, cycle = step_branches(s.loading)
+    events = []
+    for e in result.diagnostics.get("instabilities", []):
+        k = int(e["step"])
+        events.append({**e, "branch": str(branch[k]), "cycle": int(cycle[k])})
+    (row,) = cyc.cycle_observables(d, p, a, branch, cycle, events=events)
+    if "pull_off_load" not in row:
+        raise AssertionError(f"λ = {lam}, N = {nodes}: no detachment on the force path ({events})")
+    f_md, f_u = analytic(lam)
+    f = row["pull_off_load"] * length
+    return {"F": f, "F_carried": row["pull_off_pressure"] * length, "F_md": f_md, "F_u": f_u,
+            "error": (f - f_md) / abs(f_md), "step": load_step(lam, length),
+            "tolerance": force.tolerance(s.loading) * length, "wall_s": wall}
+
+
+def force_entry(lam):
+    """Force vs displacement control at the CI N of lam: both pull-offs and the bound of the comparison."""
+    fx, dx = measure_force(CI_NODES[lam], lam), measure(CI_NODES[lam], lam)
+    return {"N": CI_NODES[lam], "F_force_over_F_u": fx["F"] / fx["F_u"], "F_carried_over_F_u": fx["F_carried"] / fx["F_u"],
+            "F_disp_over_F_u": dx["F"] / dx["F_u"], "F_md_over_F_u": fx["F_md"] / fx["F_u"],
+            "difference_over_F_md": (fx["F"] - dx["F"]) / abs(fx["F_md"]), "step_over_F_md": fx["step"] / abs(fx["F_md"]),
+            "error_force": fx["error"], "error_disp": dx["error"], "wall_s": fx["wall_s"]}
+
+
 def orders(errors):
     """(successive differences |e(N) − e(2N)|, least-squares order over them, Richardson limit e_∞)."""
     e = np.asarray(errors, float)
@@ -162,7 +229,21 @@ def stored(lam):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--write", action="store_true", help="store the errors in verification/data/md_pulloff.json")
+    ap.add_argument("--force-only", action="store_true",
+                    help="only the force-control comparison (entry \"force\"; with --write stores that entry only)")
     args = ap.parse_args(argv)
+    if args.force_only:
+        t0 = time.perf_counter()
+        values = {f"lambda={lam:g}": force_entry(lam) for lam in FORCE_LAMBDAS}
+        for k, v in values.items():
+            print(k, {n: (round(x, 6) if isinstance(x, float) else x) for n, x in v.items()})
+        if args.write:
+            ent = measured.make_entry(values, scene=(f"verification.studies.md_pulloff.force_scene(N, λ): the cylinder "
+                                                     f"under force control, path {list(FORCE_PATH)} × |F_MD|/L, steps "
+                                                     f"{list(FORCE_STEPS)}, δ0 = {FORCE_SEPARATION} m"),
+                                      wall_s=time.perf_counter() - t0)
+            print(measured.write(NAME, {"force": ent}))
+        return
     studies = [study(lam) for lam in LAMBDAS]
     for st in studies:
         f = [f"{x['F'] / x['F_u']:.5f}" for x in st["data"]]
