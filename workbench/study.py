@@ -32,7 +32,9 @@ naming the key.
                      `contact.result.CURVE_COLUMNS`: step, U (m), delta (m), p (Pa, > 0 compressive,
                      per unit area of the mean plane), a_rel (1), g_r (1: rms gradient of the
                      contact nodes, "nan" without contact), g (1: of the whole profile),
-                     iterations, residual (relative), converged (0/1), wall_s (s), then the set's
+                     iterations, residual (relative), converged (0/1), wall_s (s), then
+                     algorithm (GFMD: what relaxed the step, curve.csv's column; "" for another
+                     method), then the set's
                      stickiness diagnostics before any run, stickiness_<key> for every key of
                      `contact.stickiness.KEYS` (process_zone m, process_zone_nodes, johnson_alpha,
                      maugis_lambda, tabor_rough, persson_tosatti, pastewka_robbins: 1; "nan" where a
@@ -643,7 +645,8 @@ def _collect(study, out, tasks, failures):
         params = study.sets[t.set]
         for row in curve:
             rows.append([str(t.set)] + [_axis_text(params[k]) for k in study.keys]
-                        + [str(t.realization), str(t.seed), t.key] + [row[c] for c in CURVE_COLUMNS])
+                        + [str(t.realization), str(t.seed), t.key] + [row[c] for c in CURVE_COLUMNS]
+                        + [row.get("algorithm") or ""])  # GFMD's per-step label; "" for another method
         values = {c: np.array([float(row[c]) for row in curve]) for c in CURVE_COLUMNS}
         values["step"] = values["step"].astype(int)
         results.setdefault(t.set, []).append(SimpleNamespace(curve=values, realization=t.realization))
@@ -680,7 +683,8 @@ def _write_tables(study, out, rows, results):
     sticky = _stickiness_cells(study)
     buf = _io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["set"] + study.keys + ["realization", "seed", "task"] + list(CURVE_COLUMNS) + stickiness_columns())
+    w.writerow(["set"] + study.keys + ["realization", "seed", "task"] + list(CURVE_COLUMNS) + ["algorithm"]
+               + stickiness_columns())
     w.writerows(row + sticky[int(row[0])] for row in rows)
     io._atomic_write(out / "study.csv", buf.getvalue())
     averages = {s: ensemble_average(rs, step_loads(study.scenes[s])) for s, rs in sorted(results.items()) if rs}
