@@ -129,6 +129,7 @@ def test_study_cycles_table(tmp_path):
         meta = json.loads((tmp_path / "out" / "tasks" / r["task"] / "meta.json").read_text())
         c = meta["cycles"][0]["cycles"][0]
         assert float(r["hysteresis"]) == c["hysteresis"] and float(r["pull_off_pressure"]) == c["pull_off_pressure"]
+        assert r["snap_off_rule"] == (c["snap_off_rule"] or "")
     # more adhesion, more tensile pull-off
     assert float(table[1]["pull_off_pressure"]) < float(table[0]["pull_off_pressure"]) < 0
 

@@ -52,7 +52,8 @@ naming the key.
   DIR/cycles.csv     only where the tasks' loading has a path (workbench.cycles): one row per (task,
                      cycle): set, axis columns, realization, seed, task, cycle, pull_off_pressure (Pa,
                      min p̄ on unloading, < 0 tensile), pull_off_delta and snap_off_delta (m),
-                     hysteresis (J/m², ∮ p̄ dδ), closed, jump_in and jump_out (event counts)
+                     hysteresis (J/m², ∮ p̄ dδ), closed, jump_in and jump_out (event counts),
+                     snap_off_rule (contact.cycle; empty without a snap-off)
   DIR/summary.nc     the same as a labelled N-D dataset (xarray; netCDF3 through scipy, so no
                      netCDF4/HDF5 dependency): dims = the [axes] keys (coordinates: their values),
                      "zip" (coordinates: the zipped keys) if there is a [zip], and "step"; data
