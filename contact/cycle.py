@@ -9,8 +9,13 @@ pull_off_pressure  the most tensile mean pressure on the cycle's unloading steps
                    tensile; None without unloading steps); pull_off_delta its δ (m)
 snap_off_delta     δ (m) of the last step on the attached branch before the cycle's last jump-out on
                    unloading (the instability lies within one step after it); without a jump-out, the
-                   δ of the first unloading step with a_rel = 0 after one with a_rel > 0 (None if
-                   contact is not lost); snap_off_step the step of the jump (or of a_rel = 0)
+                   δ of the first unloading step with a_rel = 0 after one with a_rel > 0; where
+                   neither exists (a cohesive law's traction-tolerance rule counts nodes up to
+                   Δtol ≈ 9.1 δn as in contact, so a_rel need not reach 0 within the path), the δ
+                   of the last unloading step after the pull-off still carrying |p̄| ≥
+                   SNAP_OFF_SHARE·|pull-off| (the load released: the next step carries less); None if
+                   none applies. snap_off_step the step of the jump, of a_rel = 0 or of the release;
+                   snap_off_rule which ("jump-out", "contact lost", "load released")
 hysteresis         W = ∮ p̄ dδ (J/m²), trapezoid rule over the cycle's steps in order. With p̄ > 0
                    compressive and δ growing into the surface, W > 0 is the work per unit area the
                    indenter puts in over the cycle and does not get back (dissipated by the jumps);
@@ -36,9 +41,15 @@ import numpy as np
 JUMP_SHARE = 0.02
 #: a jump's |Δp̄| must exceed that of both neighbouring steps (same branch) by this factor
 JUMP_RATIO = 3.0
+#: snap-off by release (no jump-out, a_rel > 0 throughout): |p̄| falls below this share of |pull-off|.
+#: 1 %: far above the solver's residual and the contact rule's tolerance (1e-3 of the peak traction),
+#: far below any load an attached neck carries; beyond the neck p̄ decays like the law's tail,
+#: exp(−Δ/δn), so a factor 10 in this share moves the snap-off δ by about ln 10·δn ≈ 2.3 δn.
+SNAP_OFF_SHARE = 0.01
 #: units of the per-cycle quantities (meta.json "cycle_units")
 UNITS = {"pull_off_pressure": "Pa (min p̄ on unloading; < 0 tensile)", "pull_off_delta": "m",
-         "snap_off_delta": "m", "snap_off_step": "step index", "hysteresis": "J/m^2 (∮ p̄ dδ, > 0 dissipated)",
+         "snap_off_delta": "m", "snap_off_step": "step index",
+         "snap_off_rule": "jump-out | contact lost | load released", "hysteresis": "J/m^2 (∮ p̄ dδ, > 0 dissipated)",
          "closed": "bool", "pull_off_load": "Pa (force control: the load at which contact was lost)", "delta_start": "m", "delta_end": "m",
          "events": "list: kind, step, branch, delta_before/after (m), p_before/after (Pa), a_rel_before/after"}
 
@@ -89,18 +100,25 @@ def cycle_observables(delta, p, a_rel, branch, cycle, events=None):
         path = np.concatenate([[idx[0] - 1], idx]) if idx[0] > 0 else idx
         unload = idx[branch[idx] == "unloading"]
         row = {"cycle": int(c), "delta_start": float(delta[path[0]]), "delta_end": float(delta[path[-1]]),
-               "pull_off_pressure": None, "pull_off_delta": None, "snap_off_delta": None, "snap_off_step": None}
+               "pull_off_pressure": None, "pull_off_delta": None, "snap_off_delta": None, "snap_off_step": None,
+               "snap_off_rule": None}
         if unload.size:
             j = unload[np.argmin(p[unload])]
             row["pull_off_pressure"], row["pull_off_delta"] = float(p[j]), float(delta[j])
             outs = [e for e in events if e["cycle"] == c and e["kind"] == "jump-out" and e["branch"] == "unloading"]
             lost = [k for k in unload if a[k] == 0 and k > 0 and a[k - 1] > 0]
+            released = [k for k in unload if k > j and p[j] < 0 and abs(p[k]) < SNAP_OFF_SHARE * abs(p[j])]
             if outs:
                 row["snap_off_delta"], row["snap_off_step"] = outs[-1]["delta_before"], outs[-1]["step"]
+                row["snap_off_rule"] = "jump-out"
                 if outs[-1].get("detached"):
                     row["pull_off_load"] = outs[-1]["load"]
             elif lost:
                 row["snap_off_delta"], row["snap_off_step"] = float(delta[lost[0]]), int(lost[0])
+                row["snap_off_rule"] = "contact lost"
+            elif released:
+                row["snap_off_delta"], row["snap_off_step"] = float(delta[released[0] - 1]), int(released[0])
+                row["snap_off_rule"] = "load released"
         row["hysteresis"] = hysteresis(delta[path], p[path])
         row["closed"] = bool(np.isclose(delta[path[-1]], delta[path[0]], rtol=0, atol=1e-9 * max(np.ptp(delta), 1e-300)))
         row["events"] = [e for e in events if e["cycle"] == c]

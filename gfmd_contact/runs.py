@@ -121,7 +121,8 @@ class RunResult:
         """meta.json "cycles" as a DataFrame: one row per (realization, cycle) of a run whose loading has a path.
 
         Columns: realization, seed, cycle, pull_off_pressure (Pa, the most tensile p̄ on unloading, < 0
-        tensile), pull_off_delta (m, its δ), snap_off_delta (m) and snap_off_step, hysteresis (J/m², W = ∮ p̄ dδ
+        tensile), pull_off_delta (m, its δ), snap_off_delta (m), snap_off_step and snap_off_rule (which
+        definition gave it: jump-out, contact lost, load released), hysteresis (J/m², W = ∮ p̄ dδ
         per unit area, > 0 dissipated), closed (the cycle ends at the δ it began), delta_start, delta_end (m),
         jump_in, jump_out (numbers of events), under force control pull_off_load (Pa, the load at which
         contact was lost; NaN where none), and events (the list of the cycle's jump events: kind, step,

@@ -149,3 +149,27 @@ def test_force_control_mean_curve_of_several_realizations(tmp_path):
     assert np.allclose(mean["delta"], by_step["delta"].mean(), rtol=1e-15, atol=0)
     assert mean["load"].tolist() == by_step["load"].first().tolist() == list(L.path_values(s.loading))
     assert np.allclose(mean["p"], by_step["p"].mean(), rtol=1e-15, atol=0)
+
+
+def test_force_control_study_summaries_carry_the_load(tmp_path):
+    """A force-controlled study: summary.csv and summary.nc carry each step's prescribed load (Pa) beside the
+    mean δ; a displacement-controlled study has no load column."""
+    import xarray as xr
+
+    from test_load_paths import force_scene
+    from workbench.cli import main
+    from workbench.study import summary_columns
+
+    assert "load" not in summary_columns(True) and "load" in summary_columns(True, True)
+    s = force_scene(top=0.05, **{"surface.nodes": 64})
+    (tmp_path / "base.toml").write_text(scene_to_toml(s))
+    (tmp_path / "study.toml").write_text('base = "base.toml"\n[axes]\n"interface.phi_n_star" = [0.005, 0.01]\n')
+    assert main(["study", "run", str(tmp_path / "study.toml"), "--out", str(tmp_path / "out"), "--workers", "1",
+                 "--quiet"]) == 0
+    summary = rows(tmp_path / "out" / "summary.csv")
+    loads = list(L.path_values(s.loading))
+    for v in ("0.005", "0.01"):
+        assert [float(r["load"]) for r in summary if r["interface.phi_n_star"] == v] == loads
+    with xr.open_dataset(tmp_path / "out" / "summary.nc", engine="scipy") as ds:
+        assert ds["load"].attrs["units"] == "Pa"
+        assert np.array_equal(ds["load"].sel({"interface.phi_n_star": 0.01}).values[:len(loads)], loads)

@@ -129,6 +129,7 @@ def test_study_cycles_table(tmp_path):
         meta = json.loads((tmp_path / "out" / "tasks" / r["task"] / "meta.json").read_text())
         c = meta["cycles"][0]["cycles"][0]
         assert float(r["hysteresis"]) == c["hysteresis"] and float(r["pull_off_pressure"]) == c["pull_off_pressure"]
+        assert r["snap_off_rule"] == (c["snap_off_rule"] or "")
     # more adhesion, more tensile pull-off
     assert float(table[1]["pull_off_pressure"]) < float(table[0]["pull_off_pressure"]) < 0
 
@@ -246,3 +247,35 @@ def test_force_cycle_gfmd_and_fe_same_events(tmp_path):
     events = {m: list(r.curve["event"].fillna("")) for m, r in runs.items()}
     assert events["gfmd"] == events["fe"] and events["fe"].count("jump-in") == 1 and events["fe"][-1] == "jump-out"
     assert np.allclose(runs["gfmd"].curve["p"], runs["fe"].curve["p"], rtol=1e-3, atol=1e-4 * 3e8)
+
+
+def test_snap_off_by_release_where_contact_is_never_lost():
+    """No jump-out and a_rel > 0 throughout (a cohesive tail counted in contact): snap-off is the last
+    unloading step after the pull-off still carrying ≥ SNAP_OFF_SHARE of it; a jump-out still wins."""
+    d = np.array([-1, 0, 1, 0, -1, -2, -3, -4, -5], float)
+    p = np.array([0, -0.5, 0.5, -0.8, -1.0, -0.5, -0.02, -0.005, -0.001])
+    a = np.full(9, 0.1)
+    branch = np.array(["loading"] * 3 + ["unloading"] * 6, object)
+    (r,) = cyc.cycle_observables(d, p, a, branch, np.zeros(9, int), events=[])
+    assert r["pull_off_pressure"] == -1.0 and r["snap_off_step"] == 7 and r["snap_off_delta"] == -3
+    assert r["snap_off_rule"] == "load released"
+    # never released within the path: no snap-off
+    (r,) = cyc.cycle_observables(d[:7], p[:7], a[:7], branch[:7], np.zeros(7, int), events=[])
+    assert r["snap_off_delta"] is None and r["snap_off_rule"] is None
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_snap_off_on_a_rough_cohesive_cycle(tmp_path):
+    """A small rough cohesive cycle unloaded to where a_rel (traction-tolerance rule) is still > 0: snap-off
+    is found by release, after the pull-off, where the load has fallen below SNAP_OFF_SHARE of it."""
+    s = default_scene().replace(**{
+        "surface.nodes": 64, "surface.length": 6.4e-7, "surface.rollon_wavelength": 2e-8, "surface.h_rms": 2 * NM,
+        "surface.realizations": 1, "interface.law": "cohesive", "loading.path": [-8 * NM, 2 * NM, -9 * NM],
+        "loading.steps": [10, 22], "output.field_steps": 2, "output.workers": 1})
+    c = gc.run(s, tmp_path / "run", progress=False).curve
+    assert (c["a_rel"] > 0).all()
+    (r,) = cyc.cycle_observables(c["delta"], c["p"], c["a_rel"], c["branch"], c["cycle"])
+    assert r["snap_off_rule"] == "load released", r
+    k = r["snap_off_step"]
+    assert r["snap_off_delta"] == c["delta"][k - 1] < r["pull_off_delta"]
+    assert abs(c["p"][k]) < cyc.SNAP_OFF_SHARE * abs(r["pull_off_pressure"]) <= abs(c["p"][k - 1])

@@ -232,7 +232,11 @@ def test_study_tables(reference):
     table = rows(out / "study.csv")
     assert list(table[0]) == ["set", "material.poisson_ratio", "interface.law", "interface.phi_n_star",
                               "realization", "seed", "task", "step", "U", "delta", "p", "a_rel", "g_r", "g",
-                              "iterations", "residual", "converged", "wall_s"] + stickiness_columns()
+                              "iterations", "residual", "converged", "wall_s", "algorithm"] + stickiness_columns()
+    # GFMD's per-step label, as each task's curve.csv holds it
+    for r in table[::41]:
+        with open(out / "tasks" / r["task"] / "curve.csv") as fh:
+            assert r["algorithm"] == next(csv.DictReader(fh))["algorithm"] != ""
     assert len(table) == 8 * 41
     assert {(r["set"], r["material.poisson_ratio"], r["interface.law"]) for r in table} == \
         {("0", "0.3", "hard-wall"), ("1", "0.3", "cohesive"), ("2", "0.45", "hard-wall"), ("3", "0.45", "cohesive")}

@@ -62,13 +62,13 @@ def mean_columns(scene, steps):
 
 #: columns of a study's cycles.csv after set, the axis columns, realization, seed, task
 STUDY_COLUMNS = ("cycle", "pull_off_pressure", "pull_off_delta", "snap_off_delta", "hysteresis", "closed",
-                 "jump_in", "jump_out")
+                 "jump_in", "jump_out", "snap_off_rule")
 
 
 def write_study_cycles(study, out, tasks, axis_text, atomic_write):
     """DIR/cycles.csv of a study whose tasks have load paths: one row per (task, cycle) with pull-off
     (Pa, min p̄ on unloading), its δ and the snap-off δ (m), hysteresis W (J/m²), whether the cycle is
-    closed and its number of jump-in / jump-out events, from each finished task's meta.json "cycles".
+    closed, its number of jump-in / jump-out events and the snap-off rule (`contact.cycle`), from each finished task's meta.json "cycles".
     Nothing is written when no task has a path."""
     import csv
     import io as _io
@@ -89,7 +89,8 @@ def write_study_cycles(study, out, tasks, axis_text, atomic_write):
                             + ["" if c[k] is None else repr(c[k]) if isinstance(c[k], float) else str(c[k])
                                for k in ("pull_off_pressure", "pull_off_delta", "snap_off_delta", "hysteresis",
                                          "closed")]
-                            + [str(kinds.count("jump-in")), str(kinds.count("jump-out"))])
+                            + [str(kinds.count("jump-in")), str(kinds.count("jump-out")),
+                               c.get("snap_off_rule") or ""])  # "": no snap-off (or a run before the rule)
     if not rows:
         return None
     buf = _io.StringIO()

@@ -32,7 +32,9 @@ naming the key.
                      `contact.result.CURVE_COLUMNS`: step, U (m), delta (m), p (Pa, > 0 compressive,
                      per unit area of the mean plane), a_rel (1), g_r (1: rms gradient of the
                      contact nodes, "nan" without contact), g (1: of the whole profile),
-                     iterations, residual (relative), converged (0/1), wall_s (s), then the set's
+                     iterations, residual (relative), converged (0/1), wall_s (s), then
+                     algorithm (GFMD: what relaxed the step, curve.csv's column; "" for another
+                     method), then the set's
                      stickiness diagnostics before any run, stickiness_<key> for every key of
                      `contact.stickiness.KEYS` (process_zone m, process_zone_nodes, johnson_alpha,
                      maugis_lambda, tabor_rough, persson_tosatti, pastewka_robbins: 1; "nan" where a
@@ -43,17 +45,22 @@ naming the key.
                      (realizations with a value at that step), then the stickiness_<key> columns;
                      where a set's scene has loading.path, branch ("loading"/"unloading") and cycle
                      (0, 1, ...) of each step follow step (the means are per step, so the branches
-                     never mix); a ramp study's files are unchanged
+                     never mix); where some set is under force control (loading.control =
+                     "force"), load (Pa, the step's prescribed p̄; nan for a displacement-
+                     controlled set) follows them, and delta, U are the means over the
+                     realizations; a ramp study's files are unchanged
   DIR/cycles.csv     only where the tasks' loading has a path (workbench.cycles): one row per (task,
                      cycle): set, axis columns, realization, seed, task, cycle, pull_off_pressure (Pa,
                      min p̄ on unloading, < 0 tensile), pull_off_delta and snap_off_delta (m),
-                     hysteresis (J/m², ∮ p̄ dδ), closed, jump_in and jump_out (event counts)
+                     hysteresis (J/m², ∮ p̄ dδ), closed, jump_in and jump_out (event counts),
+                     snap_off_rule (contact.cycle; empty without a snap-off)
   DIR/summary.nc     the same as a labelled N-D dataset (xarray; netCDF3 through scipy, so no
                      netCDF4/HDF5 dependency): dims = the [axes] keys (coordinates: their values),
                      "zip" (coordinates: the zipped keys) if there is a [zip], and "step"; data
                      variables delta, U, set and the columns of summary.csv (NaN / n = 0 where a set
                      has fewer steps; the stickiness_<key> variables per set, without "step"; with
-                     a path, branch (text, "" where no step) and cycle (int, -1 where no step));
+                     a path, branch (text, "" where no step) and cycle (int, -1 where no step);
+                     under force control, load);
                      attributes: units, the study file's text
   DIR/study.json     tasks_total, tasks_reused, tasks_run, tasks_failed, steps_reused, every
                      task (set, parameters, realization, seed, key, status, code version of
@@ -107,7 +114,7 @@ STUDY_ENTRIES = ("tasks", "study.json", "study.toml", "base_scene.toml", "study.
 TASK_NAME = "task"
 STEP_TOPIC = "gfmd-study-step"
 #: units of the summary columns (netCDF attributes)
-UNITS = {"delta": "m", "U": "m", "p": "Pa", "a_rel": "1", "g_r": "1", "g": "1"}
+UNITS = {"load": "Pa", "delta": "m", "U": "m", "p": "Pa", "a_rel": "1", "g_r": "1", "g": "1"}
 
 
 class StudyError(SceneError):
@@ -639,17 +646,20 @@ def _collect(study, out, tasks, failures):
         params = study.sets[t.set]
         for row in curve:
             rows.append([str(t.set)] + [_axis_text(params[k]) for k in study.keys]
-                        + [str(t.realization), str(t.seed), t.key] + [row[c] for c in CURVE_COLUMNS])
+                        + [str(t.realization), str(t.seed), t.key] + [row[c] for c in CURVE_COLUMNS]
+                        + [row.get("algorithm") or ""])  # GFMD's per-step label; "" for another method
         values = {c: np.array([float(row[c]) for row in curve]) for c in CURVE_COLUMNS}
         values["step"] = values["step"].astype(int)
         results.setdefault(t.set, []).append(SimpleNamespace(curve=values, realization=t.realization))
     return rows, results
 
 
-def summary_columns(cycled=False):
+def summary_columns(cycled=False, forced=False):
     """summary.csv's columns after set and the axes; cycled (some set's scene has loading.path):
-    branch ("loading"/"unloading") and cycle (0, 1, ...) of each step after step (workbench.cycles)."""
-    cols = ["step"] + (["branch", "cycle"] if cycled else []) + ["delta", "U"]
+    branch ("loading"/"unloading") and cycle (0, 1, ...) of each step after step (workbench.cycles);
+    forced (some set is under force control): then load (Pa, the step's prescribed p̄; NaN for a set
+    under displacement control), before delta and U (there the means over the realizations)."""
+    cols = ["step"] + (["branch", "cycle"] if cycled else []) + (["load"] if forced else []) + ["delta", "U"]
     for name in AVERAGED:
         cols += [name, f"{name}_se", f"{name}_n"]
     return cols
@@ -674,24 +684,32 @@ def _write_tables(study, out, rows, results):
     sticky = _stickiness_cells(study)
     buf = _io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["set"] + study.keys + ["realization", "seed", "task"] + list(CURVE_COLUMNS) + stickiness_columns())
+    w.writerow(["set"] + study.keys + ["realization", "seed", "task"] + list(CURVE_COLUMNS) + ["algorithm"]
+               + stickiness_columns())
     w.writerows(row + sticky[int(row[0])] for row in rows)
     io._atomic_write(out / "study.csv", buf.getvalue())
     averages = {s: ensemble_average(rs, step_loads(study.scenes[s])) for s, rs in sorted(results.items()) if rs}
-    cycled = study_has_paths(study)
+    cycled, forced = study_has_paths(study), study_is_forced(study)
     for s, cols in averages.items():  # a path: per step its branch and cycle (never mixed by the mean)
         if cycled:
             cols.update(mean_columns(study.scenes[s], cols["step"]))
+        if forced and "load" not in cols:  # a displacement-controlled set beside force-controlled ones
+            cols["load"] = np.full(cols["step"].size, np.nan)
     buf = _io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["set"] + study.keys + summary_columns(cycled) + stickiness_columns())
+    w.writerow(["set"] + study.keys + summary_columns(cycled, forced) + stickiness_columns())
     for s, cols in averages.items():
         params = [_axis_text(study.sets[s][k]) for k in study.keys]
         for k in range(cols["step"].size):
-            w.writerow([str(s)] + params + [_cell(cols[c][k]) for c in summary_columns(cycled)] + sticky[s])
+            w.writerow([str(s)] + params + [_cell(cols[c][k]) for c in summary_columns(cycled, forced)] + sticky[s])
     io._atomic_write(out / "summary.csv", buf.getvalue())
     dataset = summary_dataset(study, averages)
     io._atomic_write(out / "summary.nc", bytes(dataset.to_netcdf(engine="scipy")), binary=True)
+
+
+def study_is_forced(study):
+    """Whether some set's scene is under force control: its summaries then carry the prescribed load."""
+    return any(step_loads(scene) is not None for scene in study.scenes)
 
 
 def study_has_paths(study):
@@ -727,7 +745,8 @@ def summary_dataset(study, averages):
     steps = max((cols["step"].size for cols in averages.values()), default=0)
     steps = max([steps] + [s.loading.steps + 1 for s in study.scenes])
     data = {c: np.full(shape + [steps], 0 if c.endswith("_n") else np.nan,
-                       dtype=np.int32 if c.endswith("_n") else float) for c in summary_columns()[1:]}
+                       dtype=np.int32 if c.endswith("_n") else float)
+            for c in summary_columns(forced=study_is_forced(study))[1:]}
     set_index = np.full(shape, -1, dtype=np.int32)
     cycled = study_has_paths(study)
     if cycled:  # per set and step, from its scene's path (also where a set has no result yet)
@@ -743,7 +762,8 @@ def summary_dataset(study, averages):
         if cols is None:
             continue
         for c in data:
-            data[c][idx + (slice(0, cols["step"].size),)] = cols[c]
+            if c in cols:  # load: only the force-controlled sets
+                data[c][idx + (slice(0, cols["step"].size),)] = cols[c]
     coords = {k: _coordinate(v) for k, v in study.axes.items()}
     coords.update({k: ("zip", _coordinate(v)) for k, v in study.zipped.items()})
     coords["step"] = np.arange(steps, dtype=np.int32)
@@ -756,6 +776,8 @@ def summary_dataset(study, averages):
             attrs = {"long_name": f"standard error of the mean of {base}", "units": UNITS[base]}
         else:
             attrs = {"long_name": f"mean of {c} over realizations" if c in AVERAGED else c, "units": UNITS[c]}
+            if c == "load":
+                attrs["long_name"] = "prescribed mean pressure p̄ of the step (force control; NaN: displacement control)"
         variables[c] = (dims + ["step"], values, attrs)
     if cycled:
         variables["branch"] = (dims + ["step"], branch, {
