@@ -169,6 +169,13 @@ def measured_process_zone_limit():
     return PROCESS_ZONE_LIMIT, source
 
 
+def _outside(kind_fits, kind_reason, model, half_plane_reason):
+    """Why a half-plane formula for one surface kind does not apply to the scene (None where it does)."""
+    if not kind_fits:
+        return kind_reason
+    return None if model.half_plane else half_plane_reason
+
+
 def _na(key, label, unit, formula, reason):
     return Diagnostic(key, label, None, unit, formula, reason=reason)
 
@@ -198,10 +205,9 @@ def diagnostics(scene, h=None):
     half = "derived for a half-plane; material.thickness is finite (a layer)"
     # Johnson α: sinusoid on a half-plane
     key, label, unit, formula = _SPECS[2]
-    if s.kind != "sinusoid":
-        out.append(_na(key, label, unit, formula, f"defined for a sinusoid (surface.kind = {s.kind!r})"))
-    elif not m.half_plane:
-        out.append(_na(key, label, unit, formula, half))
+    reason = _outside(s.kind == "sinusoid", f"defined for a sinusoid (surface.kind = {s.kind!r})", m, half)
+    if reason:
+        out.append(_na(key, label, unit, formula, reason))
     else:
         a = johnson_alpha(w, s.amplitude, s.length, e_star)
         reading = ("full contact at zero load (α ≥ α_c = 0.570)" if a >= JOHNSON_ALPHA_CRITICAL
@@ -209,10 +215,9 @@ def diagnostics(scene, h=None):
         out.append(Diagnostic(key, label, a, unit, formula, reading=reading))
     # Maugis λ: cylinder on a half-plane
     key, label, unit, formula = _SPECS[3]
-    if s.kind != "cylinder":
-        out.append(_na(key, label, unit, formula, f"defined for a cylinder (surface.kind = {s.kind!r})"))
-    elif not m.half_plane:
-        out.append(_na(key, label, unit, formula, half))
+    reason = _outside(s.kind == "cylinder", f"defined for a cylinder (surface.kind = {s.kind!r})", m, half)
+    if reason:
+        out.append(_na(key, label, unit, formula, reason))
     else:
         lam = maugis_lambda(sigma, s.radius, e_star, w)
         out.append(Diagnostic(key, label, lam, unit, formula, reading=_regime(lam)))
@@ -222,10 +227,9 @@ def diagnostics(scene, h=None):
     if rough and h is None:
         h = surfaces.profile(s, 0)
     key, label, unit, formula = _SPECS[4]
-    if not rough:
-        out.append(_na(key, label, unit, formula, not_rough))
-    elif not m.half_plane:
-        out.append(_na(key, label, unit, formula, half))
+    reason = _outside(rough, not_rough, m, half)
+    if reason:
+        out.append(_na(key, label, unit, formula, reason))
     else:
         _, _, kappa = profile_moments(h, s.length)
         mu = tabor_rough(sigma, kappa, e_star, w) if kappa > 0 else None

@@ -287,20 +287,6 @@ def with_law(scene, law):
     return dataclasses.replace(change(scene, {"interface.law": "user"}), user_law=law)
 
 
-def _record_user_law(out, scene):
-    """meta.json of a user-law run: the law's summary and that scene.toml alone cannot reproduce it."""
-    from contact.laws import law_from_scene
-    from workbench import safe_files
-
-    path = Path(out) / "meta.json"
-    meta = json.loads(path.read_text())
-    meta["user_law"] = law_from_scene(scene).summary()
-    meta.setdefault("notes", []).append(
-        f"interface.law = \"user\" ({scene.user_law.name}): the law's Python callables are not in scene.toml, so "
-        "this run cannot be reproduced from scene.toml alone (nor with the gfmd command)")
-    safe_files.atomic_write(path, json.dumps(meta, indent=2))
-
-
 def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=True, resume=False,
         overwrite=False, wait=0, law=None):
     """Run a scene (every realization) into a run directory and return its result.
@@ -381,8 +367,6 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
             warnings.warn(w, stacklevel=2)
         results, _, _ = compute(scene, out, workers=workers, progress=progress,
                                 note=lambda line: warnings.warn(line, stacklevel=4))
-        if scene.user_law is not None:
-            _record_user_law(out, scene)
     bad = [m for r in results for m in r.messages]
     if bad:
         warnings.warn(f"{len(bad)} non-converged load step(s): {'; '.join(bad[:3])}", stacklevel=2)

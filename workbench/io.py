@@ -45,6 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from contact import stickiness, surfaces
+from contact.laws import law_from_scene
 from contact.result import CURVE_COLUMNS, FIELD_NAMES, Result
 from contact.scene import load_scene, scene_to_dict, scene_to_toml
 
@@ -115,7 +116,16 @@ def _meta_base(scene, method, command):
         "command": command or " ".join(sys.argv),
         "units": "SI: m, Pa, J/m^2; see contact/conventions.py",
         "stickiness": stickiness.as_dict(scene),  # before any run: contact.stickiness (value null = n/a, reason)
+        **({"user_law": law_from_scene(scene).summary()} if scene.user_law is not None else {}),
     }
+
+
+def _user_law_notes(scene):
+    """The note of a user-law run (gfmd_contact.run(law=...)): scene.toml alone cannot reproduce it."""
+    if scene.user_law is None:
+        return []
+    return [f"interface.law = \"user\" ({scene.user_law.name}): the law's Python callables are not in scene.toml, "
+            "so this run cannot be reproduced from scene.toml alone (nor with the gfmd command)"]
 
 
 def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
@@ -166,7 +176,7 @@ def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
         "seeds": [r.seed for r in results],
         "steps_run": [len(r.curve["step"]) for r in results],
         "all_converged": all(r.all_converged for r in results),
-        "notes": [n for r in results for n in r.notes],
+        "notes": [n for r in results for n in r.notes] + _user_law_notes(scene),
         **({"algorithms": algorithm_counts(results)} if labelled else {}),
         **(meta_cycles(scene, results) if cycled else {}),
         "messages": [m for r in results for m in r.messages],
