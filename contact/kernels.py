@@ -25,6 +25,21 @@ def wavenumbers(nodes, length):
     return 2.0 * np.pi * np.fft.rfftfreq(nodes, d=length / nodes)
 
 
+def wavevector_magnitudes(nodes_x, length_x, nodes_y, length_y):
+    """|q| = (q_x² + q_y²)^½ (1/m) on the rfft2 half-spectrum of an Nx × Ny grid: shape (Nx, Ny//2 + 1).
+
+    Axis 0 is x (all Nx modes, `np.fft.fftfreq` order), axis 1 is y (the Ny//2 + 1 non-negative
+    modes), as `numpy.fft.rfft2` / `scipy.fft.rfftn` over the last two axes lay them out. For a
+    frictionless normal load the 2+1-D response to the plane wave e^{i q·x} is the plane-strain
+    response along q (the elastic problem is two-dimensional in the plane spanned by q and z),
+    so `halfplane_normal` and `layer_normal` evaluated at these |q| are the half-space and bonded
+    layer normal stiffnesses of 2+1-D (reference-formulas §1.1, §1.3 with q → |q|).
+    """
+    qx = 2.0 * np.pi * np.fft.fftfreq(nodes_x, d=length_x / nodes_x)
+    qy = 2.0 * np.pi * np.fft.rfftfreq(nodes_y, d=length_y / nodes_y)
+    return np.hypot(qx[:, None], qy[None, :])
+
+
 def contact_modulus(youngs_modulus, poisson_ratio):
     """E* = E/(1 − ν²) (Pa), plane strain, rigid indenter."""
     return youngs_modulus / (1.0 - poisson_ratio**2)

@@ -98,11 +98,31 @@ class Model:
     description: str
     reasons: tuple[str, ...] = field(default=())
     warnings: tuple[str, ...] = field(default=())  # the check findings, also among `reasons`
+    # 2+1-D surfaces: shape = (Nx, Ny), nodes = Nx·Ny, length = Lx, length_y = Ly, q = |q| of shape
+    # (Nx, Ny//2 + 1) (`contact.kernels.wavevector_magnitudes`); () for a 1+1-D profile
+    shape: tuple = field(default=())
+    length_y: float = 0.0
 
     @property
     def components(self):
         """Number of displacement components solved (1: z; 2: x, z)."""
         return 2 if self.tangential else 1
+
+    @property
+    def grid(self):
+        """Shape of a real surface field: (N,) for a profile (1+1-D), (Nx, Ny) for a surface (2+1-D)."""
+        return tuple(self.shape) if self.shape else (self.nodes,)
+
+    @property
+    def spectrum_shape(self):
+        """Shape of its rfft (1-D) / rfft2 (2-D, over the last two axes) half-spectrum, = q.shape."""
+        g = self.grid
+        return g[:-1] + (g[-1] // 2 + 1,)
+
+    @property
+    def node_area(self):
+        """Length (1+1-D, m) or area (2+1-D, m²) per node: L/N or Lx Ly/(Nx Ny)."""
+        return self.length / self.nodes if not self.shape else self.length * self.length_y / self.nodes
 
 
 def build_model(scene, h=None):
