@@ -35,6 +35,13 @@ from scipy.optimize import brentq
 
 from ._validate import finite, nonnegative, positive, scalar
 
+#: A load (approach) within PULL_OFF_ROUNDING·|P_c| of P_c (·|δ_d| of δ_d) is the pull-off point, not a
+#: value beyond it: `load(a_c)` and −(3/2)πwR round independently. With u = ε/2 and a cube root c·u off
+#: (c = 1…4 by numpy's SIMD target), P_H(a_c) = |P_c| carries (3c + 4)u, √(8πwE*a_c³) = 2|P_c| carries
+#: (1.5c + 3)u, the difference one more u: (6c + 11)u ≤ 17.5 ε for c = 4; the approach at a_d
+#: (a²/R = |δ_d|/3, √ term (4/3)|δ_d|) stays below that. 32 ε bounds both.
+PULL_OFF_ROUNDING = 32 * np.finfo(float).eps
+
 
 def load(contact_radius, radius, e_star, work):
     """Load P = 4E*a³/(3R) − √(8πwE*a³) [N] at contact radius a ≥ 0 [m] (Johnson eq. 5.59).
@@ -61,15 +68,16 @@ def contact_radius(load, radius, e_star, work):
     """Contact radius a [m] on the branch stable under load control, for load P ≥ −(3/2)πwR [N] (JKR 1971).
 
     a³ = (3R/(4E*))[P + 3πwR + √(6πwRP + (3πwR)²)]. A load below the pull-off
-    load −(3/2)πwR raises ValueError (the sphere has pulled off). With work =
-    0 this is Hertz (P ≥ 0).
+    load −(3/2)πwR raises ValueError (the sphere has pulled off); one within
+    round-off of it (`PULL_OFF_ROUNDING`) gives a_c. With work = 0 this is
+    Hertz (P ≥ 0).
     """
     P = finite("load", load)
     R = positive("radius", radius)
     E = positive("e_star", e_star)
     w = nonnegative("work", work)
     P_c = -1.5 * np.pi * w * R
-    if np.any(P < P_c):
+    if np.any(P < P_c - PULL_OFF_ROUNDING * np.abs(P_c)):
         raise ValueError(f"load = {load!r} N is below the pull-off load {scalar(P_c)!r} N: no contact")
     s = 3.0 * np.pi * w * R
     root = np.sqrt(np.clip(6.0 * np.pi * w * R * P + s**2, 0.0, None))  # clip: round-off at P = P_c
@@ -80,7 +88,8 @@ def contact_radius_from_approach(approach, radius, e_star, work):
     """Contact radius a [m] on the branch stable under displacement control (a ≥ a_d), for scalar δ [m].
 
     Inverse of `approach` for δ ≥ δ_d (the displacement-control pull-off);
-    a smaller δ raises ValueError. Solved with brentq on [a_d, ∞).
+    a smaller δ raises ValueError, one within round-off of δ_d (`PULL_OFF_ROUNDING`)
+    gives a_d. Solved with brentq on [a_d, ∞).
     """
     d = float(finite("approach", approach))
     R = float(positive("radius", radius))
@@ -91,13 +100,13 @@ def contact_radius_from_approach(approach, radius, e_star, work):
             raise ValueError(f"approach = {d!r} m < 0 has no contact without adhesion (work = 0)")
         return math.sqrt(R * d)
     d_d, _, a_d = pull_off_displacement_control(R, E, w)
-    if d < d_d:
+    if d < d_d - PULL_OFF_ROUNDING * abs(d_d):
         raise ValueError(f"approach = {d!r} m is below the displacement-control pull-off {d_d!r} m: no contact")
 
     def residual(a):
         return a * a / R - math.sqrt(2.0 * math.pi * w * a / E) - d
 
-    if residual(a_d) >= 0.0:  # δ within round-off of δ_d
+    if d <= d_d or residual(a_d) >= 0.0:  # δ within round-off of δ_d
         return a_d
     hi = 2.0 * a_d
     while residual(hi) < 0.0:
