@@ -87,7 +87,7 @@ def pressure(r, load, radius, e_star):
     """Contact pressure p(r) = p0 √(1 − r²/a²) [Pa] for r < a, zero outside (Johnson eq. 4.22).
 
     `r` [m] (array) distance from the contact centre (a negative r is taken as |r|);
-    `load` P ≥ 0 [N]. p > 0 is compressive.
+    `load` P ≥ 0 [N] (scalar). p > 0 is compressive.
     """
     r = np.abs(finite("r", r))
     a = float(np.asarray(contact_radius(load, radius, e_star)))
