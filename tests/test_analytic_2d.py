@@ -263,6 +263,17 @@ def test_md_sphere_pull_off_is_the_minimum_and_moves_from_dmt_to_jkr():
     assert -2 * math.pi * W * R < P < -1.5 * math.pi * W * R
 
 
+@settings(max_examples=30, derandomize=True, deadline=None)
+@given(st.floats(-1.0, 2.0), st.floats(1.01, 20.0))
+def test_md_sphere_stable_branch_is_monotone(log_lam, ratio):
+    """Beyond the load-control pull-off P̄(Ā) and Δ̄(Ā) increase (the branch that load control follows)."""
+    lam = 10.0**log_lam
+    A_c = max(mds.pull_off(lam)[1], 1e-3)
+    A = ratio * A_c
+    assert mds.load_dimensionless(A * 1.001, lam) > mds.load_dimensionless(A, lam)
+    assert mds.approach_dimensionless(A * 1.001, lam) > mds.approach_dimensionless(A, lam)
+
+
 def test_md_sphere_parameters():
     # λ ≈ 1.16 μ for the Lennard-Jones Dugdale stress σ0 = 16w/(9√3 z0) (Johnson & Greenwood 1997)
     z0 = 3e-10
