@@ -142,7 +142,13 @@ def _first_line(exc, limit=120):
 
 
 def profile(surface, realization=0):
-    """Profile h(x) (m) for a `contact.scene.Surface` spec; realization i uses seed + i."""
+    """Profile h(x) (m) for a `contact.scene.Surface` spec; realization i uses seed + i.
+
+    A 2+1-D surface (surface.nodes_y ≥ 2) gives h(x, y) of shape (Nx, Ny) (`contact.surfaces_2d`).
+    """
+    if getattr(surface, "nodes_y", 0):
+        from .surfaces_2d import profile_2d
+        return profile_2d(surface, realization)
     n, length = surface.nodes, surface.length
     if surface.kind == "self-affine":
         return self_affine(n, length, surface.hurst, surface.h_rms, surface.rolloff_wavelength,
