@@ -35,8 +35,12 @@ def local_gradient_squared(h, spacing):
     h = np.asarray(h, float)
     if h.ndim == 2:
         lx, ly = spacing
-        return sum(0.5 * ((h - np.roll(h, -1, axis=a)) ** 2 + (h - np.roll(h, 1, axis=a)) ** 2) / step**2
-                   for a, step in ((0, lx), (1, ly)))
+        parts = []
+        for axis, step in ((0, lx), (1, ly)):  # each axis as the 1-D Eq. 6 (same operations, same round-off)
+            forward = (h - np.roll(h, -1, axis=axis)) / step
+            backward = (h - np.roll(h, 1, axis=axis)) / step
+            parts.append(0.5 * (forward**2 + backward**2))
+        return parts[0] + parts[1]
     forward = (h - np.roll(h, -1)) / spacing
     backward = (h - np.roll(h, 1)) / spacing
     return 0.5 * (forward**2 + backward**2)
