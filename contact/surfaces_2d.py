@@ -20,7 +20,7 @@ import scipy.fft
 from pathlib import Path
 
 from .errors import SceneError
-from .surfaces import _first_line, grid, psd_self_affine, sinusoid
+from .psd import grid, psd_self_affine
 
 
 def positions(nodes_x, length_x, nodes_y, length_y):
@@ -53,8 +53,10 @@ def self_affine(nodes_x, length_x, nodes_y, length_y, hurst, h_rms, rolloff_wave
 
 
 def embedded_sinusoid(nodes_x, length_x, nodes_y, amplitude):
-    """The 1-D sinusoid h = −a cos(2πx/Lx) (`contact.surfaces.sinusoid`), constant along y: shape (Nx, Ny)."""
-    return np.repeat(sinusoid(nodes_x, length_x, amplitude)[:, None], nodes_y, axis=1)
+    """The 1-D sinusoid h = −a cos(2πx/Lx) (the operations of `contact.surfaces.sinusoid`, so bit-equal),
+    constant along y: shape (Nx, Ny)."""
+    line = -amplitude * np.cos(2 * np.pi * grid(nodes_x, length_x) / length_x)
+    return np.repeat(line[:, None], nodes_y, axis=1)
 
 
 def egg_box(nodes_x, length_x, nodes_y, length_y, amplitude):
@@ -101,6 +103,12 @@ def from_file_2d(path, nodes_x, nodes_y):
     if not np.all(np.isfinite(h)):
         fail(f"contains non-finite heights ({int(np.sum(~np.isfinite(h)))} of {h.size})")
     return h
+
+
+def _first_line(exc, limit=120):
+    """First line of an exception's message, at most `limit` characters."""
+    text = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
+    return text if len(text) <= limit else text[:limit] + " …"
 
 
 def profile_2d(surface, realization=0):
