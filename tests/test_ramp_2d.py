@@ -144,6 +144,10 @@ def test_contact_map_counts_the_curve_contact(tmp_path, winkler):
     a_rel = float(_rows(tmp_path / "r" / "curve.csv")[6]["a_rel"])
     drawn = figs["contact_map"].axes[0].get_images()[0].get_array()
     assert drawn.shape == (12, 16) and float(np.mean(drawn)) == pytest.approx(a_rel, abs=0)
+    import gfmd_contact as gc
+
+    got = gc.open_run(tmp_path / "r").fields(0)
+    assert got["y"].shape == (12,) and got["h"].shape == got["t_n"].shape == (16, 12)
 
 
 def test_scene_check_of_a_2d_scene(tmp_path, capsys):
