@@ -78,6 +78,18 @@ def test_build_model_2d():
     assert layer.k_zz[0, 0] > 0 and layer.shape == (16, 12)
 
 
+def test_resolution_check_uses_the_coarser_axis():
+    """δn = 2 lx resolves x but not y (ly = 4 lx): warned, naming surface.nodes_y; the same scene with Ny
+    doubled twice is resolved along both axes."""
+    d = {"surface": {"kind": "flat", "nodes": 64, "length": 64e-9, "nodes_y": 16, "length_y": 64e-9},
+         "interface": {"law": "cohesive", "length_normal": 2e-9}, "loading": {"initial_separation": 20e-9}}
+    coarse = build_model(scene_from_dict(d))
+    assert [w.split(":")[0] for w in coarse.warnings] == ["under-resolved δn"]
+    assert "surface.nodes_y = 64" in coarse.warnings[0]
+    d["surface"]["nodes_y"] = 64
+    assert build_model(scene_from_dict(d)).warnings == ()
+
+
 def test_ramp_carries_2d_fields():
     sc = scene()
     r = _run(sc)
