@@ -182,3 +182,18 @@ def test_bad_2d_scene_exits_2(tmp_path, capsys):
     assert "surface.nodes_y" in capsys.readouterr().err
     with pytest.raises(SceneError, match="interface.tangential_ratio"):
         scene().replace(**{"interface.law": "cohesive", "interface.tangential_ratio": 0.2})
+
+
+def test_force_control_on_a_surface():
+    """loading.control = "force" on (Nx, Ny) fields: contact.force finds U for every load to its tolerance."""
+    from contact.force import tolerance
+    from contact.loading import path_values
+    from contact.scene import scene_to_dict
+
+    d = scene_to_dict(scene())
+    d["loading"] = {"control": "force", "path": [0.0, 5e6, 1e6], "steps": [4, 2], "initial_separation": 1e-9}
+    sc = scene_from_dict(d)
+    r = _run(sc)
+    assert r.all_converged and len(r.curve["p"]) == 7
+    assert np.max(np.abs(r.curve["p"] - path_values(sc.loading))) <= tolerance(sc.loading)
+    assert r.fields[6]["t_n"].shape == (16, 12)
