@@ -4,14 +4,17 @@ Units: SI (see `contact.conventions`). `load_scene(path)` reads and validates a 
 file; `scene_from_dict` does the same for a dict; `scene_to_toml` writes the
 fully resolved scene back. Every error names the key, the value and the
 allowed range. [surface] takes only the keys of its kind (every kind: kind,
-length, nodes, seed, realizations; self-affine: hurst, h_rms, rolloff_wavelength,
-rollon_wavelength; sinusoid: amplitude; cylinder: radius; file: path); a key of
+length, nodes, seed, realizations, nodes_y, length_y; self-affine: hurst, h_rms, rolloff_wavelength,
+rollon_wavelength; sinusoid, egg-box: amplitude; cylinder, sphere: radius; file: path); a key of
 another kind is an error, not ignored; so is a key of another contact rule in [interface]
 (contact_tolerance belongs to contact_rule "traction-tolerance", contact_gap to "gap"). The
 law's own parameters are not policed that way: a hard wall takes phi_n_star etc. and ignores
 them, so a study can zip interface.law with them. Sizes are bounded (N ≤ 2^24, steps ≤ 10^6,
 realizations ≤ 10^5) and positive physical quantities lie in [1e-30, 1e30] (SI).
 `example_scene_text()` is a fully commented example (`gfmd scene --example`).
+
+2+1-D surfaces: [surface] nodes_y ≥ 2 (0, the default and omitted: a 1+1-D profile) and length_y;
+their validation and what a 2+1-D scene refuses live in `contact.scene2d`.
 
 φ state: [interface] stores φn* (phi_n_star) only; φn = φn* δn E is derived
 (`Scene.work_normal`). A scene may give interface.work_normal instead: it is converted
