@@ -197,3 +197,20 @@ def test_force_control_on_a_surface():
     assert r.all_converged and len(r.curve["p"]) == 7
     assert np.max(np.abs(r.curve["p"] - path_values(sc.loading))) <= tolerance(sc.loading)
     assert r.fields[6]["t_n"].shape == (16, 12)
+
+
+def test_profile_run_files_have_no_2d_keys(tmp_path, winkler):
+    """The same stand-in on a 1+1-D profile: Result.y is None and fields.npz holds no y (files unchanged)."""
+    d = {"surface": {"kind": "sinusoid", "nodes": 32, "length": 1.6e-7, "amplitude": 2e-9},
+         "interface": {"law": "hard-wall"}, "loading": {"initial_separation": 1e-9, "final_penetration": 1e-9,
+                                                        "steps": 3}, "output": {"workers": 1}}
+    sc = scene_from_dict(d, name="winkler1d")
+    r = _run(sc)
+    assert r.y is None and r.h.shape == (32,) and r.fields[3]["t_n"].shape == (32,)
+    path = tmp_path / "s.toml"
+    path.write_text(scene_to_toml(sc))
+    assert "nodes_y" not in path.read_text()
+    assert main(["run", str(path), "--out", str(tmp_path / "r"), "--quiet"]) == 0
+    f = np.load(tmp_path / "r" / "fields.npz")
+    assert "y" not in f.files and f["h_r0"].shape == (32,)
+    assert (tmp_path / "r" / "plots" / "interface_snapshot.png").is_file()
