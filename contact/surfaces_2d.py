@@ -1,8 +1,10 @@
 """Rigid indenter surfaces h(x, y) on the periodic Nx × Ny grid (m), 2+1-D (issue 25).
 
-Units: SI (see `contact.conventions`). Axis 0 is x, axis 1 is y; node (i, j) sits at
-(x_i, y_j) = ((i − Nx/2) lx, (j − Ny/2) ly), lx = Lx/Nx, ly = Ly/Ny, the grid of `contact.surfaces.grid`
-along each axis, so (0, 0) is node (Nx/2, Ny/2) as x = 0 is node N/2 of a profile. Heights follow the
+Units: SI (see `contact.conventions`). Axis 0 is x, axis 1 is y. Node (i, j) sits at (i lx, j ly),
+lx = Lx/Nx, ly = Ly/Ny (the 2+1-D contract); the positions written with a result (`positions`, Result.x
+and Result.y) are those of a profile, `contact.surfaces.grid` along each axis, ((i − Nx/2) lx, (j − Ny/2) ly),
+the same nodes shifted by half a cell, so the centre (Lx/2, Ly/2) is (0, 0) as x = 0 is node N/2 of a
+profile. Heights follow the
 sign convention of 1+1-D (reference-formulas §0): the same `indenter_surface`, first contact at the
 minimum of h.
 
@@ -60,9 +62,12 @@ def embedded_sinusoid(nodes_x, length_x, nodes_y, amplitude):
 
 
 def egg_box(nodes_x, length_x, nodes_y, length_y, amplitude):
-    """h = −a cos(2πx/Lx) cos(2πy/Ly) (m): one period per cell each way, a minimum (first contact) at (0, 0)."""
-    x, y = positions(nodes_x, length_x, nodes_y, length_y)
-    return -amplitude * np.outer(np.cos(2 * np.pi * x / length_x), np.cos(2 * np.pi * y / length_y))
+    """h_ij = a cos(2πi/Nx) cos(2πj/Ny) (m): the contract's a cos(2πx/Lx) cos(2πy/Ly) with node (i, j) at
+    (i lx, j ly); one period per cell each way, crests at nodes (0, 0) and (Nx/2, Ny/2), troughs (first
+    contact) at (Nx/2, 0) and (0, Ny/2). (Even Nx, Ny: the same as a cos(2πx/Lx) cos(2πy/Ly) on the
+    centred positions of `positions`.) `length_x`, `length_y` set only the period, the cell itself."""
+    i, j = np.arange(nodes_x), np.arange(nodes_y)
+    return amplitude * np.outer(np.cos(2 * np.pi * i / nodes_x), np.cos(2 * np.pi * j / nodes_y))
 
 
 def sphere(nodes_x, length_x, nodes_y, length_y, radius):

@@ -112,11 +112,16 @@ def test_sinusoid_is_the_profile_embedded():
 def test_egg_box_and_sphere():
     nx, ny, lx, ly = 32, 16, 1e-6, 0.5e-6
     egg = surfaces_2d.egg_box(nx, lx, ny, ly, 3e-9)
+    # the contract: a cos(2πx/Lx) cos(2πy/Ly) at node (i, j) = (i lx, j ly)
+    xs, ys = np.arange(nx) * lx / nx, np.arange(ny) * ly / ny
+    assert np.allclose(egg, 3e-9 * np.cos(2 * np.pi * xs / lx)[:, None] * np.cos(2 * np.pi * ys / ly)[None, :],
+                       rtol=0, atol=8 * EPS * 3e-9)
+    assert egg[0, 0] == egg[nx // 2, ny // 2] == 3e-9 == egg.max()
+    assert egg[nx // 2, 0] == egg[0, ny // 2] == -3e-9 == egg.min()  # troughs: first contact
+    # on the centred positions of a result (even N): the same formula
     x, y = surfaces.grid(nx, lx), surfaces.grid(ny, ly)
-    assert egg[nx // 2, ny // 2] == -3e-9 == egg.min()  # first contact at (0, 0), as the sinusoid's
-    assert egg[0, ny // 2] == pytest.approx(3e-9)  # x = −Lx/2: a crest
-    assert np.allclose(egg, -3e-9 * np.cos(2 * np.pi * x / lx)[:, None] * np.cos(2 * np.pi * y / ly)[None, :],
-                       rtol=0, atol=4 * EPS * 3e-9)
+    assert np.allclose(egg, 3e-9 * np.cos(2 * np.pi * x / lx)[:, None] * np.cos(2 * np.pi * y / ly)[None, :],
+                       rtol=0, atol=8 * EPS * 3e-9)
     sph = surfaces_2d.sphere(nx, lx, ny, ly, 1e-5)
     assert sph[nx // 2, ny // 2] == 0 == sph.min()
     assert sph[nx // 2 + 3, ny // 2] == pytest.approx((3 * lx / nx) ** 2 / 2e-5, rel=4 * EPS)
