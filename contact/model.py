@@ -136,6 +136,8 @@ def build_model(scene, h=None):
     with tangential = Model.tangential): Eq. 2 where u_x is solved, else Eq. 3 or the hard wall.
     """
     s, m, i = scene.surface, scene.material, scene.interface
+    if s.two_d:
+        return _build_model_2d(scene, h)
     n, length = s.nodes, s.length
     q = kernels.wavenumbers(n, length)
     e, nu, thick = m.youngs_modulus, m.poisson_ratio, m.thickness
@@ -176,6 +178,39 @@ def build_model(scene, h=None):
     model = Model(nodes=n, length=length, law=solved, tangential=tangential, half_plane=half_plane, q=q,
                   k_xx=k_xx, k_xz=k_xz, k_zz=np.asarray(k_zz), contact_modulus=e_star, reference_traction=p_ref,
                   description=description, reasons=tuple(reasons))
+    return _checked(scene, model, description)
+
+
+def _build_model_2d(scene, h=None):
+    """The 2+1-D model (issue 25): normal-only, K_zz of `halfplane_normal` / `layer_normal` at |q| of the
+    rfft2 half-spectrum (`kernels.wavevector_magnitudes`); the scene has refused laws that need u_x."""
+    s, m = scene.surface, scene.material
+    nx, ny = s.nodes, s.nodes_y
+    q = kernels.wavevector_magnitudes(nx, s.length, ny, s.length_y)
+    e, nu, thick = m.youngs_modulus, m.poisson_ratio, m.thickness
+    solved = law_from_scene(scene, tangential=False)
+    reasons = [f"2+1-D surface {nx} × {ny} nodes on {s.length:g} × {s.length_y:g} m: normal-only (u_z), the "
+               "plane-strain normal kernel along q at |q| (contact.kernels.wavevector_magnitudes)",
+               solved.tangential_reason(m)]
+    if m.half_plane:
+        reasons.append("thickness = inf: half-space kernel, mean displacement clamped (δ from the mean plane)")
+        k_zz = kernels.halfplane_normal(q, e, nu)
+    else:
+        reasons.append(f"thickness = {thick:g} m: layer on a bonded rigid base, q = 0 stiffness M/D")
+        k_zz = kernels.layer_normal(q, e, nu, thick)
+    e_star = m.contact_modulus
+    g = rms_gradient(h, s.spacings) if h is not None else 0.0
+    p_ref = e_star * g if g > 0 else solved.reference_traction(e_star)
+    body = "half-space" if m.half_plane else f"layer D = {thick:g} m"
+    description = f"{solved.name}, {body}, {nx} × {ny} nodes, unknowns u_z"
+    model = Model(nodes=nx * ny, length=s.length, law=solved, tangential=False, half_plane=m.half_plane, q=q,
+                  k_xx=None, k_xz=None, k_zz=np.asarray(k_zz), contact_modulus=e_star, reference_traction=p_ref,
+                  description=description, reasons=tuple(reasons), shape=(nx, ny), length_y=s.length_y)
+    return _checked(scene, model, description)
+
+
+def _checked(scene, model, description):
+    """The model with the findings of `scene_warnings` among its reasons, or ModelCheckError (checks = error)."""
     found = scene_warnings(scene, model)
     if found and scene.solver.checks == "error":
         raise ModelCheckError("scene refused (solver.checks = \"error\"): " + " | ".join(found))
@@ -205,7 +240,7 @@ def softest_normal_stiffness(model):
         ok = k_xx > 0
         k[ok] -= np.abs(model.k_xz[ok]) ** 2 / k_xx[ok]
     if model.half_plane:
-        k = k[1:]
+        k = k.ravel()[1:]  # q = 0 is the first entry of the rfft (1+1-D) and of the rfft2 (2+1-D) layout
     return float(np.min(k))
 
 
@@ -220,12 +255,15 @@ def scene_warnings(scene, model):
         return []
     found = []
     dn = law.length_normal
-    ratio = dn / s.spacing
+    spacing, key, length = s.spacing, "surface.nodes", s.length
+    if s.two_d and s.spacings[1] > spacing:  # 2+1-D: δn must be resolved along both axes, the coarser one counts
+        spacing, key, length = s.spacings[1], "surface.nodes_y", s.length_y
+    ratio = dn / spacing
     if ratio < MIN_LENGTH_NORMAL_NODES:
-        nodes = int(2 ** np.ceil(np.log2(MIN_LENGTH_NORMAL_NODES * s.length / dn)))
+        nodes = int(2 ** np.ceil(np.log2(MIN_LENGTH_NORMAL_NODES * length / dn)))
         found.append(
-            f"under-resolved δn: cohesive length δn = {ratio:.3g} l is under-resolved (l = L/N = {s.spacing:.3g} m, "
-            f"δn = {dn:.3g} m): refine to δn ≥ {MIN_LENGTH_NORMAL_NODES:g} l, e.g. surface.nodes = "
+            f"under-resolved δn: cohesive length δn = {ratio:.3g} l is under-resolved (l = L/N = {spacing:.3g} m, "
+            f"δn = {dn:.3g} m): refine to δn ≥ {MIN_LENGTH_NORMAL_NODES:g} l, e.g. {key} = "
             f"{nodes} (measured on a rough scene: pressure error ≈ 3 % at δn = l against 0.2 % at δn = 2 l, "
             "contact.model docstring)")
     k_min = softest_normal_stiffness(model)

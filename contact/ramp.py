@@ -45,7 +45,7 @@ from .result import FIELD_NAMES, Result
 
 @dataclass
 class StepSolution:
-    """One load step as a method solved it (arrays on the N surface nodes, SI).
+    """One load step as a method solved it (arrays on the N surface nodes, SI; 2+1-D: (Nx, Ny) arrays).
 
     state: what the next step starts from (the method's unknowns); gap Δn (m) and t_n (Pa,
     tension > 0) give the observables; u_x (m) is needed for the slip check of a coupled
@@ -85,6 +85,11 @@ def _force_u_max(scene, h):
     return scene.loading.initial_separation + (1.0 - FULL_CONTACT_MARGIN) * float(np.mean(h) - np.min(h))
 
 
+def y_positions(surface):
+    """Node positions along y (m) of a 2+1-D surface (`contact.surfaces.grid`), None for a profile."""
+    return surfaces.grid(surface.nodes_y, surface.length_y) if surface.two_d else None
+
+
 def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, resume=None):
     """Run the load ramp of one realization with the cell `prepare(scene, h, realization)` returns.
 
@@ -115,7 +120,7 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
     if resume is None:
         result = Result(scene=scene, method=cell.method, model=cell.model, realization=realization,
                         x=surfaces.grid(scene.surface.nodes, scene.surface.length), h=h, reasons=tuple(cell.reasons),
-                        notes=[stop_note] if stop_note else [])
+                        notes=[stop_note] if stop_note else [], y=y_positions(scene.surface))
         start = cell.initial_state()
         state = RampState(step=-1, current=start, previous=start)
     else:
@@ -189,7 +194,7 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
                            converged=int(converged), wall_s=wall, **obs)
         if k in keep:
             result.fields[k] = (solved.fields() if solved.relaxed
-                                else {name: np.full(h.size, np.nan) for name in FIELD_NAMES})
+                                else {name: np.full(h.shape, np.nan) for name in FIELD_NAMES})
             for name, value in solved.keep.items():
                 result.diagnostics.setdefault(name, {})[k] = value
         state.step, state.current, state.previous = k, current, previous

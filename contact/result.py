@@ -2,7 +2,8 @@
 
 Units: SI (see `contact.conventions`). The curve holds, per load step, the columns
 `CURVE_COLUMNS` (U, δ and the observables from `contact.observables`); `fields`
-maps a step index to the surface fields `FIELD_NAMES` on the N nodes.
+maps a step index to the surface fields `FIELD_NAMES` on the N nodes (a 2+1-D surface: arrays of
+shape (Nx, Ny), axis 0 x, axis 1 y; positions `x` and `y`).
 """
 
 from __future__ import annotations
@@ -46,14 +47,15 @@ class Result:
     method: str  # e.g. "gfmd-ncg", "gfmd-cg", "gfmd-fire", "gfmd-verlet", "fe-p2" (GFMD: its chain, gfmd.chains)
     model: str  # the model actually solved, in words
     realization: int
-    x: np.ndarray  # node positions (m)
-    h: np.ndarray  # indenter profile (m)
+    x: np.ndarray  # node positions (m) along x: (N,) (a 2+1-D surface: (Nx,))
+    h: np.ndarray  # indenter profile (m): (N,), or (Nx, Ny) for a 2+1-D surface
     curve: dict = field(default_factory=lambda: {c: [] for c in CURVE_COLUMNS})
     fields: dict = field(default_factory=dict)  # step -> {name: array}
     messages: list = field(default_factory=list)  # failures, e.g. non-converged steps
     notes: list = field(default_factory=list)  # facts of the run that are not failures, e.g. an early stop
     reasons: tuple = ()
     diagnostics: dict = field(default_factory=dict)  # method-specific extras, DIAGNOSTICS keys
+    y: np.ndarray | None = None  # 2+1-D: node positions along y (m), (Ny,); None for a 1+1-D profile
 
     @property
     def seed(self):

@@ -4,14 +4,17 @@ Units: SI (see `contact.conventions`). `load_scene(path)` reads and validates a 
 file; `scene_from_dict` does the same for a dict; `scene_to_toml` writes the
 fully resolved scene back. Every error names the key, the value and the
 allowed range. [surface] takes only the keys of its kind (every kind: kind,
-length, nodes, seed, realizations; self-affine: hurst, h_rms, rolloff_wavelength,
-rollon_wavelength; sinusoid: amplitude; cylinder: radius; file: path); a key of
+length, nodes, seed, realizations, nodes_y, length_y; self-affine: hurst, h_rms, rolloff_wavelength,
+rollon_wavelength; sinusoid, egg-box: amplitude; cylinder, sphere: radius; file: path); a key of
 another kind is an error, not ignored; so is a key of another contact rule in [interface]
 (contact_tolerance belongs to contact_rule "traction-tolerance", contact_gap to "gap"). The
 law's own parameters are not policed that way: a hard wall takes phi_n_star etc. and ignores
 them, so a study can zip interface.law with them. Sizes are bounded (N ≤ 2^24, steps ≤ 10^6,
 realizations ≤ 10^5) and positive physical quantities lie in [1e-30, 1e30] (SI).
 `example_scene_text()` is a fully commented example (`gfmd scene --example`).
+
+2+1-D surfaces: [surface] nodes_y ≥ 2 (0, the default and omitted: a 1+1-D profile) and length_y;
+their validation and what a 2+1-D scene refuses live in `contact.scene2d`.
 
 φ state: [interface] stores φn* (phi_n_star) only; φn = φn* δn E is derived
 (`Scene.work_normal`). A scene may give interface.work_normal instead: it is converted
@@ -30,7 +33,7 @@ from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 
-from . import kernels
+from . import kernels, scene2d
 from .errors import SceneError
 
 
@@ -50,11 +53,28 @@ class Surface:
     amplitude: float = 0.0
     radius: float = 0.0
     path: str = ""
+    nodes_y: int = 0  # 0: a 1+1-D profile; ≥ 2: a 2+1-D surface of nodes × nodes_y (contact.scene2d)
+    length_y: float = 0.0  # Ly (m) of a 2+1-D surface (default: length); 0 for a profile
 
     @property
     def spacing(self):
-        """Node spacing l = L/N (m)."""
+        """Node spacing l = L/N (m); along x for a 2+1-D surface (`spacings`)."""
         return self.length / self.nodes
+
+    @property
+    def two_d(self):
+        """A 2+1-D surface (nodes_y ≥ 2)?"""
+        return self.nodes_y > 0
+
+    @property
+    def shape(self):
+        """Shape of the height array: (N,) or (Nx, Ny) (axis 0 is x, axis 1 is y)."""
+        return (self.nodes, self.nodes_y) if self.two_d else (self.nodes,)
+
+    @property
+    def spacings(self):
+        """(l,) or (lx, ly) = (Lx/Nx, Ly/Ny) (m)."""
+        return (self.spacing, self.length_y / self.nodes_y) if self.two_d else (self.spacing,)
 
 
 @dataclass(frozen=True)
@@ -193,6 +213,9 @@ class Scene:
             if (isinstance(kind, str) and kind in _KIND_KEYS and kind != "self-affine"
                     and "surface.realizations" not in sections):
                 d["surface"]["realizations"] = 1
+        if sections.get("surface.nodes_y", self.surface.nodes_y) == 0 and isinstance(d.get("surface"), dict) \
+                and "surface.length_y" not in sections:
+            d["surface"].pop("length_y", None)  # back to a profile: Ly goes with Ny
         rule = sections.get("interface.contact_rule", self.interface.contact_rule)
         if rule != self.interface.contact_rule and isinstance(d.get("interface"), dict):
             for name in _RULE_KEYS.get(self.interface.contact_rule, ()):  # the old rule's own keys go
@@ -223,11 +246,12 @@ _SECTIONS = {"surface": Surface, "material": Material, "interface": Interface,
 METHOD_KEYS = {"gfmd": (), "fe": ("order", "linear", "quadrature")}
 _FE_LINEAR = ("auto", "dense", "sparse", "sparse-lagged")
 _FE_QUADRATURE = ("nodal", "gauss")
-_KINDS = ("self-affine", "sinusoid", "cylinder", "flat", "file")
+_KINDS = ("self-affine", "sinusoid", "cylinder", "flat", "file") + scene2d.KINDS_2D_ONLY
 #: [surface] keys of every kind, and the keys that apply to one kind only
-_COMMON_KEYS = ("kind", "length", "nodes", "seed", "realizations")
+_COMMON_KEYS = ("kind", "length", "nodes", "seed", "realizations") + scene2d.KEYS_2D
 _KIND_KEYS = {"self-affine": ("hurst", "h_rms", "rolloff_wavelength", "rollon_wavelength"),
-              "sinusoid": ("amplitude",), "cylinder": ("radius",), "flat": (), "file": ("path",)}
+              "sinusoid": ("amplitude",), "cylinder": ("radius",), "flat": (), "file": ("path",),
+              "egg-box": ("amplitude",), "sphere": ("radius",)}
 #: largest surface.nodes: a run holds tens of arrays of N values (N = 2^24: several GB)
 MAX_NODES = 2**24
 #: largest loading.steps, output.field_steps, surface.realizations (arrays and loops of that length)
@@ -305,8 +329,13 @@ def _surface(d):
     if not 8 <= nodes <= MAX_NODES:
         _fail("surface.nodes", nodes, f"must be an integer in [8, {MAX_NODES}] (2^24: a run holds tens of arrays "
               "of N values)")
-    spacing = length / nodes
-    kw = dict(kind=kind, length=length, nodes=nodes)
+    nodes_y = _number(d, "surface", "nodes_y", 0, integer=True)
+    length_y = _number(d, "surface", "length_y", length) if "length_y" in d else (length if nodes_y else 0.0)
+    scene2d.check_dimensions(kind, nodes, length, nodes_y, length_y, "length_y" in d, MAX_NODES)
+    if nodes_y:
+        _positive("surface.length_y", length_y)
+    spacing = max(length / nodes, length_y / nodes_y) if nodes_y else length / nodes  # the coarser one
+    kw = dict(kind=kind, length=length, nodes=nodes, nodes_y=nodes_y, length_y=length_y)
     seed = _number(d, "surface", "seed", s.seed, integer=True)
     if seed < 0:
         _fail("surface.seed", seed, "must be an integer ≥ 0")
@@ -325,17 +354,19 @@ def _surface(d):
         _positive("surface.h_rms", h_rms)
         lr = _number(d, "surface", "rolloff_wavelength", s.rolloff_wavelength)
         ls = _number(d, "surface", "rollon_wavelength", s.rollon_wavelength)
-        if not length >= lr > ls > spacing:
+        longest = max(length, length_y)  # 2+1-D: the longest wave of the cell, 2π/min|q| (q ≠ 0)
+        if not longest >= lr > ls > spacing:
             raise SceneError(
                 "wavelengths out of order: need length ≥ rolloff_wavelength > rollon_wavelength > spacing "
-                f"L/N; got L = {length:g}, surface.rolloff_wavelength = {lr:g}, "
-                f"surface.rollon_wavelength = {ls:g}, L/N = {spacing:g} (m)")
+                f"L/N; got L = {longest:g}, surface.rolloff_wavelength = {lr:g}, "
+                f"surface.rollon_wavelength = {ls:g}, L/N = {spacing:g} (m)"
+                + (" (2+1-D: L = max(length, length_y), L/N = the coarser of Lx/Nx, Ly/Ny)" if nodes_y else ""))
         kw.update(hurst=hurst, h_rms=h_rms, rolloff_wavelength=lr, rollon_wavelength=ls)
-    elif kind == "sinusoid":
+    elif kind in ("sinusoid", "egg-box"):
         amp = _number(d, "surface", "amplitude", 0.0)
         _positive("surface.amplitude", amp)
         kw.update(amplitude=amp)
-    elif kind == "cylinder":
+    elif kind in ("cylinder", "sphere"):
         radius = _number(d, "surface", "radius", 0.0)
         _positive("surface.radius", radius)
         kw.update(radius=radius)
@@ -344,8 +375,9 @@ def _surface(d):
         if not isinstance(path, str) or not path:
             _fail("surface.path", path, "must name a .npy or text file of `nodes` heights (m)")
         from .surfaces import from_file  # the file is part of the input: check it now
+        from .surfaces_2d import from_file_2d
         try:
-            from_file(path, nodes)
+            from_file_2d(path, nodes, nodes_y) if nodes_y else from_file(path, nodes)
         except ValueError as exc:
             raise SceneError(str(exc)) from None
         kw.update(path=path)
@@ -586,9 +618,11 @@ def scene_from_dict(d, name="scene"):
     if solver.unknowns == "coupled" and interface.law != "cohesive":
         _fail("solver.unknowns", solver.unknowns, f"needs interface.law = \"cohesive\" (got {interface.law!r}: "
               "the hard wall, the cohesive wall and a user law are normal-only); use \"auto\"")
-    return Scene(surface=_surface(d.get("surface", {})), material=material, interface=interface,
-                 loading=_loading(d.get("loading", {})), solver=solver, output=_output(d.get("output", {})),
-                 method=_method(d.get("method", {})), name=name)
+    scene = Scene(surface=_surface(d.get("surface", {})), material=material, interface=interface,
+                  loading=_loading(d.get("loading", {})), solver=solver, output=_output(d.get("output", {})),
+                  method=_method(d.get("method", {})), name=name)
+    scene2d.check_scene(scene)  # 2+1-D is normal-only (and what else it refuses)
+    return scene
 
 
 
@@ -641,6 +675,9 @@ def scene_to_dict(scene):
     kind = scene.surface.kind
     if kind in _KIND_KEYS:
         d["surface"] = {k: v for k, v in d["surface"].items() if k in _COMMON_KEYS + _KIND_KEYS[kind]}
+    if not scene.surface.two_d:  # a 1+1-D profile: its TOML as before 2+1-D existed
+        for k in scene2d.KEYS_2D:
+            d["surface"].pop(k, None)
     d["material"]["thickness"] = "inf" if scene.material.half_plane else scene.material.thickness
     d["method"] = {k: v for k, v in d["method"].items() if k == "name" or k in METHOD_KEYS[scene.method.name]}
     if scene.loading.path:  # a path: the TOML keys path and steps (list); the rest is derived from them

@@ -190,7 +190,7 @@ def diagnostics(scene, h=None):
     s, m = scene.surface, scene.material
     law = law_from_scene(scene)
     e_star = m.contact_modulus
-    spacing = s.spacing
+    spacing = max(s.spacings)  # 2+1-D: the coarser axis resolves the process zone least
     out = []
     if not law.adhesive:
         why = f"interface.law = {scene.interface.law!r} has no adhesion (w = 0)"
@@ -222,8 +222,9 @@ def diagnostics(scene, h=None):
         lam = maugis_lambda(sigma, s.radius, e_star, w)
         out.append(Diagnostic(key, label, lam, unit, formula, reading=_regime(lam)))
     # rough-surface measures
-    rough = s.kind in ROUGH_KINDS
-    not_rough = f"defined for a rough profile (self-affine or file; surface.kind = {s.kind!r})"
+    rough = s.kind in ROUGH_KINDS and not s.two_d
+    not_rough = (f"defined for a rough profile (self-affine or file; surface.kind = {s.kind!r})" if not s.two_d
+                 else "its 1+1-D form is not extended to 2+1-D surfaces here (surface.nodes_y > 0)")
     if rough and h is None:
         h = surfaces.profile(s, 0)
     key, label, unit, formula = _SPECS[4]
@@ -291,9 +292,12 @@ def resolution_warnings(scene):
     s = scene.surface
     lpz = process_zone_size(scene.material.contact_modulus, law.work_normal, law.peak_traction)
     limit, source = measured_process_zone_limit()
-    ratio = lpz / s.spacing
+    spacing, key, length = s.spacing, "surface.nodes", s.length
+    if s.two_d and s.spacings[1] > spacing:  # 2+1-D: the coarser axis counts
+        spacing, key, length = s.spacings[1], "surface.nodes_y", s.length_y
+    ratio = lpz / spacing
     if ratio >= limit:
         return []
-    nodes = int(2 ** math.ceil(math.log2(limit * s.length / lpz)))
+    nodes = int(2 ** math.ceil(math.log2(limit * length / lpz)))
     return [f"under-resolved process zone: l_pz = E* w/σ_max² = {lpz:.3g} m = {ratio:.3g} l < {limit:.3g} l "
-            f"(l = L/N = {s.spacing:.3g} m; {source}): refine to surface.nodes = {nodes} or more"]
+            f"(l = L/N = {spacing:.3g} m; {source}): refine to {key} = {nodes} or more"]

@@ -15,29 +15,7 @@ import numpy as np
 import scipy.fft
 
 from .errors import SceneError
-
-
-def grid(nodes, length):
-    """Node positions x_j = (j − N/2)·L/N (m); x = 0 is node N/2."""
-    return (np.arange(nodes) - nodes // 2) * (length / nodes)
-
-
-def psd_self_affine(q, hurst, rolloff_wavelength, rollon_wavelength, length):
-    """Unnormalised two-sided PSD shape C(q)/C(q_r) of seed Eq. 4 (dimensionless).
-
-    1 for λr < 2π/q ≤ L, (q/q_r)^{−(1+2H)} for λs,H < 2π/q ≤ λr, 0 for
-    2π/q < λs,H and at q = 0 (zero mean). Wavelengths in m, q in 1/m.
-    """
-    q = np.abs(np.asarray(q, dtype=float))
-    q_r = 2 * np.pi / rolloff_wavelength
-    q_s = 2 * np.pi / rollon_wavelength
-    q_l = 2 * np.pi / length
-    c = np.zeros_like(q)
-    plateau = (q >= q_l * (1 - 1e-12)) & (q < q_r)
-    power = (q >= q_r) & (q <= q_s * (1 + 1e-12))
-    c[plateau] = 1.0
-    c[power] = (q[power] / q_r) ** (-(1 + 2 * hurst))
-    return c
+from .psd import grid, psd_self_affine  # noqa: F401 (the grid and Eq. 4's shape, shared with contact.surfaces_2d)
 
 
 def self_affine(nodes, length, hurst, h_rms, rolloff_wavelength, rollon_wavelength, seed):
@@ -142,7 +120,13 @@ def _first_line(exc, limit=120):
 
 
 def profile(surface, realization=0):
-    """Profile h(x) (m) for a `contact.scene.Surface` spec; realization i uses seed + i."""
+    """Profile h(x) (m) for a `contact.scene.Surface` spec; realization i uses seed + i.
+
+    A 2+1-D surface (surface.nodes_y ≥ 2) gives h(x, y) of shape (Nx, Ny) (`contact.surfaces_2d`).
+    """
+    if getattr(surface, "nodes_y", 0):
+        from .surfaces_2d import profile_2d
+        return profile_2d(surface, realization)
     n, length = surface.nodes, surface.length
     if surface.kind == "self-affine":
         return self_affine(n, length, surface.hurst, surface.h_rms, surface.rolloff_wavelength,

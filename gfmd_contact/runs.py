@@ -174,6 +174,7 @@ class RunResult:
             x (m, node positions), h (m, indenter profile), u_z and u_x (m, surface
             displacements), gap (m, normal gap Δn), t_n and t_t (Pa, interface tractions
             t_z and t_x), each of length surface.nodes; and step, delta (m) of that step.
+            A 2+1-D surface adds y (m, positions along y); h and the fields are then (Nx, Ny) arrays.
         """
         steps = self.saved_steps(realization)
         if not steps:
@@ -184,6 +185,8 @@ class RunResult:
         if step not in steps:
             raise KeyError(f"step {step}: no saved fields for realization {realization}; saved steps: {steps}")
         out = {"x": np.asarray(self._npz["x"]), "h": np.asarray(self._npz[f"h_r{realization}"])}
+        if "y" in self._npz:  # a 2+1-D surface
+            out["y"] = np.asarray(self._npz["y"])
         out.update({name: np.asarray(self._npz[f"r{realization}_s{step}_{name}"]) for name in FIELD_NAMES})
         row = self.curve[(self.curve["realization"] == realization) & (self.curve["step"] == step)]
         out.update(step=step, delta=float(row["delta"].iloc[0]))

@@ -202,7 +202,9 @@ def _cmd_scene(args):
 
         for line in stickiness_lines(scene):  # the diagnostics of contact.stickiness (n/a: with the reason)
             print(f"stickiness: {line}")
-        print(f"{args.check}: valid scene; surface {scene.surface.kind}, N = {scene.surface.nodes}, "
+        size = (f"Nx × Ny = {scene.surface.nodes} × {scene.surface.nodes_y} (2+1-D)" if scene.surface.two_d
+                else f"N = {scene.surface.nodes}")
+        print(f"{args.check}: valid scene; surface {scene.surface.kind}, {size}, "
               f"law {scene.interface.law}" + (f"; {len(warnings)} warning(s)" if warnings else "")
               + (f"; {len(notes)} realization(s) stop early" if notes else ""))
         return 0

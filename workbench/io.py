@@ -5,7 +5,8 @@ Units: SI (see `contact.conventions`). A finished run directory holds
                   GFMD, `algorithm`: what relaxed the step ("ncg", "ncg→fire", "cg-dual", ...)
   mean_curve.csv  per step: δ, U and, for each of workbench.averages.AVERAGED, the mean over
                   realizations, its standard error and the count n of realizations with a value
-  fields.npz      x, h_r<i> and, for the saved steps, r<i>_s<k>_<field> (FIELD_NAMES)
+  fields.npz      x, h_r<i> and, for the saved steps, r<i>_s<k>_<field> (FIELD_NAMES); a 2+1-D surface
+                  adds y, and h and the fields are (Nx, Ny) arrays (axis 0 x, axis 1 y)
   scene.toml      the fully resolved scene
   meta.json       "complete", code version, method (GFMD: "gfmd-" and its algorithm chain's key, e.g.
                   "gfmd-ncg"), "algorithms" (GFMD: load steps per algorithm label, all realizations),
@@ -46,6 +47,7 @@ import numpy as np
 
 from contact import stickiness, surfaces
 from contact.laws import law_from_scene
+from contact.ramp import y_positions
 from contact.result import CURVE_COLUMNS, FIELD_NAMES, Result
 from contact.scene import load_scene, scene_to_dict, scene_to_toml
 
@@ -159,7 +161,7 @@ def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
     for k in range(cols["step"].size):
         writer.writerow([_fmt(v[k]) for v in cols.values()])
     _atomic_write(out / "mean_curve.csv", buf.getvalue())
-    arrays = {"x": results[0].x}
+    arrays = {"x": results[0].x, **({"y": results[0].y} if getattr(results[0], "y", None) is not None else {})}
     for r in results:
         arrays[f"h_r{r.realization}"] = r.h
         for step, fields in r.fields.items():
@@ -464,7 +466,7 @@ def load_part(out, scene, realization, notes=None):
                      f"{step + 1}")
     h = surfaces.profile(scene.surface, realization)
     result = Result(scene=scene, method=text["method"], model=text["model"], realization=realization,
-                    x=surfaces.grid(scene.surface.nodes, scene.surface.length), h=h,
+                    x=surfaces.grid(scene.surface.nodes, scene.surface.length), y=y_positions(scene.surface), h=h,
                     reasons=tuple(text["reasons"]), messages=text["messages"], notes=text["notes"])
     if text.get("fallback_steps"):
         result.diagnostics["fallback_steps"] = [k for k in text["fallback_steps"] if k <= step]
@@ -531,7 +533,7 @@ def read_run(out_dir):
             for r in results:
                 curves[r.realization]["algorithm"] = np.array([step_algorithm(r, k)
                                                                for k in range(len(r.curve["step"]))])
-        fields = {"x": results[0].x}
+        fields = {"x": results[0].x, **({"y": results[0].y} if getattr(results[0], "y", None) is not None else {})}
         for r in results:
             fields[f"h_r{r.realization}"] = r.h
             for k, f in r.fields.items():

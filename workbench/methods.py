@@ -48,6 +48,10 @@ def _run_fe(scene, realization=0, progress=None, checkpoint=None, resume=None):
 
 def _refuse_fe(scene):
     """What the FE reference cannot mesh or solve, said before any work."""
+    if scene.surface.two_d:
+        raise SceneError(f"method.name = \"fe\": the FE reference is 1+1-D (plane strain) and this scene is a 2+1-D "
+                         f"surface (surface.nodes_y = {scene.surface.nodes_y}): the 3-D FE reference is not wired to "
+                         "`gfmd run` yet; use method.name = \"gfmd\", or surface.nodes_y = 0 for a profile")
     if scene.material.half_plane:
         raise SceneError("method.name = \"fe\": the FE reference models a finite layer only; material.thickness = "
                          "\"inf\" (half-plane) cannot be meshed: give a finite material.thickness (e.g. 2L: the "

@@ -40,7 +40,7 @@ from contact.observables import fit_kappa, reduced_pressure
 FORMATS = ("png", "svg", "pdf")
 #: file names (without extension) of the figures, in the order they are written
 FIGURES = ("area_vs_reduced_pressure", "pressure_vs_delta", "area_vs_delta", "gr_over_g_vs_delta",
-           "interface_snapshot")
+           "interface_snapshot")  # a 2+1-D run: contact_map and pressure_map instead (workbench.surface_plots)
 
 _BAR_COLOR = (0.12, 0.47, 0.71, 0.45)  # tab:blue, translucent: dense error bars stay readable
 _NC_STYLE = {"marker": "x", "color": "red", "ms": 6, "mew": 1.3, "ls": "none", "zorder": 5}
@@ -260,6 +260,32 @@ def _snapshot(scene, curves, fields, realization, snapshot_delta):
     return fig
 
 
+def _snapshot_step(curves, fields, realization, snapshot_delta):
+    """(step, δ, row) of the saved step nearest snapshot_delta (default: the last saved), or None."""
+    steps = saved_steps(curves, fields, realization)
+    if not steps:
+        return None
+    curve = curves[realization]
+    row = {int(s): i for i, s in enumerate(np.asarray(curve["step"], float))}
+    delta_of = {s: float(curve["delta"][row[s]]) for s in steps}
+    target = delta_of[steps[-1]] if snapshot_delta is None else snapshot_delta
+    k = min(steps, key=lambda s: abs(delta_of[s] - target))
+    return k, delta_of[k], row[k]
+
+
+def _maps(scene, curves, fields, realization, snapshot_delta):
+    """The contact map and pressure map of a 2+1-D run's saved step ({} without saved fields)."""
+    from .surface_plots import surface_maps
+
+    found = _snapshot_step(curves, fields, realization, snapshot_delta)
+    if found is None:
+        return {}
+    k, delta, i = found
+    curve = curves[realization]
+    note = "" if "converged" not in curve or curve["converged"][i] else ", NOT CONVERGED"
+    return surface_maps(scene, fields, realization, k, delta, note)
+
+
 def method_text(meta):
     """What solved the run, for the legends: meta.json's method, and where a GFMD run's steps name their
     algorithms (meta "algorithms"), the steps per algorithm: "gfmd-ncg: ncg 198 steps, ncg→fire 2"."""
@@ -306,9 +332,12 @@ def make_figures(run_dir, snapshot_delta=None, realization=None):
              "rms gradient in contact vs penetration")):
         figs[name] = _versus_delta(st, values, ylabel, title, label, nc,
                                    zero_line=adhesive and name == "pressure_vs_delta")
-    snap = _snapshot(scene, curves, fields, realization, snapshot_delta)
-    if snap is not None:
-        figs["interface_snapshot"] = snap
+    if scene.surface.two_d:  # a 2+1-D surface: contact and pressure maps of the step (workbench.surface_plots)
+        figs.update(_maps(scene, curves, fields, realization, snapshot_delta))
+    else:
+        snap = _snapshot(scene, curves, fields, realization, snapshot_delta)
+        if snap is not None:
+            figs["interface_snapshot"] = snap
     if scene.loading.path:  # a load path: the p̄–δ and a_rel–p̄ loops (workbench.cycle_plots)
         from .cycle_plots import cycle_figures
         figs.update(cycle_figures(scene, st, meta))

@@ -266,7 +266,7 @@ def snapshot_figure(data):
         adh = None
         ref = next((s for s in sets if s.hard_wall), None)
     shown = [s for s in (adh, ref) if s is not None]
-    if not shown:
+    if not shown or any(s.scene.surface.two_d for s in shown):  # 2+1-D: no 1-D cut; each run draws its maps
         return None
     real = min(set.intersection(*(set(s.stacked.realizations) for s in shown)) or shown[0].stacked.realizations)
     loaded = []
