@@ -7,7 +7,8 @@ The 2-D models are built by hand here (`surface_model`: `contact.kernels.wavevec
 * (a) a 1-D sinusoid embedded in 2-D (constant along y) relaxes to the 1+1-D result: u, t_z, p̄, a_rel and
   the FFT pairs per step, hard wall (dual CG → primal CG) and normal CZ (NCG);
 * (b) a single mode (plane wave, egg-box, the q_y = 0 and Nyquist columns of the half-spectrum):
-  `Problem.energy` = A (E*|q|/4) ⟨u²⟩ and `Problem.force` = −(E*|q|/2) u, |q| and E* written here;
+  `Problem.energy` = A (E*|q|/4) ⟨u²⟩, `Problem.force` = −(E*|q|/2) u, `tangent_times` = K u and
+  `dual_gap` = z_ind + G P, |q| and E* written here;
 * (c) a self-affine surface: the hard-wall KKT conditions, recomputed with numpy's FFT and a kernel
   written here, hold to the solver's tolerance; dual and primal CG agree; the NCG's force balance;
 * (d) FFT pairs per step are counted on the 2-D transforms, and the rfft2 half-spectrum's Parseval
@@ -174,6 +175,13 @@ def test_single_mode_energy_and_force(free_surface, modes):
     assert force.shape == (1, nx, ny)
     assert np.max(np.abs(force[0] + e_star * q / 2 * u)) <= 4 * n * EPS * e_star * q / 2 * a
     assert np.allclose(problem.displacements(u_hat)[0], u, rtol=0, atol=4 * n * EPS * a)
+    # the Hessian product (hard wall: K v) and the dual's gap z_ind + G P for a pressure of the same mode
+    stiffness = e_star * q / 2
+    kv = problem.tangent_times(u_hat, u[None])
+    assert np.max(np.abs(kv[0] - stiffness * u)) <= 4 * n * EPS * stiffness * a
+    pressure = stiffness * u  # G P = u
+    on_plane = dataclasses.replace(problem, z_ind=np.zeros(problem.model.grid))
+    assert np.max(np.abs(on_plane.dual_gap(pressure) - u)) <= 4 * n * EPS * a
 
 
 def self_affine(grid, lengths, hurst, h_rms, seed):
