@@ -18,8 +18,11 @@ from ..stopping import finish, wall_check, wall_residual
 
 DUAL_BAND_HALF_WIDTH = 32
 #: 2+1-D surfaces: the preconditioner keeps K_ij for |x_i − x_j|, |y_i − y_j| ≤ this many nodes (periodic), a
-#: (2w + 1)² window per row (`_band_stiffness_surface`; K's kernel decays as 1/r³ in 2-D)
-DUAL_WINDOW_HALF_WIDTH_2D = 3
+#: (2w + 1)² window per row (`_band_stiffness_surface`; K's kernel decays as 1/r³ in 2-D). Measured
+#: (benchmarks/bench_gfmd_2d.py's hard-wall ramp, 5 steps to a_rel ≈ 3 %), CG iterations per step for
+#: w = 0 (diagonal) / 1 / 2 / 3 / 4 / 6: 128²: 8–28 / 7–14 / 7–14 / 7–14 / 7–14 / 7–14; 256²: 10–48 / 8–20 /
+#: 8–21 / 8–19 / 8–19 / 8–19: the nearest neighbours carry the gain, a wider window only costs.
+DUAL_WINDOW_HALF_WIDTH_2D = 1
 #: The dual hard-wall CG hands a step over to the primal only when its contact set grows past this
 #: multiple of `Settings.dual_contact_limit` (`solve`). Measured (section 7, N = 2^16):
 #: with factor 1, steps ending at a_rel = 0.025–0.055 were handed over mid-way and cost 1.1–1.5× the
