@@ -347,3 +347,33 @@ def test_tangential_surface_refused():
         relax(m2, InterfaceLaw(m2), np.ones((16, 4)), np.zeros((2, 16, 3), complex), Settings())
     assert str(err.value) == SURFACE_NORMAL_ONLY
     assert "interface.tangential_ratio" in SURFACE_NORMAL_ONLY and "normal-only" in SURFACE_NORMAL_ONLY
+
+
+@pytest.mark.parametrize("push", [2e-9, 4e-9])
+def test_hertz_sphere(push):
+    """A paraboloid h = r²/(2R) (R = 5 µm) on a 128² cell pressed by the hard wall against Hertz (Johnson 1985,
+    §4.2; written here): p_max = p0 = (6 F E*²/(π³ R²))^(1/3) from the total force F, and F = 4E* a³/(3R) with a
+    from the contact area. Bounds: the periodic images change the pressure by O((a/L)³) (measured
+    p_max/p0 − 1 = 1.3 (a/L)³ for a/L = 0.11–0.26, N = 64–256, the same at every N: allowed 2 (a/L)³, plus
+    2 (l/a)² for the peak's sampling on the grid); a counted from whole nodes is uncertain by one ring, |Δa| ≤ l, so |ΔF/F| ≤ 3 l/a."""
+    n, radius = 128, 5e-6
+    sc = sinusoid_scene("hard-wall").replace(**{"surface.nodes": n})
+    x = (np.arange(n) - n // 2) * LENGTH / n
+    h = (x[:, None] ** 2 + x[None, :] ** 2) / (2 * radius)
+    m1 = build_model(sc, h[:, n // 2])
+    model = surface_model(m1, n, LENGTH, sc.material.youngs_modulus, sc.material.poisson_ratio)
+    e_star = sc.material.youngs_modulus / (1 - sc.material.poisson_ratio**2)
+    d0 = sc.loading.initial_separation
+    z = indenter_surface(h, d0, d0 + push)
+    r = relax(model, InterfaceLaw(model), z, np.zeros((1,) + model.spectrum_shape, complex), Settings(tolerance=1e-10),
+              1e-12 * float(np.ptp(h)))
+    assert r.converged, r.message
+    pressure = -r.t_z
+    force = float(np.sum(pressure)) * model.node_area
+    contact = contact_mask(model.law, r.gap, r.t_z)
+    a = np.sqrt(np.count_nonzero(contact) * model.node_area / np.pi)
+    spacing = LENGTH / n
+    assert 10 < a / spacing and a / LENGTH < 0.2  # resolved, and a small contact in its cell
+    p0 = (6 * force * e_star**2 / (np.pi**3 * radius**2)) ** (1 / 3)
+    assert abs(float(np.max(pressure)) / p0 - 1) <= 2 * (a / LENGTH) ** 3 + 2 * spacing / a * (spacing / a)
+    assert abs(force / (4 * e_star * a**3 / (3 * radius)) - 1) <= 3 * spacing / a
