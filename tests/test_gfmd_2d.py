@@ -5,7 +5,8 @@ The 2-D models are built by hand here (`surface_model`: `contact.kernels.wavevec
 `halfplane_normal`), so these tests do not depend on the scene layer's 2-D branch.
 
 * (a) a 1-D sinusoid embedded in 2-D (constant along y) relaxes to the 1+1-D result: u, t_z, p̄, a_rel and
-  the FFT pairs per step, hard wall (dual CG → primal CG) and normal CZ (NCG);
+  the FFT pairs per step, hard wall (dual CG → primal CG, projected FIRE and Verlet), normal CZ (NCG, FIRE,
+  Verlet) and the cohesive wall (projected FIRE);
 * (b) a single mode (plane wave, egg-box, the q_y = 0 and Nyquist columns of the half-spectrum):
   `Problem.energy` = A (E*|q|/4) ⟨u²⟩, `Problem.force` = −(E*|q|/2) u, `tangent_times` = K u and
   `dual_gap` = z_ind + G P, |q| and E* written here;
@@ -112,6 +113,30 @@ def test_embedded_sinusoid_equals_profile(embedded):
         assert methods == {"cg-dual", "cg-dual→cg"}
     else:
         assert methods == {"ncg"}
+
+
+@pytest.mark.parametrize("law, options, label", [
+    ("hard-wall", {"hard_wall": "fire"}, "fire"), ("hard-wall", {"method": "verlet"}, "verlet"),
+    ("cohesive", {"cohesive": "fire"}, "fire"), ("cohesive", {"method": "verlet"}, "verlet")])
+def test_embedded_sinusoid_dynamics(law, options, label):
+    """(a) the damped dynamics (projected FIRE / Verlet on the hard wall, FIRE / Verlet on the CZ) on the embedded
+    sinusoid: the profile's state within the bounds, one mid-contact step."""
+    sc = sinusoid_scene(law)
+    x = np.arange(NODES) * LENGTH / NODES
+    h = AMPLITUDE * np.cos(2 * np.pi * x / LENGTH)
+    m1 = build_model(sc, h)
+    m2 = surface_model(m1, 4, LENGTH / 8, sc.material.youngs_modulus, sc.material.poisson_ratio)
+    d0 = sc.loading.initial_separation
+    settings = Settings(tolerance=1e-9, **options)
+    du, dt = bounds(m2, 1e-9)
+    push = 8e-9
+    r1 = relax(m1, InterfaceLaw(m1), indenter_surface(h, d0, d0 + push), np.zeros((1, NODES // 2 + 1), complex),
+               settings, 1e-12 * 2 * AMPLITUDE)
+    r2 = relax(m2, InterfaceLaw(m2), indenter_surface(np.repeat(h[:, None], 4, axis=1), d0, d0 + push),
+               np.zeros((1,) + m2.spectrum_shape, complex), settings, 1e-12 * 2 * AMPLITUDE)
+    assert r1.converged and r2.converged and r1.method == r2.method == label
+    assert np.max(np.abs(r2.u_z - r1.u_z[:, None])) <= du
+    assert np.max(np.abs(r2.t_z - r1.t_z[:, None])) <= dt
 
 
 def test_embedded_sinusoid_cohesive_wall():
