@@ -189,10 +189,21 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
     problem = Problem(model, law, z_ind, wall_tolerance)
     key = chain_key(problem, settings)
     if problem.surface:
+        _check_surface_shapes(model, z_ind, u_hat)
         flat = flat_problem(problem)
         result = _relax(flat, CHAINS[key], np.reshape(u_hat, (u_hat.shape[0], -1)), settings)
         return _on_grid(result, model)
     return _relax(problem, CHAINS[key], u_hat, settings)
+
+
+def _check_surface_shapes(model, z_ind, u_hat):
+    """ValueError naming the array whose shape does not fit a 2+1-D model's grid."""
+    if np.shape(z_ind) != model.grid:
+        raise ValueError(f"z_ind has shape {np.shape(z_ind)}: the surface model needs its grid (Nx, Ny) = {model.grid}")
+    expected = (model.components,) + model.spectrum_shape
+    if np.shape(u_hat) != expected:
+        raise ValueError(f"u_hat has shape {np.shape(u_hat)}: the surface model's state is (components, Nx, Ny//2+1) "
+                         f"= {expected}")
 
 
 def _on_grid(result, model):

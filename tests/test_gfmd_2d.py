@@ -402,3 +402,13 @@ def test_hertz_sphere(push):
     p0 = (6 * force * e_star**2 / (np.pi**3 * radius**2)) ** (1 / 3)
     assert abs(float(np.max(pressure)) / p0 - 1) <= 2 * (a / LENGTH) ** 3 + 2 * spacing / a * (spacing / a)
     assert abs(force / (4 * e_star * a**3 / (3 * radius)) - 1) <= 3 * spacing / a
+
+
+def test_surface_shapes_checked(embedded):
+    """A height map or a state that does not fit the 2+1-D grid is a clear error naming the array."""
+    _, _, m2, _, h2 = embedded
+    state = np.zeros((1,) + m2.spectrum_shape, complex)
+    with pytest.raises(ValueError, match="z_ind has shape"):
+        relax(m2, InterfaceLaw(m2), h2.T, state, Settings())
+    with pytest.raises(ValueError, match="u_hat has shape"):
+        relax(m2, InterfaceLaw(m2), h2, state[:, :, :-1], Settings())
