@@ -203,7 +203,8 @@ def main(argv=None):
             if tam is not None and all("tm_s" in r for r in rows):
                 t_tm = med(rows, "tm_s")
                 tcols = f"{t_tm:.3g} | {rows[-1]['tm_a']:.4f} | {s / t_tm:.3g}"
-            lines.append(f"| {n}² | {law} | {methods}{'' if conv == len(rows) else f' ({conv}/{len(rows)} converged)'} | "
+            unconverged = "" if conv == len(rows) else f" ({conv}/{len(rows)} converged)"
+            lines.append(f"| {n}² | {law} | {methods}{unconverged} | "
                          f"{s:.3g} | {pairs:.3g} | {med(rows, 'it'):.3g} | {s / pairs:.3g} | {rows[-1]['a']:.4f} | "
                          f"{mem:.0f} | {tcols} |")
             print(lines[-1], flush=True)

@@ -151,7 +151,7 @@ def surface_products(raw_products, once):
     def products(f, f_old, d, g, nodes):
         rz, fos, fd = raw_products(f, f_old, d, g)
         s = g[once] * f[once]
-        f_once, fo_once, d_once = f[once], f_old[once], d[once]
+        f_once, fo_once = f[once], f_old[once]
         return ((2.0 * rz - float(np.sum(f_once.real * s.real + f_once.imag * s.imag))) / nodes,
                 (2.0 * fos - float(np.sum(fo_once.real * s.real + fo_once.imag * s.imag))) / nodes,
                 (2.0 * fd - once_sum(f, d)) / nodes)

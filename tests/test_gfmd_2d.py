@@ -153,8 +153,8 @@ def test_embedded_sinusoid_cohesive_wall():
     for push in (3e-9, 9.9e-9):
         r1 = relax(m1, InterfaceLaw(m1), indenter_surface(h, d0, d0 + push), np.zeros((1, NODES // 2 + 1), complex),
                    settings, 1e-12 * 2 * AMPLITUDE)
-        r2 = relax(m2, InterfaceLaw(m2), indenter_surface(h2, d0, d0 + push), np.zeros((1,) + m2.spectrum_shape, complex),
-                   settings, 1e-12 * 2 * AMPLITUDE)
+        r2 = relax(m2, InterfaceLaw(m2), indenter_surface(h2, d0, d0 + push),
+                   np.zeros((1,) + m2.spectrum_shape, complex), settings, 1e-12 * 2 * AMPLITUDE)
         assert r1.converged and r2.converged
         assert np.max(np.abs(r2.u_z - r1.u_z[:, None])) <= du
         assert np.max(np.abs(r2.t_z - r1.t_z[:, None])) <= dt
@@ -380,7 +380,8 @@ def test_hertz_sphere(push):
     §4.2; written here): p_max = p0 = (6 F E*²/(π³ R²))^(1/3) from the total force F, and F = 4E* a³/(3R) with a
     from the contact area. Bounds: the periodic images change the pressure by O((a/L)³) (measured
     p_max/p0 − 1 = 1.3 (a/L)³ for a/L = 0.11–0.26, N = 64–256, the same at every N: allowed 2 (a/L)³, plus
-    2 (l/a)² for the peak's sampling on the grid); a counted from whole nodes is uncertain by one ring, |Δa| ≤ l, so |ΔF/F| ≤ 3 l/a."""
+    2 (l/a)² for the peak's sampling on the grid); a counted from whole nodes is uncertain by one ring, |Δa| ≤ l,
+    so |ΔF/F| ≤ 3 l/a."""
     n, radius = 128, 5e-6
     sc = sinusoid_scene("hard-wall").replace(**{"surface.nodes": n})
     x = (np.arange(n) - n // 2) * LENGTH / n
