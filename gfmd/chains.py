@@ -43,7 +43,7 @@ from contact import laws
 
 from .algorithms import (cohesive_wall, coupled_newton, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
                          hard_wall_primal_cg, ncg)
-from .problem import Problem, coupled_stability
+from .problem import Problem, coupled_stability, flat_problem
 from .stopping import finish
 
 #: the algorithms by name (gfmd.algorithms: one module each, `solve(problem, start, settings) -> Relaxed`)
@@ -105,8 +105,24 @@ STARTS = {"guess": "the step's guess", "end": "the end state of the one before",
           "finite end": "the end state of the one before"}
 
 
+#: why a 2+1-D surface is normal-only (`refuse_tangential_surface`)
+SURFACE_NORMAL_ONLY = (
+    "2+1-D surfaces are normal-only in GFMD: the coupled law (seed Eq. 2, tangential unknowns u_x) would need "
+    "the 3×3 kernel of the 2-D wavevector, which is not built (the seed finds friction and compressibility "
+    "negligible); use interface.tangential_ratio = 0 and solver.unknowns = \"auto\" (or a profile, "
+    "surface.nodes_y = 0)")
+
+
+def refuse_tangential_surface(model):
+    """ValueError (`SURFACE_NORMAL_ONLY`) for a 2+1-D model with tangential unknowns."""
+    if len(model.grid) > 1 and model.tangential:
+        raise ValueError(SURFACE_NORMAL_ONLY)
+
+
 def chain_key(problem, settings):
-    """(law kind, key) of `CHAINS` for this problem and settings; ValueError naming a bad Settings field."""
+    """(law kind, key) of `CHAINS` for this problem and settings; ValueError naming a bad Settings field
+    (or a tangential 2+1-D model: `refuse_tangential_surface`)."""
+    refuse_tangential_surface(problem.model)
     kind = problem.kind
     if kind == "cohesive-wall":
         return kind, "verlet" if settings.method == "verlet" else "fire"
@@ -167,9 +183,41 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
 
     z_ind: indenter surface z_ind(x) (m) at this step; wall_tolerance (m): gap below which a wall node
     counts as touching the wall. iterations and fft_pairs add up every algorithm that ran.
+    2+1-D surface (model.shape (Nx, Ny)): u_hat (c, Nx, Ny//2+1), z_ind (Nx, Ny); the algorithms run on the
+    flat view (`gfmd.problem.flat_problem`) and the result's spectra and fields come back on the grid.
     """
     problem = Problem(model, law, z_ind, wall_tolerance)
-    chain = CHAINS[chain_key(problem, settings)]
+    key = chain_key(problem, settings)
+    if problem.surface:
+        _check_surface_shapes(model, z_ind, u_hat)
+        flat = flat_problem(problem)
+        result = _relax(flat, CHAINS[key], np.reshape(u_hat, (u_hat.shape[0], -1)), settings)
+        return _on_grid(result, model)
+    return _relax(problem, CHAINS[key], u_hat, settings)
+
+
+def _check_surface_shapes(model, z_ind, u_hat):
+    """ValueError naming the array whose shape does not fit a 2+1-D model's grid."""
+    if np.shape(z_ind) != model.grid:
+        raise ValueError(f"z_ind has shape {np.shape(z_ind)}: the surface model needs its grid (Nx, Ny) = {model.grid}")
+    expected = (model.components,) + model.spectrum_shape
+    if np.shape(u_hat) != expected:
+        raise ValueError(f"u_hat has shape {np.shape(u_hat)}: the surface model's state is (components, Nx, Ny//2+1) "
+                         f"= {expected}")
+
+
+def _on_grid(result, model):
+    """A flat 2+1-D `Relaxed` with its spectra (c, Nx, Ny//2+1) and fields (Nx, Ny) on the grid."""
+    result.u_hat = result.u_hat.reshape((result.u_hat.shape[0],) + model.spectrum_shape)
+    for name in ("u_z", "u_x", "gap", "t_z", "t_x"):
+        value = getattr(result, name)
+        if value is not None:
+            setattr(result, name, np.reshape(value, model.grid))
+    return result
+
+
+def _relax(problem, chain, u_hat, settings):
+    """`relax` along `chain` on a 1+1-D problem or a surface's flat view."""
     used, pairs, names, notes = 0, 0.0, [], []
     before = None  # the last link's final result: "end" starts from it
     for i, link in enumerate(chain):

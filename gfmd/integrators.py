@@ -11,9 +11,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.fft
 
-from .fft import dot
+from .fft import dot, irfft_nodes, rfft_nodes
 from .settings import Settings
 
 
@@ -61,9 +60,10 @@ def fire_wall_velocity(fire, force, u, v, stuck, on_wall, inv_mass, inv_mass_dia
 
     Mass-weighted acceleration M⁻¹f, zeroed on the stuck nodes and capped at f_j·diag(M⁻¹) on wall
     nodes that pull away (the fixed points are then the KKT points); FIRE's power check, its restart
-    stepping u back half a step. u and v in place; returns the new Δt.
+    stepping u back half a step. u and v in place; returns the new Δt. n: the node count, or the grid
+    (Nx, Ny) of a 2+1-D surface's flat fields (`gfmd.fft`).
     """
-    acc = scipy.fft.irfft(inv_mass * scipy.fft.rfft(force), n=n)
+    acc = irfft_nodes(inv_mass * rfft_nodes(force, n), n)
     acc[stuck] = 0.0  # precondition on the non-stuck subspace only
     pulling = on_wall & (force < 0)  # must leave the wall: never let M⁻¹ smear it back in
     acc[pulling] = np.minimum(acc[pulling], force[pulling] * inv_mass_diag)

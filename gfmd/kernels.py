@@ -12,6 +12,10 @@ numpy needs 10 passes over the spectra for these (a temporary per product); the 
 (the ``fast`` extra) one pass each, 3 in all: 0.15 ms against 0.57 ms at N = 2^17 on this machine
 (benchmarks/bench_vs_tamaas.py). Both give the same sums up to round-off (the fused sums are
 reassociated). ``GFMD_JIT=auto|numba|numpy`` (default auto: numba where installed) chooses.
+
+2+1-D surfaces: the spectra are the flat rfft2 half-spectrum (`gfmd.fft`); `direction` and `advance` are
+elementwise and unchanged; `products` counts the q_y = 0 column and, for even Ny, the Nyquist column once
+(`surface_products`), the other modes twice.
 """
 
 from __future__ import annotations
@@ -127,8 +131,51 @@ def _advance_numba(uh, d, alpha, k, f):
     _advance_fused(uh.view(np.float64), d.view(np.float64), float(alpha), k, f.view(np.float64))
 
 
-def ncg_kernels(name=None):
-    """(products, direction, advance) of the backend `jit_backend(name)` (module docstring)."""
-    if jit_backend(name) == "numba":
+def once_counted_modes(grid):
+    """Flat indices of the rfft2 half-spectrum modes (grid (Nx, Ny)) that hold their own conjugate:
+    the q_y = 0 column and, for even Ny, the Nyquist column."""
+    nx, ny = grid
+    half = ny // 2 + 1
+    cols = [0] + ([half - 1] if ny % 2 == 0 else [])
+    return (np.arange(nx)[:, None] * half + np.array(cols)[None, :]).ravel()
+
+
+def surface_products(raw_products, once):
+    """`products` on flat 2+1-D spectra: the raw sums Σ Re(conj(â) b̂) over every mode of `raw_products`,
+    corrected to nodal sums Σ_j a_j b_j = (2 raw − Σ_once Re(conj(â) b̂))/N (Parseval on the half-spectrum)."""
+
+    def once_sum(a, b):
+        a, b = a[once], b[once]
+        return float(np.sum(a.real * b.real + a.imag * b.imag))
+
+    def products(f, f_old, d, g, nodes):
+        rz, fos, fd = raw_products(f, f_old, d, g)
+        s = g[once] * f[once]
+        f_once, fo_once = f[once], f_old[once]
+        return ((2.0 * rz - float(np.sum(f_once.real * s.real + f_once.imag * s.imag))) / nodes,
+                (2.0 * fos - float(np.sum(fo_once.real * s.real + fo_once.imag * s.imag))) / nodes,
+                (2.0 * fd - once_sum(f, d)) / nodes)
+
+    return products
+
+
+def _raw_numpy(f, f_old, d, g):
+    s = g * f
+    return _raw(f, s), _raw(f_old, s), _raw(f, d)
+
+
+def _raw_numba(f, f_old, d, g):
+    return _products_raw(f.view(np.float64), f_old.view(np.float64), d.view(np.float64), g)
+
+
+def ncg_kernels(name=None, grid=None):
+    """(products, direction, advance) of the backend `jit_backend(name)` (module docstring); grid (Nx, Ny):
+    those of a 2+1-D surface's flat half-spectrum."""
+    numba_backend = jit_backend(name) == "numba"
+    if grid is not None and len(grid) > 1:
+        raw = _raw_numba if numba_backend else _raw_numpy
+        return ((surface_products(raw, once_counted_modes(grid)),)
+                + ((_direction_numba, _advance_numba) if numba_backend else (_direction_numpy, _advance_numpy)))
+    if numba_backend:
         return _products_numba, _direction_numba, _advance_numba
     return _products_numpy, _direction_numpy, _advance_numpy

@@ -47,8 +47,9 @@ class GfmdCell:
         return self.physics.reasons + (integrator(self.physics, self.settings), backends())
 
     def initial_state(self):
-        """u_hat = 0: the undeformed surface, rfft modes of each solved component."""
-        return np.zeros((self.physics.components, self.physics.nodes // 2 + 1), complex)
+        """u_hat = 0: the undeformed surface, rfft modes of each solved component: (c, N//2+1); on a 2+1-D
+        surface (1, Nx, Ny//2+1), the rfft2 half-spectrum (Model.spectrum_shape)."""
+        return np.zeros((self.physics.components,) + tuple(self.physics.spectrum_shape), complex)
 
     def solve(self, displacement, guess, fallback):
         """Relax the load step at indenter displacement U (m) from the rfft displacements `guess`; the step's

@@ -15,16 +15,21 @@ constraint u_z ≤ z_ind (KKT: contact pressure ≥ 0 on the wall, f = 0 off it;
 `mean_shift`); its dual, over the contact pressures P ≥ 0 with u = −G P (G = K⁻¹), is
 min ½ PᵀGP + z_indᵀP (gradient: the gap, `Problem.dual_gap`). The cohesive wall adds Eq. 3's
 attraction off the wall to the same constraint.
+
+2+1-D surfaces (Model.shape = (Nx, Ny), normal-only): û of shape (1, Nx, Ny//2 + 1), real fields
+(1, Nx, Ny), l the node area Lx Ly/(Nx Ny) (E in J); the algorithms run on
+`flat_problem`'s view, the same problem with nodal fields and spectra flattened (`gfmd.fft`).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-import scipy.fft
+import dataclasses
 
-from .fft import Fft
+import numpy as np
+
+from .fft import Fft, irfft_nodes, rfft_nodes
 
 
 class InterfaceLaw:
@@ -85,7 +90,7 @@ class Elastic:
             d = model.k_zz + k_int_z
             det = (a * d - np.abs(b) ** 2).real
             if self.clamp:
-                det[0] = np.inf
+                det.flat[0] = np.inf
             self.mass = (a, b, d)
             self.inv_mass = (d / det, -b / det, a / det)
         else:
@@ -94,7 +99,7 @@ class Elastic:
             nz = m > 0
             inv[nz] = 1.0 / m[nz]
             if self.clamp:
-                inv[0] = 0.0
+                inv.flat[0] = 0.0  # the q = 0 mode (1+1-D: index 0; 2+1-D: (0, 0))
             self.mass = (m,)
             self.inv_mass = (inv,)
 
@@ -136,25 +141,42 @@ class Problem:
             return "user"
         return "coupled" if self.model.tangential else "cohesive"
 
+    @property
+    def surface(self):
+        """True for a 2+1-D surface on its natural grid (not `flat_problem`'s view)."""
+        return len(self.model.grid) > 1 and np.ndim(self.model.k_zz) > 1
+
+    def _on_flat(self, method, x, field_shape):
+        """`method` of the flat view applied to x (natural 2-D shapes in, natural shapes out)."""
+        c = x.shape[0]
+        out = getattr(flat_problem(self), method)(x.reshape(c, -1))
+        return out.reshape((c,) + field_shape) if isinstance(out, np.ndarray) else out
+
     def displacements(self, u_hat):
-        """u (c, N) of the spectra û."""
-        return scipy.fft.irfft(u_hat, n=self.model.nodes, axis=-1)
+        """u (c, N) of the spectra û ((c, Nx, Ny) of (c, Nx, Ny//2 + 1) on a surface)."""
+        if self.surface:
+            return self._on_flat("displacements", u_hat, self.model.grid)
+        return irfft_nodes(u_hat, self.model.grid)
 
     def force(self, u_hat):
         """The nodal force f (c, N) in Pa at û: t(u) − K u (q = 0 removed on a half-plane). On a wall the
         constraint's reaction is not in it (`wall_balance`)."""
+        if self.surface:
+            return self._on_flat("force", u_hat, self.model.grid)
         u = self.displacements(u_hat)
         t, _ = self.law.traction(u, self.z_ind)
-        f_hat = scipy.fft.rfft(t, axis=-1) - Elastic(self.model, 0.0, 0.0).stiffness(u_hat)
+        f_hat = rfft_nodes(t, self.model.grid) - Elastic(self.model, 0.0, 0.0).stiffness(u_hat)
         if self.model.half_plane:
             f_hat[:, 0] = 0.0
         return self.displacements(f_hat)
 
     def energy(self, u_hat):
-        """E(u) = l Σ_j [½ u_j (K u)_j + V(Δn_j)] (J/m), f = −(1/l) ∂E/∂u; inf where a wall is penetrated.
-        The coupled law has no potential (ValueError)."""
+        """E(u) = l Σ_j [½ u_j (K u)_j + V(Δn_j)] (J/m; J on a surface, l the node area), f = −(1/l) ∂E/∂u;
+        inf where a wall is penetrated. The coupled law has no potential (ValueError)."""
         if self.kind == "coupled":
             raise ValueError("the coupled law (seed Eq. 2) has no potential: the problem is the balance f = 0")
+        if self.surface:
+            return self._on_flat("energy", u_hat, self.model.grid)
         u = self.displacements(u_hat)
         ku = self.displacements(Elastic(self.model, 0.0, 0.0).stiffness(u_hat))
         gap = self.z_ind - u[-1]
@@ -162,19 +184,42 @@ class Problem:
             return np.inf
         cz = self.law.law
         interface = 0.0 if self.kind == "hard-wall" else np.sum(cz.potential(gap))
-        return (self.model.length / self.model.nodes) * float(0.5 * np.sum(u * ku) + interface)
+        return self.model.node_area * float(0.5 * np.sum(u * ku) + interface)
 
     def tangent_times(self, u_hat, v):
         """J v = (K + D) v (Pa) for nodal fields v (c, N): the Hessian product per node area (the force's
         derivative is −J; D the nodal tangent of the law, `contact.laws`; zero on a hard wall)."""
+        if self.surface:
+            flat = flat_problem(self)
+            return flat.tangent_times(u_hat.reshape(u_hat.shape[0], -1), v.reshape(v.shape[0], -1)).reshape(v.shape)
         a_op, _, _ = coupled_operators(self.model, self.law, self.z_ind, self.displacements(u_hat),
-                                       Fft(self.model.nodes))
+                                       Fft(self.model.nodes, grid=self.model.grid))
         return a_op.matvec(np.asarray(v, float).ravel()).reshape(v.shape)
 
     def dual_gap(self, pressure):
         """The dual's gradient, the gap Δ = z_ind + G P (m) for nodal wall pressures P ≥ 0 (Pa), normal only."""
+        if self.surface:
+            return flat_problem(self).dual_gap(np.reshape(pressure, -1)).reshape(self.model.grid)
         g = Elastic(self.model, 0.0, 0.0).inv_mass[0]
-        return self.z_ind + scipy.fft.irfft(np.real(g) * scipy.fft.rfft(pressure), n=self.model.nodes)
+        return self.z_ind + irfft_nodes(np.real(g) * rfft_nodes(pressure, self.model.grid), self.model.grid)
+
+
+def flat_model(model):
+    """The model as the algorithms see a 2+1-D surface: q and K(q) flattened over the rfft2 half-spectrum
+    (Nx·(Ny//2 + 1),), index 0 the q = 0 mode (`gfmd.fft`); grid and node area kept. 1+1-D: the model."""
+    if len(model.grid) == 1 or np.ndim(model.k_zz) == 1:
+        return model
+    if model.tangential:
+        raise ValueError("2+1-D surfaces are normal-only: no tangential unknowns (gfmd.chains)")
+    return dataclasses.replace(model, q=np.ravel(model.q), k_zz=np.ravel(model.k_zz))
+
+
+def flat_problem(problem):
+    """The problem on flat nodal fields (N,) and flat spectra (`flat_model`); 1+1-D: the problem itself."""
+    if not problem.surface:
+        return problem
+    z = None if problem.z_ind is None else np.ravel(problem.z_ind)
+    return Problem(flat_model(problem.model), problem.law, z, problem.wall_tolerance)
 
 
 def mean_shift(u_z, z_ind, pinned=None):
@@ -253,7 +298,7 @@ def wall_net_force(model, k, u, on_wall, n):
     Net force = `wall_balance` + wall reaction: "stuck" nodes are on the wall and
     pushed into it, so the wall cancels their force.
     """
-    force = wall_balance(model, scipy.fft.irfft(k * scipy.fft.rfft(u), n=n), on_wall)
+    force = wall_balance(model, irfft_nodes(k * rfft_nodes(u, model.grid), model.grid), on_wall)
     stuck = on_wall & (force > 0)
     return np.where(stuck, 0.0, force), stuck
 
@@ -315,7 +360,7 @@ def coupled_stability(model, law, z_ind, u_hat):
     sends through 0: shift-invert ARPACK on J⁻¹, each solve by GMRES (M⁻¹-preconditioned)."""
     from scipy.sparse.linalg import ArpackNoConvergence, LinearOperator, eigs, gmres
 
-    fft = Fft(model.nodes)
+    fft = Fft(model.nodes, grid=model.grid)
     a_op, m_op, project = coupled_operators(model, law, z_ind, fft.irfft(u_hat), fft)
     shape = (model.components, model.nodes)
 

@@ -13,10 +13,10 @@ residual and a message: it is never silently accepted.
 from __future__ import annotations
 
 import numpy as np
-import scipy.fft
 
 from contact import laws
 
+from .fft import irfft_nodes
 from .problem import wall_balance, wall_net_force_from
 from .settings import Relaxed
 
@@ -48,13 +48,13 @@ def finish(problem, u_hat, iterations, residual, converged, message, wall_state=
     if wall_state is not None:
         u = wall_state[0][None, :].copy()
     else:
-        u = scipy.fft.irfft(u_hat, n=n, axis=-1)
+        u = irfft_nodes(u_hat, model.grid)
     if law.constraint:
         gap = z_ind - u[-1]
         on_wall = gap <= wall_tolerance
         gap = np.maximum(gap, 0.0)
         u[-1] = z_ind - gap
-        ku = wall_state[1] if wall_state is not None else scipy.fft.irfft(model.k_zz * u_hat[-1], n=n)
+        ku = wall_state[1] if wall_state is not None else irfft_nodes(model.k_zz * u_hat[-1], model.grid)
         force = wall_balance(model, ku, on_wall)
         t = np.zeros_like(u)
         t[-1] = np.where(on_wall, -np.maximum(force, 0.0), 0.0)

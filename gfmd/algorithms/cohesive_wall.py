@@ -8,9 +8,8 @@ cohesive dynamics' mass weighting and trust region; the same residual, and KKT f
 from __future__ import annotations
 
 import numpy as np
-import scipy.fft
 
-from ..fft import spectral_weights
+from ..fft import irfft_nodes, rfft_nodes, spectral_weights
 from ..integrators import Fire, fire_wall_velocity, verlet_coefficients
 from ..problem import Elastic, mean_shift, project_onto_wall
 from ..settings import Relaxed, not_converged
@@ -37,10 +36,10 @@ def solve(problem, start, settings):
     if model.tangential:
         raise ValueError("the cohesive wall is frictionless and normal-only: no tangential unknowns")
     cz = law.law
-    n = model.nodes
+    n, grid = model.nodes, model.grid
     clamp = model.half_plane
     k = model.k_zz
-    weights = spectral_weights(n)
+    weights = spectral_weights(grid)
 
     def attraction(gap):
         return cz.tractions(gap)[0]
@@ -55,14 +54,14 @@ def solve(problem, start, settings):
         gap = z_ind - u
         on_wall = gap <= wall_tolerance
         t = attraction(gap)
-        ku = scipy.fft.irfft(k * scipy.fft.rfft(u), n=n)
+        ku = irfft_nodes(k * rfft_nodes(u, grid), grid)
         free = ~on_wall
         p = float(np.mean(ku[free] - t[free])) if clamp and free.any() else 0.0
         force = t + p - ku
         stuck = on_wall & (force > 0)
         return np.where(stuck, 0.0, force), stuck, on_wall, force, t
 
-    u = scipy.fft.irfft(u_hat[-1], n=n)
+    u = irfft_nodes(u_hat[-1], grid)
     shift = mean_shift(u, z_ind) if clamp else 0.0
     u = np.minimum(u + shift, z_ind)
     k_mean = mean_slope(z_ind - u)
@@ -99,14 +98,14 @@ def solve(problem, start, settings):
                 v[:] = 0.0
                 fire.reset()
         if fire is None:
-            v_hat = scipy.fft.rfft(v)
-            v_hat = ((1 - gdt / 2) * v_hat + dt * scipy.fft.rfft(force) / rho) / (1 + gdt / 2)
+            v_hat = rfft_nodes(v, grid)
+            v_hat = ((1 - gdt / 2) * v_hat + dt * rfft_nodes(force, grid) / rho) / (1 + gdt / 2)
             if clamp:
                 v_hat[0] = 0.0
-            v = scipy.fft.irfft(v_hat, n=n)
+            v = irfft_nodes(v_hat, grid)
             v[stuck] = np.minimum(v[stuck], 0.0)
         else:
-            dt = fire_wall_velocity(fire, force, u, v, stuck, on_wall, inv_mass, inv_mass_diag, n)
+            dt = fire_wall_velocity(fire, force, u, v, stuck, on_wall, inv_mass, inv_mass_diag, grid)
         move = float(np.max(np.abs(dt * v)))
         if move > max_move:  # trust region: no node moves more than max_move per iteration
             v *= max_move / move
@@ -116,8 +115,8 @@ def solve(problem, start, settings):
         u = project_onto_wall(u, v, z_ind, stuck, clamp)
     else:
         message = not_converged(settings.max_iterations, residual)
-    u_hat = scipy.fft.rfft(u)[None, :]
-    u = scipy.fft.irfft(u_hat[-1], n=n)
+    u_hat = rfft_nodes(u, grid)[None, :]
+    u = irfft_nodes(u_hat[-1], grid)
     gap = np.maximum(z_ind - u, 0.0)
     u = z_ind - gap
     _, stuck, on_wall, force, t = net_force(u)

@@ -42,7 +42,7 @@ def solve(problem, start, settings):
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
     u_hat = start  # the step's initial displacements (c, N//2+1), rfft
     n, c = model.nodes, model.components
-    fft = Fft(n)
+    fft = Fft(n, grid=model.grid)
     p_ref = model.reference_traction
     u_hat = np.array(u_hat, dtype=complex, copy=True)
     clamp = model.half_plane

@@ -30,8 +30,8 @@ def solve(problem, start, settings):
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
     u_hat = start  # the step's initial displacements (c, N//2+1), rfft
     n = model.nodes
-    fft = Fft(n)
-    w = spectral_weights(n)
+    fft = Fft(n, grid=model.grid)
+    w = spectral_weights(model.grid)
     u_hat = np.array(u_hat, dtype=complex, copy=True)
     if model.half_plane:
         u_hat[:, 0] = 0.0

@@ -17,6 +17,12 @@ from ..settings import not_converged, stall
 from ..stopping import finish, wall_check, wall_residual
 
 DUAL_BAND_HALF_WIDTH = 32
+#: 2+1-D surfaces: the preconditioner keeps K_ij for |x_i − x_j|, |y_i − y_j| ≤ this many nodes (periodic), a
+#: (2w + 1)² window per row (`_band_stiffness_surface`; K's kernel decays as 1/r³ in 2-D). Measured
+#: (benchmarks/bench_gfmd_2d.py's hard-wall ramp, 5 steps to a_rel ≈ 3 %), CG iterations per step for
+#: w = 0 (diagonal) / 1 / 2 / 3 / 4 / 6: 128²: 8–28 / 7–14 / 7–14 / 7–14 / 7–14 / 7–14; 256²: 10–48 / 8–20 /
+#: 8–21 / 8–19 / 8–19 / 8–19: the nearest neighbours carry the gain, a wider window only costs.
+DUAL_WINDOW_HALF_WIDTH_2D = 1
 #: The dual hard-wall CG hands a step over to the primal only when its contact set grows past this
 #: multiple of `Settings.dual_contact_limit` (`solve`). Measured (section 7, N = 2^16):
 #: with factor 1, steps ending at a_rel = 0.025–0.055 were handed over mid-way and cost 1.1–1.5× the
@@ -41,6 +47,30 @@ def _band_stiffness(k_kernel, act, n, half_width):
     rows = np.repeat(np.arange(act.size), counts)
     data = k_kernel[np.abs(act[rows] - act[cols])]  # K_ij = k(|i − j|): exactly symmetric
     return scipy.sparse.csr_matrix((data, cols, indptr), shape=(act.size, act.size))
+
+
+def _band_stiffness_surface(k_kernel, act, grid, half_width):
+    """`_band_stiffness` on a 2+1-D surface (flat node indices act on the grid (Nx, Ny), row-major): K_AA
+    truncated to the periodic window |Δi_x|, |Δi_y| ≤ half_width (CSR, Pa/m). K_ij = k[|Δi_x|, |Δi_y|]
+    (the kernel is even in each offset): exactly symmetric; the same diagonal-dominance argument as in
+    1+1-D makes it positive definite. The window is cut to (N − 1)//2 per axis so no pair is counted twice."""
+    nx, ny = grid
+    kk = np.reshape(k_kernel, grid)
+    wx, wy = min(half_width, (nx - 1) // 2), min(half_width, (ny - 1) // 2)
+    position = np.full(nx * ny, -1, np.int64)
+    position[act] = np.arange(act.size)
+    ix, iy = np.divmod(act, ny)
+    rows, cols, data = [], [], []
+    for dx in range(-wx, wx + 1):
+        row_x = ((ix + dx) % nx) * ny
+        for dy in range(-wy, wy + 1):
+            j = position[row_x + (iy + dy) % ny]
+            hit = np.flatnonzero(j >= 0)
+            rows.append(hit)
+            cols.append(j[hit])
+            data.append(np.full(hit.size, kk[abs(dx), abs(dy)]))
+    rows, cols, data = np.concatenate(rows), np.concatenate(cols), np.concatenate(data)
+    return scipy.sparse.csr_matrix((data, (rows, cols)), shape=(act.size, act.size))
 
 
 def solve(problem, start, settings):
@@ -80,8 +110,14 @@ def solve(problem, start, settings):
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
     u_hat = start  # the step's initial displacements (c, N//2+1), rfft
     n = model.nodes
-    fft = Fft(n)
+    fft = Fft(n, grid=model.grid)
     clamp = model.half_plane
+    if len(model.grid) > 1:  # 2+1-D: the periodic window of `_band_stiffness_surface`
+        def band_stiffness(kernel, nodes):
+            return _band_stiffness_surface(kernel, nodes, model.grid, DUAL_WINDOW_HALF_WIDTH_2D)
+    else:
+        def band_stiffness(kernel, nodes):
+            return _band_stiffness(kernel, nodes, n, DUAL_BAND_HALF_WIDTH)
     k = np.ascontiguousarray(np.real(model.k_zz))
     g = np.ascontiguousarray(np.real(Elastic(model, 0.0, 0.0).inv_mass[0]))
     p_ref = model.reference_traction
@@ -132,7 +168,7 @@ def solve(problem, start, settings):
     # the band on a superset U ⊇ A, rebuilt only when nodes outside U join A (leaving A needs no rebuild:
     # rows and columns of U \ A meet zeros and are not read)
     band_nodes = act
-    k_band = _band_stiffness(k_kernel, band_nodes, n, DUAL_BAND_HALF_WIDTH)
+    k_band = band_stiffness(k_kernel, band_nodes)
     band_in = np.zeros(band_nodes.size)
 
     def precondition(r):  # K_band restricted to A, times r
@@ -164,7 +200,7 @@ def solve(problem, start, settings):
                 hand_over = act.size > transient_limit
                 if not np.isin(enter, band_nodes, assume_unique=True).all():
                     band_nodes = act
-                    k_band = _band_stiffness(k_kernel, band_nodes, n, DUAL_BAND_HALF_WIDTH)
+                    k_band = band_stiffness(k_kernel, band_nodes)
                     band_in = np.zeros(band_nodes.size)
                 restart = True
                 continue

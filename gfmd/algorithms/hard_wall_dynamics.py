@@ -9,9 +9,8 @@ as the hard-wall CGs (`gfmd.stopping`).
 from __future__ import annotations
 
 import numpy as np
-import scipy.fft
 
-from ..fft import spectral_weights
+from ..fft import irfft_nodes, rfft_nodes, spectral_weights
 from ..integrators import Fire, fire_wall_velocity, verlet_coefficients
 from ..problem import Elastic, mean_shift, project_onto_wall, wall_net_force
 from ..settings import not_converged
@@ -37,16 +36,16 @@ def solve(problem, start, settings):
     """
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
     u_hat = start  # the step's initial displacements (c, N//2+1), rfft
-    n = model.nodes
+    n, grid = model.nodes, model.grid
     elastic = Elastic(model, 0.0, 0.0)
     k = model.k_zz
     inv_mass = elastic.inv_mass[0]
-    inv_mass_diag = float(np.sum(spectral_weights(n) * inv_mass)) / n  # real-space diagonal of M⁻¹
+    inv_mass_diag = float(np.sum(spectral_weights(grid) * inv_mass)) / n  # real-space diagonal of M⁻¹
     fire = None if settings.method == "verlet" else Fire(settings)
     if fire is None:
         rho, gdt = verlet_coefficients(k, settings)
     dt = fire.dt if fire else 1.0
-    u = scipy.fft.irfft(u_hat[-1], n=n)
+    u = irfft_nodes(u_hat[-1], grid)
     shift = mean_shift(u, z_ind) if elastic.clamp else 0.0
     u = np.minimum(u + shift, z_ind)
     v = np.zeros(n)
@@ -64,18 +63,18 @@ def solve(problem, start, settings):
                 message = "diverged: non-finite force residual"
                 break
         if fire is None:
-            v_hat = scipy.fft.rfft(v)
-            v_hat = ((1 - gdt / 2) * v_hat + dt * scipy.fft.rfft(force) / rho) / (1 + gdt / 2)
+            v_hat = rfft_nodes(v, grid)
+            v_hat = ((1 - gdt / 2) * v_hat + dt * rfft_nodes(force, grid) / rho) / (1 + gdt / 2)
             if elastic.clamp:
                 v_hat[0] = 0.0
-            v = scipy.fft.irfft(v_hat, n=n)
+            v = irfft_nodes(v_hat, grid)
         else:
-            dt = fire_wall_velocity(fire, force, u, v, stuck, on_wall, inv_mass, inv_mass_diag, n)
+            dt = fire_wall_velocity(fire, force, u, v, stuck, on_wall, inv_mass, inv_mass_diag, grid)
         u += dt * v
         u = project_onto_wall(u, v, z_ind, stuck, elastic.clamp)
     else:
         message = not_converged(settings.max_iterations, residual)
-    u_hat = scipy.fft.rfft(u)[None, :]
+    u_hat = rfft_nodes(u, grid)[None, :]
     out = finish(problem, u_hat, it, residual, converged, message)
     out.method = "verlet" if fire is None else "fire"
     return out

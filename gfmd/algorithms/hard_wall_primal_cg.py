@@ -42,7 +42,7 @@ def solve(problem, start, settings):
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
     u_hat = start  # the step's initial displacements (c, N//2+1), rfft
     n = model.nodes
-    fft = Fft(n)
+    fft = Fft(n, grid=model.grid)
     clamp = model.half_plane
     k = np.ascontiguousarray(np.real(model.k_zz))
     g = np.ascontiguousarray(np.real(Elastic(model, 0.0, 0.0).inv_mass[0]))  # M⁻¹ = K⁻¹, 0 at q = 0 (half-plane)

@@ -94,7 +94,7 @@ def solve(problem, start, settings):
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
     u_hat = start  # the step's initial displacements (c, N//2+1), rfft
     n = model.nodes
-    fft = Fft(n)
+    fft = Fft(n, grid=model.grid)
     clamp = model.half_plane
     cz = law.law
     p_ref = model.reference_traction
@@ -115,7 +115,7 @@ def solve(problem, start, settings):
         return g
 
     g = preconditioner()
-    products, direction, advance = kernels.ncg_kernels()  # the spectral algebra (numpy or fused)
+    products, direction, advance = kernels.ncg_kernels(grid=model.grid)  # the spectral algebra (numpy or fused)
     far = NCG_FAR_FRACTION * settings.tolerance * p_ref  # a far node's |T_n| is below this (Pa)
     cut = cz.far_gap(far) / dn if user else _attraction_cut(far / tn_scale)  # s_c
     scaled_gap = nodal.state  # Eq. 3: (s, e^{−s}); a user law: (T_n, dT_n/dΔn)
