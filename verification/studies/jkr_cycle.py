@@ -86,7 +86,7 @@ def analytic(compliance=0.0):
     r = minimize_scalar(lambda a: _delta(a, compliance), bounds=(1e-6 * LENGTH, 0.3 * LENGTH), method="bounded",
                         options={"xatol": 1e-15})
     a_off = float(r.x)
-    a_in = brentq(lambda a: _delta(a, compliance), a_off, 0.49 * LENGTH, xtol=1e-16)
+    a_in = brentq(lambda a: _delta(a, compliance), a_off, _branch_end(a_off, compliance, 0.49), xtol=1e-16)
     a_max = branch_half_width(TOP, a_off, compliance)
     po = minimize_scalar(_p, bounds=(a_off, a_max), method="bounded", options={"xatol": 1e-15})
     eps = 1e-7 * LENGTH
@@ -105,7 +105,19 @@ def layer_compliance(material):
 
 def branch_half_width(delta, a_off, compliance=0.0):
     """a on the attached branch (a > a_off) with δ(a) = δ (m)."""
-    return brentq(lambda a: _delta(a, compliance) - delta, a_off, 0.4999 * LENGTH, xtol=1e-16)
+    return brentq(lambda a: _delta(a, compliance) - delta, a_off, _branch_end(a_off, compliance, 0.4999), xtol=1e-16)
+
+
+@functools.cache
+def _branch_end(a_off, compliance, fraction):
+    """Upper bracket of the attached branch: `fraction`·λ for the half-plane; with a compliance C > 0 the a
+    of the largest δ(a) below 0.49 λ (δ(a) rises from a_off to there; Johnson's p̄(a) falls near full
+    contact, where C p̄ would bend δ back)."""
+    if compliance == 0.0:
+        return fraction * LENGTH
+    r = minimize_scalar(lambda a: -_delta(a, compliance), bounds=(a_off, 0.49 * LENGTH), method="bounded",
+                        options={"xatol": 1e-15})
+    return float(r.x)
 
 
 def scene(nodes, d_rel):
