@@ -20,10 +20,12 @@ h). Newton with the consistent (for the coupled law non-symmetric) tangent,
 each iteration's surface-displacement increment limited to 0.5 δn (0.5 δt
 tangentially), then backtracking on ‖R‖. If Newton fails, or converges to an
 unstable equilibrium (`locally_stable`: normal law, tangent not positive
-definite; coupled law, an eigenvalue of W⁻¹J with Re λ ≤ 0), the step
-falls back to pseudo-transient continuation (shifted Newton, energy-decrease
-line search for the normal law, residual decrease for the coupled law); those
-steps are listed in `Result.messages`. The residual reported is
+definite; coupled law, an eigenvalue of W⁻¹J with Re λ ≤ 0), e.g. at a jump
+into or out of contact, the step falls back: for the normal law (a potential)
+to a trust-region minimisation of the FE energy (`descend`), for the coupled
+law to pseudo-transient continuation (shifted Newton, residual decrease), each
+polished by Newton and accepted only at a locally stable state; those steps
+are listed in `Result.messages`, a step that does not converge is reported so. The residual reported is
 max_i |R_i/W_i| / p_ref (a traction relative to p_ref = E* ḡ), as in GFMD.
 
 `quadrature="gauss"` (`reference.fem.quadrature`) replaces W t(u) by the
@@ -303,14 +305,13 @@ class SurfaceProblem:
         return u, self.measure(r), max_iter, self.measure(r) <= tol
 
     def ptc(self, u, z_ind, tol, max_iter=2000):
-        """Pseudo-transient continuation: (J + σ M) du = −R, σ adapted (SER), M = W·φn/δn²."""
+        """Pseudo-transient continuation (coupled law, no potential): (J + σ M) du = −R, σ adapted (SER),
+        M = W·φn/δn², a step accepted while ‖R‖ grows less than 1.5×."""
         mass = self.wt * (self.phi_n / self.dn**2)
         sigma = 10.0
         r = self._safe_residual(u, z_ind)
         if r is None:
             return u, math.inf, 0, False
-        use_energy = not self.tangential
-        e = self.energy(u, z_ind) if use_energy else None
         for it in range(1, max_iter + 1):
             res = self.measure(r)
             if res <= tol:
@@ -323,18 +324,10 @@ class SurfaceProblem:
                 continue
             trial = u + du
             rt = self._safe_residual(trial, z_ind)
-            ok = rt is not None
-            if ok and use_energy:
-                et = self.energy(trial, z_ind)
-                ok = et <= e + 1e-12 * abs(e)
-            elif ok:
-                ok = np.linalg.norm(rt / self.wt) < 1.5 * np.linalg.norm(r / self.wt)
-            if ok:
+            if rt is not None and np.linalg.norm(rt / self.wt) < 1.5 * np.linalg.norm(r / self.wt):
                 ratio = np.linalg.norm(rt / self.wt) / max(np.linalg.norm(r / self.wt), 1e-300)
                 sigma = max(sigma * min(max(ratio, 0.1), 2.0), 1e-12)
                 u, r = trial, rt
-                if use_energy:
-                    e = et
             else:
                 sigma *= 4
         return u, self.measure(r), max_iter, self.measure(r) <= tol

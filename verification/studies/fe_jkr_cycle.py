@@ -27,6 +27,8 @@ import argparse
 
 import numpy as np
 
+from contact import cycle as cyc
+from contact.loading import step_branches
 from verification import analytic_cases as ac
 from verification import measured
 from verification.runs import run_fe
@@ -50,7 +52,15 @@ def measure(nodes, d_rel):
     result, wall = run_fe(s)
     errors, numbers, curve = jc.cycle_errors(result, s, d_rel, jc.layer_compliance(s.material))
     numbers["fallback_steps"] = [int(k) for k in result.diagnostics.get("fallback_steps", [])]
+    numbers["jump_steps"] = jump_steps(result, s)
     return errors, numbers, curve, js.delta_n(d_rel), wall
+
+
+def jump_steps(result, s):
+    """The steps of the run's jump-in and jump-out events (`contact.cycle`)."""
+    d, p, a = (np.asarray(result.curve[c], float) for c in ("delta", "p", "a_rel"))
+    (row,) = cyc.cycle_observables(d, p, a, *step_branches(s.loading))
+    return [int(e["step"]) for e in row["events"]]
 
 
 def study(subset):
