@@ -1,7 +1,7 @@
 """Sparse FE path (`reference.fem.sparse`) against the dense condensed path it replaces at large N.
 
-Both paths solve the same equations with the same Newton / pseudo-transient
-continuation code (`SurfaceProblem.newton`, `.ptc`); only the linear algebra
+Both paths solve the same equations with the same Newton / trust-region / pseudo-transient
+continuation code (`SurfaceProblem.newton`, `.descend`, `.ptc`); only the linear algebra
 differs (dense Schur complement S and dense LU vs SuperLU on the full reduced
 system). So the Newton iterates agree to round-off, the iteration counts and
 fallback steps must be identical, and the converged states agree far below the

@@ -1,7 +1,7 @@
 """GFMD vs FE through a jump into contact: `verification.scenes.jump_in_sinusoid` (issue #4 (c)).
 
 The cohesive sinusoid at φn* = 0.15, δ0 = 10 nm (≥ 8 δn), δ from −10 nm to 40 nm in 25 steps. The FE
-Newton solve fails at the jump and falls back to pseudo-transient continuation (energy descent); GFMD
+Newton solve fails at the jump and falls back to its trust-region energy descent; GFMD
 (FIRE) relaxes dynamically. Both must land on the same branch. Study: `verification.studies.fe_jump`;
 measured differences at N = 64 … 512 in verification/data/fe_jump.json (regenerate:
 `python -m verification.studies.fe_jump --write`).

@@ -12,7 +12,8 @@ solver code is shared (tests/test_architecture.py holds this):
               projection K_r = Pᵀ K P (scikit-fem 12's MeshTri1DG.periodic breaks
               FacetBasis and skfem.utils.mpc mis-assembles periodic constraints),
               bonded base, dense condensation onto the top surface
-* `solver`    Newton (dense condensed surface) + pseudo-transient fallback; load ramp
+* `solver`    Newton (dense condensed surface) + trust-region energy descent (normal law) or
+              pseudo-transient continuation (coupled law) as fallback; load ramp
 * `sparse`    the same Newton on the full reduced system (SuperLU), for large N
 * `quadrature` Gauss–Legendre boundary term (run_realization(quadrature="gauss"); default nodal)
 * `hardwall`  frictionless hard wall: primal–dual active set on the surface compliance

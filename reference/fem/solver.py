@@ -20,10 +20,12 @@ h). Newton with the consistent (for the coupled law non-symmetric) tangent,
 each iteration's surface-displacement increment limited to 0.5 δn (0.5 δt
 tangentially), then backtracking on ‖R‖. If Newton fails, or converges to an
 unstable equilibrium (`locally_stable`: normal law, tangent not positive
-definite; coupled law, an eigenvalue of W⁻¹J with Re λ ≤ 0), the step
-falls back to pseudo-transient continuation (shifted Newton, energy-decrease
-line search for the normal law, residual decrease for the coupled law); those
-steps are listed in `Result.messages`. The residual reported is
+definite; coupled law, an eigenvalue of W⁻¹J with Re λ ≤ 0), e.g. at a jump
+into or out of contact, the step falls back: for the normal law (a potential)
+to a trust-region minimisation of the FE energy (`descend`), for the coupled
+law to pseudo-transient continuation (shifted Newton, residual decrease), each
+polished by Newton and accepted only at a locally stable state; those steps
+are listed in `Result.messages`, a step that does not converge is reported so. The residual reported is
 max_i |R_i/W_i| / p_ref (a traction relative to p_ref = E* ḡ), as in GFMD.
 
 `quadrature="gauss"` (`reference.fem.quadrature`) replaces W t(u) by the
@@ -303,14 +305,13 @@ class SurfaceProblem:
         return u, self.measure(r), max_iter, self.measure(r) <= tol
 
     def ptc(self, u, z_ind, tol, max_iter=2000):
-        """Pseudo-transient continuation: (J + σ M) du = −R, σ adapted (SER), M = W·φn/δn²."""
+        """Pseudo-transient continuation (coupled law, no potential): (J + σ M) du = −R, σ adapted (SER),
+        M = W·φn/δn², a step accepted while ‖R‖ grows less than 1.5×."""
         mass = self.wt * (self.phi_n / self.dn**2)
         sigma = 10.0
         r = self._safe_residual(u, z_ind)
         if r is None:
             return u, math.inf, 0, False
-        use_energy = not self.tangential
-        e = self.energy(u, z_ind) if use_energy else None
         for it in range(1, max_iter + 1):
             res = self.measure(r)
             if res <= tol:
@@ -323,20 +324,62 @@ class SurfaceProblem:
                 continue
             trial = u + du
             rt = self._safe_residual(trial, z_ind)
-            ok = rt is not None
-            if ok and use_energy:
-                et = self.energy(trial, z_ind)
-                ok = et <= e + 1e-12 * abs(e)
-            elif ok:
-                ok = np.linalg.norm(rt / self.wt) < 1.5 * np.linalg.norm(r / self.wt)
-            if ok:
+            if rt is not None and np.linalg.norm(rt / self.wt) < 1.5 * np.linalg.norm(r / self.wt):
                 ratio = np.linalg.norm(rt / self.wt) / max(np.linalg.norm(r / self.wt), 1e-300)
                 sigma = max(sigma * min(max(ratio, 0.1), 2.0), 1e-12)
                 u, r = trial, rt
-                if use_energy:
-                    e = et
             else:
                 sigma *= 4
+        return u, self.measure(r), max_iter, self.measure(r) <= tol
+
+    def descend(self, u, z_ind, tol, max_iter=1000):
+        """Trust-region minimisation of Π (normal law): (J + σM) du = −R, M = W·φn/δn², σ from the ratio test.
+
+        The Levenberg–Marquardt form of a trust region on the energy Π = ½uᵀSu + Σ W V(Δn), whose gradient
+        is R and Hessian J (`energy`, `jacobian`). A step is accepted iff Π does not rise (beyond
+        round-off, 1e-12 |Π|); ρ = ΔΠ / ΔΠ_model with the quadratic model ΔΠ_model = c gᵀdu + ½c² duᵀJdu,
+        duᵀJdu = −gᵀdu − σ duᵀMdu from the solve (no extra product; c ≤ 1 the increment limit 0.5 δn).
+        σ shrinks ×0.1 where ρ > 0.75 (down to 0: Newton), grows ×4 where ρ < 0.25 or the step is rejected
+        or not a descent direction (J + σM indefinite). σ ≥ e⁻² makes J + σM positive definite (the law's
+        most negative slope is −e⁻² φn/δn², S is positive definite), so the descent cannot stall at an
+        unstable equilibrium: through a jump-in or snap-off the surface follows Π downhill to the basin of
+        a stable state (`stable` checks it). Returns (u, residual, iterations, converged).
+        """
+        mass = self.wt * (self.phi_n / self.dn**2)
+        sigma = 1.0
+        r = self._safe_residual(u, z_ind)
+        if r is None:
+            return u, math.inf, 0, False
+        e = self.energy(u, z_ind)
+        for it in range(1, max_iter + 1):
+            res = self.measure(r)
+            if res <= tol:
+                return u, res, it - 1, True
+            try:
+                du = self.solve_linear(self.jacobian(u, z_ind, shift=sigma * mass if sigma > 0 else None), -r)
+            except (scipy.linalg.LinAlgError, ValueError):
+                sigma = max(4 * sigma, 1.0)
+                continue
+            slope = float(r @ du)
+            if not (np.isfinite(slope) and slope < 0):  # not a descent direction: J + σM indefinite
+                sigma = max(4 * sigma, 1.0)
+                continue
+            curvature = -slope - sigma * float(du @ (mass * du))  # duᵀ J du
+            limited = self.limit(du)
+            c = float(np.max(np.abs(limited)) / np.max(np.abs(du)))
+            model = c * slope + 0.5 * c * c * curvature
+            trial = u + limited
+            rt = self._safe_residual(trial, z_ind)
+            et = self.energy(trial, z_ind) if rt is not None else math.inf
+            if not et <= e + 1e-12 * abs(e):
+                sigma = max(4 * sigma, 1e-3)
+                continue
+            rho = (et - e) / model if model < 0 else 0.0
+            if rho > 0.75:
+                sigma = 0.1 * sigma if sigma > 1e-6 else 0.0
+            elif rho < 0.25:
+                sigma = max(4 * sigma, 1e-3)
+            u, r, e = trial, rt, et
         return u, self.measure(r), max_iter, self.measure(r) <= tol
 
     def solve_step(self, u0, z_ind, tol, fallback_from=None):
@@ -352,12 +395,19 @@ class SurfaceProblem:
                 return u2, res2, it, True, "newton (restart from previous step)"
         if not ok:
             start = fallback_from if fallback_from is not None else u0
-            u, res, it3, ok = self.ptc(start.copy(), z_ind, tol * 1e3)
+            why = "after unstable Newton root" if how == "unstable" else "Newton failed"
+            if self.tangential:  # no potential: pseudo-transient continuation on the residual
+                u, res, it3, ok = self.ptc(start.copy(), z_ind, tol * 1e3)
+                how = f"pseudo-transient continuation ({why})"
+            else:  # a potential: minimise it (trust region)
+                u, res, it3, ok = self.descend(start.copy(), z_ind, tol * 1e3)
+                how = f"trust-region energy descent ({why})"
             it += it3
             if ok:  # polish with Newton from the stable basin
                 u, res, it4, ok = self.newton(u, z_ind, tol)
                 it += it4
-            how = f"pseudo-transient continuation ({'after unstable Newton root' if how == 'unstable' else 'Newton failed'})"
+            if ok and not self.stable(u, z_ind):
+                ok, how = False, how + ", landed on an unstable equilibrium"
         return u, res, it, ok, how
 
 

@@ -5,7 +5,8 @@ interior onto the surface with a dense Schur complement S and factors a dense
 tangent every Newton iteration: for P2 at N = 4096 (8192 surface points) that is
 a 8192² matrix (0.5 GB) and ~4·10¹¹ flops per factorization.
 `SparseSurfaceProblem` solves the same equations with the same algorithms
-(Newton, backtracking, pseudo-transient continuation, inherited unchanged) but
+(Newton, backtracking, trust-region energy descent, pseudo-transient continuation,
+inherited unchanged) but
 never forms S:
 
 * unknowns: the same surface vector u (component-major, as in `SurfaceProblem`);

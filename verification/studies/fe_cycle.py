@@ -2,19 +2,19 @@
 
 Scene: `verification.scenes.cohesive_sinusoid` (a = 50 nm, L = D = 1 µm bonded layer, E = 70 GPa, ν = 0.3,
 normal CZ law, δn = 1 nm) made stickier, φn* = 0.15 (the seed's), and driven along the closed
-`loading.path` = [−2, 30, −10] nm in 32 + 80 steps (Δδ = 1 nm loading, 0.5 nm unloading) under displacement
-control; the unloading branch snaps off (one jump-out) before the path's end. The path starts in contact
-(δ = −2 nm: the cohesive tail has already pulled the layer in) because the FE's Newton solve does not find the
-jump-in under displacement control from far out (δ = −10 nm: pseudo-transient continuation fails at the jump,
-step δ = −5 nm), so the path is not closed and W is the path integral ∫ p̄ dδ, the same for both methods.
+`loading.path` = [−10, 30, −10] nm in 40 + 80 steps (Δδ = 1 nm loading, 0.5 nm unloading) under displacement
+control, from out of contact (δ0 = 10 nm = 10 δn): the loading branch jumps into contact (one jump-in), the
+unloading branch snaps off (one jump-out) before the path's end, so the loop is closed and W = ∮ p̄ dδ. The FE
+passes both jumps with its trust-region energy descent (`reference.fem.solver.SurfaceProblem.descend`).
 
 Each method its own law evaluation, solver and observables: GFMD (FIRE, scene tolerance) and `reference.fem`
 P2 (Newton), sharing only the scene; each run's cycle observables from its own curve with `contact.cycle`.
 Differences (GFMD the reference):
 * "p": max over the cycle's steps |p̄_FE − p̄_GFMD| / E* (E* = E/(1 − ν²));
 * "pull-off": |F_FE − F_GFMD| / |F_GFMD| of the most tensile p̄ on unloading;
-* "hysteresis": |W_FE − W_GFMD| / W_GFMD, W = ∫ p̄ dδ along the path (trapezoid rule);
-* "snap-off δ": |δ_FE − δ_GFMD| / Δδ_unloading (in unloading steps; 0 = the same step).
+* "hysteresis": |W_FE − W_GFMD| / W_GFMD, W = ∮ p̄ dδ around the closed path (trapezoid rule);
+* "snap-off δ": |δ_FE − δ_GFMD| / Δδ_unloading (in unloading steps; 0 = the same step);
+* "jump-in δ": |δ_FE − δ_GFMD| / Δδ_loading of the jump into contact (in loading steps).
 Both discretizations converge to the same continuum problem, so the differences fall with N; observed orders
 between neighbouring N are stored. At the jump the branch is followed to the step only: the δ of snap-off is
 known to one step (0.5 nm) in each method, so a difference of one step near the jump would show as a large p̄
@@ -42,11 +42,11 @@ from verification.scenes import cohesive_sinusoid
 
 NAME = "fe_cycle"
 PHI_N_STAR = 0.15
-PATH = (-2e-9, 30e-9, -10e-9)
-STEPS = (32, 80)
+PATH = (-10e-9, 30e-9, -10e-9)
+STEPS = (40, 80)
 NODES = (64, 128, 256)
 CI_NODES = 128
-METRICS = ("p", "pull-off", "hysteresis", "snap-off δ")
+METRICS = ("p", "pull-off", "hysteresis", "snap-off δ", "jump-in δ")
 
 
 def scene(nodes):
@@ -60,7 +60,10 @@ def observables(result, s):
     (row,) = cyc.cycle_observables(d, p, a, branch, cycle)
     if row["snap_off_delta"] is None:
         raise AssertionError(f"no snap-off on unloading: {row}")
-    return p, row
+    ins = [e for e in row["events"] if e["kind"] == "jump-in" and e["branch"] == "loading"]
+    if len(ins) != 1:
+        raise AssertionError(f"expected one jump-in on loading: {row['events']}")
+    return p, row, ins[0]
 
 
 def measure(nodes):
@@ -71,15 +74,18 @@ def measure(nodes):
     for label, r in (("FE", rf), ("GFMD", rg)):
         if not r.all_converged:
             raise AssertionError(f"{label} N = {nodes}: not converged: {r.messages[:3]}")
-    (pf, of), (pg, og) = observables(rf, s), observables(rg, s)
+    (pf, of, jf), (pg, og, jg) = observables(rf, s), observables(rg, s)
     e_star = s.material.contact_modulus
     du = abs(PATH[2] - PATH[1]) / STEPS[1]
+    dl = abs(PATH[1] - PATH[0]) / STEPS[0]
     diffs = {"p": float(np.max(np.abs(pf - pg))) / e_star,
              "pull-off": abs(of["pull_off_pressure"] - og["pull_off_pressure"]) / abs(og["pull_off_pressure"]),
              "hysteresis": abs(of["hysteresis"] - og["hysteresis"]) / og["hysteresis"],
-             "snap-off δ": abs(of["snap_off_delta"] - og["snap_off_delta"]) / du}
+             "snap-off δ": abs(of["snap_off_delta"] - og["snap_off_delta"]) / du,
+             "jump-in δ": abs(jf["delta_after"] - jg["delta_after"]) / dl}
     keep = ("pull_off_pressure", "pull_off_delta", "snap_off_delta", "hysteresis")
-    numbers = {"fe": {k: of[k] for k in keep}, "gfmd": {k: og[k] for k in keep},
+    numbers = {"fe": {**{k: of[k] for k in keep}, "jump_in_delta": jf["delta_after"]},
+               "gfmd": {**{k: og[k] for k in keep}, "jump_in_delta": jg["delta_after"]},
                "jumps": {"fe": [(e["kind"], e["step"]) for e in of["events"]],
                          "gfmd": [(e["kind"], e["step"]) for e in og["events"]]}}
     return diffs, numbers, time.perf_counter() - t0

@@ -2,7 +2,7 @@
 
 Scene: `verification.scenes.jump_in_sinusoid` (the cohesive sinusoid at φn* = 0.15, δ0 = 10 nm ≥ 8 δn,
 δ from −10 nm to 40 nm in 25 steps). The FE Newton solve fails at the jump and falls back to
-pseudo-transient continuation (energy descent); GFMD (FIRE) relaxes dynamically. Differences as in
+its trust-region energy descent (`SurfaceProblem.descend`); GFMD (FIRE) relaxes dynamically. Differences as in
 `verification.runs.fe_vs_gfmd` (t_n relative L2 max over the field steps, p(δ) max |Δp|/max |p|,
 max |Δa_rel|), and the FE steps that needed the fallback.
 

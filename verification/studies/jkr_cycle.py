@@ -69,24 +69,55 @@ def _p(a):
     return J.mean_pressure(a, H0, LENGTH, js.e_star(), js.work())
 
 
+def _delta(a, compliance=0.0):
+    """Indenter displacement δ (m) on the attached branch at half-width a: h0 − ḡ(a) + C p̄(a), C the
+    mean-mode compliance of the body (0 for the half-plane: its mean displacement is clamped)."""
+    return H0 - _g(a) + compliance * _p(a)
+
+
 @functools.cache
-def analytic():
-    """Johnson's displacement-controlled cycle: {a_off, delta_off, a_in, pull_off, hysteresis, p_star} (SI)."""
-    r = minimize_scalar(lambda a: -_g(a), bounds=(1e-6 * LENGTH, 0.3 * LENGTH), method="bounded",
+def analytic(compliance=0.0):
+    """Johnson's displacement-controlled cycle: {a_off, delta_off, a_in, pull_off, hysteresis, p_star} (SI).
+
+    compliance: C (m/Pa), the mean displacement per mean pressure of the body (a layer's uniaxial strain,
+    `layer_compliance`), in series with Johnson's half-plane response of the non-mean modes: δ(a) =
+    h0 − ḡ(a) + C p̄(a); snap-off at the minimum of δ(a), jump-in where δ(a) = 0 (the first touch is at
+    δ = 0 with p̄ = 0), W = −∫_{a_off}^{a_in} p̄(a) δ'(a) da."""
+    r = minimize_scalar(lambda a: _delta(a, compliance), bounds=(1e-6 * LENGTH, 0.3 * LENGTH), method="bounded",
                         options={"xatol": 1e-15})
     a_off = float(r.x)
-    a_in = brentq(lambda a: _g(a) - H0, a_off, 0.49 * LENGTH, xtol=1e-16)
-    a_max = branch_half_width(TOP, a_off)
+    a_in = brentq(lambda a: _delta(a, compliance), a_off, _branch_end(a_off, compliance, 0.49), xtol=1e-16)
+    a_max = branch_half_width(TOP, a_off, compliance)
     po = minimize_scalar(_p, bounds=(a_off, a_max), method="bounded", options={"xatol": 1e-15})
     eps = 1e-7 * LENGTH
-    w = quad(lambda a: _p(a) * (_g(a + eps) - _g(a - eps)) / (2 * eps), a_off, a_in, limit=200)[0]
-    return {"a_off": a_off, "delta_off": H0 - _g(a_off), "a_in": a_in, "pull_off": float(po.fun),
+    w = quad(lambda a: -_p(a) * (_delta(a + eps, compliance) - _delta(a - eps, compliance)) / (2 * eps),
+             a_off, a_in, limit=200)[0]
+    return {"a_off": a_off, "delta_off": _delta(a_off, compliance), "a_in": a_in, "pull_off": float(po.fun),
             "hysteresis": w, "p_star": W.full_contact_pressure(H0, LENGTH, js.e_star())}
 
 
-def branch_half_width(delta, a_off):
-    """a on the attached branch (a > a_off) with h0 − ḡ(a) = δ (m)."""
-    return brentq(lambda a: H0 - _g(a) - delta, a_off, 0.4999 * LENGTH, xtol=1e-16)
+def layer_compliance(material):
+    """C = D (1 + ν)(1 − 2ν) / (E (1 − ν)) (m/Pa): the mean surface displacement per mean pressure of a
+    bonded periodic layer of depth D (uniaxial strain, plane strain); a scene's `material`."""
+    nu = material.poisson_ratio
+    return material.thickness * (1 + nu) * (1 - 2 * nu) / (material.youngs_modulus * (1 - nu))
+
+
+def branch_half_width(delta, a_off, compliance=0.0):
+    """a on the attached branch (a > a_off) with δ(a) = δ (m)."""
+    return brentq(lambda a: _delta(a, compliance) - delta, a_off, _branch_end(a_off, compliance, 0.4999), xtol=1e-16)
+
+
+@functools.cache
+def _branch_end(a_off, compliance, fraction):
+    """Upper bracket of the attached branch: `fraction`·λ for the half-plane; with a compliance C > 0 the a
+    of the largest δ(a) below 0.49 λ (δ(a) rises from a_off to there; Johnson's p̄(a) falls near full
+    contact, where C p̄ would bend δ back)."""
+    if compliance == 0.0:
+        return fraction * LENGTH
+    r = minimize_scalar(lambda a: -_delta(a, compliance), bounds=(a_off, 0.49 * LENGTH), method="bounded",
+                        options={"xatol": 1e-15})
+    return float(r.x)
 
 
 def scene(nodes, d_rel):
@@ -97,9 +128,21 @@ def scene(nodes, d_rel):
 
 def measure(nodes, d_rel):
     """(errors {metric}, numbers {GFMD observables}, curve (δ/h0, p̄/p*, branch), δn, wall s)."""
-    ref = analytic()
     s = scene(nodes, d_rel)
     result, wall = ac.run(s)
+    errors, numbers, curve = cycle_errors(result, s, d_rel)
+    p_off, half, wall_f = force_pull_off(nodes, d_rel)
+    ref, ps = analytic(), analytic()["p_star"]
+    errors["pull-off (force control)"] = abs(p_off - ref["pull_off"]) / ps
+    numbers["force_pull_off_over_p_star"], numbers["force_pull_off_half_width"] = p_off / ps, half / ps
+    return errors, numbers, curve, js.delta_n(d_rel), wall + wall_f
+
+
+def cycle_errors(result, s, d_rel, compliance=0.0):
+    """(errors {the displacement-controlled metrics}, numbers, curve (δ/h0, p̄/p*, branch)) of one method's
+    run of `scene`-like `s` against Johnson's cycle (with the body's mean compliance C, `analytic`), from the
+    run's own curve and `contact.cycle`. The jump-in error is |δ_jump-in − 0| / h0."""
+    ref = analytic(compliance)
     d, p, a = (np.asarray(result.curve[c], float) for c in ("delta", "p", "a_rel"))
     branch, cycle = step_branches(s.loading)
     (row,) = cyc.cycle_observables(d, p, a, branch, cycle)
@@ -110,9 +153,9 @@ def measure(nodes, d_rel):
     k_in, k_out = ins[0]["step"], outs[0]["step"]
     ps = ref["p_star"]
     branch_err = {}
-    for name, steps in (("loading branch", range(k_in, STEPS[0] + 1)), ("unloading branch",
-                                                                       range(STEPS[0], k_out))):
-        errs = [abs(p[k] - _p(branch_half_width(d[k], ref["a_off"]))) / ps for k in steps if d[k] >= ref["delta_off"]]
+    top = s.loading.segment_steps[0]
+    for name, steps in (("loading branch", range(k_in, top + 1)), ("unloading branch", range(top, k_out))):
+        errs = [abs(p[k] - _p(branch_half_width(d[k], ref["a_off"], compliance))) / ps for k in steps if d[k] >= ref["delta_off"]]
         branch_err[name] = max(errs)
     numbers = {"pull_off_over_p_star": row["pull_off_pressure"] / ps, "snap_off_delta_over_h0": row["snap_off_delta"] / H0,
                "jump_in_delta_over_h0": ins[0]["delta_after"] / H0, "hysteresis_J_per_m2": row["hysteresis"]}
@@ -120,11 +163,7 @@ def measure(nodes, d_rel):
               "snap-off δ": abs(row["snap_off_delta"] - ref["delta_off"]) / H0,
               "jump-in δ": abs(ins[0]["delta_after"]) / H0,
               "hysteresis": abs(row["hysteresis"] - ref["hysteresis"]) / ref["hysteresis"], **branch_err}
-    p_off, half, wall_f = force_pull_off(nodes, d_rel)
-    errors["pull-off (force control)"] = abs(p_off - ref["pull_off"]) / ps
-    numbers["force_pull_off_over_p_star"], numbers["force_pull_off_half_width"] = p_off / ps, half / ps
-    curve = (list(d / H0), list(p / ps), list(branch))
-    return errors, numbers, curve, js.delta_n(d_rel), wall + wall_f
+    return errors, numbers, (list(d / H0), list(p / ps), list(branch))
 
 
 def force_pull_off(nodes, d_rel):
