@@ -8,9 +8,12 @@ Units: SI (see `contact.conventions`). Each load step minimises the energy per c
 GFMD's node collocation), i.e. solves R(u) = S u − W T_n(Δn) = 0 with the tangent
 J = S + diag(W dT_n/dΔn). Newton with a dense Cholesky of J; where J is not positive definite
 (the law's softening branch) the step is taken with J + σ diag(W φn/δn²), σ raised until the
-Cholesky succeeds (so the direction descends Π and a converged point is a stable minimum); every
-increment is limited to 0.5 δn per node, then backtracking (Armijo on Π, or a decrease of ‖R/W‖
-where Π is flat to round-off). Warm start: the previous step's u. The residual reported is
+Cholesky succeeds (so the direction descends Π and a converged point is a stable minimum); the
+increment is scaled so that no node moves more than 0.5 max(δn, Δn_i) (a node cannot jump across
+the law's well at Δn ~ δn in one iteration; nodes far out move freely), then backtracking (Armijo on
+Π, or a decrease of ‖R/W‖ where Π is flat to round-off). Warm start: the previous step's u moved
+along the path's tangent du/dU = −J⁻¹ W dT_n/dΔn (`path_tangent`, first order in the step, the
+same basin), kept if its energy is not above the plain previous u's. The residual reported is
 max_i |R_i/W_i| / p_ref (a traction relative to p_ref = E* ḡ), as in GFMD.
 """
 
@@ -53,8 +56,28 @@ class CohesiveSurface:
         else:
             raise np.linalg.LinAlgError("no positive definite shifted tangent")
         du = -scipy.linalg.cho_solve(chol, r)
-        worst = np.max(np.abs(du)) / (0.5 * self.law.delta_n)
+        allowed = 0.5 * np.maximum(self.law.delta_n, z_ind - u)
+        worst = np.max(np.abs(du) / allowed)
         return (du / worst if worst > 1 else du), shifted
+
+    def path_tangent(self, u, z_ind):
+        """du/dU at an equilibrium u (z_ind = z0 − U): J du/dU = −W dT_n/dΔn; None if J is not positive definite."""
+        slope = self.w * self.law.slope(z_ind - u)
+        try:
+            chol = scipy.linalg.cho_factor(self.S + np.diag(slope))
+        except np.linalg.LinAlgError:
+            return None
+        return -scipy.linalg.cho_solve(chol, slope)
+
+    def warm_start(self, u, tangent, step, z_ind):
+        """u + step·tangent if its energy at the new z_ind is not above u's (and it is in the law's range), else u."""
+        if tangent is None:
+            return u
+        guess = u + step * tangent
+        try:
+            return guess if self.energy(guess, z_ind) <= self.energy(u, z_ind) else u
+        except GapRangeError:
+            return u
 
     def solve(self, u, z_ind, tol, max_iter=200):
         """(u, residual, iterations, converged) from the guess u."""

@@ -97,11 +97,14 @@ def _solve_cell(heights, length_x, length_y, youngs_modulus, poisson_ratio, thic
     u = np.zeros(h.size)
     mu = np.zeros(h.size)
     rows, fields, states, times, messages = [], [], [], [], []
+    tangent, previous = None, None
     for k, U in enumerate(steps):
         t1 = time.perf_counter()
         z_ind = z0 - U
         if law == "cohesive":
-            u, res, its, ok = problem.solve(u, z_ind, tolerance)
+            start = problem.warm_start(u, tangent, U - previous, z_ind) if previous is not None else u
+            u, res, its, ok = problem.solve(start, z_ind, tolerance)
+            tangent, previous = (problem.path_tangent(u, z_ind), U) if ok else (None, None)
             t_z = problem.law.traction(z_ind - u)
         else:
             u, mu, its, ok, how = problem.solve(z_ind, u, mu, tolerance)
