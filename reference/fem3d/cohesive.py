@@ -9,8 +9,8 @@ GFMD's node collocation), i.e. solves R(u) = S u − W T_n(Δn) = 0 with the tan
 J = S + diag(W dT_n/dΔn). Newton with a dense Cholesky of J; where J is not positive definite
 (the law's softening branch) the step is taken with J + σ diag(W φn/δn²), σ raised until the
 Cholesky succeeds (so the direction descends Π and a converged point is a stable minimum); the
-increment is scaled so that no node moves more than 0.5 max(δn, Δn_i) (a node cannot jump across
-the law's well at Δn ~ δn in one iteration; nodes far out move freely), then backtracking (Armijo on
+increment is scaled so that no node moves more than 0.5 max(δn, |Δn_i|) (a node cannot jump across
+the law's well at Δn ~ δn in one iteration; nodes far out or deep in move freely), then backtracking (Armijo on
 Π, or a decrease of ‖R/W‖ where Π is flat to round-off). Warm start: the previous step's u moved
 along the path's tangent du/dU = −J⁻¹ W dT_n/dΔn (`path_tangent`, first order in the step, the
 same basin), kept if its energy is not above the plain previous u's. The residual reported is
@@ -56,7 +56,7 @@ class CohesiveSurface:
         else:
             raise np.linalg.LinAlgError("no positive definite shifted tangent")
         du = -scipy.linalg.cho_solve(chol, r)
-        allowed = 0.5 * np.maximum(self.law.delta_n, z_ind - u)
+        allowed = 0.5 * np.maximum(self.law.delta_n, np.abs(z_ind - u))
         worst = np.max(np.abs(du) / allowed)
         return (du / worst if worst > 1 else du), shifted
 
