@@ -42,7 +42,8 @@ def test_flat_punch_compresses_the_layer_by_m_over_d():
     assert np.allclose(out.curve["reaction_p"], out.curve["p"], rtol=1e-10, atol=1e-16)
 
 
-@pytest.mark.parametrize("n, mode", [(16, (1, 0)), (16, (1, 1)), (32, (1, 1))])
+@pytest.mark.parametrize("n, mode", [(16, (1, 0)), (16, (1, 1)), (32, (1, 1)),
+                                     pytest.param(64, (1, 1), marks=pytest.mark.slow)])
 def test_hard_wall_sinusoid_in_full_contact(n, mode):
     """h = A cos(2πx/L) (the 1-D sinusoid embedded) or A cos(2πx/L) cos(2πy/L) (egg-box, a sum of the
     (±1, ±1) modes) pressed into full contact: u_z = z_ind = h + A − U, so t_z = −(M/D)(U − A) + k h
@@ -173,3 +174,21 @@ def test_bad_input_names_the_key(kwargs, key):
     args.update(kwargs)
     with pytest.raises(ValueError, match=key):
         solve_cell(**args)
+
+
+def test_from_scene_maps_the_keys():
+    """The adapter reads surface.nodes_y/length_y (SPEC2D), material, interface and loading, and refuses a
+    1+1-D scene naming surface.nodes_y."""
+    from types import SimpleNamespace as NS
+
+    interface = NS(law="hard-wall", phi_n_star=0.1, length_normal=1e-3, contact_rule="traction-tolerance",
+                   contact_tolerance=1e-3, contact_gap=1.0)
+    material = NS(youngs_modulus=E, poisson_ratio=NU, thickness=L, half_plane=False)
+    scene = NS(surface=NS(nodes=4, nodes_y=4, length=L, length_y=L), material=material, interface=interface,
+               loading=NS(initial_separation=0.0))
+    from reference.fem3d import from_scene
+
+    out = from_scene(scene, np.zeros((4, 4)), [1e-3], layers=3)
+    assert out.curve["p"][0] == pytest.approx(M * 1e-3 / L, rel=1e-10)
+    with pytest.raises(ValueError, match="nodes_y"):
+        from_scene(NS(**{**vars(scene), "surface": NS(nodes=4, length=L)}), np.zeros((4, 4)), [0.0])
