@@ -1,12 +1,11 @@
-"""Hexahedral mesh of one periodic Lx × Ly cell of a bonded layer, graded in depth (numpy + skfem).
+"""Depth grading of the hexahedral mesh of one periodic Lx × Ly cell of a bonded layer (numpy).
 
-Units: SI (see `contact.conventions`). The cell is 0 ≤ x ≤ Lx, 0 ≤ y ≤ Ly, −D ≤ z ≤ 0. The top
-layer of vertices is the scene's Nx × Ny grid, node (i, j) at (i Lx/Nx, j Ly/Ny, 0) (SPEC2D),
-plus the periodic images x = Lx and y = Ly (tied to x = 0, y = 0 by `reference.fem3d.assembly`).
-The lateral spacing is uniform at every depth, so the mesh is invariant under a shift by one node
-in x or y (the surface stiffness is doubly circulant, which `assembly.Cell3D` uses). In z the
-layer thicknesses grow geometrically from `top` (default: the finer lateral spacing) so that
-`layers` of them fill D exactly (`graded_depths`).
+Units: SI (see `contact.conventions`). The cell is 0 ≤ x ≤ Lx, 0 ≤ y ≤ Ly, −D ≤ z ≤ 0; the mesh is
+`skfem.MeshHex1.init_tensor` on x_i = i Lx/Nx (i = 0 … Nx), y_j = j Ly/Ny and the z levels below
+(`reference.fem3d.assembly.periodic_cell`): the top vertices are the scene's Nx × Ny grid, node (i, j)
+at (i Lx/Nx, j Ly/Ny, 0) (SPEC2D), plus the periodic images x = Lx, y = Ly. The lateral spacing is
+uniform at every depth, so the mesh is invariant under a shift by one node in x or y. In z the layer
+thicknesses grow geometrically from `top` so that `layers` of them fill D exactly (`graded_depths`).
 """
 
 from __future__ import annotations
@@ -41,37 +40,3 @@ def graded_depths(depth, layers=None, top=None, growth=DEFAULT_GROWTH):
     z = -np.concatenate([[0.0], np.cumsum(thickness)])
     z[-1] = -depth
     return z
-
-
-def box_mesh(nodes_x, nodes_y, length_x, length_y, depth, layers=None, top=None):
-    """(`skfem.MeshHex1`, top (Nx, Ny) vertex indices of the scene's nodes, z levels).
-
-    The vertices of `skfem.MeshHex1.init_tensor` on x_i = i Lx/Nx (i = 0 … Nx), y_j = j Ly/Ny,
-    z from `graded_depths(D, layers, top)`; top defaults to min(Lx/Nx, Ly/Ny).
-    """
-    from skfem import MeshHex1
-
-    for key, n in (("nodes_x", nodes_x), ("nodes_y", nodes_y)):
-        if int(n) != n or n < 2:
-            raise ValueError(f"{key} = {n!r}: the 3-D FE needs at least 2 surface nodes per direction")
-    for key, v in (("length_x", length_x), ("length_y", length_y)):
-        if not (np.isfinite(v) and v > 0):
-            raise ValueError(f"{key} = {v!r}: must be a finite positive period (m)")
-    nodes_x, nodes_y = int(nodes_x), int(nodes_y)
-    if top is None:
-        top = min(length_x / nodes_x, length_y / nodes_y)
-    x = np.linspace(0.0, length_x, nodes_x + 1)
-    y = np.linspace(0.0, length_y, nodes_y + 1)
-    z = graded_depths(depth, layers, top)[::-1]  # ascending for init_tensor
-    mesh = MeshHex1.init_tensor(x, y, z)
-    p = mesh.p
-    tol = 1e-9 * min(length_x / nodes_x, length_y / nodes_y, top)
-    on_top = np.flatnonzero(np.abs(p[2]) < tol)
-    i = np.rint(p[0, on_top] / (length_x / nodes_x)).astype(int)
-    j = np.rint(p[1, on_top] / (length_y / nodes_y)).astype(int)
-    keep = (i < nodes_x) & (j < nodes_y)
-    grid = -np.ones((nodes_x, nodes_y), int)
-    grid[i[keep], j[keep]] = on_top[keep]
-    if np.any(grid < 0):
-        raise RuntimeError("top mesh vertices do not cover the Nx × Ny node grid")
-    return mesh, grid, z[::-1]
