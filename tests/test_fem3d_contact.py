@@ -192,3 +192,19 @@ def test_from_scene_maps_the_keys():
     assert out.curve["p"][0] == pytest.approx(M * 1e-3 / L, rel=1e-10)
     with pytest.raises(ValueError, match="nodes_y"):
         from_scene(NS(**{**vars(scene), "surface": NS(nodes=4, length=L)}), np.zeros((4, 4)), [0.0])
+
+
+def test_cohesive_steps_end_at_stable_minima():
+    """A sticky egg-box loaded and unloaded: every converged step is a local minimum of Π (no instability
+    message), and the warm starts follow the path: unloading stays on the adhesive branch, a lower (more
+    tensile) p than loading at the same U (hysteresis) with at least the loading's contact."""
+    n, amp = 8, 2e-3
+    i = np.arange(n) / n
+    h = amp * np.cos(2 * np.pi * i)[:, None] * np.cos(2 * np.pi * i)[None, :]
+    steps = [0.0, 2e-3, 4e-3, 2e-3, 0.0, -0.5e-3]
+    out = solve_cell(h, L, L, E, NU, L, steps, law="cohesive", phi_n_star=0.02, length_normal=2e-4)
+    assert out.curve["converged"].all()
+    assert not [m for m in out.messages if "unstable" in m]
+    p, a = out.curve["p"], out.curve["a_rel"]
+    assert p[3] < p[1] and p[4] < p[0]
+    assert a[3] >= a[1] and a[4] >= a[0]

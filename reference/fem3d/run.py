@@ -105,6 +105,8 @@ def _solve_cell(heights, length_x, length_y, youngs_modulus, poisson_ratio, thic
             start = problem.warm_start(u, tangent, U - previous, z_ind) if previous is not None else u
             u, res, its, ok = problem.solve(start, z_ind, tolerance)
             tangent, previous = (problem.path_tangent(u, z_ind), U) if ok else (None, None)
+            if ok and tangent is None:
+                messages.append(f"step {k}: equilibrium with a tangent that is not positive definite (unstable)")
             t_z = problem.law.traction(z_ind - u)
         else:
             u, mu, its, ok, how = problem.solve(z_ind, u, mu, tolerance)
