@@ -13,11 +13,12 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-LAYER = {"contact": "core", "gfmd": "gfmd", "reference.fem": "fem", "reference.analytic": "analytic",
+LAYER = {"contact": "core", "gfmd": "gfmd", "reference.fem": "fem", "reference.fem3d": "fem3d",
+         "reference.analytic": "analytic",
          "workbench": "app", "gfmd_contact": "app"}
 #: which groups each group may import (besides itself)
-ALLOWED = {"core": set(), "gfmd": {"core"}, "fem": {"core"}, "analytic": set(),
-           "app": {"core", "gfmd", "fem", "analytic"}}
+ALLOWED = {"core": set(), "gfmd": {"core"}, "fem": {"core"}, "fem3d": {"core"}, "analytic": set(),
+           "app": {"core", "gfmd", "fem", "fem3d", "analytic"}}
 
 
 def group(module):
@@ -74,7 +75,8 @@ def test_layers_import_downward_only():
     assert not wrong, "\n".join(wrong)
 
 
-@pytest.mark.parametrize("package", ["contact", "gfmd", "reference.fem", "workbench", "gfmd_contact"])
+@pytest.mark.parametrize("package", ["contact", "gfmd", "reference.fem", "reference.fem3d", "workbench",
+                                     "gfmd_contact"])
 def test_no_import_circles(package):
     modules = known_modules()
     graph = {}
@@ -128,8 +130,8 @@ FE_MAY_IMPORT = {"contact", "contact.scene", "contact.surfaces", "contact.model"
                  "contact.errors", "contact.user_law"}
 
 
-def fe_core_imports(root=ROOT):
-    """{FE module: core modules it imports that FE_MAY_IMPORT does not list}."""
+def fe_core_imports(root=ROOT, package="fem"):
+    """{FE module: core modules it imports that FE_MAY_IMPORT does not list} for reference/<package>."""
     modules = known_modules() | {"contact"}
 
     def owner(name):  # contact.ramp.StepSolution → contact.ramp
@@ -138,15 +140,17 @@ def fe_core_imports(root=ROOT):
         return name
 
     wrong = {}
-    for path in sorted((root / "reference" / "fem").rglob("*.py")):
+    for path in sorted((root / "reference" / package).rglob("*.py")):
         bad = {owner(t) for t in imports(path) if group(t) == "core"} - FE_MAY_IMPORT
         if bad:
             wrong[module_name(path)] = sorted(bad)
     return wrong
 
 
-def test_fe_reference_shares_only_its_inputs_with_gfmd():
-    wrong = fe_core_imports()
+@pytest.mark.parametrize("package", ["fem", "fem3d"])
+def test_fe_reference_shares_only_its_inputs_with_gfmd(package):
+    """Both FE references (1+1-D reference.fem, 3-D reference.fem3d) import from the core only FE_MAY_IMPORT."""
+    wrong = fe_core_imports(package=package)
     assert not wrong, "reference.fem imports code it checks: " + "; ".join(f"{m}: {', '.join(t)}"
                                                                          for m, t in wrong.items())
 
@@ -154,11 +158,12 @@ def test_fe_reference_shares_only_its_inputs_with_gfmd():
 @pytest.mark.parametrize("source", ["from contact import laws\n", "from contact.observables import rms_gradient\n",
                                     "def f():\n    from contact.loading import indenter_surface\n",
                                     "import contact.kernels\n"])
-def test_the_fe_check_sees_a_violation(source):
-    fake = ROOT / "reference" / "fem" / "_probe_for_test.py"
+@pytest.mark.parametrize("package", ["fem", "fem3d"])
+def test_the_fe_check_sees_a_violation(source, package):
+    fake = ROOT / "reference" / package / "_probe_for_test.py"
     fake.write_text(source)
     try:
-        assert "reference.fem._probe_for_test" in fe_core_imports()
+        assert f"reference.{package}._probe_for_test" in fe_core_imports(package=package)
     finally:
         fake.unlink()
 
