@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.fft
+import scipy.sparse
 
 from .fft import Fft
 
@@ -175,6 +176,25 @@ class Problem:
         """The dual's gradient, the gap Δ = z_ind + G P (m) for nodal wall pressures P ≥ 0 (Pa), normal only."""
         g = Elastic(self.model, 0.0, 0.0).inv_mass[0]
         return self.z_ind + scipy.fft.irfft(np.real(g) * scipy.fft.rfft(pressure), n=self.model.nodes)
+
+
+def band_stiffness(k_kernel, act, n, half_width):
+    """K_AA truncated to |i − j| ≤ half_width (CSR, Pa/m): the dual hard-wall CGs' preconditioner.
+
+    k_kernel: real-space kernel of K (K_ij = k_kernel[(i − j) mod n]); act: sorted node indices.
+    The band counts |i − j| along the index, not around the period. Rows of K sum to K(q = 0) ≥ 0 with
+    negative off-diagonal entries, so a row that loses an entry (A short of all nodes, or the band
+    cut) is strictly diagonally dominant: the truncation is symmetric positive definite.
+    """
+    lo = np.searchsorted(act, act - half_width)
+    hi = np.searchsorted(act, act + half_width, side="right")
+    counts = hi - lo
+    indptr = np.zeros(act.size + 1, np.int64)
+    np.cumsum(counts, out=indptr[1:])
+    cols = np.repeat(lo - indptr[:-1], counts) + np.arange(indptr[-1])
+    rows = np.repeat(np.arange(act.size), counts)
+    data = k_kernel[np.abs(act[rows] - act[cols])]  # K_ij = k(|i − j|): exactly symmetric
+    return scipy.sparse.csr_matrix((data, cols, indptr), shape=(act.size, act.size))
 
 
 def mean_shift(u_z, z_ind, pinned=None):
