@@ -82,9 +82,8 @@ class Link:
 _VERLET = (("method", "verlet"),)
 #: {(law kind, key): chain}: the law kinds of `gfmd.problem.Problem.kind`, the keys of `chain_key`
 CHAINS = {
-    ("hard-wall", "cg-2level"): (Link("hard_wall_two_level_cg"),
-                                 Link("hard_wall_primal_cg", starts=("end",), budget="left")),
-    ("hard-wall", "cg"): (Link("hard_wall_dual_cg"), Link("hard_wall_primal_cg", starts=("end",), budget="left")),
+    ("hard-wall", "cg"): (Link("hard_wall_two_level_cg"), Link("hard_wall_primal_cg", starts=("end",), budget="left")),
+    ("hard-wall", "cg-band"): (Link("hard_wall_dual_cg"), Link("hard_wall_primal_cg", starts=("end",), budget="left")),
     ("hard-wall", "cg-primal"): (Link("hard_wall_primal_cg"),),
     ("hard-wall", "fire"): (Link("hard_wall_dynamics"),),
     ("hard-wall", "verlet"): (Link("hard_wall_dynamics"),),
@@ -125,7 +124,7 @@ def chain_key(problem, settings):
                                  "number of nodes ≥ 0 (0: the dual CG with the band preconditioner alone)")
             if settings.dual_contact_limit == 0:
                 return kind, "cg-primal"
-            return kind, "cg-2level" if settings.dual_coarse_block > 0 else "cg"
+            return kind, "cg" if settings.dual_coarse_block > 0 else "cg-band"
         if settings.hard_wall not in ("cg", "fire"):
             raise ValueError(f"Settings.hard_wall = {settings.hard_wall!r}: expected 'cg' or 'fire'")
         return kind, "verlet" if settings.method == "verlet" else "fire"
