@@ -7,23 +7,27 @@ h_rms = 10 nm, ν = 0.45, L = 10.24 µm, L/λr = 8, λs = 2.5 nm, so λr/λs = 5
 (--quick: up to 2^16); below N = 2^14, where λs = 2.5 nm would be under 4 nodes, λs = 4 L/N (as
 benchmarks/bench_gfmd.py). N = 2^17 is the seed's full scale (32 nodes per λs). Realization 0 (seed 1).
 
-Two ramps from first touch, warm-started as `contact.ramp` (the last state, from the third step on the
+Ramps from first touch, warm-started as `contact.ramp` (the last state, from the third step on the
 extrapolation 2u_k − u_{k−1}), tolerance 1e-8 (the studies'):
 * 1.5 nm steps: δ = 1.5 … 12 nm (8 steps, all counted);
-* the Fig. 3 step, 0.1 nm: δ to 7.5 nm in 1.5 nm steps (not counted), two 0.1 nm steps (not counted),
-  then 8 steps of 0.1 nm (counted).
+* the Fig. 3 step, 0.1 nm, in three windows: δ to 7.5 nm, 19.5 nm (the end of Fig. 3's ramp, δ = 20 nm) and
+  28.5 nm (a_rel ≈ 6 %, beyond Fig. 3: where the coarse level's cost gate,
+  `gfmd.algorithms.hard_wall_two_level_cg.COARSE_ENTRIES_PER_NODE`, leaves the band alone) in 1.5 nm steps
+  (not counted), two 0.1 nm steps (not counted), then 8 steps of 0.1 nm (counted).
 Per solver variant and N: iterations per step (median, max), FFT pairs per step (median, max; counted by
 the solvers: deterministic, independent of load), the max KKT residual over the counted steps (the solver's
 residual: max |net nodal force| / p_ref, pulling wall nodes included) and the worst penetration / h_rms
 (both recomputed here from the returned fields, independently of the solver's own check), and s/step
 (median; measured on a shared, loaded machine: indicative only).
 
-Writes benchmarks/results/bench_hardwall_scaling{,_quick}.md.
+Writes benchmarks/results/bench_hardwall_scaling{,_quick}.md and .csv (every counted step: iterations, FFT
+pairs, KKT residual, penetration, a_rel, converged, algorithm, s).
 """
 
 from __future__ import annotations
 
 import argparse
+import csv
 import os
 import sys
 import time
@@ -48,6 +52,8 @@ from gfmd.settings import Settings  # noqa: E402
 
 TOL = 1e-8  # the studies' tolerance (seed_base.toml)
 BIG, SMALL = 1.5e-9, 0.1e-9
+#: the .csv's columns per counted step (res: the KKT residual, max |net nodal force| / p_ref)
+STEP_COLUMNS = ("it", "pairs", "res", "pen", "a", "conv", "method", "s")
 #: the solvers compared: label → Settings (the hard wall's chain is `gfmd.chains.chain_key`'s choice)
 VARIANTS = {"dual CG, band (before)": Settings(tolerance=TOL, dual_coarse_block=0),
             "two-level dual CG (now)": Settings(tolerance=TOL)}
@@ -111,9 +117,12 @@ def main(argv=None):
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results"))
     args = ap.parse_args(argv)
     sizes = args.sizes or list(range(12, 17 if args.quick else 21))
-    ramps = {"1.5 nm": (BIG * np.arange(1, 9), 8),
-             "0.1 nm (Fig. 3 step)": (np.r_[BIG * np.arange(1, 6), 5 * BIG + SMALL * np.arange(1, 11)], 8)}
+    ramps = {"1.5 nm": (BIG * np.arange(1, 9), 8)}
+    for top in (5, 13, 19):  # δ = 7.5, 19.5, 28.5 nm
+        ramps[f"0.1 nm (Fig. 3 step) at δ ≈ {top * BIG * 1e9:g} nm"] = (
+            np.r_[BIG * np.arange(1, top + 1), top * BIG + SMALL * np.arange(1, 11)], 8)
     t0 = time.time()
+    every = []  # every counted step: its KKT residual and counts (the .csv)
     lines = ["# Hard-wall FFT pairs per step against N (issue 24)", "",
              __doc__.split("\n\n", 2)[2].split("\nWrites")[0].strip(), "",
              "Columns: it/step median / max; FFT pairs/step median / max; max KKT residual (p_ref) and "
@@ -127,6 +136,8 @@ def main(argv=None):
         for e in sizes:
             for label, settings in VARIANTS.items():
                 rows = ramp(2**e, settings, deltas, counted)
+                every += [{"ramp": name, "N": 2**e, "solver": label, "step": k, **{c: r[c] for c in STEP_COLUMNS}}
+                          for k, r in enumerate(rows)]
                 line = f"| 2^{e} | {label} | " + summary(rows)
                 lines.append(line)
                 print(name, line, flush=True)
@@ -134,7 +145,11 @@ def main(argv=None):
     lines.append(f"Total {time.time() - t0:.0f} s; load average at end {' '.join(f'{x:.2f}' for x in os.getloadavg())}.")
     out = Path(args.out) / f"bench_hardwall_scaling{'_quick' if args.quick else ''}.md"
     out.write_text("\n".join(lines) + "\n")
-    print(f"wrote {out}")
+    with open(out.with_suffix(".csv"), "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=["ramp", "N", "solver", "step", *STEP_COLUMNS])
+        writer.writeheader()
+        writer.writerows(every)
+    print(f"wrote {out} and {out.with_suffix('.csv')}")
 
 
 if __name__ == "__main__":

@@ -28,10 +28,12 @@ from ..stopping import finish, wall_check, wall_residual
 BAND_HALF_WIDTH = 32
 #: the step is handed over when A grows past this multiple of `Settings.dual_contact_limit` (as the dual CG)
 TRANSIENT_FACTOR = 2.0
-#: at most this many entries in G_AA Z (contact nodes × coarse blocks, 32 MB): the blocks grow beyond
-#: `Settings.dual_coarse_block` nodes where the contact set is larger (each iteration reads G_AA Z
-#: twice: at 2^22 entries ≈ the memory traffic of an FFT pair at N = 2^20)
-COARSE_ENTRIES = 2**22
+#: G_AA Z holds at most this many entries per grid node (contact nodes × coarse blocks ≤ this × N): the blocks
+#: grow beyond `Settings.dual_coarse_block` nodes where the contact set is large, and where even one block
+#: per contact patch would exceed it the band preconditions alone. Each iteration reads G_AA Z twice and each
+#: change of the contact set rebuilds it, so beyond a few N entries the coarse level costs more time than
+#: the FFT pairs it saves (`benchmarks/bench_hardwall_scaling.py`, the deep window)
+COARSE_ENTRIES_PER_NODE = 4
 
 
 def coarse_blocks(act, block):
@@ -49,10 +51,11 @@ def coarse_space(g_sum, act, n, block):
     column of block [j0, j1] is G_AA Z_J = Σ_{j=j0}^{j1} g(i − j) = g_sum[i − j0 + n] − g_sum[i − j1 − 1 + n].
     None where E is not positive definite (round-off on a nearly full set): the band alone then.
     """
-    if act.size < 2:
+    budget = COARSE_ENTRIES_PER_NODE * n
+    runs = 1 + np.count_nonzero(np.diff(act) > 1)
+    if act.size < 2 or runs * act.size > budget:
         return None
-    block = max(block, -(-act.size * act.size // COARSE_ENTRIES))
-    starts = coarse_blocks(act, block)
+    starts = coarse_blocks(act, max(block, -(-act.size * act.size // budget)))
     first = act[starts]
     last = act[np.r_[starts[1:], act.size] - 1]
     gz = g_sum[act[:, None] - first[None, :] + n] - g_sum[act[:, None] - last[None, :] - 1 + n]
