@@ -7,7 +7,8 @@
   tolerance) and passes the independent KKT check of tests/test_gfmd_fast.py; its pairs per 0.1 nm step are
   fewer than the band-only dual CG's on the same steps (a count, not a time);
 * it must fall back: past `dual_contact_limit` it hands the step over to the primal CG ("cg-dual2→cg"),
-  which ends at the KKT point; a bad `dual_coarse_block` is refused, naming the key.
+  which ends at the KKT point; where one coarse block per patch would cost more than the FFT pairs it saves
+  (the cost gate) the band preconditions alone; a bad `dual_coarse_block` is refused, naming the key.
 """
 
 import numpy as np
@@ -43,11 +44,12 @@ def _kernels(n):
 
 
 @hyp_settings(max_examples=20, deadline=None)
-@given(st.lists(st.integers(0, 511), min_size=2, max_size=200, unique=True), st.integers(1, 12))
+@given(st.lists(st.integers(0, 511), min_size=2, max_size=45, unique=True), st.integers(1, 12))  # 45² < 4 · 512
 def test_coarse_space_is_the_dense_product_and_spd(picks, block):
     n = 512
     g_kernel, k_kernel = _kernels(n)
     act = np.unique(picks)
+    assert (1 + np.count_nonzero(np.diff(act) > 1)) * act.size <= two.COARSE_ENTRIES_PER_NODE * n  # not gated
     coarse = two.coarse_space(np.cumsum(g_kernel[np.arange(-n, n) % n]), act, n, block)
     assert coarse is not None
     starts, gz, factor = coarse
@@ -107,3 +109,15 @@ def test_bad_coarse_block_is_refused(block):
     with pytest.raises(ValueError, match="Settings.dual_coarse_block"):
         relax(model, law, indenter_surface(h, d0, d0 + 5e-9), np.zeros((1, model.nodes // 2 + 1), complex),
               Settings(dual_coarse_block=block), wall_tol)
+
+
+def test_too_many_patches_leave_the_band_alone():
+    """The cost gate: one block per patch would exceed COARSE_ENTRIES_PER_NODE · N entries of G_AA Z."""
+    n = 512
+    g_kernel, _ = _kernels(n)
+    g_sum = np.cumsum(g_kernel[np.arange(-n, n) % n])
+    many = np.arange(0, n, 4)  # 128 one-node patches: 128 · 128 > 4 · 512
+    few = np.arange(0, 40)  # one patch of 40 nodes
+    assert two.coarse_space(g_sum, many, n, 16) is None
+    assert two.coarse_space(g_sum, few, n, 16) is not None
+    assert two.two_level(np.ones(many.size), lambda r: 2 * r, None).tolist() == [2.0] * many.size

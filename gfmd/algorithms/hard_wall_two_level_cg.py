@@ -11,7 +11,10 @@ hypersingular-preconditioned single layer, Steinbach & Wendland 1998). The coars
 constants on blocks of ≤ `Settings.dual_coarse_block` consecutive contact nodes, takes exactly those
 modes; a block size fixed in nodes makes the condition number independent of N (the two-level bound
 depends on the block / node ratio only; measured on fixed contact sets of the Fig. 3 scene, N = 2^14 …
-2^20, blocks of 16 nodes: 9 iterations at every N, the band alone 18 → 31).
+2^20, blocks of 16 nodes: 9 iterations at every N, the band alone 18 → 31). The coarse level's cost is
+dense in contact nodes × blocks (G_AA Z): where even one block per patch would exceed
+COARSE_ENTRIES_PER_NODE · N entries (many patches: a_rel ≈ 0.06 on the Fig. 3 profile), the band
+preconditions alone, as in the dual CG.
 """
 
 from __future__ import annotations
@@ -45,7 +48,8 @@ def coarse_blocks(act, block):
 
 
 def coarse_space(g_sum, act, n, block):
-    """(starts, G_AA Z, Cholesky factor of E = Zᵀ G_AA Z) on the blocks of `coarse_blocks`, or None.
+    """(starts, G_AA Z, Cholesky factor of E = Zᵀ G_AA Z) on the blocks of `coarse_blocks`, or None (the cost
+    gate: one block per patch over COARSE_ENTRIES_PER_NODE · n entries; the blocks grow past `block` below it).
 
     g_sum: cumulative sum of G's real-space kernel over the offsets −n … n−1 (`solve`), so that the
     column of block [j0, j1] is G_AA Z_J = Σ_{j=j0}^{j1} g(i − j) = g_sum[i − j0 + n] − g_sum[i − j1 − 1 + n].
