@@ -1,6 +1,6 @@
 """Hard-wall FFT pairs per step against N (issue 24, "hard wall flat in N"), the solvers side by side.
 
-Usage: python benchmarks/bench_hardwall_scaling.py [--quick] [--out DIR] [--sizes 12 14 ...]
+Usage: python benchmarks/bench_hardwall_scaling.py [--quick] [--out DIR] [--sizes 12 14 ...] [--task 17 ...]
 
 Scene (SI): the seed's Fig. 3 scene (studies/seed/seed_base.toml, fig3.toml's hard-wall row: H = 0.8,
 h_rms = 10 nm, ν = 0.45, L = 10.24 µm, L/λr = 8, λs = 2.5 nm, so λr/λs = 512) at N = 2^12 … 2^20
@@ -11,9 +11,11 @@ Ramps from first touch, warm-started as `contact.ramp` (the last state, from the
 extrapolation 2u_k − u_{k−1}), tolerance 1e-8 (the studies'):
 * 1.5 nm steps: δ = 1.5 … 12 nm (8 steps, all counted);
 * the Fig. 3 step, 0.1 nm, in three windows: δ to 7.5 nm, 19.5 nm (the end of Fig. 3's ramp, δ = 20 nm) and
-  28.5 nm (a_rel ≈ 6 %, beyond Fig. 3: where the coarse level's cost gate,
+  28.5 nm (a_rel ≈ 6 %, beyond Fig. 3, N ≤ 2^17: where the coarse level's cost gate,
   `gfmd.algorithms.hard_wall_two_level_cg.COARSE_ENTRIES_PER_NODE`, leaves the band alone) in 1.5 nm steps
-  (not counted), two 0.1 nm steps (not counted), then 8 steps of 0.1 nm (counted).
+  (not counted), two 0.1 nm steps (not counted), then 8 steps of 0.1 nm (counted);
+* a whole Fig. 3 hard-wall task at N = 2^17 (the seed's scale; not with --quick): 200 steps from δ = −12 nm
+  (fig3.toml's initial separation) to 20 nm, every step counted.
 Per solver variant and N: iterations per step (median, max), FFT pairs per step (median, max; counted by
 the solvers: deterministic, independent of load), the max KKT residual over the counted steps (the solver's
 residual: max |net nodal force| / p_ref, pulling wall nodes included) and the worst penetration / h_rms
@@ -110,17 +112,42 @@ def summary(rows):
             f"{'all' if all(r['conv'] for r in rows) else 'NO'} | {', '.join(methods)} |")
 
 
+def whole_task(exponents, every):
+    """Table lines: FFT pairs per step over a whole Fig. 3 hard-wall task (δ from −12 nm, out of contact, to
+    20 nm in 200 steps of 0.16 nm, as fig3.toml's ramp; every step counted, the out-of-contact ones too)."""
+    deltas = np.linspace(-12e-9, 20e-9, 201)[1:]
+    lines = ["## A whole Fig. 3 hard-wall task (200 steps, δ = −12 … 20 nm)", "",
+             "| N | solver | it/step | FFT pairs/step | max KKT residual | max pen./h_rms | s/step (under load) | "
+             "a_rel | converged | algorithms | FFT pairs, whole task |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for e in exponents:
+        for label, settings in VARIANTS.items():
+            rows = ramp(2**e, settings, deltas, deltas.size)
+            every += [{"ramp": "whole task", "N": 2**e, "solver": label, "step": k, **{c: r[c] for c in STEP_COLUMNS}}
+                      for k, r in enumerate(rows)]
+            line = f"| 2^{e} | {label} | " + summary(rows) + f" {sum(r['pairs'] for r in rows):.0f} |"
+            lines.append(line)
+            print("whole task", line, flush=True)
+    return lines + [""]
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="N = 2^12 … 2^16 only")
     ap.add_argument("--sizes", type=int, nargs="*", help="exponents e of N = 2^e (default 12 … 20)")
+    ap.add_argument("--task", type=int, nargs="*", help="exponents of N for the whole-task table (default 17; "
+                    "--quick: none)")
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results"))
     args = ap.parse_args(argv)
-    sizes = args.sizes or list(range(12, 17 if args.quick else 21))
-    ramps = {"1.5 nm": (BIG * np.arange(1, 9), 8)}
-    for top in (5, 13, 19):  # δ = 7.5, 19.5, 28.5 nm
+    sizes = list(range(12, 17 if args.quick else 21)) if args.sizes is None else args.sizes
+    if args.task is None:
+        args.task = [] if args.quick else [17]
+    ramps = {}  # in the order of the report (the Fig. 3 steps first)
+    for top, largest in ((5, 99), (13, 99), (19, 17)):  # δ = 7.5, 19.5, 28.5 nm (the last up to N = 2^17)
         ramps[f"0.1 nm (Fig. 3 step) at δ ≈ {top * BIG * 1e9:g} nm"] = (
-            np.r_[BIG * np.arange(1, top + 1), top * BIG + SMALL * np.arange(1, 11)], 8)
+            np.r_[BIG * np.arange(1, top + 1), top * BIG + SMALL * np.arange(1, 11)], 8, largest)
+        if top == 13:
+            ramps["whole task"] = None
+    ramps["1.5 nm"] = (BIG * np.arange(1, 9), 8, 99)
     t0 = time.time()
     every = []  # every counted step: its KKT residual and counts (the .csv)
     lines = ["# Hard-wall FFT pairs per step against N (issue 24)", "",
@@ -129,11 +156,27 @@ def main(argv=None):
              "max penetration / h_rms over the counted steps; s/step median (**measured under load**, 2 cores "
              "shared by several processes: indicative only); mean a_rel; all steps converged; the algorithms "
              "that ran.", ""]
-    for name, (deltas, counted) in ramps.items():
+    out = Path(args.out) / f"bench_hardwall_scaling{'_quick' if args.quick else ''}.md"
+
+    def write(final=False):  # after every row: an interrupted run leaves what it measured
+        tail = [f"Total {time.time() - t0:.0f} s; load average at end {' '.join(f'{x:.2f}' for x in os.getloadavg())}."]
+        out.write_text("\n".join(lines + ([] if final else ["", "(run in progress or interrupted)"]) + tail) + "\n")
+        with open(out.with_suffix(".csv"), "w", newline="") as f:
+            writer = csv.DictWriter(f, fieldnames=["ramp", "N", "solver", "step", *STEP_COLUMNS])
+            writer.writeheader()
+            writer.writerows(every)
+
+    out.parent.mkdir(parents=True, exist_ok=True)
+    for name, spec in ramps.items():
+        if spec is None:
+            lines += whole_task(args.task, every) if args.task else []
+            write()
+            continue
+        deltas, counted, largest = spec
         lines += [f"## {name} steps", "", "| N | solver | it/step | FFT pairs/step | max KKT residual | "
                   "max pen./h_rms | s/step (under load) | a_rel | converged | algorithms |",
                   "|---|---|---|---|---|---|---|---|---|---|"]
-        for e in sizes:
+        for e in (e for e in sizes if e <= largest):
             for label, settings in VARIANTS.items():
                 rows = ramp(2**e, settings, deltas, counted)
                 every += [{"ramp": name, "N": 2**e, "solver": label, "step": k, **{c: r[c] for c in STEP_COLUMNS}}
@@ -141,14 +184,9 @@ def main(argv=None):
                 line = f"| 2^{e} | {label} | " + summary(rows)
                 lines.append(line)
                 print(name, line, flush=True)
+                write()
         lines.append("")
-    lines.append(f"Total {time.time() - t0:.0f} s; load average at end {' '.join(f'{x:.2f}' for x in os.getloadavg())}.")
-    out = Path(args.out) / f"bench_hardwall_scaling{'_quick' if args.quick else ''}.md"
-    out.write_text("\n".join(lines) + "\n")
-    with open(out.with_suffix(".csv"), "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=["ramp", "N", "solver", "step", *STEP_COLUMNS])
-        writer.writeheader()
-        writer.writerows(every)
+    write(final=True)
     print(f"wrote {out} and {out.with_suffix('.csv')}")
 
 
