@@ -10,8 +10,8 @@ complement, and the two differ on the smooth modes of each patch (the open-arc l
 hypersingular-preconditioned single layer, Steinbach & Wendland 1998). The coarse space, piecewise
 constants on blocks of ≤ `Settings.dual_coarse_block` consecutive contact nodes, takes exactly those
 modes; a block size fixed in nodes makes the condition number independent of N (the two-level bound
-depends on the block / node ratio only; measured on fixed contact sets of the Fig. 3 scene, N = 2^14 …
-2^20, blocks of 16 nodes: 9 iterations at every N, the band alone 18 → 31). The coarse level's cost is
+depends on the block / node ratio only; benchmarks/results/bench_hardwall_scaling.md: on the 0.1 nm
+Fig. 3 step 5–10 iterations per step from N = 2^14 to 2^20, the band alone 14 → 36). The coarse level's cost is
 dense in contact nodes × blocks (G_AA Z): where even one block per patch would exceed
 COARSE_ENTRIES_PER_NODE · N entries (many patches: a_rel ≈ 0.06 on the Fig. 3 profile), the band
 preconditions alone, as in the dual CG.
@@ -35,7 +35,10 @@ TRANSIENT_FACTOR = 2.0
 #: grow beyond `Settings.dual_coarse_block` nodes where the contact set is large, and where even one block
 #: per contact patch would exceed it the band preconditions alone. Each iteration reads G_AA Z twice and each
 #: change of the contact set rebuilds it, so beyond a few N entries the coarse level costs more time than
-#: the FFT pairs it saves (`benchmarks/bench_hardwall_scaling.py`, the deep window)
+#: the FFT pairs it saves. Measured (N = 2^17, Fig. 3 profile, 0.1 nm steps at δ ≈ 28.5 nm, a_rel = 0.058,
+#: one run under load): with 16 N entries 13–16 iterations per step against the band's 94–166, but 10.9 CPU s
+#: for the ramp there against 7.1; with 4 N the band alone (as the dual CG); at δ ≈ 19.5 nm (a_rel = 0.011,
+#: the end of Fig. 3's ramp) both 8–11 iterations against 37–41 and 1.3–1.4 CPU s against 2.6.
 COARSE_ENTRIES_PER_NODE = 4
 
 
