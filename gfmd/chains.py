@@ -6,9 +6,10 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
 ("ncg→fire": the NCG stalled, FIRE finished the step). The key is `chain_key`'s reading of
 `Settings.method` (the scene's solver.method), `hard_wall`, `cohesive` and `dual_contact_limit`:
 
-* hard wall, method "fire" (default): the dual CG while the contact set holds at most
-  `dual_contact_limit` (15 %) of the nodes, then the primal CG (`dual_contact_limit = 0`: the primal
-  alone); ``hard_wall = "fire"``: projected FIRE; method "verlet": projected Verlet.
+* hard wall, method "fire" (default): the two-level dual CG (`hard_wall_two_level_cg`, label "cg-dual2")
+  while the contact set holds at most `dual_contact_limit` (15 %) of the nodes, then the primal CG
+  (`dual_contact_limit = 0`: the primal alone; `dual_coarse_block = 0`: the dual CG with the band
+  preconditioner alone, label "cg-dual", the default before issue 24); ``hard_wall = "fire"``: projected FIRE; method "verlet": projected Verlet.
 * normal-only cohesive law (a potential), method "fire": the NCG, FIRE after a stall
   (``cohesive = "fire"``: FIRE alone); "verlet": Verlet.
 * coupled law (seed Eq. 2, no potential), method "fire": FIRE; after a stall (`COUPLED_FIRE_BUDGET`)
@@ -42,12 +43,13 @@ import numpy as np
 from contact import laws
 
 from .algorithms import (cohesive_wall, coupled_newton, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
-                         hard_wall_primal_cg, ncg)
+                         hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
 from .problem import Problem, coupled_stability, flat_problem
 from .stopping import finish
 
 #: the algorithms by name (gfmd.algorithms: one module each, `solve(problem, start, settings) -> Relaxed`)
-ALGORITHMS = {"hard_wall_dual_cg": hard_wall_dual_cg.solve, "hard_wall_primal_cg": hard_wall_primal_cg.solve,
+ALGORITHMS = {"hard_wall_two_level_cg": hard_wall_two_level_cg.solve, "hard_wall_dual_cg": hard_wall_dual_cg.solve,
+              "hard_wall_primal_cg": hard_wall_primal_cg.solve,
               "hard_wall_dynamics": hard_wall_dynamics.solve, "ncg": ncg.solve, "dynamics": dynamics.solve,
               "coupled_newton": coupled_newton.solve, "cohesive_wall": cohesive_wall.solve}
 
@@ -80,7 +82,8 @@ class Link:
 _VERLET = (("method", "verlet"),)
 #: {(law kind, key): chain}: the law kinds of `gfmd.problem.Problem.kind`, the keys of `chain_key`
 CHAINS = {
-    ("hard-wall", "cg"): (Link("hard_wall_dual_cg"), Link("hard_wall_primal_cg", starts=("end",), budget="left")),
+    ("hard-wall", "cg"): (Link("hard_wall_two_level_cg"), Link("hard_wall_primal_cg", starts=("end",), budget="left")),
+    ("hard-wall", "cg-band"): (Link("hard_wall_dual_cg"), Link("hard_wall_primal_cg", starts=("end",), budget="left")),
     ("hard-wall", "cg-primal"): (Link("hard_wall_primal_cg"),),
     ("hard-wall", "fire"): (Link("hard_wall_dynamics"),),
     ("hard-wall", "verlet"): (Link("hard_wall_dynamics"),),
@@ -99,7 +102,8 @@ CHAINS = {
 }
 
 #: the algorithms' labels (`Relaxed.method`) and the start names in words, for messages and reports
-WORDS = {"hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG",
+WORDS = {"hard_wall_two_level_cg": "the two-level dual CG", "cg-dual2": "the two-level dual CG",
+         "hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG",
          "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov"}
 STARTS = {"guess": "the step's guess", "end": "the end state of the one before",
           "finite end": "the end state of the one before"}
@@ -131,7 +135,14 @@ def chain_key(problem, settings):
             if not 0.0 <= settings.dual_contact_limit <= 1.0:
                 raise ValueError(f"Settings.dual_contact_limit = {settings.dual_contact_limit!r}: expected a fraction "
                                  "of the nodes in [0, 1] (0: the primal CG only)")
-            return kind, "cg" if settings.dual_contact_limit > 0 else "cg-primal"
+            if not (isinstance(settings.dual_coarse_block, (int, np.integer)) and settings.dual_coarse_block >= 0):
+                raise ValueError(f"Settings.dual_coarse_block = {settings.dual_coarse_block!r}: expected a whole "
+                                 "number of nodes ≥ 0 (0: the dual CG with the band preconditioner alone)")
+            if settings.dual_contact_limit == 0:
+                return kind, "cg-primal"
+            # the two-level coarse blocks are runs of consecutive nodes of a profile; a 2+1-D surface
+            # keeps the dual CG with its periodic window preconditioner (`hard_wall_dual_cg`)
+            return kind, "cg" if settings.dual_coarse_block > 0 and not problem.surface else "cg-band"
         if settings.hard_wall not in ("cg", "fire"):
             raise ValueError(f"Settings.hard_wall = {settings.hard_wall!r}: expected 'cg' or 'fire'")
         return kind, "verlet" if settings.method == "verlet" else "fire"
@@ -147,7 +158,7 @@ def chain_key(problem, settings):
 
 def labels(key, settings):
     """The `Relaxed.method` labels of the chain `CHAINS[key]`'s algorithms in order, e.g. ("ncg", "fire")."""
-    fixed = {"hard_wall_dual_cg": "cg-dual", "hard_wall_primal_cg": "cg", "ncg": "ncg", "coupled_newton": "newton"}
+    fixed = {"hard_wall_two_level_cg": "cg-dual2", "hard_wall_dual_cg": "cg-dual", "hard_wall_primal_cg": "cg", "ncg": "ncg", "coupled_newton": "newton"}
     return tuple(fixed.get(link.algorithm) or ("verlet" if dict(link.options).get("method", settings.method) == "verlet"
                                                else "fire") for link in CHAINS[key])
 

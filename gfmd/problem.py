@@ -23,11 +23,11 @@ attraction off the wall to the same constraint.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
-import dataclasses
-
 import numpy as np
+import scipy.sparse
 
 from .fft import Fft, irfft_nodes, rfft_nodes
 
@@ -220,6 +220,25 @@ def flat_problem(problem):
         return problem
     z = None if problem.z_ind is None else np.ravel(problem.z_ind)
     return Problem(flat_model(problem.model), problem.law, z, problem.wall_tolerance)
+
+
+def band_stiffness(k_kernel, act, n, half_width):
+    """K_AA truncated to |i − j| ≤ half_width (CSR, Pa/m): the dual hard-wall CGs' preconditioner.
+
+    k_kernel: real-space kernel of K (K_ij = k_kernel[(i − j) mod n]); act: sorted node indices.
+    The band counts |i − j| along the index, not around the period. Rows of K sum to K(q = 0) ≥ 0 with
+    negative off-diagonal entries, so a row that loses an entry (A short of all nodes, or the band
+    cut) is strictly diagonally dominant: the truncation is symmetric positive definite.
+    """
+    lo = np.searchsorted(act, act - half_width)
+    hi = np.searchsorted(act, act + half_width, side="right")
+    counts = hi - lo
+    indptr = np.zeros(act.size + 1, np.int64)
+    np.cumsum(counts, out=indptr[1:])
+    cols = np.repeat(lo - indptr[:-1], counts) + np.arange(indptr[-1])
+    rows = np.repeat(np.arange(act.size), counts)
+    data = k_kernel[np.abs(act[rows] - act[cols])]  # K_ij = k(|i − j|): exactly symmetric
+    return scipy.sparse.csr_matrix((data, cols, indptr), shape=(act.size, act.size))
 
 
 def mean_shift(u_z, z_ind, pinned=None):

@@ -47,6 +47,10 @@ class Settings:
     # hard-wall CG: solve for the contact pressures (the dual CG) while the contact set holds at
     # most this fraction of the nodes, else for the displacements (the primal CG); 0: always the latter
     dual_contact_limit: float = 0.15
+    # dual hard-wall CG: coarse blocks of at most this many contact nodes in its two-level preconditioner
+    # (`gfmd.algorithms.hard_wall_two_level_cg`); 0: the band preconditioner alone (`hard_wall_dual_cg`,
+    # the default before issue 24)
+    dual_coarse_block: int = 16
 
 
 @dataclass
@@ -69,7 +73,7 @@ class Relaxed:
     message: str = ""
     fft_pairs: float = 0.0  # rfft+irfft pairs the relaxation used (0 where not counted)
     #: the algorithms that produced this state, joined by "→" where a fallback ran: "ncg", "ncg→fire",
-    #: "fire", "verlet", "cg-dual", "cg-dual→cg", "cg", "fire→newton", "fire→newton→verlet"
+    #: "fire", "verlet", "cg-dual2", "cg-dual2→cg", "cg-dual", "cg-dual→cg", "cg", "fire→newton", "fire→newton→verlet"
     method: str = ""
     stalled: str = ""  # non-empty: the algorithm hands the step over to the next of its chain (why)
 

@@ -101,15 +101,21 @@ def test_cg_equals_fire_and_is_kkt(thickness):
     assert_same_kkt_equilibria(model, z_of, deltas, h, cg, fire)
 
 
-@pytest.mark.parametrize("dual_limit", [0.0, 1.0])  # the primal CG; the dual CG however large the set
-def test_cg_releases_pulling_wall_nodes(dual_limit):
+#: (dual_contact_limit, dual_coarse_block, label): the primal CG; the band dual CG and the two-level dual CG
+#: however large the set
+CGS = [(0.0, 16, "cg"), (1.0, 0, "cg-dual"), (1.0, 16, "cg-dual2")]
+
+
+@pytest.mark.parametrize("dual_limit, block, label", CGS)
+def test_cg_releases_pulling_wall_nodes(dual_limit, block, label):
     """Start with every node on the wall (u = z − ⟨z⟩): almost all of them pull away."""
     sc, h, model, law, wall_tol = case()
     d0 = sc.loading.initial_separation
     z = indenter_surface(h, d0, d0 + 5e-9)
     guess = np.fft.rfft(z - np.mean(z))[None, :]
-    r = relax(model, law, z, guess, Settings(tolerance=TOL, dual_contact_limit=dual_limit), wall_tol)
-    assert r.method == ("cg" if dual_limit == 0 else "cg-dual")
+    r = relax(model, law, z, guess, Settings(tolerance=TOL, dual_contact_limit=dual_limit, dual_coarse_block=block),
+              wall_tol)
+    assert r.method == label
     ref = relax(model, law, z, np.zeros_like(guess), Settings(tolerance=TOL, hard_wall="fire"), wall_tol)
     assert r.converged, r.message
     assert np.mean(r.t_z < 0) < 0.2  # most nodes left the wall
@@ -117,24 +123,24 @@ def test_cg_releases_pulling_wall_nodes(dual_limit):
     assert np.max(np.abs(r.u_z - ref.u_z)) < 1e-9 * float(np.std(h))
 
 
-@pytest.mark.parametrize("dual_limit", [0.0, 1.0])
-def test_cg_fixed_point_is_the_kkt_point(dual_limit):
+@pytest.mark.parametrize("dual_limit, block, label", CGS)
+def test_cg_fixed_point_is_the_kkt_point(dual_limit, block, label):
     sc, h, model, law, wall_tol = case()
     d0 = sc.loading.initial_separation
     z = indenter_surface(h, d0, d0 + 8e-9)
-    settings = Settings(tolerance=TOL, dual_contact_limit=dual_limit)
+    settings = Settings(tolerance=TOL, dual_contact_limit=dual_limit, dual_coarse_block=block)
     first = relax(model, law, z, np.zeros((1, model.nodes // 2 + 1), complex), settings, wall_tol)
     again = relax(model, law, z, first.u_hat, settings, wall_tol)
     assert again.converged and again.iterations == 0
     assert np.max(np.abs(again.u_z - first.u_z)) < 1e-15 * float(np.std(h))
 
 
-@pytest.mark.parametrize("dual_limit", [0.0, 1.0])
-def test_cg_unconverged_is_reported(dual_limit):
+@pytest.mark.parametrize("dual_limit, block, label", CGS)
+def test_cg_unconverged_is_reported(dual_limit, block, label):
     sc, h, model, law, wall_tol = case()
     d0 = sc.loading.initial_separation
     r = relax(model, law, indenter_surface(h, d0, d0 + 8e-9), np.zeros((1, model.nodes // 2 + 1), complex),
-              Settings(tolerance=TOL, max_iterations=2, dual_contact_limit=dual_limit), wall_tol)
+              Settings(tolerance=TOL, max_iterations=2, dual_contact_limit=dual_limit, dual_coarse_block=block), wall_tol)
     assert not r.converged and "not converged" in r.message and r.iterations == 2
 
 
@@ -146,14 +152,17 @@ def test_cg_needs_far_fewer_fft_pairs_than_fire():
 
 
 @pytest.mark.parametrize("thickness", [None, 0.5e-6])
-def test_dual_equals_primal_and_is_kkt(thickness):
-    model, z_of, deltas, h, dual, primal = two_ramps(Settings(tolerance=TOL, dual_contact_limit=1.0),
+@pytest.mark.parametrize("block, label", [(0, "cg-dual"), (16, "cg-dual2")])
+def test_dual_equals_primal_and_is_kkt(thickness, block, label):
+    model, z_of, deltas, h, dual, primal = two_ramps(Settings(tolerance=TOL, dual_contact_limit=1.0,
+                                                              dual_coarse_block=block),
                                                      Settings(tolerance=TOL, dual_contact_limit=0.0), thickness)
-    assert {r.method for r in dual} == {"cg-dual"} and {r.method for r in primal} == {"cg"}
+    assert {r.method for r in dual} == {label} and {r.method for r in primal} == {"cg"}
     assert_same_kkt_equilibria(model, z_of, deltas, h, dual, primal)
 
 
-def test_dual_hands_over_to_the_primal_past_its_contact_limit():
+@pytest.mark.parametrize("block, label", [(0, "cg-dual"), (16, "cg-dual2")])
+def test_dual_hands_over_to_the_primal_past_its_contact_limit(block, label):
     """Limit below the ramp's contact fractions: the dual hands over (from its state once A passes
     DUAL_TRANSIENT_FACTOR × the limit, or at once from a guess past the limit) and the primal ends at
     the KKT point."""
@@ -164,13 +173,13 @@ def test_dual_hands_over_to_the_primal_past_its_contact_limit():
         return indenter_surface(h, d0, d0 + d)
 
     deltas = 1.5e-9 * np.arange(1, 6)
-    out = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, dual_contact_limit=2e-3), wall_tol)
+    out = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, dual_contact_limit=2e-3, dual_coarse_block=block), wall_tol)
     areas = [float(np.mean(r.t_z < 0)) for r in out]
     assert areas[-1] > 2e-3
-    assert {r.method for r in out} >= {"cg-dual", "cg-dual→cg", "cg"}  # dual; handed over in a step; primal at once
+    assert {r.method for r in out} >= {label, f"{label}→cg", "cg"}  # dual; handed over in a step; primal at once
     for d, r, a in zip(deltas, out, areas):
         # the dual never ends on a set past its transient limit (a guess that already passes is returned as is)
-        assert r.method != "cg-dual" or a <= hard_wall_dual_cg.DUAL_TRANSIENT_FACTOR * 2e-3 or r.iterations == 0
+        assert r.method != label or a <= hard_wall_dual_cg.DUAL_TRANSIENT_FACTOR * 2e-3 or r.iterations == 0
         assert kkt_violation(model, z_of(d), r.u_z) < TOL * (1 + 1e-3)
 
 

@@ -119,7 +119,7 @@ def test_energy_is_infinite_through_the_wall_and_undefined_for_the_coupled_law()
         coupled.energy(np.zeros((2, coupled.model.nodes // 2 + 1), complex))
 
 
-SETTINGS_OF_KEY = {"cg": Settings(), "cg-primal": Settings(dual_contact_limit=0.0),
+SETTINGS_OF_KEY = {"cg": Settings(), "cg-band": Settings(dual_coarse_block=0), "cg-primal": Settings(dual_contact_limit=0.0),
                    "fire": Settings(hard_wall="fire", cohesive="fire"), "verlet": Settings(method="verlet"),
                    "ncg": Settings()}
 LAW_OF_KIND = {"hard-wall": ("hard-wall", {}), "cohesive": ("cohesive", {}), "cohesive-wall": ("cohesive-wall", {}),

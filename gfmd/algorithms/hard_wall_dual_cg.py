@@ -13,6 +13,7 @@ import scipy.sparse
 
 from ..fft import Fft, dot
 from ..problem import Elastic
+from ..problem import band_stiffness as _band_stiffness
 from ..settings import not_converged, stall
 from ..stopping import finish, wall_check, wall_residual
 
@@ -28,25 +29,6 @@ DUAL_WINDOW_HALF_WIDTH_2D = 1
 #: with factor 1, steps ending at a_rel = 0.025–0.055 were handed over mid-way and cost 1.1–1.5× the
 #: dual alone.
 DUAL_TRANSIENT_FACTOR = 2.0
-
-
-def _band_stiffness(k_kernel, act, n, half_width):
-    """K_AA truncated to |i − j| ≤ half_width (CSR, Pa/m): the dual CG's preconditioner.
-
-    k_kernel: real-space kernel of K (K_ij = k_kernel[(i − j) mod n]); act: sorted node indices.
-    The band counts |i − j| along the index, not around the period. Rows of K sum to K(q = 0) ≥ 0 with
-    negative off-diagonal entries, so a row that loses an entry (A short of all nodes, or the band
-    cut) is strictly diagonally dominant: the truncation is symmetric positive definite.
-    """
-    lo = np.searchsorted(act, act - half_width)
-    hi = np.searchsorted(act, act + half_width, side="right")
-    counts = hi - lo
-    indptr = np.zeros(act.size + 1, np.int64)
-    np.cumsum(counts, out=indptr[1:])
-    cols = np.repeat(lo - indptr[:-1], counts) + np.arange(indptr[-1])
-    rows = np.repeat(np.arange(act.size), counts)
-    data = k_kernel[np.abs(act[rows] - act[cols])]  # K_ij = k(|i − j|): exactly symmetric
-    return scipy.sparse.csr_matrix((data, cols, indptr), shape=(act.size, act.size))
 
 
 def _band_stiffness_surface(k_kernel, act, grid, half_width):
