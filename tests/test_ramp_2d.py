@@ -167,11 +167,12 @@ def test_scene_check_of_a_2d_scene(tmp_path, capsys):
     path.write_text(scene_to_toml(scene()))
     assert main(["scene", "--check", str(path)]) == 0
     fe = scene_to_toml(scene()).replace('[method]\nname = "gfmd"', '[method]\nname = "fe"')
-    fe = fe.replace('thickness = "inf"', "thickness = 1e-7")
-    path.write_text(fe)
+    path.write_text(fe)  # the 3-D FE on a half-space: refused, naming the key
     assert main(["scene", "--check", str(path)]) == 2
     err = capsys.readouterr().err
-    assert "method.name" in err and "2+1-D" in err and "surface.nodes_y" in err
+    assert "method.name" in err and "2+1-D" in err and "material.thickness" in err
+    path.write_text(fe.replace('thickness = "inf"', "thickness = 1e-7"))  # a finite layer: the 3-D FE takes it
+    assert main(["scene", "--check", str(path)]) == 0
 
 
 def test_bad_2d_scene_exits_2(tmp_path, capsys):

@@ -39,6 +39,10 @@ def _refuse_nothing(scene):
 
 
 def _run_fe(scene, realization=0, progress=None, checkpoint=None, resume=None):
+    if scene.surface.two_d:  # the 3-D FE (reference.fem3d) on the same ramp
+        from reference.fem3d.ramp import run_realization as run_fe3d
+
+        return run_fe3d(scene, realization, progress=progress, checkpoint=checkpoint, resume=resume)
     from reference.fem import run_realization
 
     m = scene.method
@@ -48,10 +52,13 @@ def _run_fe(scene, realization=0, progress=None, checkpoint=None, resume=None):
 
 def _refuse_fe(scene):
     """What the FE reference cannot mesh or solve, said before any work."""
-    if scene.surface.two_d:
-        raise SceneError(f"method.name = \"fe\": the FE reference is 1+1-D (plane strain) and this scene is a 2+1-D "
-                         f"surface (surface.nodes_y = {scene.surface.nodes_y}): the 3-D FE reference is not wired to "
-                         "`gfmd run` yet; use method.name = \"gfmd\", or surface.nodes_y = 0 for a profile")
+    if scene.surface.two_d:  # the 3-D FE reference (reference.fem3d): what it cannot model
+        from reference.fem3d.ramp import refusal as refusal_3d
+
+        why = refusal_3d(scene)
+        if why:
+            raise SceneError(f"method.name = \"fe\" (3-D FE, 2+1-D scene): {why}")
+        return
     if scene.material.half_plane:
         raise SceneError("method.name = \"fe\": the FE reference models a finite layer only; material.thickness = "
                          "\"inf\" (half-plane) cannot be meshed: give a finite material.thickness (e.g. 2L: the "
@@ -70,6 +77,10 @@ def _refuse_fe(scene):
 
 def _export_fe(result, directory):
     """VTU files of the saved steps and the fe.pvd series (reference.fem.export_vtu); [] if none saved."""
+    if result.scene.surface.two_d:
+        from reference.fem3d.ramp import export_vtu as export_3d
+
+        return export_3d(result, directory)
     from reference.fem import export_vtu
 
     return export_vtu(result, directory) if result.diagnostics.get("solutions") else []
