@@ -1,0 +1,120 @@
+"""GFMD 2+1-D hard wall on the egg-box vs Johnson–Greenwood–Higginson (1985) (`reference.analytic.jgh_wavy`):
+a_rel(p̄) at small loads and near full contact, and the full-contact pressure p*, errors vs N.
+
+Scene: `verification.scenes.egg_box`, h = Δ cos(2πx/λ) cos(2πy/λ), Δ = 10 nm, square cell λ = L = 1 µm of N × N
+nodes, default half-space (E = 70 GPa, ν = 0.45), frictionless hard wall. Displacement control along
+`loading.path` = [0, 0.2, 0.9, 0.99, 0.999] Δ in 10, 7, 9, 9 steps (p̄/p* ≈ 3e-4 … 0.85; the ramp stops at its
+full-contact limit δ ≈ 0.998 Δ, where p̄ → p* steeply). Only the scene is shared with the reference.
+
+Errors (signed, relative), each measured per N:
+* small: mean over the steps with 0 < p̄/p* ≤ SMALL of (a_rel − a_JGH2)/a_JGH2, a_JGH2 the Hertz-at-each-peak
+  asymptote with the neighbours' curvature (`contact_fraction_small_load_interacting`); a_rel the run's own
+  contact fraction (first order in l/a: the contact line cuts the node lattice);
+* near-full: mean over the steps with p̄/p* ≥ NEAR of ((1 − a_rel) − s(1 − p̄/p*))/(s(1 − p̄/p*)), s = 3/(2π) (JGH3);
+* p*: the intercept at a_rel = 1 of the least-squares line p̄(1 − a_rel) through the steps with p̄/p* ≥ NEAR,
+  (p*_fit − p*)/p*, p* = √2πE*Δ/λ (JGH1).
+All three hold a model part (the asymptotes are asymptotes: O(p̄/p*) at small loads, O(1 − p̄/p*) near full contact,
+and the line's curvature for p*) that does not vanish with N, and the discretisation part; the successive
+differences |e(N) − e(2N)| measure the latter, their least-squares log2 slope is the observed order, the Richardson
+limit e_∞ the model part.
+
+    python -m verification.studies.jgh_2d [--write]
+
+N = 64 … 512; `--write` stores them in verification/data/jgh_2d.json (entry "ci"), which verification/test_jgh_2d.py
+reads (it re-runs CI_NODES).
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from reference.analytic import jgh_wavy as J
+from verification import analytic_cases as ac
+from verification import measured
+from verification.scenes import egg_box
+from verification.studies.md_pulloff import orders
+
+NAME = "jgh_2d"
+AMPLITUDE = 10e-9
+LENGTH = 1e-6
+PATH = tuple(f * AMPLITUDE for f in (0.0, 0.2, 0.9, 0.99, 0.999))
+STEPS = (10, 7, 9, 9)
+SMALL = 0.01
+NEAR = 0.7
+METRICS = ("small", "near-full", "p*")
+NODES = (64, 128, 256, 512)
+CI_NODES = 128
+
+
+def scene(nodes):
+    s = egg_box(nodes, AMPLITUDE, LENGTH)
+    return s.replace(**{"loading.path": list(PATH), "loading.steps": list(STEPS), "output.field_steps": 0})
+
+
+def full_contact_pressure():
+    return float(J.full_contact_pressure(AMPLITUDE, LENGTH, scene(8).material.contact_modulus))
+
+
+def measure(nodes):
+    """{"errors" {metric: signed relative error}, "p_star_fit" (Pa), "steps" {small, near}, "wall_s"} at N × N."""
+    sc = scene(nodes)
+    result, wall = ac.run(sc)
+    e_star = sc.material.contact_modulus
+    ps = full_contact_pressure()
+    p, a = np.asarray(result.curve["p"], float), np.asarray(result.curve["a_rel"], float)
+    small = (p > 0) & (p / ps <= SMALL)
+    near = (p / ps >= NEAR) & (a < 1)
+    a_small = np.array([J.contact_fraction_small_load_interacting(x, AMPLITUDE, LENGTH, e_star) for x in p[small]])
+    hole = J.NEAR_FULL_SLOPE * (1 - p[near] / ps)
+    c1, c0 = np.polyfit(1 - a[near], p[near], 1)
+    errors = {"small": float(np.mean((a[small] - a_small) / a_small)),
+              "near-full": float(np.mean(((1 - a[near]) - hole) / hole)), "p*": float((c0 - ps) / ps)}
+    return {"errors": errors, "p_star_fit": float(c0), "steps": {"small": int(small.sum()), "near": int(near.sum())},
+            "p_over_p_star": list(p / ps), "a_rel": list(a), "wall_s": wall}
+
+
+def study(nodes=NODES):
+    t0 = time.perf_counter()
+    data = [measure(n) for n in nodes]
+    out = {"N": list(nodes), "data": data, "wall_s": time.perf_counter() - t0, "metrics": {}}
+    for m in METRICS:
+        errors = [x["errors"][m] for x in data]
+        diffs, order, limit = orders(errors)
+        out["metrics"][m] = {"errors": errors, "differences": list(diffs), "order": order, "limit": limit}
+    return out
+
+
+def stored(metric):
+    """The stored study values of `metric` (verification/data/jgh_2d.json, entry "ci")."""
+    v = measured.entry(NAME, "ci")["values"]
+    return {"N": v["N"], "ci_nodes": v["ci_nodes"], **v["metrics"][metric]}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--write", action="store_true", help="store the errors in verification/data/jgh_2d.json")
+    args = ap.parse_args(argv)
+    st = study()
+    for m, v in st["metrics"].items():
+        print(f"{m}: N {st['N']} error {[f'{e:.5f}' for e in v['errors']]} |Δe| {[f'{d:.2e}' for d in v['differences']]} "
+              f"order {v['order']:.2f} limit {v['limit']:.5f}")
+    print(f"steps used {st['data'][0]['steps']}, walls {[round(x['wall_s'], 1) for x in st['data']]}")
+    if args.write:
+        values = {"N": st["N"], "ci_nodes": CI_NODES, "p_star_Pa": full_contact_pressure(), "small_max": SMALL,
+                  "near_min": NEAR, "metrics": st["metrics"], "steps_used": st["data"][0]["steps"],
+                  "p_star_fit_Pa": [x["p_star_fit"] for x in st["data"]],
+                  "wall_s_per_N": [x["wall_s"] for x in st["data"]]}
+        ent = measured.make_entry(values, scene=(f"verification.studies.jgh_2d.scene(N): egg-box Δ = 10 nm, λ = L = 1 µm, "
+                                                 f"N × N, hard wall, path {[round(x, 12) for x in PATH]} m, steps "
+                                                 f"{list(STEPS)}"), wall_s=st["wall_s"])
+        print(measured.write(NAME, {"ci": ent}, description=(
+            "GFMD hard-wall egg-box (2+1-D) vs JGH (1985): signed relative errors of a_rel at small loads (Hertz at each "
+            "peak), 1 − a_rel near full contact, and the fitted full-contact pressure p*, vs N; successive differences, "
+            "observed order, Richardson limit (the asymptotes' model part)")))
+
+
+if __name__ == "__main__":
+    main()
