@@ -6,7 +6,7 @@ Hertz-at-each-peak asymptote with the neighbours' curvature, 1 − a_rel near fu
 p* from the near-full branch's intercept vs √2πE*Δ/λ). Stored errors, successive differences and observed orders:
 verification/data/jgh_2d.json (regenerate: `python -m verification.studies.jgh_2d --write`).
 
-Asserted per metric, re-running the CI N = 128 (≈ 2 s):
+Asserted per metric, re-running the CI N = 256 (≈ 3–6 s):
 * |e_CI − e_finest,stored| ≤ 2 × Σ stored |e(N) − e(2N)| from the CI N on (the measured discretisation error
   there) + half a unit of the stored e's 4th digit + REPRO (round-off of a converged solve at 1e-10 p_ref);
 * observed order ≥ MIN_ORDER = 1 (a_rel is first order in l/a at least; the measured orders are 1.6–1.8);
@@ -54,7 +54,7 @@ def test_jgh_egg_box(metric, ci_run, verification_record):
     info = measured.entry(jg.NAME, "ci")
     h = [jg.LENGTH / n for n in s["N"]]
     plots = [curve_plot(ci_run["p_over_p_star"], {"GFMD a_rel (CI N)": ci_run["a_rel"]}, xlabel="p̄/p*",
-                        ylabel="a_rel", title="egg-box a_rel(p̄), N = 128²"),
+                        ylabel="a_rel", title=f"egg-box a_rel(p̄), N = {jg.CI_NODES}²"),
              convergence_plot(h[:-1], [max(d, 1e-12) for d in s["differences"]], order=s["order"],
                               xlabel="node spacing l (m)", ylabel="|e(N) − e(2N)|",
                               title=f"{metric}: successive differences (stored study)")]

@@ -46,7 +46,7 @@ SMALL = 0.01
 NEAR = 0.7
 METRICS = ("small", "near-full", "p*")
 NODES = (64, 128, 256, 512)
-CI_NODES = 128
+CI_NODES = 256
 
 
 def scene(nodes):
