@@ -3,10 +3,10 @@ maugis_dugdale_sphere`) at the scene's λ: errors and observed orders in N (the 
 
 Scene: `verification.scenes.sphere` (paraboloid R = 1 µm in a square periodic cell L = 0.5 µm of N × N nodes on the
 default half-space E = 70 GPa, ν = 0.45), exponential CZ law (seed Eq. 3, normal only), w = φn = 1 J/m², δn set so
-that the mapped Maugis parameter of the sphere is λ = 0.3 or 1 (σ0 = φn/(eδn), w = φn:
+that the mapped Maugis parameter of the sphere is λ = 0.3, 1 or 3 (σ0 = φn/(eδn), w = φn:
 `maugis_parameter_from_cohesive_law`). Scales: ℓ = (πwR²/K)^{1/3} ≈ 30 nm (L/ℓ ≈ 17), P_u = πwR ≈ 3.1 µN.
-Displacement control along `loading.path` = [−1, 2, −0.8, −3] nm in 10, 14 and 220 steps (Δδ ≈ 0.01 nm on
-unloading).
+Displacement control along `loading.path` = [−1, 2, 0.5, −3] nm in 10, 6 and 350 steps (Δδ = 0.01 nm on the
+unloading segment that holds the minimum of P, δ ≈ −0.2 nm at λ = 1, and the snap-off).
 
 Pull-off (GFMD): the run's own `contact.cycle` observable, the most tensile p̄ on unloading, as a load
 P = p̄_min L² (N, one sphere per cell). Under displacement control the branch passes the minimum of P(a)
@@ -43,10 +43,11 @@ NAME = "md_pulloff_2d"
 RADIUS = 1e-6
 LENGTH = 0.5e-6
 WORK = 1.0
-PATH = (-1e-9, 2e-9, -0.8e-9, -3e-9)
-STEPS = (10, 14, 220)
-LAMBDAS = (0.3, 1.0)
-NODES = {0.3: (32, 64, 128, 256), 1.0: (64, 128, 256, 512)}
+PATH = (-1e-9, 2e-9, 0.5e-9, -3e-9)
+STEPS = (10, 6, 350)
+LAMBDAS = (0.3, 1.0, 3.0)
+#: N per λ (doubling); the process zone shrinks as 1/λ², so the lists start finer as λ grows
+NODES = {0.3: (32, 64, 128, 256), 1.0: (64, 128, 256, 512), 3.0: (128, 256, 512)}
 #: the N the CI test re-runs (the second level of each list)
 CI_NODES = {lam: ns[1] for lam, ns in NODES.items()}
 
@@ -140,7 +141,7 @@ def main(argv=None):
     if args.write:
         print(measured.write(NAME, {"ci": entry(studies)},
                              description="GFMD cohesive sphere (2+1-D) pull-off on a displacement-controlled load–unload "
-                                         "path vs Maugis–Dugdale at λ = 0.3, 1: signed relative error vs N, successive "
+                                         "path vs Maugis–Dugdale at λ = 0.3, 1, 3: signed relative error vs N, successive "
                                          "differences, observed order, Richardson limit (law shape)"))
 
 
