@@ -10,6 +10,10 @@ Errors (signed, relative), each measured per N:
 * small: mean over the steps with 0 < p̄/p* ≤ SMALL of (a_rel − a_JGH2)/a_JGH2, a_JGH2 the Hertz-at-each-peak
   asymptote with the neighbours' curvature (`contact_fraction_small_load_interacting`); a_rel the run's own
   contact fraction (first order in l/a: the contact line cuts the node lattice);
+* small a(P): a second scene, δ from 0 to 0.05 Δ in 5 steps with the fields saved (SMALL_PATH): the radius of each of the
+  two contacts from its pressure's second moment, a = √(5⟨r²⟩_p/2) (exact for the Hertz pressure; r from the
+  contact's trough node, periodic), mean of (a − a_JGH2)/a_JGH2 over both contacts and the steps (p̄/p* ≤ SMALL), a_JGH2 =
+  √(a_rel,JGH2 λ²/(2π)) — second order, free of the node-count quantisation of a_rel;
 * near-full: mean over the steps with p̄/p* ≥ NEAR of ((1 − a_rel) − s(1 − p̄/p*))/(s(1 − p̄/p*)), s = 3/(2π) (JGH3);
 * p*: the intercept at a_rel = 1 of the least-squares line p̄(1 − a_rel) through the steps with p̄/p* ≥ NEAR,
   (p*_fit − p*)/p*, p* = √2πE*Δ/λ (JGH1).
@@ -44,7 +48,9 @@ PATH = tuple(f * AMPLITUDE for f in (0.0, 0.2, 0.9, 0.99, 0.999))
 STEPS = (10, 7, 9, 9)
 SMALL = 0.01
 NEAR = 0.7
-METRICS = ("small", "near-full", "p*")
+METRICS = ("small", "small a(P)", "near-full", "p*")
+#: the small-load scene of "small a(P)": δ from 0 to 0.05 Δ (p̄/p* ≲ 1e-3, a ≲ 0.03 λ) in 5 steps, fields at every step
+SMALL_PATH, SMALL_STEPS = (0.0, 0.05 * AMPLITUDE), 5
 NODES = (64, 128, 256, 512)
 CI_NODES = 256
 
@@ -52,6 +58,38 @@ CI_NODES = 256
 def scene(nodes):
     s = egg_box(nodes, AMPLITUDE, LENGTH)
     return s.replace(**{"loading.path": list(PATH), "loading.steps": list(STEPS), "output.field_steps": 0})
+
+
+def small_scene(nodes):
+    s = egg_box(nodes, AMPLITUDE, LENGTH)
+    return s.replace(**{"loading.path": list(SMALL_PATH), "loading.steps": [SMALL_STEPS],
+                        "output.field_steps": SMALL_STEPS})
+
+
+def small_radius_error(nodes):
+    """(mean signed relative error of the second-moment contact radii vs JGH2 over the steps with p̄/p* ≤ SMALL,
+    wall s) at N × N nodes (module doc)."""
+    sc = small_scene(nodes)
+    result, wall = ac.run(sc)
+    e_star, ps = sc.material.contact_modulus, full_contact_pressure()
+    x, y = np.asarray(result.x), np.asarray(result.y)
+    # the troughs (first contact): nodes (Nx/2, 0) and (0, Ny/2), i.e. the centred positions (0, −L/2), (−L/2, 0)
+    errors = []
+    for k in sorted(result.fields):
+        p = -np.asarray(result.fields[k]["t_n"], float)
+        pbar = float(np.mean(p))
+        if not 0 < pbar / ps <= SMALL:
+            continue
+        a_ref = np.sqrt(float(J.contact_fraction_small_load_interacting(pbar, AMPLITUDE, LENGTH, e_star))
+                        * LENGTH**2 / (2 * np.pi))
+        for x0, y0 in ((x[nodes // 2], y[0]), (x[0], y[nodes // 2])):
+            dx = (x - x0 + LENGTH / 2) % LENGTH - LENGTH / 2
+            dy = (y - y0 + LENGTH / 2) % LENGTH - LENGTH / 2
+            r2 = dx[:, None] ** 2 + dy[None, :] ** 2
+            near = (r2 < (0.3 * LENGTH) ** 2) & (p > 0)
+            a = float(np.sqrt(2.5 * np.sum(r2[near] * p[near]) / np.sum(p[near])))
+            errors.append((a - a_ref) / a_ref)
+    return float(np.mean(errors)), wall
 
 
 def full_contact_pressure():
@@ -70,7 +108,9 @@ def measure(nodes):
     a_small = np.array([J.contact_fraction_small_load_interacting(x, AMPLITUDE, LENGTH, e_star) for x in p[small]])
     hole = J.NEAR_FULL_SLOPE * (1 - p[near] / ps)
     c1, c0 = np.polyfit(1 - a[near], p[near], 1)
-    errors = {"small": float(np.mean((a[small] - a_small) / a_small)),
+    small_radius, wall_small = small_radius_error(nodes)
+    wall += wall_small
+    errors = {"small": float(np.mean((a[small] - a_small) / a_small)), "small a(P)": small_radius,
               "near-full": float(np.mean(((1 - a[near]) - hole) / hole)), "p*": float((c0 - ps) / ps)}
     return {"errors": errors, "p_star_fit": float(c0), "steps": {"small": int(small.sum()), "near": int(near.sum())},
             "p_over_p_star": list(p / ps), "a_rel": list(a), "wall_s": wall}
