@@ -3,7 +3,7 @@ maugis_dugdale_sphere`) at the scene's λ: errors and observed orders in N (the 
 
 Scene: `verification.scenes.sphere` (paraboloid R = 1 µm in a square periodic cell L = 0.5 µm of N × N nodes on the
 default half-space E = 70 GPa, ν = 0.45), exponential CZ law (seed Eq. 3, normal only), w = φn = 1 J/m², δn set so
-that the mapped Maugis parameter of the sphere is λ = 0.3, 1 or 3 (σ0 = φn/(eδn), w = φn:
+that the mapped Maugis parameter of the sphere is λ = 0.1, 0.3, 1 or 3 (σ0 = φn/(eδn), w = φn:
 `maugis_parameter_from_cohesive_law`). Scales: ℓ = (πwR²/K)^{1/3} ≈ 30 nm (L/ℓ ≈ 17), P_u = πwR ≈ 3.1 µN.
 Displacement control along `loading.path` = [−1, 2, 0.5, −3] nm in 10, 6 and 350 steps (Δδ = 0.01 nm on the
 unloading segment that holds the minimum of P, δ ≈ −0.2 nm at λ = 1, and the snap-off).
@@ -16,7 +16,9 @@ minimum − the vertex of the parabola through it and its neighbours (stored, / 
 Error e = (P_GFMD − P_MD)/|P_MD| (signed). It holds the law-shape difference between Eq. 3 and the Dugdale map,
 fixed by λ (it does not vanish as δn → 0 at fixed λ, see `md_pulloff`), and the discretisation error; the
 successive differences |e(N) − e(2N)| measure the latter, their least-squares log2 slope is the observed order and
-the Richardson limit e_∞ the law-shape error of the sphere.
+the Richardson limit e_∞ the law-shape error of the sphere. It must vanish at both ends, where the pull-off does not
+depend on the law's shape: λ → 0 (DMT/Derjaguin, −2πwR) and λ → ∞ (JKR, −(3/2)πwR). Cell check (entry "cell"):
+λ = 0.1, the widest adhesive zone, at L = 2 × 0.5 µm with N doubled (same spacing): the periodic-image part.
 
     python -m verification.studies.md_pulloff_2d [--write]
 
@@ -45,9 +47,9 @@ LENGTH = 0.5e-6
 WORK = 1.0
 PATH = (-1e-9, 2e-9, 0.5e-9, -3e-9)
 STEPS = (10, 6, 350)
-LAMBDAS = (0.3, 1.0, 3.0)
+LAMBDAS = (0.1, 0.3, 1.0, 3.0)
 #: N per λ (doubling); the process zone shrinks as 1/λ², so the lists start finer as λ grows
-NODES = {0.3: (32, 64, 128, 256), 1.0: (64, 128, 256, 512), 3.0: (128, 256, 512)}
+NODES = {0.1: (32, 64, 128, 256), 0.3: (32, 64, 128, 256), 1.0: (64, 128, 256, 512), 3.0: (128, 256, 512)}
 #: the N the CI test re-runs (the second level of each list)
 CI_NODES = {lam: ns[1] for lam, ns in NODES.items()}
 
@@ -61,8 +63,8 @@ def delta_n(lam):
     return 1e-9 * float(MDS.maugis_parameter_from_cohesive_law(WORK, 1e-9, RADIUS, e_star())) / lam
 
 
-def scene(nodes, lam):
-    s = sphere(nodes, RADIUS, LENGTH, law="cohesive",
+def scene(nodes, lam, length=LENGTH):
+    s = sphere(nodes, RADIUS, length, law="cohesive",
                **{"interface.work_normal": WORK, "interface.length_normal": delta_n(lam)})
     return s.replace(**{"loading.path": list(PATH), "loading.steps": list(STEPS), "output.field_steps": 0})
 
@@ -74,14 +76,14 @@ def analytic(lam):
     return float(MDS.pull_off_load(RADIUS, e_star(), w, s0)), p_u
 
 
-def measure(nodes, lam):
+def measure(nodes, lam, length=LENGTH):
     """{"P": GFMD pull-off (N), "P_md", "P_u", "error" (signed, /|P_MD|), "sampling" (/P_u), "wall_s"}."""
-    s = scene(nodes, lam)
+    s = scene(nodes, lam, length)
     result, wall = ac.run(s)
     d, p, a = (np.asarray(result.curve[c], float) for c in ("delta", "p", "a_rel"))
     branch, cycle = step_branches(s.loading)
     (row,) = cyc.cycle_observables(d, p, a, branch, cycle)
-    load = row["pull_off_pressure"] * LENGTH**2
+    load = row["pull_off_pressure"] * length**2
     p_md, p_u = analytic(lam)
     unloading = np.flatnonzero(np.asarray(branch) == "unloading")
     k = int(unloading[np.argmin(p[unloading])])
@@ -90,7 +92,7 @@ def measure(nodes, lam):
     y0, y1, y2 = p[k - 1], p[k], p[k + 1]
     vertex = y1 - (y2 - y0) ** 2 / (8.0 * (y0 - 2.0 * y1 + y2))
     return {"P": load, "P_md": p_md, "P_u": p_u, "error": (load - p_md) / abs(p_md),
-            "sampling": abs(y1 - vertex) * LENGTH**2 / p_u, "wall_s": wall}
+            "sampling": abs(y1 - vertex) * length**2 / p_u, "wall_s": wall}
 
 
 def study(lam, nodes=None):
@@ -101,6 +103,17 @@ def study(lam, nodes=None):
     diffs, order, limit = orders(errors)
     return {"lambda": lam, "nodes": list(nodes), "data": data, "errors": errors, "differences": list(diffs),
             "order": order, "limit": limit, "wall_s": time.perf_counter() - t0}
+
+
+#: λ and N of the cell check (L doubled, N doubled)
+CELL_LAMBDA = 0.1
+
+
+def cell_check():
+    """e at (L, CI N) and (2L, 2 CI N) for λ = CELL_LAMBDA: the periodic-image part of the error."""
+    n = CI_NODES[CELL_LAMBDA]
+    errors = [measure(n, CELL_LAMBDA)["error"], measure(2 * n, CELL_LAMBDA, 2 * LENGTH)["error"]]
+    return {"lambda": CELL_LAMBDA, "L_m": [LENGTH, 2 * LENGTH], "N": [n, 2 * n], "errors": errors}
 
 
 def entry(studies):
@@ -138,10 +151,13 @@ def main(argv=None):
               f"|Δe| {[f'{v:.2e}' for v in st['differences']]} order {st['order']:.2f} limit {st['limit']:.5f} "
               f"sampling {max(x['sampling'] for x in st['data']):.1e} walls {[round(x['wall_s'], 1) for x in st['data']]}",
               flush=True)
+    cell = cell_check()
+    print(f"cell check λ = {cell['lambda']}: L {cell['L_m']} N {cell['N']} e {cell['errors']}")
     if args.write:
-        print(measured.write(NAME, {"ci": entry(studies)},
+        print(measured.write(NAME, {"ci": entry(studies), "cell": measured.make_entry(
+            cell, scene="verification.studies.md_pulloff_2d.scene(N, λ) at L and 2L (N doubled)")},
                              description="GFMD cohesive sphere (2+1-D) pull-off on a displacement-controlled load–unload "
-                                         "path vs Maugis–Dugdale at λ = 0.3, 1, 3: signed relative error vs N, successive "
+                                         "path vs Maugis–Dugdale at λ = 0.1, 0.3, 1, 3: signed relative error vs N, successive "
                                          "differences, observed order, Richardson limit (law shape)"))
 
 
