@@ -201,6 +201,27 @@ def cylinder(nodes, radius, length, law="hard-wall", steps=4, final=1e-9, initia
     return _indenter("cylinder", {"surface.radius": radius}, nodes, length, law, steps, final, initial, extra)
 
 
+def sphere(nodes, radius, length, law="hard-wall", steps=4, final=1e-9, initial=0.0, **extra):
+    """2+1-D: paraboloid h = (x² + y²)/(2R) centred in a square periodic L × L cell of N × N nodes on the
+    default half-space (E = 70 GPa, ν = 0.45), fields at every step."""
+    return _indenter("sphere", {"surface.radius": radius, "surface.nodes_y": int(nodes)}, nodes, length, law,
+                     steps, final, initial, extra)
+
+
+def egg_box(nodes, amplitude, length, law="hard-wall", steps=6, final=1e-9, initial=0.0, **extra):
+    """2+1-D: egg-box h = a cos(2πx/L) cos(2πy/L) on a square L × L cell of N × N nodes, default half-space."""
+    return _indenter("egg-box", {"surface.amplitude": amplitude, "surface.nodes_y": int(nodes)}, nodes, length,
+                     law, steps, final, initial, extra)
+
+
+def embedded_sinusoid(nodes, amplitude, length, nodes_y, length_y, law="hard-wall", steps=6, final=1e-9,
+                      initial=0.0, **extra):
+    """2+1-D: the 1-D sinusoid h = −a cos(2πx/L) constant along y on an L × Ly cell of N × Ny nodes
+    (`sinusoid` with `surface.nodes_y`, `surface.length_y`)."""
+    return _indenter("sinusoid", {"surface.amplitude": amplitude, "surface.nodes_y": int(nodes_y),
+                                  "surface.length_y": length_y}, nodes, length, law, steps, final, initial, extra)
+
+
 # ----------------------------------------------------------------------------- GFMD self-consistency
 def small_sinusoid(law):
     """Sinusoid A = 5 nm, L = 1 µm, N = 256 on the default half-plane, δ to 4 nm in 10 steps; law
