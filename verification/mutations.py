@@ -79,9 +79,9 @@ MUTATIONS = (
              "GFMD cohesive FIRE (normal and coupled law), NCG and the FIRE hard wall stop at 10⁴ × their "
              "tolerance", count=3),
     Mutation("stop-early-hard-wall", "gfmd/chains.py",
-             "    chain = CHAINS[chain_key(problem, settings)]\n",
-             "    chain = CHAINS[chain_key(problem, settings)]\n"
-             '    if chain_key(problem, settings)[1] in ("cg", "cg-primal"):\n'
+             "    key = chain_key(problem, settings)\n",
+             "    key = chain_key(problem, settings)\n"
+             '    if key[1] in ("cg", "cg-band", "cg-primal"):\n'
              "        settings = replace(settings, tolerance=1e4 * settings.tolerance)\n",
              "GFMD hard-wall CG (dual and primal) stops at 10⁴ × its tolerance (and says it converged)"),
     Mutation("verlet-is-fire", ("gfmd/algorithms/dynamics.py", "gfmd/algorithms/hard_wall_dynamics.py"),
