@@ -48,7 +48,9 @@ from .study_cycle_plots import cycle_study_figures
 #: output formats of `plot_study`
 FORMATS = ("png", "svg")
 FIGURES = ("kappa_fit", "area_vs_reduced_pressure", "area_vs_reduced_pressure_zoom", "pressure_vs_delta",
-           "area_vs_delta", "gr_over_g_vs_delta", "interface_snapshot", "contact_maps", "area_vs_pressure")
+           "area_vs_delta", "gr_over_g_vs_delta", "interface_snapshot", "area_vs_pressure")
+#: a study of 2+1-D surfaces draws FIGURES with contact_maps in place of interface_snapshot
+FIGURES_2D = tuple("contact_maps" if f == "interface_snapshot" else f for f in FIGURES)
 _COLORS = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan",
            "tab:gray", "tab:red")
 _MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">", "h")
@@ -362,7 +364,7 @@ def snapshot_figure(data):
 
 
 def make_study_figures(study_dir, over=None, data=None):
-    """{name: Figure} of a study directory (`FIGURES`; figures the study has no sets for are left out)."""
+    """{name: Figure} of a study directory (`FIGURES`, `FIGURES_2D` for surfaces; figures the study has no sets for are left out)."""
     data = data or read_study_dir(study_dir)
     figs = {}
     k = kappa_figure(data)
