@@ -2,7 +2,7 @@
 
 Scene: a 2+1-D hard-wall contact of an isotropic self-affine surface (seed Eq. 4 read radially, H = 0.8,
 h_rms = 10 nm, E = 70 GPa, ν = 0.45, half-space) on a periodic L × L cell, L = 1.28 µm, λr = L/2,
-λs = L/16 fixed in physical length (λr/λs = 8), so N × N = 64² … 256² resolves λs with 4 … 16 nodes:
+λs = L/16 fixed in physical length (λr/λs = 8), so N × N = 64² … 512² resolves λs with 4 … 32 nodes:
 κ(N) is a discretisation convergence of the same surfaces (realizations 0 … 3, seeds 1 … 4). δ from first
 contact (initial_separation 0) to 1.5 h_rms in STEPS steps.
 
@@ -38,7 +38,7 @@ from verification import measured
 from verification.studies.kappa_convergence import richardson
 
 NAME = "kappa_2d"
-NODES = (64, 128, 256)
+NODES = (64, 128, 256, 512)
 REALIZATIONS = (0, 1, 2, 3)
 STEPS = 40
 LENGTH = 1.28e-6
