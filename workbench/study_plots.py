@@ -19,7 +19,8 @@ Figures (`FIGURES`): kappa_fit (Fig. 2: a_rel vs p_r* per hard-wall set, the fit
 0 < a_rel ≤ 0.1 shaded, κ ± SE over realizations), area_vs_reduced_pressure (Fig. 3a, adhesive
 branch p < 0 included), area_vs_reduced_pressure_zoom (Fig. 3b), pressure_vs_delta,
 area_vs_delta, gr_over_g_vs_delta (Fig. 4a–c), interface_snapshot (Fig. 5: one realization
-at the largest saved δ, indenter gray, adhesive surface green, non-adhesive red) and
+at the largest saved δ, indenter gray, adhesive surface green, non-adhesive red; a 1+1-D study),
+contact_maps (its 2+1-D stand-in: the same sets' contact maps, black = contact) and
 area_vs_pressure (Figs. 7–8: a_rel vs p/E*). Artists carry a gid ("mean", "reference",
 "kappa-fit", "fit-range", "partial", "nonconverged", "partial-study", "errorbar-label").
 A study of load paths (DIR/cycles.csv) adds pull_off_vs_axis and hysteresis_vs_axis against AXIS
@@ -34,6 +35,9 @@ import numpy as np
 from matplotlib import rc_context
 from matplotlib.figure import Figure
 
+from contact.laws import law_from_scene
+from contact.observables import contact_mask
+
 from . import safe_files
 from .averages import mean_standard_error
 from .claims import (LAW_KEYS, KEY_LABELS, _param_text, kappa_per_realization, read_study_dir, reduced_pressure_of,
@@ -45,6 +49,8 @@ from .study_cycle_plots import cycle_study_figures
 FORMATS = ("png", "svg")
 FIGURES = ("kappa_fit", "area_vs_reduced_pressure", "area_vs_reduced_pressure_zoom", "pressure_vs_delta",
            "area_vs_delta", "gr_over_g_vs_delta", "interface_snapshot", "area_vs_pressure")
+#: a study of 2+1-D surfaces draws FIGURES with contact_maps in place of interface_snapshot
+FIGURES_2D = tuple("contact_maps" if f == "interface_snapshot" else f for f in FIGURES)
 _COLORS = ("tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan",
            "tab:gray", "tab:red")
 _MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">", "h")
@@ -254,8 +260,8 @@ def _saved_steps(fields, r=0):
     return sorted(int(k.split("_")[1][1:]) for k in fields if k.startswith(f"r{r}_s") and k.endswith("_u_z"))
 
 
-def snapshot_figure(data):
-    """Fig. 5: the most adhesive set and its hard-wall reference, one realization, at the largest saved δ."""
+def _snapshot_sets(data):
+    """The sets Fig. 5 shows: the most adhesive set and its hard-wall reference (either may be absent)."""
     sets = data.with_data
     coh = [s for s in sets if not s.hard_wall and s.adhesive]
     ref = None
@@ -265,21 +271,63 @@ def snapshot_figure(data):
     else:
         adh = None
         ref = next((s for s in sets if s.hard_wall), None)
-    shown = [s for s in (adh, ref) if s is not None]
-    if not shown or any(s.scene.surface.two_d for s in shown):  # 2+1-D: no 1-D cut; each run draws its maps
+    return [s for s in (adh, ref) if s is not None]
+
+
+def _load_fields(data, s, real):
+    """(fields dict, saved steps) of set `s`, realization `real` (None when its fields.npz is absent)."""
+    key = s.tasks.get(real)
+    path = data.path / "tasks" / str(key) / "fields.npz"
+    if key is None or not path.is_file():
+        return None
+    with np.load(path) as f:
+        fields = {k: f[k] for k in f.files}
+    steps = _saved_steps(fields)
+    return (fields, steps) if steps else None
+
+
+def contact_maps_figure(data):
+    """2+1-D stand-in for Fig. 5: contact maps of the sets Fig. 5 would show, one realization, largest saved δ.
+
+    Each panel: the run's own contact set (`contact.observables.contact_mask` with the set's law, as its
+    a_rel) of the step nearest the first panel's δ; black = contact. None without 2+1-D sets or saved fields.
+    """
+    shown = [s for s in _snapshot_sets(data) if s.scene.surface.two_d]
+    if not shown:
         return None
     real = min(set.intersection(*(set(s.stacked.realizations) for s in shown)) or shown[0].stacked.realizations)
-    loaded = []
-    for s in shown:
-        key = s.tasks.get(real)
-        path = data.path / "tasks" / str(key) / "fields.npz"
-        if key is None or not path.is_file():
-            continue
-        with np.load(path) as f:
-            fields = {k: f[k] for k in f.files}
-        steps = _saved_steps(fields)
-        if steps:
-            loaded.append((s, fields, steps))
+    loaded = [(s, *got) for s in shown if (got := _load_fields(data, s, real)) is not None]
+    if not loaded:
+        return None
+
+    def delta_of(st, k):
+        steps = list(st.step)
+        return float(st["delta"][st.realizations.index(real)][steps.index(k)]) if k in steps else np.nan
+
+    target = delta_of(loaded[0][0].stacked, loaded[0][2][-1])
+    fig, axes = _figure(len(loaded), size=(4.6, 4.6))
+    for ax, (s, fields, steps) in zip(np.atleast_1d(axes), loaded):
+        k = min(steps, key=lambda k: abs(delta_of(s.stacked, k) - target) if np.isfinite(target) else -k)
+        gap, t_n = fields[f"r0_s{k}_gap"], fields[f"r0_s{k}_t_n"]
+        contact = np.asarray(contact_mask(law_from_scene(s.scene), gap, t_n), bool)
+        x, y = fields["x"] * 1e6, fields["y"] * 1e6
+        ax.imshow(contact.T, origin="lower", extent=(x[0], x[-1], y[0], y[-1]), cmap="Greys", vmin=0, vmax=1,
+                  interpolation="nearest", gid="contact")
+        what = "hard wall" if s.hard_wall else f"φn* = {s.scene.interface.phi_n_star:g}"
+        ax.set(xlabel=r"$x$ (µm)", ylabel=r"$y$ (µm)",
+               title=f"set {s.index}, {what}: δ = {delta_of(s.stacked, k) * 1e9:.3g} nm, a_rel = {contact.mean():.3g}")
+    fig.suptitle(f"Contact maps at the largest saved δ (realization {real}; 2+1-D stand-in for seed Fig. 5)")
+    _note(fig, data)
+    return fig
+
+
+def snapshot_figure(data):
+    """Fig. 5: the most adhesive set and its hard-wall reference, one realization, at the largest saved δ."""
+    shown = _snapshot_sets(data)
+    if not shown or any(s.scene.surface.two_d for s in shown):  # 2+1-D: contact_maps_figure instead
+        return None
+    real = min(set.intersection(*(set(s.stacked.realizations) for s in shown)) or shown[0].stacked.realizations)
+    loaded = [(s, *got) for s in shown if (got := _load_fields(data, s, real)) is not None]
     if not loaded:
         return None
     first, ffirst, sfirst = loaded[0]
@@ -316,7 +364,7 @@ def snapshot_figure(data):
 
 
 def make_study_figures(study_dir, over=None, data=None):
-    """{name: Figure} of a study directory (`FIGURES`; figures the study has no sets for are left out)."""
+    """{name: Figure} of a study directory (`FIGURES`, `FIGURES_2D` for surfaces; figures the study has no sets for are left out)."""
     data = data or read_study_dir(study_dir)
     figs = {}
     k = kappa_figure(data)
@@ -336,6 +384,9 @@ def make_study_figures(study_dir, over=None, data=None):
     snap = snapshot_figure(data)
     if snap is not None:
         figs["interface_snapshot"] = snap
+    maps = contact_maps_figure(data)
+    if maps is not None:
+        figs["contact_maps"] = maps
     figs["area_vs_pressure"] = _overlay(data, over, "p_E", "a_rel", r"relative contact area $a_\mathrm{rel}$",
                                         "Contact area vs mean pressure (seed Figs. 7–8)")
     figs.update(cycle_study_figures(study_dir, over=over))  # load paths: pull-off and hysteresis vs the axis

@@ -14,6 +14,7 @@ regenerates its data file under `verification/data/` (`verification.measured`):
 * `fe_selfaffine`: GFMD vs FE P2 on self-affine profiles (H = 0.8, 0.2), differences vs N;
 * `reduced_models`: coupled vs normal-only law, forced full vs reduced unknowns, half-plane vs layer;
 * `kappa_convergence`: κ vs N for the hard-wall self-affine default geometry, Richardson limit;
+* `kappa_2d`: κ vs N × N for hard-wall self-affine surfaces in 2+1-D, against published 2+1-D values;
 * `fe_linear`: FE P1/P2 layer compliance vs the exact kernel, per ν, and P2 convergence at ν → ½;
 * `speed_accuracy`: error vs wall time of GFMD (FIRE, Verlet) and FE (P1, P2) on three scenes;
 * `extremes`: one-parameter sweeps and corners around a base scene, GFMD vs FE on layer cells,
