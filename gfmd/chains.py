@@ -42,13 +42,14 @@ import numpy as np
 from contact import laws
 
 from .algorithms import (cohesive_wall, coupled_newton, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
-                         hard_wall_primal_cg, ncg)
+                         hard_wall_primal_cg, ncg, newton_cg)
 from .problem import Problem, coupled_stability
 from .stopping import finish
 
 #: the algorithms by name (gfmd.algorithms: one module each, `solve(problem, start, settings) -> Relaxed`)
 ALGORITHMS = {"hard_wall_dual_cg": hard_wall_dual_cg.solve, "hard_wall_primal_cg": hard_wall_primal_cg.solve,
-              "hard_wall_dynamics": hard_wall_dynamics.solve, "ncg": ncg.solve, "dynamics": dynamics.solve,
+              "hard_wall_dynamics": hard_wall_dynamics.solve, "ncg": ncg.solve, "newton_cg": newton_cg.solve,
+              "dynamics": dynamics.solve,
               "coupled_newton": coupled_newton.solve, "cohesive_wall": cohesive_wall.solve}
 
 #: FIRE iterations a coupled-law step gets before the Newton–Krylov / damped-Verlet fallback. Measured (layer
@@ -85,11 +86,20 @@ CHAINS = {
     ("hard-wall", "fire"): (Link("hard_wall_dynamics"),),
     ("hard-wall", "verlet"): (Link("hard_wall_dynamics"),),
     ("cohesive", "ncg"): (Link("ncg"), Link("dynamics", budget="rest")),
+    ("cohesive", "newton-cg"): (Link("newton_cg"), Link("ncg", budget="rest"), Link("dynamics", budget="rest")),
     ("cohesive", "fire"): (Link("dynamics"),),
     ("cohesive", "verlet"): (Link("dynamics"),),
     ("coupled", "fire"): (Link("dynamics", budget="coupled fire"),
                           Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                           Link("dynamics", options=_VERLET, budget="rest")),
+    ("coupled", "newton"): (Link("coupled_newton", accept="locally stable"),
+                            Link("dynamics", budget="coupled fire"),
+                            Link("coupled_newton", starts=("finite end",), accept="locally stable"),
+                            Link("dynamics", options=_VERLET, budget="rest")),
+    ("coupled", "newton-unchecked"): (Link("coupled_newton"),
+                                      Link("dynamics", budget="coupled fire"),
+                                      Link("coupled_newton", starts=("finite end",), accept="locally stable"),
+                                      Link("dynamics", options=_VERLET, budget="rest")),
     ("coupled", "verlet"): (Link("dynamics"),),
     ("user", "ncg"): (Link("ncg"), Link("dynamics", budget="rest")),
     ("user", "fire"): (Link("dynamics"),),
@@ -99,7 +109,7 @@ CHAINS = {
 }
 
 #: the algorithms' labels (`Relaxed.method`) and the start names in words, for messages and reports
-WORDS = {"hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG",
+WORDS = {"newton-cg": "trust-region Newton–CG", "hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG",
          "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov"}
 STARTS = {"guess": "the step's guess", "end": "the end state of the one before",
           "finite end": "the end state of the one before"}
@@ -120,10 +130,14 @@ def chain_key(problem, settings):
             raise ValueError(f"Settings.hard_wall = {settings.hard_wall!r}: expected 'cg' or 'fire'")
         return kind, "verlet" if settings.method == "verlet" else "fire"
     if kind == "coupled":
-        return kind, "fire" if settings.method == "fire" else "verlet"
-    if settings.method == "fire" and settings.cohesive not in ("ncg", "fire"):
-        raise ValueError(f"Settings.cohesive = {settings.cohesive!r}: expected 'ncg' or 'fire'")
-    if settings.method == "fire" and settings.cohesive == "ncg" and (kind == "user" or
+        if settings.method == "fire" and settings.coupled not in ("newton", "newton-unchecked", "fire"):
+            raise ValueError(f"Settings.coupled = {settings.coupled!r}: expected 'newton' or 'fire'")
+        return kind, (settings.coupled if settings.method == "fire" else "verlet")
+    if settings.method == "fire" and settings.cohesive not in ("newton-cg", "ncg", "fire"):
+        raise ValueError(f"Settings.cohesive = {settings.cohesive!r}: expected 'newton-cg', 'ncg' or 'fire'")
+    if settings.method == "fire" and settings.cohesive == "newton-cg" and type(problem.law.law) is laws.NormalCohesive:
+        return kind, "newton-cg"
+    if settings.method == "fire" and settings.cohesive in ("ncg", "newton-cg") and (kind == "user" or
                                                                      type(problem.law.law) is laws.NormalCohesive):
         return kind, "ncg"
     return kind, "verlet" if settings.method == "verlet" else "fire"
@@ -131,7 +145,8 @@ def chain_key(problem, settings):
 
 def labels(key, settings):
     """The `Relaxed.method` labels of the chain `CHAINS[key]`'s algorithms in order, e.g. ("ncg", "fire")."""
-    fixed = {"hard_wall_dual_cg": "cg-dual", "hard_wall_primal_cg": "cg", "ncg": "ncg", "coupled_newton": "newton"}
+    fixed = {"hard_wall_dual_cg": "cg-dual", "hard_wall_primal_cg": "cg", "ncg": "ncg", "coupled_newton": "newton",
+             "newton_cg": "newton-cg"}
     return tuple(fixed.get(link.algorithm) or ("verlet" if dict(link.options).get("method", settings.method) == "verlet"
                                                else "fire") for link in CHAINS[key])
 

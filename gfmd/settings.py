@@ -39,6 +39,9 @@ class Settings:
     # cohesive normal-only law (a potential) with method "fire": "ncg" (nonlinear preconditioned CG with
     # a Newton line search, FIRE as fallback) or "fire" (FIRE alone, the integrator before issue 13)
     cohesive: str = "ncg"
+    # coupled law (seed Eq. 2) with method "fire": "fire" (FIRE, Newton–Krylov and Verlet after a stall) or
+    # "newton" (Newton–Krylov first, its state kept where locally stable; then that chain)
+    coupled: str = "fire"
     # NCG line search: stop when |dE/dα| ≤ line_search_tol · |dE/dα(0)|
     line_search_tol: float = 0.1
     # hard-wall CG: release the wall nodes that pull away once their forces' norm exceeds
