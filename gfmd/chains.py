@@ -57,6 +57,10 @@ ALGORITHMS = {"hard_wall_dual_cg": hard_wall_dual_cg.solve, "hard_wall_primal_cg
 #: up to δ = 32 nm (N = 64; ≤ 350 at N = 128), then 950, 7 580, 33 060 and fails (residual 1e-2 to
 #: 1e2 p_ref) from δ ≈ 39 nm (N = 128), where Verlet converges in 500–1 140. Budget ≈ 2.5 × 790.
 COUPLED_FIRE_BUDGET = 2000
+#: Newton-first coupled chain: its converged state is kept only where no node moved COUPLED_JUMP · (the law's
+#: length, min(δn, δt)) or more from the step's start: the continuation of the stable branch the ramp is on.
+#: A larger move (a snap or slip event) hands the step to the FIRE chain, whose Newton is tested for stability
+COUPLED_JUMP = 1.0
 
 
 @dataclass(frozen=True)
@@ -92,9 +96,9 @@ CHAINS = {
     ("coupled", "fire"): (Link("dynamics", budget="coupled fire"),
                           Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                           Link("dynamics", options=_VERLET, budget="rest")),
-    ("coupled", "newton"): (Link("coupled_newton", accept="locally stable"),
+    ("coupled", "newton"): (Link("coupled_newton", accept="continuation"),
                             Link("dynamics", budget="coupled fire"),
-                            Link("coupled_newton", starts=("finite end",), accept="locally stable"),
+                            Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                             Link("dynamics", options=_VERLET, budget="rest")),
     ("coupled", "newton-unchecked"): (Link("coupled_newton"),
                                       Link("dynamics", budget="coupled fire"),
@@ -166,8 +170,12 @@ def _budget(link, settings, used):
     return left if link.budget == "left" else max(left, 1)
 
 
-def _rejected(problem, link, r):
+def _rejected(problem, link, r, origin):
     """Why a converged state fails the link's acceptance test ("" if it passes)."""
+    if link.accept == "continuation":  # kept only where no node moved COUPLED_JUMP law lengths from the start
+        move = float(np.max(np.abs(problem.displacements(r.u_hat - origin)))) / problem.law.law.length_scale
+        return (f"a node moved {move:.3g} law lengths from the step's start (a snap or slip event: left to the "
+                "chain that tests stability)") if move >= COUPLED_JUMP else ""
     if link.accept != "locally stable":
         return ""
     lowest = coupled_stability(problem.model, problem.law, problem.z_ind, r.u_hat)
@@ -207,7 +215,7 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
             pairs += r.fft_pairs
             if r.method and (not names or names[-1] != r.method):
                 names.append(r.method)
-            why = _rejected(problem, link, r) if r.converged else ""
+            why = _rejected(problem, link, r, origin) if r.converged else ""
             where = "" if start == "guess" or i == 0 else f" from {STARTS[start]}"
             label = WORDS.get(r.method) or WORDS.get(link.algorithm, link.algorithm)
             if r.converged and not why or not r.converged and (last_link or not r.stalled):

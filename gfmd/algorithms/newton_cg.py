@@ -30,6 +30,8 @@ NEWTON_CG_ETA = 0.5
 TR_ACCEPT, TR_SHRINK, TR_GROW, TR_START = 1e-4, 0.25, 0.75, 10.0
 #: a radius below this fraction of the first one is a stall
 TR_FLOOR = 1e-10
+#: preconditioner M(q) = K(q) + NEWTON_CG_SHIFT ⟨max(k_loc, 0)⟩ (0: K⁻¹)
+NEWTON_CG_SHIFT = 0.0
 
 
 def solve(problem, start, settings):
@@ -110,7 +112,16 @@ def solve(problem, start, settings):
         eta = min(NEWTON_CG_ETA, np.sqrt(f_norm / f0))
         # no inner accuracy beyond what the max-norm test needs: ‖r‖_{K⁻¹} ≤ ½ tolerance·p_ref ‖f‖_{K⁻¹}/max|f|
         floor = 0.5 * settings.tolerance * p_ref * f_norm / (residual * p_ref)
-        s, model_drop, used, boundary = _steihaug(f_hat, kloc, k, g, w, wk, wg, radius, max(eta * f_norm, floor),
+        shift = NEWTON_CG_SHIFT * float(np.mean(np.maximum(kloc, 0.0)))
+        if shift > 0:
+            g = np.zeros(k.size)
+            np.divide(1.0, k + shift, out=g, where=k + shift > 0)
+            if clamp:
+                g[0] = 0.0
+            wm = w * (k + shift)
+        else:
+            wm = wk
+        s, model_drop, used, boundary = _steihaug(f_hat, kloc, k, g, w, wm, wg, radius, max(eta * f_norm, floor),
                                                   min(NEWTON_CG_INNER, budget - products), fft, clamp, sdot)
         products += used
         s_nodes = fft.irfft(s)  # the trial gaps Δn − α s need no further FFT
@@ -133,7 +144,7 @@ def solve(problem, start, settings):
             alpha, actual = _backtrack(drop_at, slope) if slope < 0 else (0.0, 0.0)
             if alpha > 0:
                 trial_gap = drop_at(alpha)[1]
-        s_norm = np.sqrt(max(a2, 0.0))
+        s_norm = np.sqrt(max(sdot(s, s, wm), 0.0))
         if rho < TR_SHRINK:
             radius = max(0.25, alpha) * s_norm if alpha > 0 else 0.25 * s_norm
         elif rho > TR_GROW and boundary:
@@ -171,7 +182,7 @@ def _backtrack(drop_at, slope, shrink=(0.1, 0.5), tries=30):
     return 0.0, 0.0
 
 
-def _steihaug(f_hat, kloc, k, g, w, wk, wg, radius, tol, max_products, fft, clamp, sdot):
+def _steihaug(f_hat, kloc, k, g, w, wm, wg, radius, tol, max_products, fft, clamp, sdot):
     """Steihaug's CG on H s = f in ‖s‖_K ≤ radius, preconditioned by K⁻¹: (ŝ, m(0) − m(s), products, on boundary).
 
     Stops at ‖r‖_{K⁻¹} ≤ tol, on the boundary where pᵀHp ≤ 0 (negative curvature: the model falls without
@@ -190,9 +201,9 @@ def _steihaug(f_hat, kloc, k, g, w, wk, wg, radius, tol, max_products, fft, clam
         if clamp:
             hp[0] = 0.0
         used += 1
-        php = sdot(p, p, wk) + dot(kloc * p_nodes, p_nodes)
+        php = sdot(p, p, w * k) + dot(kloc * p_nodes, p_nodes)
         pr = sdot(p, r)
-        sp, pp = sdot(s, p, wk), sdot(p, p, wk)
+        sp, pp = sdot(s, p, wm), sdot(p, p, wm)
         if php <= 0.0:  # negative curvature: to the boundary along p
             tau = _to_boundary(ss, sp, pp, radius)
             return s + tau * p, drop + tau * pr - 0.5 * tau * tau * php, used, True
@@ -202,7 +213,7 @@ def _steihaug(f_hat, kloc, k, g, w, wk, wg, radius, tol, max_products, fft, clam
             return s + tau * p, drop + tau * pr - 0.5 * tau * tau * php, used, True
         s += alpha * p
         drop += alpha * pr - 0.5 * alpha * alpha * php
-        ss = sdot(s, s, wk)
+        ss = sdot(s, s, wm)
         r -= alpha * hp
         z = g * r
         rz_new = sdot(r, z)
