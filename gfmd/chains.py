@@ -100,10 +100,6 @@ CHAINS = {
                             Link("dynamics", budget="coupled fire"),
                             Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                             Link("dynamics", options=_VERLET, budget="rest")),
-    ("coupled", "newton-unchecked"): (Link("coupled_newton"),
-                                      Link("dynamics", budget="coupled fire"),
-                                      Link("coupled_newton", starts=("finite end",), accept="locally stable"),
-                                      Link("dynamics", options=_VERLET, budget="rest")),
     ("coupled", "verlet"): (Link("dynamics"),),
     ("user", "ncg"): (Link("ncg"), Link("dynamics", budget="rest")),
     ("user", "fire"): (Link("dynamics"),),
@@ -134,7 +130,7 @@ def chain_key(problem, settings):
             raise ValueError(f"Settings.hard_wall = {settings.hard_wall!r}: expected 'cg' or 'fire'")
         return kind, "verlet" if settings.method == "verlet" else "fire"
     if kind == "coupled":
-        if settings.method == "fire" and settings.coupled not in ("newton", "newton-unchecked", "fire"):
+        if settings.method == "fire" and settings.coupled not in ("newton", "fire"):
             raise ValueError(f"Settings.coupled = {settings.coupled!r}: expected 'newton' or 'fire'")
         return kind, (settings.coupled if settings.method == "fire" else "verlet")
     if settings.method == "fire" and settings.cohesive not in ("newton-cg", "ncg", "fire"):

@@ -30,8 +30,9 @@ NEWTON_CG_ETA = 0.5
 TR_ACCEPT, TR_SHRINK, TR_GROW, TR_START = 1e-4, 0.25, 0.75, 10.0
 #: a radius below this fraction of the first one is a stall
 TR_FLOOR = 1e-10
-#: preconditioner M(q) = K(q) + NEWTON_CG_SHIFT ⟨max(k_loc, 0)⟩ (0: K⁻¹)
-NEWTON_CG_SHIFT = 0.0
+#: relative round-off of the energy difference E(u) − E(u + s) (a sum over N nodes of differences of V):
+#: where the model's decrease is below it, the ratio test cannot judge the step, and the step is taken
+ENERGY_ROUNDOFF = 1e-13
 
 
 def solve(problem, start, settings):
@@ -112,16 +113,7 @@ def solve(problem, start, settings):
         eta = min(NEWTON_CG_ETA, np.sqrt(f_norm / f0))
         # no inner accuracy beyond what the max-norm test needs: ‖r‖_{K⁻¹} ≤ ½ tolerance·p_ref ‖f‖_{K⁻¹}/max|f|
         floor = 0.5 * settings.tolerance * p_ref * f_norm / (residual * p_ref)
-        shift = NEWTON_CG_SHIFT * float(np.mean(np.maximum(kloc, 0.0)))
-        if shift > 0:
-            g = np.zeros(k.size)
-            np.divide(1.0, k + shift, out=g, where=k + shift > 0)
-            if clamp:
-                g[0] = 0.0
-            wm = w * (k + shift)
-        else:
-            wm = wk
-        s, model_drop, used, boundary = _steihaug(f_hat, kloc, k, g, w, wm, wg, radius, max(eta * f_norm, floor),
+        s, model_drop, used, boundary = _steihaug(f_hat, kloc, k, g, w, wk, wg, radius, max(eta * f_norm, floor),
                                                   min(NEWTON_CG_INNER, budget - products), fft, clamp, sdot)
         products += used
         s_nodes = fft.irfft(s)  # the trial gaps Δn − α s need no further FFT
@@ -138,13 +130,16 @@ def solve(problem, start, settings):
 
         actual, trial_gap = drop_at(1.0)
         rho = actual / model_drop if model_drop > 0 else -np.inf
+        noise = ENERGY_ROUNDOFF * (float(np.sum(np.abs(v))) + abs(a1))  # the energy difference's round-off
+        if np.isfinite(actual) and 0 < model_drop < noise:  # below it ρ is noise: the model is trusted
+            rho = 1.0
         alpha = 1.0
         if not rho >= TR_ACCEPT:  # backtrack along s (Armijo, quadratic interpolation): the CG's work is kept
             slope = -sdot(s, f_hat)  # dE/dα at 0
             alpha, actual = _backtrack(drop_at, slope) if slope < 0 else (0.0, 0.0)
             if alpha > 0:
                 trial_gap = drop_at(alpha)[1]
-        s_norm = np.sqrt(max(sdot(s, s, wm), 0.0))
+        s_norm = np.sqrt(max(a2, 0.0))
         if rho < TR_SHRINK:
             radius = max(0.25, alpha) * s_norm if alpha > 0 else 0.25 * s_norm
         elif rho > TR_GROW and boundary:
