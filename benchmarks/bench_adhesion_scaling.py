@@ -55,8 +55,9 @@ CLASSES = {
     "normal": {"interface.law": "cohesive", "interface.phi_n_star": 0.15, "interface.tangential_ratio": 0.0,
                "interface.length_tangential": 1e-9},
 }
-#: the solver before issue 24 per class (--compare): Settings fields
-BEFORE = {"cohesive": {"cohesive": "ncg"}, "coupled": {"coupled": "fire"}}
+#: --compare: per class, the other solver run on the same task (label, Settings fields); the default runs as "default"
+OTHER = {"cohesive": ("newton-cg (lever, not default)", {"cohesive": "newton-cg"}),
+         "coupled": ("fire (before issue 24)", {"coupled": "fire"})}
 
 
 def ramp(n, cls, options=None, max_steps=None):
@@ -141,8 +142,8 @@ def main(argv=None):
         n = 2**e
         for cls in args.classes:
             variants = [("default", None)]
-            if args.compare and cls in BEFORE:
-                variants.insert(0, ("before", BEFORE[cls]))
+            if args.compare and cls in OTHER:
+                variants.append(OTHER[cls])
             for name, options in variants:
                 if cls == "normal" and (e, "cohesive", "default") in sums and name == "default":
                     rows = cohesive_rows  # the same task (c = 0): not run twice

@@ -10,11 +10,16 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   `dual_contact_limit` (15 %) of the nodes, then the primal CG (`dual_contact_limit = 0`: the primal
   alone); ``hard_wall = "fire"``: projected FIRE; method "verlet": projected Verlet.
 * normal-only cohesive law (a potential), method "fire": the NCG, FIRE after a stall
-  (``cohesive = "fire"``: FIRE alone); "verlet": Verlet.
-* coupled law (seed Eq. 2, no potential), method "fire": FIRE; after a stall (`COUPLED_FIRE_BUDGET`)
-  Newton–Krylov from the guess, then from FIRE's end state, a converged state kept only where
-  locally stable (`gfmd.problem.coupled_stability`, the FE reference's criterion); then Verlet from
-  the guess. Method "verlet": Verlet.
+  (``cohesive = "fire"``: FIRE alone; ``cohesive = "newton-cg"``: the trust-region Newton–CG, then that
+  chain: measured slower than the NCG, not the default); "verlet": Verlet.
+* coupled law (seed Eq. 2, no potential), method "fire", ``coupled = "newton"`` (default, issue 24): the
+  Newton–Krylov first, its converged state kept only as a continuation of the ramp's branch (no node moved
+  `COUPLED_JUMP` law lengths from the step's start); otherwise, and where it stalls, the chain of
+  ``coupled = "fire"``: FIRE; after a stall (`COUPLED_FIRE_BUDGET`) Newton–Krylov from the guess, then from
+  FIRE's end state, a converged state kept only where locally stable (`gfmd.problem.coupled_stability`, the FE
+  reference's criterion); then Verlet from the guess. Method "verlet": Verlet. Measured
+  (benchmarks/results/bench_adhesion_scaling_full.md): the Newton-first chain needs 2.8× fewer FFT pairs per
+  step than FIRE first on the Fig. 8 ramp.
 * cohesive wall: projected FIRE, or Verlet (method "verlet").
 * user law (`contact.user_law`, normal-only, a potential): as the normal-only cohesive law, the NCG (its
   generic nodal path: the user's traction and tangent on every node) and FIRE after a stall; the labels are
