@@ -142,29 +142,31 @@ def _spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol):
     d_nn, d_nt, d_tn, d_tt = law.law.tangent(z_ind - u[-1], -u[0])
     scale = np.sqrt(spectral_weights(n) / n)
     shape = (c, n // 2 + 1)
-
-    def to_real(x_hat):
-        return (x_hat * scale).view(float).ravel()
-
-    def from_real(x):
-        return x.view(complex).reshape(shape) / scale
+    inverse = tuple(b / scale for b in stiff.inv_mass)  # z ↦ K⁻¹ y with y = z / scale, one product per block
+    dv = np.empty((c, n))
 
     def b_times(x):
-        y = from_real(np.ascontiguousarray(x))
-        v = fft.irfft(stiff.inverse_mass_times(y))
+        z = np.ascontiguousarray(x).view(complex).reshape(shape)
+        v = fft.irfft(stiff._apply(inverse, z))
         if c == 1:
-            dv = d_nn * v
+            np.multiply(d_nn, v[0], out=dv[0])
         else:
-            dv = np.stack([d_tt * v[0] + d_tn * v[1], d_nt * v[0] + d_nn * v[1]])
-        out = y + fft.rfft(dv)
+            np.multiply(d_tt, v[0], out=dv[0])
+            dv[0] += d_tn * v[1]
+            np.multiply(d_nt, v[0], out=dv[1])
+            dv[1] += d_nn * v[1]
+        out = fft.rfft(dv)
+        out *= scale
+        out += z
         if clamp:
-            out[:, 0] = y[:, 0]
-        return to_real(out)
+            out[:, 0] = z[:, 0]
+        return out.view(float).ravel()
 
     size = 2 * c * (n // 2 + 1)
     b_op = LinearOperator((size, size), matvec=b_times, dtype=float)
-    y, _ = gmres(b_op, to_real(f_hat), rtol=rtol, restart=COUPLED_GMRES_RESTART, maxiter=COUPLED_GMRES_CYCLES)
-    du_hat = stiff.inverse_mass_times(from_real(y))
+    rhs = np.ascontiguousarray(f_hat * scale).view(float).ravel()
+    y, _ = gmres(b_op, rhs, rtol=rtol, restart=COUPLED_GMRES_RESTART, maxiter=COUPLED_GMRES_CYCLES)
+    du_hat = stiff._apply(inverse, np.ascontiguousarray(y).view(complex).reshape(shape))
     if clamp:
         du_hat[:, 0] = 0.0
     return du_hat
