@@ -18,7 +18,7 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   ``coupled = "fire"``: FIRE; after a stall (`COUPLED_FIRE_BUDGET`) Newton–Krylov from the guess, then from
   FIRE's end state, a converged state kept only where locally stable (`gfmd.problem.coupled_stability`, the FE
   reference's criterion); then Verlet from the guess. Method "verlet": Verlet. Measured
-  (benchmarks/results/bench_adhesion_scaling_full.md): the Newton-first chain needs 2.8× fewer FFT pairs per
+  (benchmarks/results/bench_adhesion_scaling_full.md): the Newton-first chain needs 2.8–3.1× fewer FFT pairs per
   step than FIRE first on the Fig. 8 ramp.
 * cohesive wall: projected FIRE, or Verlet (method "verlet").
 * user law (`contact.user_law`, normal-only, a potential): as the normal-only cohesive law, the NCG (its
