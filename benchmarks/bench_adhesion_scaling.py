@@ -4,8 +4,9 @@ Usage: python benchmarks/bench_adhesion_scaling.py [--quick] [--sizes 12 14 17] 
                                                    [--classes cohesive coupled normal] [--compare]
 
 Task classes, on the full-scale seed base scene (studies/seed/seed_base.toml, realization seed 1) with
-`surface.nodes` = N (L = 10.24 µm fixed; λs,H = max(2.5 nm, 4 L/N), i.e. 10 nm at 2^12), the ramp of `contact.loading.realization_steps` (200 steps from δ0 = 12 nm out of
-contact towards δ = 20 nm), stopped after the first step whose a_rel reaches A_REL_STOP (0.5):
+`surface.nodes` = N (L = 10.24 µm fixed; λs,H = max(2.5 nm, 4 L/N), i.e. 10 nm at 2^12), the ramp of
+`contact.loading.realization_steps` (200 steps from δ0 = 12 nm out of contact towards δ = 20 nm), stopped
+after the first step whose a_rel reaches A_REL_STOP (0.5; realization seed 1 reaches 0.27 at δ = 20 nm):
   cohesive  φn* = 0.15, c = 0: the Fig. 3 strong-adhesion task (studies/seed/fig3.toml)
   coupled   φn* = 0.15, c = 0.5, δt = 1 nm: Fig. 8's coupled law (studies/seed/fig8.toml)
   normal    the same as coupled with c = 0 (Fig. 8's normal law on the same profile and ramp)
@@ -14,8 +15,9 @@ Each step is relaxed by `gfmd.chains.relax` from the ramp's warm start (linear e
 from the last converged state as `contact.ramp.run_ramp` does); per step: iterations, FFT pairs
 (rfft+irfft pairs, `Relaxed.fft_pairs`: deterministic, meaningful under load), a_rel, the chain's
 label, and CPU seconds (time.process_time; the machine is shared: MEASURED UNDER LOAD, the
-load average is printed). --compare runs each cohesive/coupled class with the previous solver too
-(cohesive: Settings.cohesive = "ncg"; coupled: Settings.coupled = "fire"), in the same run.
+load average is printed). --compare runs the other solver on the same task in the same run: cohesive with
+Settings.cohesive = "newton-cg" (the trust-region Newton–CG; the default is "ncg"), coupled with
+Settings.coupled = "fire" (the chain before issue 24; the default is "newton", Newton–Krylov first).
 Output: a markdown table per class plus a summary (mean / max pairs per step, coupled / normal ratios).
 """
 

@@ -114,7 +114,8 @@ CHAINS = {
 }
 
 #: the algorithms' labels (`Relaxed.method`) and the start names in words, for messages and reports
-WORDS = {"newton-cg": "trust-region Newton–CG", "hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG",
+WORDS = {"newton-cg": "trust-region Newton–CG", "hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG",
+         "cg": "the primal CG", "ncg": "NCG",
          "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov"}
 STARTS = {"guess": "the step's guess", "end": "the end state of the one before",
           "finite end": "the end state of the one before"}

@@ -1,7 +1,8 @@
 """Newton–Krylov on the coupled law's nodal balance (seed Eq. 2; no dynamics, no potential needed).
 
-The coupled chain's fallback where FIRE stalls (`gfmd.chains`): deep in the slip regime the
-equilibria are flutter points of any damped dynamics (tests/test_solver_coupled.py).
+The coupled chain's first algorithm (issue 24: 3× fewer FFT pairs per step than FIRE on the Fig. 8 ramp,
+benchmarks/results/bench_adhesion_scaling_full.md) and its fallback where FIRE stalls (`gfmd.chains`): deep in
+the slip regime the equilibria are flutter points of any damped dynamics (tests/test_solver_coupled.py).
 """
 
 from __future__ import annotations
@@ -36,8 +37,12 @@ def solve(problem, start, settings):
 
     Each iteration solves (K + D) δu = f by GMRES, D the nodal 2×2 tangent of Eq. 2
     (`contact.laws.jacobian_coupled`, ∂t/∂u = −D since Δn = z_ind − u_z, Δt = −u_x), K applied
-    by FFT, preconditioned by the inverse of the FIRE mass M_q = K(q) + ⟨k_loc⟩ (`gfmd.problem.Elastic`),
-    to relative tolerance COUPLED_NEWTON_FORCING; the step is capped so that no node moves
+    by FFT: on the spectrum, right-preconditioned by K⁻¹ (`_spectral_step`, one FFT pair per product; with
+    COUPLED_NEWTON_SPECTRAL = False on the nodes, preconditioned by K⁻¹ or, COUPLED_NEWTON_SHIFTED, the inverse
+    FIRE mass M_q = K(q) + ⟨k_loc⟩, two pairs per product), to the relative tolerance
+    min(COUPLED_NEWTON_FORCING, max(COUPLED_NEWTON_FORCING_MIN, 0.3 tolerance / residual)) (no accuracy beyond
+    what the stopping test needs; measured on the Fig. 8 ramp at 2^12: 72 FFT pairs per step vs 83 with a fixed
+    1e-3, and 184 on the nodes with K⁻¹, 265 with the FIRE mass); the step is capped so that no node moves
     more than COUPLED_NEWTON_MAX_MOVE·min(δn, δt) and halved until ‖f‖₂ decreases (a step
     into the law's overflow range counts as no decrease). Half-plane: the mean modes stay
     clamped (the operator acts on zero-mean fields). Stops on the solver's residual
