@@ -11,11 +11,16 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   (`dual_contact_limit = 0`: the primal alone; `dual_coarse_block = 0`: the dual CG with the band
   preconditioner alone, label "cg-dual", the default before issue 24); ``hard_wall = "fire"``: projected FIRE; method "verlet": projected Verlet.
 * normal-only cohesive law (a potential), method "fire": the NCG, FIRE after a stall
-  (``cohesive = "fire"``: FIRE alone); "verlet": Verlet.
-* coupled law (seed Eq. 2, no potential), method "fire": FIRE; after a stall (`COUPLED_FIRE_BUDGET`)
-  Newton–Krylov from the guess, then from FIRE's end state, a converged state kept only where
-  locally stable (`gfmd.problem.coupled_stability`, the FE reference's criterion); then Verlet from
-  the guess. Method "verlet": Verlet.
+  (``cohesive = "fire"``: FIRE alone; ``cohesive = "newton-cg"``: the trust-region Newton–CG, then that
+  chain: measured slower than the NCG, not the default); "verlet": Verlet.
+* coupled law (seed Eq. 2, no potential), method "fire", ``coupled = "newton"`` (default, issue 24): the
+  Newton–Krylov first, its converged state kept only as a continuation of the ramp's branch (no node moved
+  `COUPLED_JUMP` law lengths from the step's start); otherwise, and where it stalls, the chain of
+  ``coupled = "fire"``: FIRE; after a stall (`COUPLED_FIRE_BUDGET`) Newton–Krylov from the guess, then from
+  FIRE's end state, a converged state kept only where locally stable (`gfmd.problem.coupled_stability`, the FE
+  reference's criterion); then Verlet from the guess. Method "verlet": Verlet. Measured
+  (benchmarks/results/bench_adhesion_scaling_full.md): the Newton-first chain needs 2.8–3.1× fewer FFT pairs per
+  step than FIRE first on the Fig. 8 ramp.
 * cohesive wall: projected FIRE, or Verlet (method "verlet").
 * user law (`contact.user_law`, normal-only, a potential): as the normal-only cohesive law, the NCG (its
   generic nodal path: the user's traction and tangent on every node) and FIRE after a stall; the labels are
@@ -43,14 +48,15 @@ import numpy as np
 from contact import laws
 
 from .algorithms import (cohesive_wall, coupled_newton, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
-                         hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
+                         hard_wall_primal_cg, hard_wall_two_level_cg, ncg, newton_cg)
 from .problem import Problem, coupled_stability, flat_problem
 from .stopping import finish
 
 #: the algorithms by name (gfmd.algorithms: one module each, `solve(problem, start, settings) -> Relaxed`)
 ALGORITHMS = {"hard_wall_two_level_cg": hard_wall_two_level_cg.solve, "hard_wall_dual_cg": hard_wall_dual_cg.solve,
               "hard_wall_primal_cg": hard_wall_primal_cg.solve,
-              "hard_wall_dynamics": hard_wall_dynamics.solve, "ncg": ncg.solve, "dynamics": dynamics.solve,
+              "hard_wall_dynamics": hard_wall_dynamics.solve, "ncg": ncg.solve, "newton_cg": newton_cg.solve,
+              "dynamics": dynamics.solve,
               "coupled_newton": coupled_newton.solve, "cohesive_wall": cohesive_wall.solve}
 
 #: FIRE iterations a coupled-law step gets before the Newton–Krylov / damped-Verlet fallback. Measured (layer
@@ -58,6 +64,10 @@ ALGORITHMS = {"hard_wall_two_level_cg": hard_wall_two_level_cg.solve, "hard_wall
 #: up to δ = 32 nm (N = 64; ≤ 350 at N = 128), then 950, 7 580, 33 060 and fails (residual 1e-2 to
 #: 1e2 p_ref) from δ ≈ 39 nm (N = 128), where Verlet converges in 500–1 140. Budget ≈ 2.5 × 790.
 COUPLED_FIRE_BUDGET = 2000
+#: Newton-first coupled chain: its converged state is kept only where no node moved COUPLED_JUMP · (the law's
+#: length, min(δn, δt)) or more from the step's start: the continuation of the stable branch the ramp is on.
+#: A larger move (a snap or slip event) hands the step to the FIRE chain, whose Newton is tested for stability
+COUPLED_JUMP = 1.0
 
 
 @dataclass(frozen=True)
@@ -88,11 +98,16 @@ CHAINS = {
     ("hard-wall", "fire"): (Link("hard_wall_dynamics"),),
     ("hard-wall", "verlet"): (Link("hard_wall_dynamics"),),
     ("cohesive", "ncg"): (Link("ncg"), Link("dynamics", budget="rest")),
+    ("cohesive", "newton-cg"): (Link("newton_cg"), Link("ncg", budget="rest"), Link("dynamics", budget="rest")),
     ("cohesive", "fire"): (Link("dynamics"),),
     ("cohesive", "verlet"): (Link("dynamics"),),
     ("coupled", "fire"): (Link("dynamics", budget="coupled fire"),
                           Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                           Link("dynamics", options=_VERLET, budget="rest")),
+    ("coupled", "newton"): (Link("coupled_newton", accept="continuation"),
+                            Link("dynamics", budget="coupled fire"),
+                            Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
+                            Link("dynamics", options=_VERLET, budget="rest")),
     ("coupled", "verlet"): (Link("dynamics"),),
     ("user", "ncg"): (Link("ncg"), Link("dynamics", budget="rest")),
     ("user", "fire"): (Link("dynamics"),),
@@ -102,7 +117,7 @@ CHAINS = {
 }
 
 #: the algorithms' labels (`Relaxed.method`) and the start names in words, for messages and reports
-WORDS = {"hard_wall_two_level_cg": "the two-level dual CG", "cg-dual2": "the two-level dual CG",
+WORDS = {"newton-cg": "trust-region Newton–CG", "hard_wall_two_level_cg": "the two-level dual CG", "cg-dual2": "the two-level dual CG",
          "hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG",
          "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov"}
 STARTS = {"guess": "the step's guess", "end": "the end state of the one before",
@@ -147,10 +162,14 @@ def chain_key(problem, settings):
             raise ValueError(f"Settings.hard_wall = {settings.hard_wall!r}: expected 'cg' or 'fire'")
         return kind, "verlet" if settings.method == "verlet" else "fire"
     if kind == "coupled":
-        return kind, "fire" if settings.method == "fire" else "verlet"
-    if settings.method == "fire" and settings.cohesive not in ("ncg", "fire"):
-        raise ValueError(f"Settings.cohesive = {settings.cohesive!r}: expected 'ncg' or 'fire'")
-    if settings.method == "fire" and settings.cohesive == "ncg" and (kind == "user" or
+        if settings.method == "fire" and settings.coupled not in ("newton", "fire"):
+            raise ValueError(f"Settings.coupled = {settings.coupled!r}: expected 'newton' or 'fire'")
+        return kind, (settings.coupled if settings.method == "fire" else "verlet")
+    if settings.method == "fire" and settings.cohesive not in ("newton-cg", "ncg", "fire"):
+        raise ValueError(f"Settings.cohesive = {settings.cohesive!r}: expected 'newton-cg', 'ncg' or 'fire'")
+    if settings.method == "fire" and settings.cohesive == "newton-cg" and type(problem.law.law) is laws.NormalCohesive:
+        return kind, "newton-cg"
+    if settings.method == "fire" and settings.cohesive in ("ncg", "newton-cg") and (kind == "user" or
                                                                      type(problem.law.law) is laws.NormalCohesive):
         return kind, "ncg"
     return kind, "verlet" if settings.method == "verlet" else "fire"
@@ -158,7 +177,8 @@ def chain_key(problem, settings):
 
 def labels(key, settings):
     """The `Relaxed.method` labels of the chain `CHAINS[key]`'s algorithms in order, e.g. ("ncg", "fire")."""
-    fixed = {"hard_wall_two_level_cg": "cg-dual2", "hard_wall_dual_cg": "cg-dual", "hard_wall_primal_cg": "cg", "ncg": "ncg", "coupled_newton": "newton"}
+    fixed = {"hard_wall_two_level_cg": "cg-dual2", "hard_wall_dual_cg": "cg-dual", "hard_wall_primal_cg": "cg", "ncg": "ncg",
+             "coupled_newton": "newton", "newton_cg": "newton-cg"}
     return tuple(fixed.get(link.algorithm) or ("verlet" if dict(link.options).get("method", settings.method) == "verlet"
                                                else "fire") for link in CHAINS[key])
 
@@ -178,8 +198,12 @@ def _budget(link, settings, used):
     return left if link.budget == "left" else max(left, 1)
 
 
-def _rejected(problem, link, r):
+def _rejected(problem, link, r, origin):
     """Why a converged state fails the link's acceptance test ("" if it passes)."""
+    if link.accept == "continuation":  # kept only where no node moved COUPLED_JUMP law lengths from the start
+        move = float(np.max(np.abs(problem.displacements(r.u_hat - origin)))) / problem.law.law.length_scale
+        return (f"a node moved {move:.3g} law lengths from the step's start (a snap or slip event: left to the "
+                "chain that tests stability)") if move >= COUPLED_JUMP else ""
     if link.accept != "locally stable":
         return ""
     lowest = coupled_stability(problem.model, problem.law, problem.z_ind, r.u_hat)
@@ -251,7 +275,7 @@ def _relax(problem, chain, u_hat, settings):
             pairs += r.fft_pairs
             if r.method and (not names or names[-1] != r.method):
                 names.append(r.method)
-            why = _rejected(problem, link, r) if r.converged else ""
+            why = _rejected(problem, link, r, origin) if r.converged else ""
             where = "" if start == "guess" or i == 0 else f" from {STARTS[start]}"
             label = WORDS.get(r.method) or WORDS.get(link.algorithm, link.algorithm)
             if r.converged and not why or not r.converged and (last_link or not r.stalled):

@@ -106,7 +106,8 @@ def settings_of(scene):
 
 
 def method_label(physics, settings):
-    """The Result's method label: "gfmd-" and the chain's key ("gfmd-ncg", "gfmd-cg", "gfmd-fire", "gfmd-verlet")."""
+    """The Result's method label: "gfmd-" and the chain's key ("gfmd-ncg", "gfmd-cg", "gfmd-fire", "gfmd-newton",
+    "gfmd-verlet")."""
     return f"gfmd-{chain(physics, settings)[1]}"
 
 

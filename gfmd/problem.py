@@ -322,17 +322,18 @@ def wall_net_force(model, k, u, on_wall, n):
     return np.where(stuck, 0.0, force), stuck
 
 
-def coupled_operators(model, law, z_ind, u, fft):
+def coupled_operators(model, law, z_ind, u, fft, shifted=True):
     """(A, M⁻¹, project) at displacements u (c, N): the coupled balance's tangent A = K + D as a
     scipy LinearOperator on flattened (c, N) nodal fields (D: the nodal 2×2 law tangent, rows and
     columns (x, z); ∂f/∂u = −A), the inverse FIRE mass M⁻¹ (`Elastic` with ⟨k_loc⟩) as its
-    preconditioner, and the projection onto zero-mean fields where the half-plane clamps the mean."""
+    preconditioner (shifted = False: K⁻¹), and the projection onto zero-mean fields where the half-plane clamps
+    the mean."""
     from scipy.sparse.linalg import LinearOperator
 
     n, c = model.nodes, model.components
     clamp = model.half_plane
     stiff = Elastic(model, 0.0, 0.0)
-    mass = Elastic(model, *law.mean_stiffness(u, z_ind))
+    mass = Elastic(model, *law.mean_stiffness(u, z_ind)) if shifted else stiff
     if law.constraint:
         d_nn = d_nt = d_tn = d_tt = 0.0
     else:

@@ -68,8 +68,10 @@ def test_fig8_last_step_converges(fig8_step):
     r = gs.relax(cell.physics, cell.law, z100, guess, cell.settings)
     assert r.converged, r.message
     assert r.residual < cell.settings.tolerance
-    assert r.method in ("fire", "fire→newton"), r.method
-    assert r.iterations < chains.COUPLED_FIRE_BUDGET + coupled_newton.COUPLED_NEWTON_ITERATIONS
+    assert r.method in ("newton", "newton→fire→newton"), r.method
+    assert r.iterations < chains.COUPLED_FIRE_BUDGET + 2 * coupled_newton.COUPLED_NEWTON_ITERATIONS
+    old = gs.relax(cell.physics, cell.law, z100, guess, replace(cell.settings, coupled="fire"))  # the chain before
+    assert old.converged and old.method in ("fire", "fire→newton"), old.method
     # the slip regime the step is in (what makes the dynamics fail)
     dt, dn = cell.scene.interface.length_tangential, cell.scene.interface.length_normal
     assert np.max(np.abs(r.u_x)) > 3 * dt and np.min(r.gap) < -5 * dn
@@ -120,7 +122,25 @@ def test_unstable_newton_equilibrium_is_rejected(fig8_step, monkeypatch):
     """A Newton state that fails the stability test is not accepted: the step goes on to Verlet, says why."""
     cell, previous, current, (_, z100) = fig8_step
     monkeypatch.setattr(chains, "coupled_stability", lambda *a: -1.0 * cell.law.k_int_z)
-    s = replace(cell.settings, max_iterations=4000)
+    s = replace(cell.settings, max_iterations=4000, coupled="fire")
     r = gs.relax(cell.physics, cell.law, z100, 2 * current - previous, s)
     assert not r.converged and r.method == "fire→newton→verlet"
     assert "not locally stable" in r.message and "Verlet" in r.message
+
+
+def test_newton_first_keeps_only_a_continuation(fig8_step, monkeypatch):
+    """The Newton-first chain (Settings.coupled = "newton", the default) keeps Newton's state where no node moved
+    COUPLED_JUMP law lengths from the step's start (step 99 from step 98's state); a larger move hands the step to
+    the FIRE chain, whose Newton is stability-tested."""
+    cell, previous, current, (z99, _) = fig8_step
+    r = gs.relax(cell.physics, cell.law, z99, previous, cell.settings)
+    move = np.max(np.abs(np.stack([r.u_x, r.u_z]) - np.fft.irfft(previous, n=cell.physics.nodes)))
+    assert r.converged and r.method == "newton", (r.method, r.message)
+    assert move < chains.COUPLED_JUMP * cell.law.law.length_scale
+    monkeypatch.setattr(chains, "COUPLED_JUMP", 0.5 * move / cell.law.law.length_scale)  # now it "jumped"
+    tested = []
+    monkeypatch.setattr(chains, "coupled_stability", lambda *a: tested.append(1) or cell.law.k_int_z)
+    jumped = gs.relax(cell.physics, cell.law, z99, previous, cell.settings)
+    assert jumped.converged and jumped.method.startswith("newton→fire"), jumped.method
+    assert "snap or slip event" in jumped.message
+    assert tested or jumped.method == "newton→fire"  # a Newton state after FIRE was stability-tested

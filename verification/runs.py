@@ -76,7 +76,8 @@ def _gfmd(integrator, name=None, **pinned):
 
 #: method name -> callable(scene, realization=0) -> contact.result.Result
 METHODS: dict[str, Callable] = {"gfmd-fire": _gfmd("fire"), "gfmd-verlet": _gfmd("verlet"),
-                                "gfmd-fire-only": _gfmd("fire", "gfmd-fire-only", cohesive="fire", hard_wall="fire")}
+                                "gfmd-fire-only": _gfmd("fire", "gfmd-fire-only", cohesive="fire", hard_wall="fire",
+                                                      coupled="fire")}
 
 
 @dataclass
