@@ -11,8 +11,8 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   (`dual_contact_limit = 0`: the primal alone; `dual_coarse_block = 0`: the dual CG with the band
   preconditioner alone, label "cg-dual", the default before issue 24); ``hard_wall = "fire"``: projected FIRE; method "verlet": projected Verlet.
 * normal-only cohesive law (a potential), method "fire": the NCG, FIRE after a stall
-  (``cohesive = "fire"``: FIRE alone; ``cohesive = "newton-cg"``: the trust-region Newton–CG, then that
-  chain: measured slower than the NCG, not the default); "verlet": Verlet.
+  (``cohesive = "fire"``: FIRE alone); "verlet": Verlet. (A trust-region Newton–CG was measured against the
+  NCG for issue 24 and dropped: 49.7 vs 44.2 FFT pairs per step at 2^17, benchmarks/results/bench_adhesion_scaling_full.md.)
 * coupled law (seed Eq. 2, no potential), method "fire", ``coupled = "newton"`` (default, issue 24): the
   Newton–Krylov first, its converged state kept only as a continuation of the ramp's branch (no node moved
   `COUPLED_JUMP` law lengths from the step's start); otherwise, and where it stalls, the chain of
@@ -48,15 +48,14 @@ import numpy as np
 from contact import laws
 
 from .algorithms import (cohesive_wall, coupled_newton, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
-                         hard_wall_primal_cg, hard_wall_two_level_cg, ncg, newton_cg)
+                         hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
 from .problem import Problem, coupled_stability, flat_problem
 from .stopping import finish
 
 #: the algorithms by name (gfmd.algorithms: one module each, `solve(problem, start, settings) -> Relaxed`)
 ALGORITHMS = {"hard_wall_two_level_cg": hard_wall_two_level_cg.solve, "hard_wall_dual_cg": hard_wall_dual_cg.solve,
               "hard_wall_primal_cg": hard_wall_primal_cg.solve,
-              "hard_wall_dynamics": hard_wall_dynamics.solve, "ncg": ncg.solve, "newton_cg": newton_cg.solve,
-              "dynamics": dynamics.solve,
+              "hard_wall_dynamics": hard_wall_dynamics.solve, "ncg": ncg.solve, "dynamics": dynamics.solve,
               "coupled_newton": coupled_newton.solve, "cohesive_wall": cohesive_wall.solve}
 
 #: FIRE iterations a coupled-law step gets before the Newton–Krylov / damped-Verlet fallback. Measured (layer
@@ -98,7 +97,6 @@ CHAINS = {
     ("hard-wall", "fire"): (Link("hard_wall_dynamics"),),
     ("hard-wall", "verlet"): (Link("hard_wall_dynamics"),),
     ("cohesive", "ncg"): (Link("ncg"), Link("dynamics", budget="rest")),
-    ("cohesive", "newton-cg"): (Link("newton_cg"), Link("ncg", budget="rest"), Link("dynamics", budget="rest")),
     ("cohesive", "fire"): (Link("dynamics"),),
     ("cohesive", "verlet"): (Link("dynamics"),),
     ("coupled", "fire"): (Link("dynamics", budget="coupled fire"),
@@ -117,7 +115,7 @@ CHAINS = {
 }
 
 #: the algorithms' labels (`Relaxed.method`) and the start names in words, for messages and reports
-WORDS = {"newton-cg": "trust-region Newton–CG", "hard_wall_two_level_cg": "the two-level dual CG", "cg-dual2": "the two-level dual CG",
+WORDS = {"hard_wall_two_level_cg": "the two-level dual CG", "cg-dual2": "the two-level dual CG",
          "hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG",
          "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov"}
 STARTS = {"guess": "the step's guess", "end": "the end state of the one before",
@@ -165,11 +163,9 @@ def chain_key(problem, settings):
         if settings.method == "fire" and settings.coupled not in ("newton", "fire"):
             raise ValueError(f"Settings.coupled = {settings.coupled!r}: expected 'newton' or 'fire'")
         return kind, (settings.coupled if settings.method == "fire" else "verlet")
-    if settings.method == "fire" and settings.cohesive not in ("newton-cg", "ncg", "fire"):
-        raise ValueError(f"Settings.cohesive = {settings.cohesive!r}: expected 'newton-cg', 'ncg' or 'fire'")
-    if settings.method == "fire" and settings.cohesive == "newton-cg" and type(problem.law.law) is laws.NormalCohesive:
-        return kind, "newton-cg"
-    if settings.method == "fire" and settings.cohesive in ("ncg", "newton-cg") and (kind == "user" or
+    if settings.method == "fire" and settings.cohesive not in ("ncg", "fire"):
+        raise ValueError(f"Settings.cohesive = {settings.cohesive!r}: expected 'ncg' or 'fire'")
+    if settings.method == "fire" and settings.cohesive == "ncg" and (kind == "user" or
                                                                      type(problem.law.law) is laws.NormalCohesive):
         return kind, "ncg"
     return kind, "verlet" if settings.method == "verlet" else "fire"
@@ -178,7 +174,7 @@ def chain_key(problem, settings):
 def labels(key, settings):
     """The `Relaxed.method` labels of the chain `CHAINS[key]`'s algorithms in order, e.g. ("ncg", "fire")."""
     fixed = {"hard_wall_two_level_cg": "cg-dual2", "hard_wall_dual_cg": "cg-dual", "hard_wall_primal_cg": "cg", "ncg": "ncg",
-             "coupled_newton": "newton", "newton_cg": "newton-cg"}
+             "coupled_newton": "newton"}
     return tuple(fixed.get(link.algorithm) or ("verlet" if dict(link.options).get("method", settings.method) == "verlet"
                                                else "fire") for link in CHAINS[key])
 

@@ -37,8 +37,7 @@ class Settings:
     # hard wall with method "fire": "cg" (projected preconditioned CG, default) or "fire" (FIRE)
     hard_wall: str = "cg"
     # cohesive normal-only law (a potential) with method "fire": "ncg" (nonlinear preconditioned CG with
-    # a Newton line search, FIRE as fallback), "newton-cg" (trust-region Newton–CG, then the "ncg" chain; Eq. 3
-    # only; measured slower than "ncg", issue 24) or "fire" (FIRE alone, the integrator before issue 13)
+    # a Newton line search, FIRE as fallback) or "fire" (FIRE alone, the integrator before issue 13)
     cohesive: str = "ncg"
     # coupled law (seed Eq. 2) with method "fire": "newton" (Newton–Krylov first, its state kept as a continuation
     # of the ramp's branch, else the "fire" chain) or "fire" (FIRE; Newton–Krylov, then Verlet after a stall)
