@@ -57,6 +57,8 @@ CASES = {
     "hard-wall-dual-handover": ("hard-wall", {}, {"dual_contact_limit": 0.02}),
     "hard-wall-dual-primal": ("hard-wall", {}, {"dual_contact_limit": 0.002}),
     "hard-wall-primal": ("hard-wall", {}, {"dual_contact_limit": 0.0}),
+    "hard-wall-band": ("hard-wall", {}, {"dual_coarse_block": 0}),
+    "hard-wall-band-handover": ("hard-wall", {}, {"dual_coarse_block": 0, "dual_contact_limit": 0.02}),
     "hard-wall-fire": ("hard-wall", {}, {"hard_wall": "fire"}),
     "hard-wall-verlet": ("hard-wall", {}, {"method": "verlet"}),
     "cohesive-ncg": ("cohesive", {}, {}),

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import scipy.fft
 
-from .errors import SceneError
+from .errors import SceneError, first_line
 from .psd import grid, psd_self_affine  # noqa: F401 (the grid and Eq. 4's shape, shared with contact.surfaces_2d)
 
 
@@ -78,7 +78,7 @@ def from_file(path, nodes):
             try:
                 h = np.load(path, allow_pickle=False)
             except (ValueError, EOFError) as exc:
-                fail(f"not a valid .npy file ({_first_line(exc)})")
+                fail(f"not a valid .npy file ({first_line(exc)})")
         else:
             try:
                 text = path.read_text()
@@ -92,9 +92,9 @@ def from_file(path, nodes):
             try:
                 h = np.loadtxt(io.StringIO(text), dtype=float, ndmin=1)
             except ValueError as exc:  # non-numeric text, ragged rows
-                fail(f"cannot be read as numbers ({_first_line(exc)})")
+                fail(f"cannot be read as numbers ({first_line(exc)})")
     except OSError as exc:  # unreadable
-        fail(f"cannot be read ({_first_line(exc)})")
+        fail(f"cannot be read ({first_line(exc)})")
     if not isinstance(h, np.ndarray):  # e.g. an .npz archive named .npy
         getattr(h, "close", lambda: None)()
         fail(f"holds a {type(h).__name__}, not an array")
@@ -111,12 +111,6 @@ def from_file(path, nodes):
     if not np.all(np.isfinite(h)):
         fail(f"contains non-finite heights ({int(np.sum(~np.isfinite(h)))} of {h.size})")
     return h
-
-
-def _first_line(exc, limit=120):
-    """First line of an exception's message, at most `limit` characters."""
-    text = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
-    return text if len(text) <= limit else text[:limit] + " …"
 
 
 def profile(surface, realization=0):

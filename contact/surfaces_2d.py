@@ -21,7 +21,7 @@ import numpy as np
 import scipy.fft
 from pathlib import Path
 
-from .errors import SceneError
+from .errors import SceneError, first_line
 from .psd import grid, psd_self_affine
 
 
@@ -95,7 +95,7 @@ def from_file_2d(path, nodes_x, nodes_y):
     try:
         h = np.load(path, allow_pickle=False)
     except (ValueError, EOFError, OSError) as exc:
-        fail(f"not a valid .npy file ({_first_line(exc)})")
+        fail(f"not a valid .npy file ({first_line(exc)})")
     if not isinstance(h, np.ndarray):
         getattr(h, "close", lambda: None)()
         fail(f"holds a {type(h).__name__}, not an array")
@@ -108,12 +108,6 @@ def from_file_2d(path, nodes_x, nodes_y):
     if not np.all(np.isfinite(h)):
         fail(f"contains non-finite heights ({int(np.sum(~np.isfinite(h)))} of {h.size})")
     return h
-
-
-def _first_line(exc, limit=120):
-    """First line of an exception's message, at most `limit` characters."""
-    text = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
-    return text if len(text) <= limit else text[:limit] + " …"
 
 
 def profile_2d(surface, realization=0):

@@ -14,11 +14,13 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 LAYER = {"contact": "core", "gfmd": "gfmd", "reference.fem": "fem", "reference.fem3d": "fem3d",
-         "reference.analytic": "analytic",
+         "reference.analytic": "analytic", "reference._blas": "plumbing",
          "workbench": "app", "gfmd_contact": "app"}
-#: which groups each group may import (besides itself)
-ALLOWED = {"core": set(), "gfmd": {"core"}, "fem": {"core"}, "fem3d": {"core"}, "analytic": set(),
-           "app": {"core", "gfmd", "fem", "fem3d", "analytic"}}
+#: which groups each group may import (besides itself). "plumbing": reference._blas, the single-threaded
+#: OpenBLAS context both FE references run their dense surface solves in; thread control, not the physics
+#: either FE checks, so sharing it keeps them independent (it imports no project module)
+ALLOWED = {"core": set(), "gfmd": {"core"}, "fem": {"core", "plumbing"}, "fem3d": {"core", "plumbing"},
+           "analytic": set(), "plumbing": set(), "app": {"core", "gfmd", "fem", "fem3d", "analytic", "plumbing"}}
 
 
 def group(module):
@@ -201,6 +203,38 @@ def test_the_algorithm_check_sees_a_violation(source):
         assert "gfmd.algorithms._probe_for_test" in algorithm_cross_imports()
     finally:
         fake.unlink()
+
+
+#: the non-algorithm gfmd modules the algorithms import (plumbing such as gfmd.fft, gfmd.stopping, and the
+#: shared loop gfmd.dual_cg: the projected dual CG both dual hard-wall algorithms run, each with its own
+#: preconditioner) import no algorithm, or the ban above would be side-stepped through them
+def shared_modules_importing_algorithms(folder=ALGORITHMS):
+    """{gfmd module an algorithm imports: the algorithm modules it imports}."""
+    shared = {t for p in folder.glob("*.py") for t in imports(p)
+              if t.startswith("gfmd.") and not t.startswith("gfmd.algorithms")}
+    paths = [path for t in sorted(shared) if (path := ROOT / (t.replace(".", "/") + ".py")).exists()]
+    wrong = {}
+    for path in paths:
+        bad = sorted(t for t in imports(path) if t == "gfmd.algorithms" or t.startswith("gfmd.algorithms."))
+        if bad:
+            wrong[module_name(path)] = bad
+    return wrong
+
+
+def test_shared_algorithm_modules_import_no_algorithm():
+    wrong = shared_modules_importing_algorithms()
+    assert not wrong, "; ".join(f"{m} imports {', '.join(t)}" for m, t in wrong.items())
+
+
+def test_the_shared_module_check_sees_a_violation():
+    shared, fake = ROOT / "gfmd" / "_probe_shared_for_test.py", ALGORITHMS / "_probe_for_test.py"
+    shared.write_text("from .algorithms import ncg\n")
+    fake.write_text("from .._probe_shared_for_test import ncg\n")
+    try:
+        assert "gfmd._probe_shared_for_test" in shared_modules_importing_algorithms()
+    finally:
+        fake.unlink()
+        shared.unlink()
 
 
 def test_every_algorithm_solves_the_problem():

@@ -79,7 +79,7 @@ def test_periodic_manufactured_solution(order):
 
 
 def test_circulant_schur_equals_direct():
-    from reference.fem._blas import single_thread
+    from reference._blas import single_thread
     cell = build_cell(64, L, D, E, NU, order=2)
     assert cell.shifts == 16
     for comps in (("z",), ("x", "z")):

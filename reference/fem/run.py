@@ -13,7 +13,7 @@ from functools import partial
 from contact.model import build_model
 from contact.ramp import run_ramp
 
-from ._blas import single_thread
+from .._blas import single_thread
 from .hardwall import HardWallCell, HardWallProblem
 from .solver import FeCell
 from .sparse import make_problem

@@ -16,7 +16,7 @@ import numpy as np
 from contact.model import build_model
 from contact.ramp import StepSolution, run_ramp
 
-from ._blas import single_thread
+from .._blas import single_thread
 from .assembly import build_cell
 from .cohesive import CohesiveSurface
 from .hardwall import HardWall

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ._blas import single_thread
+from .._blas import single_thread
 from .assembly import build_cell
 from .cohesive import CohesiveSurface
 from .hardwall import HardWall

@@ -95,6 +95,18 @@ def names_a_key(message):
 
 
 # ----------------------------------------------------------------------------- sweep cells
+def verdict(nan, converged, messages, warnings, numbers):
+    """{"status", "message"} of a run: fail on a NaN or a non-converged step (its first message), warn on
+    the model's warnings, else ok; `numbers` (the run's counts, as text) in every message."""
+    if nan:
+        return dict(status="fail", message="NaN in the result: " + numbers)
+    if not converged.all():
+        return dict(status="fail", message=f"{messages[0]} ({len(messages)} steps); {numbers}")
+    if warnings:
+        return dict(status="warn", message=f"{numbers}; " + " | ".join(warnings))
+    return dict(status="ok", message=numbers)
+
+
 def run_cell(overrides):
     """Run one cell; a dict with status, message and the numbers (never raises for scene errors)."""
     from workbench.methods import run_realization
@@ -122,14 +134,7 @@ def run_cell(overrides):
            "p": np.asarray(c["p"]), "a_rel": np.asarray(c["a_rel"]), "delta": np.asarray(c["delta"])}
     numbers = (f"{conv.sum()}/{conv.size} steps, max residual {out['residual']:.2g} p_ref, "
                f"{out['iterations']} iterations, {wall:.2f} s")
-    if nan:
-        out.update(status="fail", message="NaN in the result: " + numbers)
-    elif not conv.all():
-        out.update(status="fail", message=f"{result.messages[0]} ({len(result.messages)} steps); {numbers}")
-    elif warnings:
-        out.update(status="warn", message=f"{numbers}; " + " | ".join(warnings))
-    else:
-        out.update(status="ok", message=numbers)
+    out.update(verdict(nan, conv, result.messages, warnings, numbers))
     return out
 
 

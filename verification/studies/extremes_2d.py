@@ -26,7 +26,7 @@ import numpy as np
 from contact.model import warnings_in
 from verification import measured
 from verification.scenes import extremes_base
-from verification.studies.extremes import names_a_key
+from verification.studies.extremes import names_a_key, verdict
 
 NAME = "extremes_2d"
 BASE_2D = {"surface.nodes": 128, "surface.nodes_y": 128, "surface.length": 64e-9, "surface.rolloff_wavelength": 16e-9,
@@ -96,14 +96,7 @@ def run_cell(overrides):
            "warnings": warnings, "names_key": True}
     numbers = (f"{conv.sum()}/{conv.size} steps, max residual {out['residual']:.2g} p_ref, {out['iterations']} "
                f"iterations, final a_rel {out['a_rel_final']:.4f}, {wall:.2f} s")
-    if nan:
-        out.update(status="fail", message="NaN in the result: " + numbers)
-    elif not conv.all():
-        out.update(status="fail", message=f"{result.messages[0]} ({len(result.messages)} steps); {numbers}")
-    elif warnings:
-        out.update(status="warn", message=f"{numbers}; " + " | ".join(warnings))
-    else:
-        out.update(status="ok", message=numbers)
+    out.update(verdict(nan, conv, result.messages, warnings, numbers))
     return out
 
 

@@ -21,7 +21,7 @@ import time
 import numpy as np
 
 from contact import kernels
-from reference.fem._blas import single_thread
+from reference._blas import single_thread
 from reference.fem.assembly import build_cell
 from verification import measured
 

@@ -1,4 +1,5 @@
-"""Run the dense surface solves with single-threaded OpenBLAS (no threadpoolctl dependency).
+"""Run the dense surface solves with single-threaded OpenBLAS (no threadpoolctl dependency); shared by
+both FE references (reference.fem, reference.fem3d): thread plumbing, not physics either checks.
 
 On small, shared machines threaded OpenBLAS spin-waits: a 128×128 Cholesky took
 0.25 s with threads vs 0.1 ms single-threaded (measured here). The FE surface
