@@ -373,11 +373,13 @@ def _surface(d):
     elif kind == "file":
         path = d.get("path", "")
         if not isinstance(path, str) or not path:
-            _fail("surface.path", path, "must name a .npy or text file of `nodes` heights (m)")
+            _fail("surface.path", path, "must name a .npy or text file of `nodes` heights (m), or an instrument "
+                  "file (the optional extra SurfaceTopography)")
         from .surfaces import from_file  # the file is part of the input: check it now
         from .surfaces_2d import from_file_2d
         try:
-            from_file_2d(path, nodes, nodes_y) if nodes_y else from_file(path, nodes)
+            (from_file_2d(path, nodes, nodes_y, (length, length_y)) if nodes_y
+             else from_file(path, nodes, length))
         except ValueError as exc:
             raise SceneError(str(exc)) from None
         kw.update(path=path)

@@ -15,6 +15,7 @@ import numpy as np
 import scipy.fft
 
 from .errors import SceneError, first_line
+from .topography_files import TEXT_SUFFIXES  # read as text here; other suffixes: instrument files
 from .psd import grid, psd_self_affine  # noqa: F401 (the grid and Eq. 4's shape, shared with contact.surfaces_2d)
 
 
@@ -56,9 +57,12 @@ def flat(nodes, length):
     return np.zeros(nodes)
 
 
-def from_file(path, nodes):
+def from_file(path, nodes, length=None):
     """Heights (m) read from a file of exactly `nodes` values: a 1-D .npy array, or a text file
-    (any other suffix) with one column of heights (whitespace-separated numbers, '#' comments).
+    (suffix .txt, .dat, .csv, .tsv or none) with one column of heights (whitespace-separated numbers,
+    '#' comments). Any other suffix is an instrument file, a line scan read through SurfaceTopography (the
+    optional extra, `contact.topography_files`), its heights converted to m and its physical size checked
+    against `length` (surface.length, m).
 
     Anything else (a missing, unreadable, corrupt, empty, comma-separated or 2-D file, non-numeric
     or non-finite values, the wrong count) raises a `SceneError` naming surface.path,
@@ -73,6 +77,9 @@ def from_file(path, nodes):
 
     if not path.is_file():
         fail("is a directory, not a file" if path.is_dir() else "no such file")
+    if path.suffix.lower() not in (".npy",) + TEXT_SUFFIXES:
+        from .topography_files import read_topography_file
+        return read_topography_file(path, (nodes,), (length,))
     try:
         if path.suffix.lower() == ".npy":
             try:
@@ -83,7 +90,8 @@ def from_file(path, nodes):
             try:
                 text = path.read_text()
             except UnicodeDecodeError:
-                fail("not a text file (binary content; a NumPy array must have the suffix .npy)")
+                fail("not a text file (binary content; a NumPy array must have the suffix .npy, an instrument "
+                     "file its own suffix)")
             body = [line.split("#", 1)[0] for line in text.splitlines()]
             if not any(line.strip() for line in body):
                 fail("the file holds no numbers (empty)")
@@ -132,5 +140,5 @@ def profile(surface, realization=0):
     if surface.kind == "flat":
         return flat(n, length)
     if surface.kind == "file":
-        return from_file(surface.path, n)
+        return from_file(surface.path, n, length)
     raise ValueError(f"surface.kind = {surface.kind!r} is not a known profile kind")

@@ -23,6 +23,7 @@ from pathlib import Path
 
 from .errors import SceneError, first_line
 from .psd import grid, psd_self_affine
+from .topography_files import TEXT_SUFFIXES
 
 
 def positions(nodes_x, length_x, nodes_y, length_y):
@@ -76,8 +77,11 @@ def sphere(nodes_x, length_x, nodes_y, length_y, radius):
     return (x[:, None] ** 2 + y[None, :] ** 2) / (2 * radius)
 
 
-def from_file_2d(path, nodes_x, nodes_y):
-    """Heights (m) from a .npy file holding an array of shape (nodes, nodes_y) (axis 0 x, axis 1 y).
+def from_file_2d(path, nodes_x, nodes_y, lengths=None):
+    """Heights (m) from a .npy file holding an array of shape (nodes, nodes_y) (axis 0 x, axis 1 y), or from
+    an instrument file (any other suffix but text), a map read through SurfaceTopography (the optional
+    extra, `contact.topography_files`): heights converted to m, its physical size checked against
+    `lengths` = (surface.length, surface.length_y) (m).
 
     Anything else (missing, not .npy, corrupt, the wrong shape, non-real or non-finite values) raises a
     `SceneError` naming surface.path (and surface.nodes / surface.nodes_y for a shape mismatch).
@@ -90,6 +94,9 @@ def from_file_2d(path, nodes_x, nodes_y):
 
     if not path.is_file():
         fail("is a directory, not a file" if path.is_dir() else "no such file")
+    if path.suffix.lower() not in (".npy",) + TEXT_SUFFIXES:
+        from .topography_files import read_topography_file
+        return read_topography_file(path, (nodes_x, nodes_y), lengths)
     if path.suffix.lower() != ".npy":
         fail("a 2+1-D surface is read from a .npy file only (text files hold 1+1-D profiles)")
     try:
@@ -126,5 +133,5 @@ def profile_2d(surface, realization=0):
     if kind == "flat":
         return np.zeros((nx, ny))
     if kind == "file":
-        return from_file_2d(surface.path, nx, ny)
+        return from_file_2d(surface.path, nx, ny, (lx, ly))
     raise ValueError(f"surface.kind = {kind!r} is not a 2+1-D surface kind")
