@@ -49,6 +49,12 @@ class Mutation:
 
 
 MUTATIONS = (
+    Mutation("surface-qy", "contact/kernels.py",
+             "    qy = 2.0 * np.pi * np.fft.rfftfreq(nodes_y, d=length_y / nodes_y)",
+             "    qy = 2.02 * np.pi * np.fft.rfftfreq(nodes_y, d=length_y / nodes_y)",
+             "2+1-D: the y wavenumbers 1 % high (GFMD's surface kernel)"),
+    Mutation("surface-gradient-y", "contact/observables.py", "        return parts[0] + parts[1]",
+             "        return parts[0] + 1.02 * parts[1]", "2+1-D: the y part of the local |∇h|² 2 % high (ḡ_r, ḡ)"),
     Mutation("kernel-scale", "contact/kernels.py",
              "return 0.5 * contact_modulus(youngs_modulus, poisson_ratio) * np.abs(q)",
              "return 0.505 * contact_modulus(youngs_modulus, poisson_ratio) * np.abs(q)",
