@@ -30,11 +30,13 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
+# before numpy loads BLAS: one thread (the timings are single-threaded); hence the E402 imports below
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):  # before numpy: one thread
     os.environ.setdefault(_var, "1")
 
 import numpy as np  # noqa: E402
 
+# the script runs from anywhere: the repository goes on sys.path before the project imports (E402)
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 

@@ -36,11 +36,13 @@ import time
 import tracemalloc
 from pathlib import Path
 
+# before numpy loads BLAS: one thread (the timings are single-threaded); hence the E402 imports below
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import numpy as np  # noqa: E402
 
+# the script runs from anywhere: the repository goes on sys.path before the project imports (E402)
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from contact.kernels import halfplane_normal, wavevector_magnitudes  # noqa: E402

@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+# the script runs from anywhere: the repository goes on sys.path before the project imports (E402)
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import gfmd.loading as gl  # noqa: E402
