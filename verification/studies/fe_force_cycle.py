@@ -1,0 +1,168 @@
+"""GFMD vs the FE cell through a force-controlled load–unload cycle on a cohesive layer: differences vs N.
+
+Scene: `verification.studies.fe_cycle.scene` (cohesive_sinusoid, φn* = 0.15, δn = 1 nm, layer D = L = 1 µm)
+under `loading.control = "force"` (issue 23 §2, `contact.force`): from p̄ = 0 with the indenter out of contact
+(δ0 = 10 nm = 10 δn) along the mean pressure path `PATH` = [0, 400, −320] MPa in 5 + 18 steps (ΔP = 80 MPa
+loading, 40 MPa unloading). Under force control the approach branch (p̄ growing more tensile as the indenter
+nears, dp̄/dU < 0) carries no compressive load: the first step jumps into contact (an instability event,
+"jump-in"). The attached branch then carries every load down to the pull-off (≈ −266 MPa, the most tensile
+p̄ of the displacement-controlled cycle, verification/data/fe_cycle.json); the first load beyond it (−280 MPa)
+finds no equilibrium: the body detaches ("jump-out", detached, δ back to −δ0), and stays detached at −320 MPa.
+The loads −240 and −280 MPa bracket the pull-off ≥ 13 MPa from it at every N measured (FE and GFMD pull-offs
+differ by < 1 MPa), so the event lies in the same step in both methods by construction of the path, not by luck.
+
+Each method its own law, solver and observables (GFMD FIRE, `reference.fem` P2 with its trust-region descent),
+both through the one ramp and the generic outer search on U (`contact.force.solve_load`); they share the scene.
+Differences (GFMD the reference):
+* "δ": max |δ_FE − δ_GFMD| over the steps where both are attached (the stable branches: loading after the
+  jump-in, unloading down to the last load carried), / the path's δ extent (max δ − min δ of GFMD);
+* "pull-off load": |P_FE − P_GFMD| / ΔP_unloading of the load at which contact is lost (the detached
+  event's load; 0 = the same step);
+* "a_rel at events": max over the events of |Δa_rel| before and after, in nodes (`measured.node_count`);
+* "event steps": max |step_FE − step_GFMD| over the events (the kinds and detached flags must agree).
+Each method must reach every carried load: |p̄ − P| ≤ `contact.force.tolerance` (otherwise AssertionError).
+How much of "δ" that tolerance can make: "δ from the load tolerance" = max |p̄_FE − p̄_GFMD| · |dδ/dP| / extent
+over the same steps (dδ/dP from GFMD's neighbouring steps on the branch), stored next to it.
+Both discretizations converge to the same continuum problem, so "δ" falls with N; its observed orders between
+neighbouring N are stored. The others are 0 when both methods jump in the same step onto the same state.
+
+    python -m verification.studies.fe_force_cycle [--write]
+
+N = 64, 128, 256; `--write` stores them in verification/data/fe_force_cycle.json (entry "ci"), which
+verification/test_fe_force_cycle.py reads (it re-runs N = CI_NODES).
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from contact import cycle as cyc
+from contact import force
+from contact.loading import path_values, step_branches
+from verification import measured
+from verification.runs import run_fe_and_gfmd
+from verification.studies import fe_cycle
+
+NAME = "fe_force_cycle"
+#: corners of p̄ (Pa): unloaded, compressive, tensile beyond the pull-off (≈ −266 MPa)
+PATH = (0.0, 400e6, -320e6)
+STEPS = (5, 18)
+#: start out of contact: δ = −δ0 (p̄ ≈ −0.3 MPa from the law's tail, a_rel = 0)
+INITIAL_SEPARATION = 10e-9
+NODES = (64, 128, 256)
+CI_NODES = 128
+METRICS = ("δ", "pull-off load", "a_rel at events", "event steps")
+
+
+def scene(nodes):
+    return fe_cycle.scene(nodes).replace(**{"loading.control": "force", "loading.path": list(PATH),
+                                            "loading.steps": list(STEPS),
+                                            "loading.initial_separation": INITIAL_SEPARATION})
+
+
+def observables(result, s):
+    """(δ per step, attached mask, cycle row with its events, loads) of one force-controlled run; raises
+    AssertionError where a carried load is missed or the cycle lacks its jump-in or its detachment."""
+    d, p, a, U = (np.asarray(result.curve[c], float) for c in ("delta", "p", "a_rel", "U"))
+    branch, cycle = step_branches(s.loading)
+    events = [{**e, "branch": str(branch[e["step"]]), "cycle": int(cycle[e["step"]])}
+              for e in result.diagnostics.get("instabilities", [])]
+    (row,) = cyc.cycle_observables(d, p, a, branch, cycle, events=events)
+    loads = path_values(s.loading)
+    attached = U > 0.0  # step 0 and the detached steps sit at the start U = 0 (δ = −δ0)
+    missed = np.flatnonzero(attached & (np.abs(p - loads) > force.tolerance(s.loading)))
+    if missed.size:
+        raise AssertionError(f"carried loads missed at steps {list(missed)}: p̄ {p[missed]} vs P {loads[missed]}")
+    kinds = [(e["kind"], e["branch"], bool(e["detached"])) for e in row["events"]]
+    if kinds != [("jump-in", "loading", False), ("jump-out", "unloading", True)]:
+        raise AssertionError(f"expected a jump-in on loading and a detachment on unloading: {row['events']}")
+    if "pull_off_load" not in row:
+        raise AssertionError(f"no pull-off load: {row}")
+    return d, attached, row
+
+
+def measure(nodes):
+    """(differences {metric}, numbers {method: observables}, wall s) at N = nodes."""
+    s = scene(nodes)
+    t0 = time.perf_counter()
+    rf, rg, _, _ = run_fe_and_gfmd(s)
+    for label, r in (("FE", rf), ("GFMD", rg)):
+        if not r.all_converged:
+            raise AssertionError(f"{label} N = {nodes}: not converged: {r.messages[:3]}")
+    (df, af, of), (dg, ag, og) = observables(rf, s), observables(rg, s)
+    both = af & ag
+    dP = abs(PATH[2] - PATH[1]) / STEPS[1]
+    ef, eg = of["events"], og["events"]
+    diffs = {"δ": float(np.max(np.abs(df[both] - dg[both]))) / float(np.ptp(dg)),
+             "pull-off load": abs(of["pull_off_load"] - og["pull_off_load"]) / dP,
+             "a_rel at events": max(measured.node_count(abs(x[k] - y[k]), nodes)
+                                    for x, y in zip(ef, eg) for k in ("a_rel_before", "a_rel_after")),
+             "event steps": max(abs(x["step"] - y["step"]) for x, y in zip(ef, eg))}
+    slope = branch_slope(dg, path_values(s.loading), ag, step_branches(s.loading)[0])
+    pf, pg = (np.asarray(r.curve["p"], float) for r in (rf, rg))
+    from_tolerance = float(np.max(np.abs((pf - pg) * slope)[both])) / float(np.ptp(dg))
+    keep = ("kind", "step", "load", "delta_before", "delta_after", "a_rel_before", "a_rel_after")
+    numbers = {"δ from the load tolerance": from_tolerance}
+    numbers.update({m: {"pull_off_load": o["pull_off_load"], "pull_off_carried": o["pull_off_pressure"],
+                   "snap_off_delta": o["snap_off_delta"], "events": [{k: e[k] for k in keep} for e in o["events"]]}
+               for m, o in (("fe", of), ("gfmd", og))})
+    return diffs, numbers, time.perf_counter() - t0
+
+
+def branch_slope(delta, loads, attached, branch):
+    """dδ/dP (m/Pa) per step from the neighbouring attached steps of the same branch (np.gradient over each
+    run of them; 0 where a run has one step)."""
+    out = np.zeros(delta.size)
+    k = 0
+    while k < delta.size:
+        j = k
+        while j + 1 < delta.size and attached[k] and attached[j + 1] and branch[j + 1] == branch[k]:
+            j += 1
+        if attached[k] and j > k:
+            out[k:j + 1] = np.gradient(delta[k:j + 1], loads[k:j + 1])
+        k = j + 1
+    return out
+
+
+def study(nodes=NODES):
+    t0 = time.perf_counter()
+    data = [measure(n) for n in nodes]
+    errors = {m: [d[0][m] for d in data] for m in METRICS}
+    orders = {m: [fe_cycle.order(a, b) for a, b in zip(e, e[1:])] for m, e in errors.items()}
+    return {"nodes": list(nodes), "data": data, "errors": errors, "orders": orders, "wall_s": time.perf_counter() - t0}
+
+
+def entry(st):
+    return measured.make_entry({"N": st["nodes"], "ci_nodes": CI_NODES, "errors": st["errors"], "orders": st["orders"],
+                                "numbers": [d[1] for d in st["data"]], "wall_s": [d[2] for d in st["data"]]},
+                               scene=(f"verification.studies.fe_force_cycle.scene(N): cohesive_sinusoid, φn* = "
+                                      f"{fe_cycle.PHI_N_STAR}, force control, path {list(PATH)} Pa, steps "
+                                      f"{list(STEPS)}, δ0 = {INITIAL_SEPARATION} m"), wall_s=st["wall_s"])
+
+
+def stored():
+    return measured.entry(NAME, "ci")["values"]
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--write", action="store_true", help="store the differences in verification/data/fe_force_cycle.json")
+    args = ap.parse_args(argv)
+    st = study()
+    for m in METRICS:
+        print(f"{m}: N {st['nodes']} difference {[f'{e:.3e}' for e in st['errors'][m]]} "
+              f"orders {[f'{o:.2f}' for o in st['orders'][m]]}")
+    for n, d in zip(st["nodes"], st["data"]):
+        print(f"N = {n}: {d[1]} ({d[2]:.1f} s)")
+    if args.write:
+        print(measured.write(NAME, {"ci": entry(st)},
+                             description="GFMD vs FE P2 through a force-controlled load–unload cycle on a cohesive "
+                                         "layer (φn* = 0.15): δ on the stable branches, pull-off load, a_rel at the "
+                                         "events and the events' steps vs N"))
+
+
+if __name__ == "__main__":
+    main()
