@@ -71,3 +71,33 @@ def test_fe_force_cycle_delta_converges_and_is_not_the_search_tolerance(ci_run):
     orders = s["orders"]["δ"]
     assert orders and all(o > 0 for o in orders), orders
     assert numbers["δ from the load tolerance"] < diffs["δ"], (numbers["δ from the load tolerance"], diffs["δ"])
+
+
+@pytest.fixture(scope="module")
+def pull_off_run():
+    return ffc.pull_off(ffc.PULL_OFF_NODES)
+
+
+@pytest.mark.parametrize("method", ["fe", "gfmd"])
+def test_force_controlled_pull_off_is_the_end_of_the_attached_branch(method, pull_off_run, verification_record):
+    """Under force control the body detaches at the first load beyond the most tensile p̄ the method's own
+    displacement control passes (the end of the attached branch): the loads carried reach the extremum
+    (carried ≥ extremum − tolerance − sampling) and the detach load P_d lies beyond it, P_d − extremum ∈
+    (−(ΔP + tolerance + sampling), tolerance). A search that left the branch early (across the extremum onto its
+    far side, as the fixed first step δ0/10 did) fails the right end; one that held a load no attached state
+    carries fails the left."""
+    numbers, wall = pull_off_run
+    x = numbers[method]
+    slack = x["tolerance"] + x["sampling"]
+    value = x["detached"] - x["extremum"]
+    passed = -(x["step"] + slack) < value < x["tolerance"] and x["carried"] >= x["extremum"] - slack
+    rec = verification_record(
+        case=f"{CASE}/pull-off/{method}", metric=f"P_detach − extremum of p̄ (Pa) at N = {ffc.PULL_OFF_NODES}",
+        value=float(value), tolerance=float(x["step"] + slack), methods=({"fe": "fe-p2", "gfmd": "gfmd-fire"}[method],),
+        tolerance_source=(f"derived: the load step ΔP = {x['step']:.3g} Pa + the search tolerance {x['tolerance']:.3g} Pa "
+                          f"+ the displacement sampling {x['sampling']:.3g} Pa, one-sided (< tolerance) beyond the extremum"),
+        resolution={"N": ffc.PULL_OFF_NODES, "load_path_Pa": list(ffc.PULL_OFF_LOAD_PATH),
+                    "load_steps": list(ffc.PULL_OFF_LOAD_STEPS), "delta_path_m": list(ffc.PULL_OFF_DELTA_PATH),
+                    "delta_steps": list(ffc.PULL_OFF_DELTA_STEPS)},
+        wall_s=wall, passed=bool(passed), notes=f"{method}: {x}")
+    assert rec.passed, (method, x)

@@ -23,13 +23,17 @@ Differences (GFMD the reference):
 Each method must reach every carried load: |p̄ − P| ≤ `contact.force.tolerance` (otherwise AssertionError).
 How much of "δ" that tolerance can make: "δ from the load tolerance" = max |p̄_FE − p̄_GFMD| · |dδ/dP| / extent
 over the same steps (dδ/dP from GFMD's neighbouring steps on the branch), stored next to it.
+The pull-off itself (`pull_off`, entry "pull-off"): each method's detach load under force control in 0.5 MPa steps
+against its own displacement-controlled extremum of p̄ (sampled in 0.05 nm steps, parabola vertex): the loads
+carried reach it, the first one not carried lies beyond it (within the search tolerance and the sampling), so
+no method leaves the attached branch before its end (or holds a load beyond it).
 Both discretizations converge to the same continuum problem, so "δ" falls with N; its observed orders between
 neighbouring N are stored. The others are 0 when both methods jump in the same step onto the same state.
 
     python -m verification.studies.fe_force_cycle [--write]
 
-N = 64, 128, 256; `--write` stores them in verification/data/fe_force_cycle.json (entry "ci"), which
-verification/test_fe_force_cycle.py reads (it re-runs N = CI_NODES).
+N = 64, 128, 256 (the pull-off at 64, 128); `--write` stores them in verification/data/fe_force_cycle.json (entries
+"ci" and "pull-off"), which verification/test_fe_force_cycle.py reads (it re-runs N = CI_NODES, PULL_OFF_NODES).
 """
 
 from __future__ import annotations
@@ -55,6 +59,14 @@ INITIAL_SEPARATION = 10e-9
 NODES = (64, 128, 256)
 CI_NODES = 128
 METRICS = ("δ", "pull-off load", "a_rel at events", "event steps")
+#: the pull-off itself (`pull_off`), at N = PULL_OFF_NODES: displacement control sampled in 0.05 nm steps across
+#: the most tensile p̄ (loaded to δ = 0, past the jump-in at −5 nm, then unloaded), force control in 0.5 MPa
+#: steps across it (loaded to 100 MPa, unloaded to −262 MPa, then the fine steps to −270 MPa)
+PULL_OFF_NODES = 64
+PULL_OFF_DELTA_PATH = (-10e-9, 0.0, -7.0e-9, -8.4e-9)
+PULL_OFF_DELTA_STEPS = (10, 7, 28)
+PULL_OFF_LOAD_PATH = (0.0, 100e6, -262e6, -270e6)
+PULL_OFF_LOAD_STEPS = (1, 4, 16)
 
 
 def scene(nodes):
@@ -127,12 +139,62 @@ def branch_slope(delta, loads, attached, branch):
     return out
 
 
+def pull_off_scenes(nodes):
+    """(displacement-controlled scene sampling p̄(δ) in PULL_OFF_DELTA_STEP steps across the pull-off,
+    force-controlled scene stepping the load in PULL_OFF_LOAD_STEP steps across it)."""
+    disp = fe_cycle.scene(nodes).replace(**{"loading.path": list(PULL_OFF_DELTA_PATH),
+                                            "loading.steps": list(PULL_OFF_DELTA_STEPS)})
+    return disp, scene(nodes).replace(**{"loading.path": list(PULL_OFF_LOAD_PATH),
+                                         "loading.steps": list(PULL_OFF_LOAD_STEPS)})
+
+
+def pull_off(nodes=PULL_OFF_NODES):
+    """Per method ("fe", "gfmd"): the force-controlled pull-off against the method's own displacement-controlled
+    extremum of p̄: {"extremum" (Pa, the vertex of the parabola through the most tensile sampled p̄ and its two
+    neighbours), "sampling" (Pa, |sampled − vertex|), "carried" (Pa, the most tensile load carried), "detached"
+    (Pa, the load that detached the body), "detached_minus_extremum" (Pa), "step" (Pa, the load step there),
+    "tolerance" (Pa, the outer search's |p̄ − P|)}, and the wall time (s). The loads carried must reach the extremum and the first one not carried
+    must lie beyond it (verification/test_fe_force_cycle.py)."""
+    t0 = time.perf_counter()
+    disp, forced = pull_off_scenes(nodes)
+    runs = {"disp": run_fe_and_gfmd(disp), "force": run_fe_and_gfmd(forced)}
+    for kind, (rf, rg, _, _) in runs.items():
+        for label, r in (("FE", rf), ("GFMD", rg)):
+            if not r.all_converged:
+                raise AssertionError(f"{label} {kind} N = {nodes}: not converged: {r.messages[:3]}")
+    fine = np.arange(disp.loading.steps + 1) > sum(PULL_OFF_DELTA_STEPS[:-1])  # the last segment's steps
+    out = {}
+    for i, m in enumerate(("fe", "gfmd")):
+        p = np.asarray(runs["disp"][i].curve["p"], float)
+        k = int(np.flatnonzero(fine)[np.argmin(p[fine])])
+        if not (fine[k - 1] and k + 1 < p.size):
+            raise AssertionError(f"{m} N = {nodes}: the most tensile p̄ is at the edge of the sampled range (step {k})")
+        y0, y1, y2 = p[k - 1], p[k], p[k + 1]
+        vertex = y1 - (y2 - y0) ** 2 / (8.0 * (y0 - 2.0 * y1 + y2))
+        d, attached, row = observables(runs["force"][i], forced)
+        out[m] = {"extremum": float(vertex), "sampling": float(abs(y1 - vertex)),
+                  "carried": float(row["pull_off_pressure"]), "detached": float(row["pull_off_load"]),
+                  "detached_minus_extremum": float(row["pull_off_load"] - vertex),
+                  "step": abs(PULL_OFF_LOAD_PATH[3] - PULL_OFF_LOAD_PATH[2]) / PULL_OFF_LOAD_STEPS[2],
+                  "tolerance": force.tolerance(forced.loading)}
+    return out, time.perf_counter() - t0
+
+
 def study(nodes=NODES):
     t0 = time.perf_counter()
     data = [measure(n) for n in nodes]
     errors = {m: [d[0][m] for d in data] for m in METRICS}
     orders = {m: [fe_cycle.order(a, b) for a, b in zip(e, e[1:])] for m, e in errors.items()}
     return {"nodes": list(nodes), "data": data, "errors": errors, "orders": orders, "wall_s": time.perf_counter() - t0}
+
+
+def pull_off_entry(nodes=(PULL_OFF_NODES, 2 * PULL_OFF_NODES)):
+    t0 = time.perf_counter()
+    data = {f"N={n}": pull_off(n)[0] for n in nodes}
+    return measured.make_entry(data, scene=(f"verification.studies.fe_force_cycle.pull_off_scenes(N): displacement path "
+                                            f"{list(PULL_OFF_DELTA_PATH)} m in {list(PULL_OFF_DELTA_STEPS)} steps, force "
+                                            f"path {list(PULL_OFF_LOAD_PATH)} Pa in {list(PULL_OFF_LOAD_STEPS)} steps"),
+                               wall_s=time.perf_counter() - t0)
 
 
 def entry(st):
@@ -157,8 +219,11 @@ def main(argv=None):
               f"orders {[f'{o:.2f}' for o in st['orders'][m]]}")
     for n, d in zip(st["nodes"], st["data"]):
         print(f"N = {n}: {d[1]} ({d[2]:.1f} s)")
+    po = pull_off_entry()
+    for n, v in po["values"].items():
+        print(f"pull-off {n}: {v}")
     if args.write:
-        print(measured.write(NAME, {"ci": entry(st)},
+        print(measured.write(NAME, {"ci": entry(st), "pull-off": po},
                              description="GFMD vs FE P2 through a force-controlled load–unload cycle on a cohesive "
                                          "layer (φn* = 0.15): δ on the stable branches, pull-off load, a_rel at the "
                                          "events and the events' steps vs N"))
