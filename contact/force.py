@@ -3,11 +3,16 @@
 Units: SI (see `contact.conventions`). Method: every trial is a displacement-controlled equilibrium that
 the method's own cell solves (warm-started from the nearest accepted state), and the outer search moves U
 until the mean pressure p̄(U) reaches the prescribed P: march from the last accepted state in the
-direction of P (a stable branch has dp̄/dU > 0) with a step that grows ×1.5 while p̄ approaches P and is
-halved (from the last state) where p̄ turns away, down to MIN_STEP × the first step; once
-P is bracketed, regula falsi (Illinois) down to |p̄ − P| ≤ FORCE_TOLERANCE · max|path|. Chosen over the
-mean mode as an extra unknown of GFMD because it is the same for every method (GFMD and the FE through the
-one ramp), reuses each method's verified displacement solver and warm starts, and every state it reports
+direction of P (a stable branch has dp̄/dU > 0), first by a probe of PROBE × the first step, then by
+secant steps: each trial goes no further than where the secant through the last two states reaches P
+(and at most ×1.5 the last step), and is halved (from the last state) where p̄ turns away, down to
+MIN_STEP × the first step; a trial within |p̄ − P| ≤ FORCE_TOLERANCE · max|path| is the answer, and
+once P is bracketed, regula falsi (Illinois) down to that tolerance. The secant bound keeps the march on
+the branch it starts on: where p̄(U) bends towards an extremum (the approach to a pull-off), the secant
+reaches P before p̄ does, so no trial jumps across the extremum to an equilibrium with p̄ = P on its far
+side, the branch force control cannot hold (a fixed first step of δ0/10 did: tests/test_force_search.py).
+Chosen over the mean mode as an extra unknown of GFMD because it is the same for every method (GFMD and
+the FE through the one ramp), reuses each method's verified displacement solver and warm starts, and every state it reports
 is a converged equilibrium; the cost is a few displacement solves per load step.
 
 Instability: where, marching towards P, p̄ moves away from P even over the shortest step (past an extremum of p̄(U): the end of a
@@ -33,6 +38,9 @@ from .errors import SceneError
 FORCE_TOLERANCE = 1e-4
 #: an instability is declared only when p̄ turns away from the load over a U step ≤ MIN_STEP × the first step
 MIN_STEP = 1e-3
+#: the first trial of a load step moves U by PROBE × the first step: it measures the branch's slope dp̄/dU
+#: for the secant steps (1 %: the p̄ change it makes is far above a converged solve's p̄ noise)
+PROBE = 1e-2
 #: most displacement solves of one load step before it is given up (recorded as not converged)
 MAX_TRIALS = 400
 
@@ -62,10 +70,11 @@ def solve_load(solve, observe, target, base, *, step, tolerance, u_max):
     s = 1.0 if target > obs0["p"] else -1.0
     if abs(obs0["p"] - target) <= tolerance and sol0 is not None:
         return LoadStep(sol0, U0, obs0, 0, True)
-    iterations, h, unstable = 0, step, False
+    iterations, h, unstable, slope = 0, PROBE * step, False, None
     cur, prev = (U0, state0, obs0, sol0), None
     for _ in range(MAX_TRIALS):
-        U1 = cur[0] + s * h
+        d = h if slope is None else min(h, abs(target - cur[2]["p"]) / slope)  # not past the secant's P
+        U1 = cur[0] + s * d
         if U1 > u_max and cur[0] < u_max:
             U1 = u_max  # try the limit itself before giving up
         elif U1 > u_max:
@@ -86,20 +95,21 @@ def solve_load(solve, observe, target, base, *, step, tolerance, u_max):
             sol = solve(U1, cur[1], cur[1])
             iterations += sol.iterations
             if not sol.converged:
-                h *= 0.5
+                h = 0.5 * d
                 if h < 1e-6 * step:
                     return LoadStep(sol, U1, observe(sol), iterations, False)
                 continue
             obs = observe(sol)
+        d = abs(U1 - cur[0])
         p1 = obs["p"]
-        if (p1 - target) * s >= 0:  # bracketed between cur and U1
+        if (p1 - target) * s >= 0 or abs(p1 - target) <= tolerance:  # reached, or bracketed between cur and U1
             found = _refine(solve, observe, target, cur, (U1, sol.state, obs, sol), tolerance)
             U, sol, obs, its, ok = found
             event = _event(target, base, (U, obs)) if unstable else None
             return LoadStep(sol, U, obs, iterations + its, ok, event)
         if (p1 - cur[2]["p"]) * s < 0 and not unstable:  # p̄ turned away from P: a step too long, or the branch ends
-            if h > MIN_STEP * step:
-                h *= 0.5  # retry shorter from the last state: the branch may reach P before it turns
+            if d > MIN_STEP * step:
+                h = 0.5 * d  # retry shorter from the last state: the branch may reach P before it turns
                 continue
             if prev is not None:  # the extremum may lie behind cur: search [prev, U1] for it
                 ext, its = _extremum(solve, observe, target, s, prev, (U1, sol.state, obs, sol), step)
@@ -107,10 +117,12 @@ def solve_load(solve, observe, target, base, *, step, tolerance, u_max):
                 if ext is not None and (ext[2]["p"] - target) * s >= 0:  # it reaches P: bracketed
                     U, sol, obs, its, ok = _refine(solve, observe, target, prev, ext, tolerance)
                     return LoadStep(sol, U, obs, iterations + its, ok)
-            unstable = True  # past an extremum of p̄(U) within MIN_STEP·step: no equilibrium near the previous one
+            unstable, slope = True, None  # past an extremum of p̄(U) within MIN_STEP·step: no equilibrium near the previous one
             h = step  # then march on, growing, to the branch it jumps to
         else:
-            h *= 1.5
+            rise = (p1 - cur[2]["p"]) * s / d if d > 0 else 0.0  # secant dp̄/dU towards P
+            slope = rise if rise > 0 else None
+            h = 1.5 * max(d, h if unstable else 0.0)  # grows ×1.5 from the last step (beyond an event: from h)
         prev, cur = (cur if not unstable else None), (U1, sol.state, obs, sol)
     return LoadStep(cur[3], cur[0], cur[2], iterations, False)
 
