@@ -179,7 +179,7 @@ def chain_key(problem, settings):
 def labels(key, settings):
     """The `Relaxed.method` labels of the chain `CHAINS[key]`'s algorithms in order, e.g. ("ncg", "fire")."""
     fixed = {"hard_wall_two_level_cg": "cg-dual2", "hard_wall_dual_cg": "cg-dual", "hard_wall_primal_cg": "cg", "ncg": "ncg",
-             "coupled_newton": "newton", "coupled_newton_continuation": "newton"}
+             "coupled_newton": "newton"}
     return tuple(fixed.get(link.algorithm) or ("verlet" if dict(link.options).get("method", settings.method) == "verlet"
                                                else "fire") for link in CHAINS[key])
 

@@ -32,7 +32,6 @@ COUPLED_NEWTON_FORCING_MIN = 1e-3
 COUPLED_NEWTON_SPECTRAL = True
 
 
-
 def solve(problem, start, settings):
     """Newton–Krylov on the coupled law's nodal balance f(u) = t(u) − K u = 0 (no dynamics).
 
@@ -51,9 +50,10 @@ def solve(problem, start, settings):
     GMRES's products. Not converged (message says why) after COUPLED_NEWTON_ITERATIONS or
     when the line search finds no decrease; with `Settings.coupled_gmres_give_up` (the Newton-first chain's
     continuation, `gfmd.chains`) also at the first GMRES solve that misses its tolerance in COUPLED_GMRES_CYCLES
-    restarts (`stalled`), rather than going on with the inexact direction. Measured on the Fig. 8 ramps
-    (benchmarks/results/bench_coupled_fallback.md): every Newton state that chain kept came from GMRES solves that
-    converged; where one missed, the tangent K + D was near-singular or indefinite along the step (a snap or
+    restarts (`stalled`), rather than going on with the inexact direction. Measured
+    (benchmarks/results/bench_coupled_fallback.md): on the fig8_small ramps (N = 4096) no GMRES solve missed; on the
+    replayed full-scale Fig. 8 steps every kept Newton state used ≤ 229 FFT pairs (< one capped GMRES solve); where one
+    missed, the tangent K + D was near-singular or indefinite along the step (a snap or
     slip event) and the continuation went on for 23–60 iterations (5 400–13 300 FFT pairs at 2^17) without
     converging, before FIRE relaxed the step from the guess in ~600–700 iterations.
     """
