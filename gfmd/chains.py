@@ -14,13 +14,17 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   (``cohesive = "fire"``: FIRE alone); "verlet": Verlet. (A trust-region Newton–CG was measured against the
   NCG for issue 24 and dropped: 49.7 vs 44.2 FFT pairs per step at 2^17, benchmarks/results/bench_adhesion_scaling_full.md.)
 * coupled law (seed Eq. 2, no potential), method "fire", ``coupled = "newton"`` (default, issue 24): the
-  Newton–Krylov first, its converged state kept only as a continuation of the ramp's branch (no node moved
-  `COUPLED_JUMP` law lengths from the step's start); otherwise, and where it stalls, the chain of
+  Newton–Krylov first (``coupled_gmres_give_up``: it gives up at the first GMRES solve that misses its
+  tolerance, the sign of a near-singular or indefinite tangent along the step), its converged state kept only as
+  a continuation of the ramp's branch (no node moved `COUPLED_JUMP` law lengths from the step's start);
+  otherwise, and where it stalls, the chain of
   ``coupled = "fire"``: FIRE; after a stall (`COUPLED_FIRE_BUDGET`) Newton–Krylov from the guess, then from
   FIRE's end state, a converged state kept only where locally stable (`gfmd.problem.coupled_stability`, the FE
   reference's criterion); then Verlet from the guess. Method "verlet": Verlet. Measured
   (benchmarks/results/bench_adhesion_scaling_full.md): the Newton-first chain needs 2.8–3.1× fewer FFT pairs per
-  step than FIRE first on the Fig. 8 ramp.
+  step than FIRE first on the Fig. 8 ramp; the GMRES give-up (benchmarks/results/bench_coupled_fallback.md) cuts
+  the full-scale fallback steps whose continuation Newton used to run 23–60 inexact iterations (5 400–13 300 FFT
+  pairs, 81–186 s in the Fig. 8 study) to one GMRES solve before FIRE, the accepted states unchanged.
 * cohesive wall: projected FIRE, or Verlet (method "verlet").
 * user law (`contact.user_law`, normal-only, a potential): as the normal-only cohesive law, the NCG (its
   generic nodal path: the user's traction and tangent on every node) and FIRE after a stall; the labels are
@@ -89,6 +93,7 @@ class Link:
 
 
 _VERLET = (("method", "verlet"),)
+_GIVE_UP = (("coupled_gmres_give_up", True),)  # the continuation Newton stops at a missed GMRES solve
 #: {(law kind, key): chain}: the law kinds of `gfmd.problem.Problem.kind`, the keys of `chain_key`
 CHAINS = {
     ("hard-wall", "cg"): (Link("hard_wall_two_level_cg"), Link("hard_wall_primal_cg", starts=("end",), budget="left")),
@@ -102,7 +107,7 @@ CHAINS = {
     ("coupled", "fire"): (Link("dynamics", budget="coupled fire"),
                           Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                           Link("dynamics", options=_VERLET, budget="rest")),
-    ("coupled", "newton"): (Link("coupled_newton", accept="continuation"),
+    ("coupled", "newton"): (Link("coupled_newton", options=_GIVE_UP, accept="continuation"),
                             Link("dynamics", budget="coupled fire"),
                             Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                             Link("dynamics", options=_VERLET, budget="rest")),

@@ -42,6 +42,9 @@ class Settings:
     # coupled law (seed Eq. 2) with method "fire": "newton" (Newton–Krylov first, its state kept as a continuation
     # of the ramp's branch, else the "fire" chain) or "fire" (FIRE; Newton–Krylov, then Verlet after a stall)
     coupled: str = "newton"
+    # coupled Newton–Krylov: give the step up at the first GMRES solve that misses its tolerance (True: the
+    # Newton-first chain's continuation link, `gfmd.chains`; False: go on with the inexact direction)
+    coupled_gmres_give_up: bool = False
     # NCG line search: stop when |dE/dα| ≤ line_search_tol · |dE/dα(0)|
     line_search_tol: float = 0.1
     # hard-wall CG: release the wall nodes that pull away once their forces' norm exceeds

@@ -144,3 +144,38 @@ def test_newton_first_keeps_only_a_continuation(fig8_step, monkeypatch):
     assert jumped.converged and jumped.method.startswith("newton→fire"), jumped.method
     assert "snap or slip event" in jumped.message
     assert tested or jumped.method == "newton→fire"  # a Newton state after FIRE was stability-tested
+
+
+def test_continuation_gives_up_at_a_missed_gmres_solve(fig8_step, monkeypatch):
+    """`coupled_newton.solve` with Settings.coupled_gmres_give_up (the Newton-first chain's first link) stops at
+    the first GMRES solve that misses its tolerance; without it (the FIRE chain's fallback Newton) it goes on with
+    the inexact direction. GMRES is starved here (one restart of one product) to make it miss on a step whose
+    Newton otherwise converges."""
+    cell, previous, _current, (z99, _) = fig8_step
+    problem = Problem(cell.physics, cell.law, z99)
+    monkeypatch.setattr(coupled_newton, "COUPLED_GMRES_RESTART", 1)
+    monkeypatch.setattr(coupled_newton, "COUPLED_GMRES_CYCLES", 1)
+    cont = coupled_newton.solve(problem, previous, replace(cell.settings, coupled_gmres_give_up=True))
+    assert not cont.converged and cont.iterations == 1 and "GMRES missed" in cont.stalled, cont.message
+    plain = coupled_newton.solve(problem, previous, cell.settings)
+    assert plain.iterations > 1 and "GMRES" not in plain.message, plain.message
+
+
+def test_missed_gmres_hands_the_step_to_fire_with_the_same_state(fig8_step, monkeypatch):
+    """Where the continuation gives up (GMRES starved as above), the chain's FIRE relaxes the step from the guess
+    to the state the Newton continuation keeps unstarved, within the solver tolerance's bound; the label and the
+    message say what ran and why."""
+    cell, previous, _current, (z99, _) = fig8_step
+    s = cell.settings
+    kept = gs.relax(cell.physics, cell.law, z99, previous, s)
+    assert kept.converged and kept.method == "newton", (kept.method, kept.message)
+    monkeypatch.setattr(coupled_newton, "COUPLED_GMRES_RESTART", 1)
+    monkeypatch.setattr(coupled_newton, "COUPLED_GMRES_CYCLES", 1)
+    fell = gs.relax(cell.physics, cell.law, z99, previous, s)
+    assert fell.converged and fell.method.startswith("newton→fire"), (fell.method, fell.message)
+    assert "GMRES missed" in fell.message and "FIRE" in fell.message
+    m = cell.physics
+    k1 = min(abs(m.k_xx[1]), abs(m.k_zz[1])) - abs(m.k_xz[1])
+    bound = 2 * s.tolerance * m.reference_traction * np.sqrt(m.nodes) / k1  # as in test_newton_agrees_with_fire
+    for a, b in ((kept.u_z, fell.u_z), (kept.u_x, fell.u_x)):
+        assert np.max(np.abs(a - b)) < 10 * bound + 1e-6 * cell.scene.interface.length_normal

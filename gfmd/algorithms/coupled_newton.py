@@ -48,7 +48,14 @@ def solve(problem, start, settings):
     clamped (the operator acts on zero-mean fields). Stops on the solver's residual
     (max |f| < tolerance·p_ref); `iterations` counts Newton iterations, `fft_pairs` includes
     GMRES's products. Not converged (message says why) after COUPLED_NEWTON_ITERATIONS or
-    when the line search finds no decrease.
+    when the line search finds no decrease; with `Settings.coupled_gmres_give_up` (the Newton-first chain's
+    continuation, `gfmd.chains`) also at the first GMRES solve that misses its tolerance in COUPLED_GMRES_CYCLES
+    restarts (`stalled`), rather than going on with the inexact direction. Measured
+    (benchmarks/results/bench_coupled_fallback.md): on the fig8_small ramps (N = 4096) no GMRES solve missed; on the
+    replayed full-scale Fig. 8 steps every kept Newton state used ≤ 229 FFT pairs (< one capped GMRES solve); where one
+    missed, the tangent K + D was near-singular or indefinite along the step (a snap or
+    slip event) and the continuation went on for 23–60 iterations (5 400–13 300 FFT pairs at 2^17) without
+    converging, before FIRE relaxed the step from the guess in ~600–700 iterations.
     """
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
     u_hat = start  # the step's initial displacements (c, N//2+1), rfft
@@ -88,15 +95,21 @@ def solve(problem, start, settings):
             break
         it += 1
         rtol = min(COUPLED_NEWTON_FORCING, max(COUPLED_NEWTON_FORCING_MIN, 0.3 * settings.tolerance / residual))
+        before = fft.pairs
         if COUPLED_NEWTON_SPECTRAL:
-            du_hat = _spectral_step(model, law, z_ind, u, fh, stiff, fft, rtol)
+            du_hat, info = _spectral_step(model, law, z_ind, u, fh, stiff, fft, rtol)
             du = fft.irfft(du_hat)
         else:
             a_op, m_op, _ = coupled_operators(model, law, z_ind, u, fft, COUPLED_NEWTON_SHIFTED)
-            du, _ = gmres(a_op, f.ravel(), M=m_op, rtol=rtol, restart=COUPLED_GMRES_RESTART,
-                          maxiter=COUPLED_GMRES_CYCLES)
+            du, info = gmres(a_op, f.ravel(), M=m_op, rtol=rtol, restart=COUPLED_GMRES_RESTART,
+                             maxiter=COUPLED_GMRES_CYCLES)
             du = project(du.reshape(c, n))
             du_hat = None
+        if settings.coupled_gmres_give_up and info != 0:
+            message = (f"GMRES missed its tolerance {rtol:.2g} in {fft.pairs - before:.0f} FFT pairs (Newton iteration "
+                       f"{it}, residual {residual:.3g} p_ref): the tangent is near-singular or indefinite along the "
+                       "step, no continuation")
+            break
         largest = float(np.max(np.abs(du)))
         if not np.isfinite(largest) or largest == 0.0:
             message = f"Newton step not finite or zero (residual {residual:.3g} p_ref)"
@@ -137,7 +150,8 @@ def solve(problem, start, settings):
 
 
 def _spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol):
-    """δû solving (K + D) δu = f by GMRES on the spectrum, right-preconditioned by K⁻¹: y = K δû,
+    """(δû, GMRES's info: 0 where it reached rtol) solving (K + D) δu = f by GMRES on the spectrum,
+    right-preconditioned by K⁻¹: y = K δû,
     B y = y + rfft(D irfft(K⁻¹ y)) = f̂, one FFT pair per product; the unknowns scaled by √(w_q/N) so that
     GMRES's norm is the nodal one (Parseval). The clamped q = 0 mode of a half-plane stays 0."""
     from scipy.sparse.linalg import LinearOperator
@@ -170,8 +184,8 @@ def _spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol):
     size = 2 * c * (n // 2 + 1)
     b_op = LinearOperator((size, size), matvec=b_times, dtype=float)
     rhs = np.ascontiguousarray(f_hat * scale).view(float).ravel()
-    y, _ = gmres(b_op, rhs, rtol=rtol, restart=COUPLED_GMRES_RESTART, maxiter=COUPLED_GMRES_CYCLES)
+    y, info = gmres(b_op, rhs, rtol=rtol, restart=COUPLED_GMRES_RESTART, maxiter=COUPLED_GMRES_CYCLES)
     du_hat = stiff._apply(inverse, np.ascontiguousarray(y).view(complex).reshape(shape))
     if clamp:
         du_hat[:, 0] = 0.0
-    return du_hat
+    return du_hat, info
