@@ -5,7 +5,7 @@ Usage: python benchmarks/bench_study.py [--sizes 15 17] [--classes hard-wall coh
                                         [--cores K] [--out DIR]
 
 What is timed: one whole study task per (N, task class), run in this process by the same code a
-study worker runs (`workbench.study.run_task`: the full ramp of 200 steps from δ0 = 12 nm out of
+study worker runs (`workbench.study_task.run_task`: the full ramp of 200 steps from δ0 = 12 nm out of
 contact to δ = 20 nm, every step checkpointed to disk, fields saved), on the full-scale base
 scene `studies/seed/seed_base.toml` (seed Sec. 2.1: L = 10.24 µm, H = 0.8, h_rms = 10 nm,
 ν = 0.45, realization seed 1) with `surface.nodes` = N (λs,H = 2.5 nm fixed, so N = 2^15
@@ -17,7 +17,7 @@ Task classes (what decides the cost of a step):
   coupled    interface.law = "cohesive", φn* = 0.15, c = 0.5, δt = 1 nm (u_x and u_z, FIRE/Verlet)
 
 Projection: every full-scale study file in studies/seed/ (fig2, fig3, fig6a, fig6b, fig7, fig8)
-is expanded with `workbench.study.load_study`; each task is counted under its class and costs
+is expanded with `workbench.study_file.load_study`; each task is counted under its class and costs
 steps / (steps per CPU-second of its class at N = 2^17). Wall time on K cores assumes ideal
 process-level scaling (independent single-threaded tasks); the roughness parameters of a task
 (H, h_rms, ε_f) change its cost, which the class rate does not capture: the projection is an
@@ -25,7 +25,7 @@ estimate, the measured full-scale runs (README "Studies") are the check.
 
 Dask path (section 3; ``--no-dask-path`` skips it): the same hard-wall task at the largest N run (a) in this
 process, (b) in a child process started with the environment Dask's nanny gives its workers
-(MALLOC_TRIM_THRESHOLD_=65536) without `workbench.study.reuse_freed_arrays` (the study engine
+(MALLOC_TRIM_THRESHOLD_=65536) without `workbench.study_task.reuse_freed_arrays` (the study engine
 before that fix), (c) the same child with it (what a worker does now), (d) through
 `gfmd study run` on a 1-worker local Dask cluster (cluster start included); wall seconds and, for
 the children, minor page faults.
@@ -92,11 +92,11 @@ _CHILD = r"""
 import json, resource, sys, time
 sys.path.insert(0, sys.argv[1])
 from contact.scene import load_scene
-from workbench import study
+from workbench import study_task
 if sys.argv[4] == "before":
-    study.reuse_freed_arrays = lambda: False
+    study_task.reuse_freed_arrays = lambda: False
 t = time.perf_counter()
-study.run_task(load_scene(sys.argv[2]), sys.argv[3], progress=lambda step, steps: None)
+study_task.run_task(load_scene(sys.argv[2]), sys.argv[3], progress=lambda step, steps: None)
 print(json.dumps({"wall_s": time.perf_counter() - t, "faults": resource.getrusage(resource.RUSAGE_SELF).ru_minflt}))
 """
 

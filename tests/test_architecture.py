@@ -122,14 +122,16 @@ def test_the_check_sees_a_violation(tmp_path, monkeypatch):
 #: what reference.fem may import from the core. The FE is an independent cross-check of GFMD
 #: (issue 12): it shares the inputs (the scene; the profile heights of contact.surfaces), the
 #: model choice and its checks (contact.model), the one load ramp (contact.ramp) and the result
-#: and error types, and nothing it checks. Not contact.laws (the FE has reference.fem.law),
+#: and error types, and nothing it checks. Not contact.laws nor contact.law_equations (the FE has reference.fem.law),
 #: contact.observables (reference.fem.observables, through Cell.observe), contact.loading
 #: (z_ind: reference.fem.geometry), nor contact.kernels: the elastic kernels are what
 #: verification/test_fe_linear checks against the FE, so the FE solver must not use them (the
 #: verification tests may). contact.user_law: a user-defined law is an input (the user's callables), with
-#: nothing to be independent from; the FE's built-in laws stay its own.
-FE_MAY_IMPORT = {"contact", "contact.scene", "contact.surfaces", "contact.model", "contact.ramp", "contact.result",
-                 "contact.errors", "contact.user_law"}
+#: nothing to be independent from; the FE's built-in laws stay its own. The scene is contact.scene and
+#: the modules it is split into (scene_sections, scene_validation, scene_toml): input, as it.
+FE_MAY_IMPORT = {"contact", "contact.scene", "contact.scene_sections", "contact.scene_validation", "contact.scene_toml",
+                 "contact.surfaces", "contact.model", "contact.ramp", "contact.result", "contact.errors",
+                 "contact.user_law"}
 
 
 def fe_core_imports(root=ROOT, package="fem"):

@@ -19,7 +19,8 @@ from reference.analytic import jkr_sinusoid, maugis_dugdale
 from verification.studies import process_zone as pz_study
 from workbench import io
 from workbench.cli import main
-from workbench.study import _stickiness_cells, stickiness_columns, study_from_dict
+from workbench.study import stickiness_columns, study_from_dict
+from workbench.study_tables import _stickiness_cells
 
 E, NU = 70e9, 0.45
 E_STAR = E / (1 - NU**2)

@@ -1,0 +1,98 @@
+"""One study task: run, continue or reuse one (set, realization) into its run directory (on a Dask worker).
+
+A task directory is a one-realization `gfmd run` directory (workbench.io): every load step
+is checkpointed; a complete one is reused (its stored scene compared key by key with the
+task's), an interrupted one continues from its last saved step. The task directory is
+locked while a task writes it, so a second execution of the same task (Dask may run one
+twice) waits and then finds the result. Each finished load step is reported to the
+scheduler on `STEP_TOPIC` for the study's progress bar.
+"""
+
+from __future__ import annotations
+
+import functools
+import time
+from pathlib import Path
+
+from . import io, safe_files
+from .study_file import StudyError
+
+#: the Dask event topic a task reports each finished load step on (the study's progress bar)
+STEP_TOPIC = "gfmd-study-step"
+
+
+def _report_step(step, steps):
+    try:
+        from distributed import get_worker
+
+        get_worker().log_event(STEP_TOPIC, 1)
+    except (ImportError, ValueError):  # not on a worker
+        pass
+
+
+# glibc mallopt parameters (malloc.h)
+_M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD = -1, -3
+
+
+@functools.cache
+def reuse_freed_arrays(mmap_threshold=1 << 26, trim_threshold=1 << 27):
+    """Let glibc's malloc keep freed arrays of up to 64 MiB for reuse in this process; True if set.
+
+    Dask's nanny starts every worker with MALLOC_TRIM_THRESHOLD_=65536 (its config
+    ``distributed.nanny.pre-spawn-environ``), and setting any malloc threshold freezes glibc's
+    adaptive mmap threshold at 128 KiB: every array of ≥ 2^14 doubles is then mmap'ed on
+    allocation and unmapped on release, each page faulted in anew. The solvers allocate such
+    arrays at every iteration, so a worker spent three quarters of its time in page faults
+    (measured: one N = 2^17 hard-wall task of the seed's Fig. 3, 21 s in-process, 99 s under
+    that variable, 42 million minor page faults instead of 65 thousand). Called at the start of
+    each task (on a local cluster's workers and on those of an existing cluster alike), acting
+    once per process; a no-op returning False where the C library has no mallopt (not glibc).
+    """
+    import ctypes
+    import ctypes.util
+
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
+        mallopt = libc.mallopt
+    except (OSError, AttributeError):
+        return False
+    return bool(mallopt(_M_MMAP_THRESHOLD, int(mmap_threshold))) and bool(
+        mallopt(_M_TRIM_THRESHOLD, int(trim_threshold)))
+
+
+def run_task(scene, task_dir, command=None, progress=_report_step):
+    """Run (or continue, or reuse) one task into its run directory; a small dict of what happened.
+
+    The directory is a one-realization `gfmd run` directory (workbench.io): every load step
+    is checkpointed; a complete one is reused, an interrupted one continues from its last step.
+    """
+    reuse_freed_arrays()
+    out = Path(task_dir)
+    # a second execution of the same task (Dask may run one twice, at once) waits here for the first and
+    # then finds its result published (meta.json "complete", written last, every file by atomic rename)
+    with safe_files.locked(out, wait=-1, what="task directory", command=command):
+        return _run_task_locked(scene, out, command, progress)
+
+
+def _run_task_locked(scene, out, command, progress):
+    from .ensemble import _run_into
+
+    if io.run_complete(out):
+        diff = io.stored_scene_differences(out, scene)
+        if diff:
+            raise StudyError(f"{out} holds a finished task of another scene ({'; '.join(diff)}): a default "
+                             "changed since it ran; remove that task directory to recompute it")
+        io.remove_temporaries(out)
+        return {"status": "reused", "steps_reused": 0, "steps_run": 0}
+    resume = (out / "scene.toml").is_file()
+    io.prepare_run_dir(out, scene, resume=resume, overwrite=not resume, command=command)
+    start = time.perf_counter()
+    part = io.load_part(out, scene, 0) if resume else None
+    if part is not None and part[2]:  # every step saved, only the final files missing
+        reused, ran = len(part[0].curve["step"]), 0
+    else:
+        _, reused, ran = _run_into((scene, 0, out), progress)
+    result = io.load_part(out, scene, 0)[0].finalize()
+    io.write_run(out, scene, [result], timings={"total_s": time.perf_counter() - start, "workers": 1},
+                 command=command, resume={"realizations_reused": 0, "steps_reused": reused})
+    return {"status": "run", "steps_reused": reused, "steps_run": ran}
