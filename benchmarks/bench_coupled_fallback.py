@@ -1,14 +1,12 @@
 """The coupled law's fallback steps before / after the GMRES fail-fast of the Newton continuation (issue 24).
 
-Usage: python benchmarks/bench_coupled_fallback.py [--compare give-up|reference] [--small] [--replay RUN_DIR FIRST LAST ...] [--out FILE]
+Usage: python benchmarks/bench_coupled_fallback.py [--small] [--replay RUN_DIR FIRST LAST ...] [--out FILE]
 
 Two chains relax the same steps from the same warm starts, one after the other in one run:
   before  the Newton-first chain as it was: the continuation Newton goes on with inexact GMRES directions
           (up to COUPLED_NEWTON_ITERATIONS = 60) before FIRE;
   after   the default chain (`gfmd.chains.CHAINS[("coupled", "newton")]`): its continuation Newton
           (Settings.coupled_gmres_give_up) gives the step up at the first GMRES solve that misses its tolerance.
---compare reference: both the default chain; before measures the continuation test's move from the step's
-(extrapolated) guess, as before, after from the ramp's last converged state (`gfmd.chains.relax`'s equilibrium).
 --small: the coupled tasks of studies/seed/fig8_small.toml (N = 4096, 100 steps, ν = 0.1 and 0.45, c = 0.5,
 realizations 0 and 1), whole ramps; each chain runs its own ramp (warm starts from its own states).
 --replay RUN_DIR FIRST LAST: a saved full-scale task (a `gfmd run` / study task directory whose partial/ holds
@@ -54,21 +52,15 @@ KEY = ("coupled", "newton")
 #: the chain before the fail-fast: its first link the plain Newton (same acceptance test)
 BEFORE = (replace(chains.CHAINS[KEY][0], options=()),) + chains.CHAINS[KEY][1:]
 CHAIN = {"before": BEFORE, "after": chains.CHAINS[KEY]}
-#: --compare reference: both the default chain; "before" measures the continuation test's move from the step's
-#: (extrapolated) guess as before, "after" from the ramp's last converged state (`chains.relax`'s equilibrium)
-COMPARE = {"mode": "give-up"}
 
 
-def relax_with(which, cell, z_ind, guess, wall_tolerance, equilibrium=None):
+def relax_with(which, cell, z_ind, guess, wall_tolerance):
     """`chains.relax` with the chain `which` ("before" / "after"); (Relaxed, CPU s)."""
     saved = chains.CHAINS[KEY]
-    reference = COMPARE["mode"] == "reference"
-    chains.CHAINS[KEY] = saved if reference else CHAIN[which]
-    if reference and which == "before" or not reference:
-        equilibrium = None
+    chains.CHAINS[KEY] = CHAIN[which]
     try:
         t0 = time.process_time()
-        r = chains.relax(cell.physics, cell.law, z_ind, guess, cell.settings, wall_tolerance, equilibrium)
+        r = chains.relax(cell.physics, cell.law, z_ind, guess, cell.settings, wall_tolerance)
         return r, time.process_time() - t0
     finally:
         chains.CHAINS[KEY] = saved
@@ -78,11 +70,10 @@ def step(which, cell, scene, h, k, steps, current, previous, wall_tolerance):
     """One ramp step as `contact.ramp.run_ramp` takes it: extrapolated warm start, retried from the last state."""
     z_ind = indenter_surface(h, scene.loading.initial_separation, steps[k])
     extrapolate = extrapolation_allowed(scene.loading, k)
-    r, cpu = relax_with(which, cell, z_ind, 2 * current - previous if extrapolate else current, wall_tolerance,
-                        current)
+    r, cpu = relax_with(which, cell, z_ind, 2 * current - previous if extrapolate else current, wall_tolerance)
     it, pairs, method = r.iterations, r.fft_pairs, r.method
     if not r.converged and extrapolate:
-        r, more = relax_with(which, cell, z_ind, current, wall_tolerance, current)
+        r, more = relax_with(which, cell, z_ind, current, wall_tolerance)
         it, pairs, cpu, method = it + r.iterations, pairs + r.fft_pairs, cpu + more, f"{method}; {r.method}"
     obs = step_observables(scene, h, r.gap, r.t_z)
     return r, {"k": k, "method": method, "it": it, "pairs": pairs, "cpu": cpu, "p": float(obs["p"]),
@@ -149,12 +140,8 @@ def main(argv=None):
                     help="replay steps of a saved task (repeatable)")
     ap.add_argument("--chains", nargs="+", default=list(CHAIN), choices=list(CHAIN),
                     help="which chains --replay runs (a full-scale 'before' step can take minutes)")
-    ap.add_argument("--compare", choices=("give-up", "reference"), default="give-up",
-                    help="give-up: the continuation Newton without / with the GMRES give-up; reference: the "
-                    "continuation test measured from the step's guess / from the last converged state")
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "bench_coupled_fallback.md"))
     args = ap.parse_args(argv)
-    COMPARE["mode"] = args.compare
     load0 = os.getloadavg()
     lines = ["# The coupled chain's fallback steps: Newton continuation before / after the GMRES fail-fast (issue 24)",
              "", f"`python benchmarks/bench_coupled_fallback.py {' '.join(argv or sys.argv[1:])}`. FFT pairs and "

@@ -16,9 +16,7 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
 * coupled law (seed Eq. 2, no potential), method "fire", ``coupled = "newton"`` (default, issue 24): the
   Newton–Krylov first (``coupled_gmres_give_up``: it gives up at the first GMRES solve that misses its
   tolerance, the sign of a near-singular or indefinite tangent along the step), its converged state kept only as
-  a continuation of the ramp's branch: no node moved `COUPLED_JUMP` law lengths from the ramp's last accepted
-  state (`relax`'s equilibrium; without one, e.g. at the first step, from the step's start), not from the
-  extrapolated guess, which after an event carries the jump one step on;
+  a continuation of the ramp's branch (no node moved `COUPLED_JUMP` law lengths from the step's start);
   otherwise, and where it stalls, the chain of
   ``coupled = "fire"``: FIRE; after a stall (`COUPLED_FIRE_BUDGET`) Newton–Krylov from the guess, then from
   FIRE's end state, a converged state kept only where locally stable (`gfmd.problem.coupled_stability`, the FE
@@ -70,8 +68,7 @@ ALGORITHMS = {"hard_wall_two_level_cg": hard_wall_two_level_cg.solve, "hard_wall
 #: 1e2 p_ref) from δ ≈ 39 nm (N = 128), where Verlet converges in 500–1 140. Budget ≈ 2.5 × 790.
 COUPLED_FIRE_BUDGET = 2000
 #: Newton-first coupled chain: its converged state is kept only where no node moved COUPLED_JUMP · (the law's
-#: length, min(δn, δt)) or more from the ramp's last accepted state (the step's start where there is none): the
-#: continuation of the stable branch the ramp is on.
+#: length, min(δn, δt)) or more from the step's start: the continuation of the stable branch the ramp is on.
 #: A larger move (a snap or slip event) hands the step to the FIRE chain, whose Newton is tested for stability
 COUPLED_JUMP = 1.0
 
@@ -202,13 +199,11 @@ def _budget(link, settings, used):
     return left if link.budget == "left" else max(left, 1)
 
 
-def _rejected(problem, link, r, origin, equilibrium=None):
-    """Why a converged state fails the link's acceptance test ("" if it passes); equilibrium: the ramp's last
-    accepted state, the continuation test's reference (None: the link's start `origin`)."""
-    if link.accept == "continuation":  # kept only where no node moved COUPLED_JUMP law lengths from the branch
-        reference, where = (origin, "the step's start") if equilibrium is None else (equilibrium, "the last equilibrium")
-        move = float(np.max(np.abs(problem.displacements(r.u_hat - reference)))) / problem.law.law.length_scale
-        return (f"a node moved {move:.3g} law lengths from {where} (a snap or slip event: left to the "
+def _rejected(problem, link, r, origin):
+    """Why a converged state fails the link's acceptance test ("" if it passes)."""
+    if link.accept == "continuation":  # kept only where no node moved COUPLED_JUMP law lengths from the start
+        move = float(np.max(np.abs(problem.displacements(r.u_hat - origin)))) / problem.law.law.length_scale
+        return (f"a node moved {move:.3g} law lengths from the step's start (a snap or slip event: left to the "
                 "chain that tests stability)") if move >= COUPLED_JUMP else ""
     if link.accept != "locally stable":
         return ""
@@ -219,13 +214,11 @@ def _rejected(problem, link, r, origin, equilibrium=None):
     return ""
 
 
-def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0, equilibrium=None):
+def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
     """Relax one load step from the initial guess `u_hat` (c, N//2+1) along its chain; returns `Relaxed`.
 
     z_ind: indenter surface z_ind(x) (m) at this step; wall_tolerance (m): gap below which a wall node
-    counts as touching the wall; equilibrium: the ramp's last accepted state (u_hat's shape), from which the
-    coupled chain's continuation test measures the move (None: from the guess, e.g. the ramp's first step).
-    iterations and fft_pairs add up every algorithm that ran.
+    counts as touching the wall. iterations and fft_pairs add up every algorithm that ran.
     2+1-D surface (model.shape (Nx, Ny)): u_hat (c, Nx, Ny//2+1), z_ind (Nx, Ny); the algorithms run on the
     flat view (`gfmd.problem.flat_problem`) and the result's spectra and fields come back on the grid.
     """
@@ -234,10 +227,9 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0, equilibrium=No
     if problem.surface:
         _check_surface_shapes(model, z_ind, u_hat)
         flat = flat_problem(problem)
-        flat_state = (lambda a: None if a is None else np.reshape(a, (a.shape[0], -1)))
-        result = _relax(flat, CHAINS[key], flat_state(u_hat), settings, flat_state(equilibrium))
+        result = _relax(flat, CHAINS[key], np.reshape(u_hat, (u_hat.shape[0], -1)), settings)
         return _on_grid(result, model)
-    return _relax(problem, CHAINS[key], u_hat, settings, equilibrium)
+    return _relax(problem, CHAINS[key], u_hat, settings)
 
 
 def _check_surface_shapes(model, z_ind, u_hat):
@@ -260,7 +252,7 @@ def _on_grid(result, model):
     return result
 
 
-def _relax(problem, chain, u_hat, settings, equilibrium=None):
+def _relax(problem, chain, u_hat, settings):
     """`relax` along `chain` on a 1+1-D problem or a surface's flat view."""
     used, pairs, names, notes = 0, 0.0, [], []
     before = None  # the last link's final result: "end" starts from it
@@ -284,7 +276,7 @@ def _relax(problem, chain, u_hat, settings, equilibrium=None):
             pairs += r.fft_pairs
             if r.method and (not names or names[-1] != r.method):
                 names.append(r.method)
-            why = _rejected(problem, link, r, origin, equilibrium) if r.converged else ""
+            why = _rejected(problem, link, r, origin) if r.converged else ""
             where = "" if start == "guess" or i == 0 else f" from {STARTS[start]}"
             label = WORDS.get(r.method) or WORDS.get(link.algorithm, link.algorithm)
             if r.converged and not why or not r.converged and (last_link or not r.stalled):

@@ -146,32 +146,6 @@ def test_newton_first_keeps_only_a_continuation(fig8_step, monkeypatch):
     assert tested or jumped.method == "newton→fire"  # a Newton state after FIRE was stability-tested
 
 
-def test_continuation_is_measured_from_the_last_equilibrium(fig8_step, monkeypatch):
-    """The continuation test measures the move from the ramp's last accepted state (`relax`'s equilibrium, which
-    `GfmdCell.solve` passes), not from the step's guess: a guess extrapolated away from the branch (here step 99's
-    guess pushed back past step 98's state, g = 2 u98 − u99, as the ramp's extrapolation carries a jump one step
-    too far) from which Newton converges to the continuation of u98 is kept ("newton"); measured from the guess
-    (no equilibrium given, the reference before) the same state is rejected ("newton→fire"). COUPLED_JUMP is set
-    between the two moves, so the test fails with either reference in place of the other."""
-    cell, previous, current, (z99, _) = fig8_step
-    s, length = cell.settings, cell.law.law.length_scale
-    guess = 2 * previous - current
-    nodal = (lambda u: np.fft.irfft(u, n=cell.physics.nodes))
-    r = coupled_newton.solve(Problem(cell.physics, cell.law, z99), guess, replace(s, coupled_gmres_give_up=True))
-    assert r.converged, r.message  # the chain's first link, as it runs from this guess
-    from_guess = np.max(np.abs(nodal(r.u_hat) - nodal(guess))) / length
-    from_equilibrium = np.max(np.abs(nodal(r.u_hat) - nodal(previous))) / length
-    assert from_equilibrium < from_guess, (from_equilibrium, from_guess)
-    monkeypatch.setattr(chains, "COUPLED_JUMP", np.sqrt(from_guess * from_equilibrium))
-    old = gs.relax(cell.physics, cell.law, z99, guess, s)
-    assert old.method.startswith("newton→fire") and "moved" in old.message and "step's start" in old.message, old.method
-    steps, _ = realization_steps(cell.scene, cell.h, 0)
-    new = cell.solve(steps[99], guess, previous)  # the ramp's call: fallback = the last converged state
-    assert new.converged and new.algorithm == "newton", (new.algorithm, new.messages)
-    np.testing.assert_array_equal(new.state, r.u_hat)  # the same Newton run, now kept
-    print(f"move from the guess {from_guess:.3g}, from the last equilibrium {from_equilibrium:.3g} law lengths")
-
-
 def test_continuation_gives_up_at_a_missed_gmres_solve(fig8_step, monkeypatch):
     """`coupled_newton.solve` with Settings.coupled_gmres_give_up (the Newton-first chain's first link) stops at
     the first GMRES solve that misses its tolerance; without it (the FIRE chain's fallback Newton) it goes on with
