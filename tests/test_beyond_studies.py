@@ -13,7 +13,7 @@ from workbench.study import load_study
 
 ROOT = Path(__file__).resolve().parents[1]
 BEYOND = ROOT / "studies" / "beyond"
-RESULTS = ROOT / "studies" / "results" / "beyond_small"
+RESULTS = [ROOT / "studies" / "results" / d for d in ("beyond_small", "beyond_full")]
 FILES = sorted(p for p in BEYOND.glob("fig*_cycle*.toml"))
 
 
@@ -47,11 +47,13 @@ def test_full_and_small_vary_the_same_parameters():
         assert list(full.axes) == list(small.axes) and list(full.zipped) == list(small.zipped)
 
 
-@pytest.mark.skipif(not (RESULTS / "table.md").is_file(), reason="no committed beyond_small results")
-def test_report_reproduces_the_committed_table():
-    md, tab = _report().render(RESULTS)
-    assert md == (RESULTS / "table.md").read_text()
-    assert tab == (RESULTS / "table.csv").read_text()
+@pytest.mark.parametrize("results", RESULTS, ids=lambda p: p.name)
+def test_report_reproduces_the_committed_table(results):
+    if not (results / "table.md").is_file():
+        pytest.skip(f"no committed results in {results.name}")
+    md, tab = _report().render(results)
+    assert md == (results / "table.md").read_text()
+    assert tab == (results / "table.csv").read_text()
 
 
 def test_nonlinearity_is_zero_for_a_linear_curve_and_positive_for_a_concave_one():
