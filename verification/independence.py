@@ -16,6 +16,9 @@ ROOT = Path(__file__).resolve().parent.parent
 PURPOSE = {
     "contact": "the package itself (its __init__)",
     "contact.scene": "the scene: the one input both methods read (geometry, material, law parameters, load steps)",
+    "contact.scene_sections": "the scene's sections and their defaults (contact.scene's dataclasses, split out)",
+    "contact.scene_validation": "the scene's TOML checks and refusals (contact.scene's reader, split out)",
+    "contact.scene_toml": "the scene written back as TOML (contact.scene's writer, split out)",
     "contact.surfaces": "the profile heights h(x) built from the scene (same nodes, same realization)",
     "contact.model": "the model choice and its checks (which law/layer the scene asks for)",
     "contact.ramp": "the load steps (the one δ ramp, its continuation and checkpoints)",
