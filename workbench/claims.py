@@ -46,11 +46,6 @@ from .study_data import COLUMNS, SetInfo, StudyData, StudyDirError, read_study_d
 KAPPA_SEED = 1.75
 
 
-
-class StudyDirError(ValueError):
-    """A directory that is not a study directory, or has no finished task."""
-
-
 # ---------------------------------------------------------------- claims
 
 @dataclass
