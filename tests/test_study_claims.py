@@ -176,3 +176,9 @@ def test_report_html_and_cli(tmp_path, capsys):
     assert "kappa" in out.out
     assert main(["study", "report", str(tmp_path)]) == 2
     assert "not a study directory" in capsys.readouterr().err
+
+
+def test_what_is_no_study_raises_the_error_claims_exports(tmp_path):
+    """claims.StudyDirError (named in study_report's docstring) is the error read_study_dir raises."""
+    with pytest.raises(C.StudyDirError, match="not a study directory"):
+        C.read_study_dir(tmp_path)

@@ -40,10 +40,12 @@ from contact.observables import contact_mask
 
 from . import safe_files
 from .averages import mean_standard_error
-from .claims import (LAW_KEYS, KEY_LABELS, _param_text, kappa_per_realization, read_study_dir, reduced_pressure_of,
-                     reference_of, set_label, stats, varying)
+from .claim_measures import (LAW_KEYS, KEY_LABELS, _param_text, kappa_per_realization, reduced_pressure_of,
+                             reference_of, set_label, varying)
+from .claim_stats import stats
 from .plots import _NC_STYLE, _sci, error_bar_label
 from .study_cycle_plots import cycle_study_figures
+from .study_data import read_study_dir
 
 #: output formats of `plot_study`
 FORMATS = ("png", "svg")
@@ -410,7 +412,7 @@ def save_figures(figs, out, fmt="png"):
 def plot_study(study_dir, fmt="png", over=None):
     """Write the figures of `study_dir` into study_dir/figures/ as `fmt`; returns their paths.
 
-    Raises claims.StudyDirError (a ValueError) for a directory that is not a study directory or
+    Raises study_data.StudyDirError (a ValueError) for a directory that is not a study directory or
     has no finished task, ValueError for an unknown format or --over key.
     """
     if fmt not in FORMATS:
