@@ -25,6 +25,9 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   step than FIRE first on the Fig. 8 ramp; the GMRES give-up (benchmarks/results/bench_coupled_fallback.md) cuts
   the full-scale fallback steps whose continuation Newton used to run 23–60 inexact iterations (5 400–13 300 FFT
   pairs, 81–186 s in the Fig. 8 study) to one GMRES solve before FIRE, the accepted states unchanged.
+  ``coupled = "ptc"`` (issue 24, measured, not the default: benchmarks/results/bench_coupled_ptc.md): the Newton
+  chain with pseudo-transient continuation (`coupled_ptc`, from the guess, kept only where locally stable)
+  between the continuation Newton and FIRE.
 * cohesive wall: projected FIRE, or Verlet (method "verlet").
 * user law (`contact.user_law`, normal-only, a potential): as the normal-only cohesive law, the NCG (its
   generic nodal path: the user's traction and tangent on every node) and FIRE after a stall; the labels are
@@ -51,7 +54,7 @@ import numpy as np
 
 from contact import laws
 
-from .algorithms import (cohesive_wall, coupled_newton, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
+from .algorithms import (cohesive_wall, coupled_newton, coupled_ptc, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
                          hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
 from .problem import Problem, coupled_stability, flat_problem
 from .stopping import finish
@@ -60,7 +63,8 @@ from .stopping import finish
 ALGORITHMS = {"hard_wall_two_level_cg": hard_wall_two_level_cg.solve, "hard_wall_dual_cg": hard_wall_dual_cg.solve,
               "hard_wall_primal_cg": hard_wall_primal_cg.solve,
               "hard_wall_dynamics": hard_wall_dynamics.solve, "ncg": ncg.solve, "dynamics": dynamics.solve,
-              "coupled_newton": coupled_newton.solve, "cohesive_wall": cohesive_wall.solve}
+              "coupled_newton": coupled_newton.solve, "coupled_ptc": coupled_ptc.solve,
+              "cohesive_wall": cohesive_wall.solve}
 
 #: FIRE iterations a coupled-law step gets before the Newton–Krylov / damped-Verlet fallback. Measured (layer
 #: D = L, sinusoid a = 50 nm, φn* = 0.01, c = 0.5, ν = 0.3): FIRE needs ≤ 790 iterations per step
@@ -111,6 +115,11 @@ CHAINS = {
                             Link("dynamics", budget="coupled fire"),
                             Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                             Link("dynamics", options=_VERLET, budget="rest")),
+    ("coupled", "ptc"): (Link("coupled_newton", options=_GIVE_UP, accept="continuation"),
+                         Link("coupled_ptc", accept="locally stable"),
+                         Link("dynamics", budget="coupled fire"),
+                         Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
+                         Link("dynamics", options=_VERLET, budget="rest")),
     ("coupled", "verlet"): (Link("dynamics"),),
     ("user", "ncg"): (Link("ncg"), Link("dynamics", budget="rest")),
     ("user", "fire"): (Link("dynamics"),),
@@ -122,7 +131,8 @@ CHAINS = {
 #: the algorithms' labels (`Relaxed.method`) and the start names in words, for messages and reports
 WORDS = {"hard_wall_two_level_cg": "the two-level dual CG", "cg-dual2": "the two-level dual CG",
          "hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG",
-         "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov"}
+         "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov",
+         "ptc": "pseudo-transient continuation"}
 STARTS = {"guess": "the step's guess", "end": "the end state of the one before",
           "finite end": "the end state of the one before"}
 
@@ -165,8 +175,8 @@ def chain_key(problem, settings):
             raise ValueError(f"Settings.hard_wall = {settings.hard_wall!r}: expected 'cg' or 'fire'")
         return kind, "verlet" if settings.method == "verlet" else "fire"
     if kind == "coupled":
-        if settings.method == "fire" and settings.coupled not in ("newton", "fire"):
-            raise ValueError(f"Settings.coupled = {settings.coupled!r}: expected 'newton' or 'fire'")
+        if settings.method == "fire" and settings.coupled not in ("newton", "ptc", "fire"):
+            raise ValueError(f"Settings.coupled = {settings.coupled!r}: expected 'newton', 'ptc' or 'fire'")
         return kind, (settings.coupled if settings.method == "fire" else "verlet")
     if settings.method == "fire" and settings.cohesive not in ("ncg", "fire"):
         raise ValueError(f"Settings.cohesive = {settings.cohesive!r}: expected 'ncg' or 'fire'")
@@ -179,7 +189,7 @@ def chain_key(problem, settings):
 def labels(key, settings):
     """The `Relaxed.method` labels of the chain `CHAINS[key]`'s algorithms in order, e.g. ("ncg", "fire")."""
     fixed = {"hard_wall_two_level_cg": "cg-dual2", "hard_wall_dual_cg": "cg-dual", "hard_wall_primal_cg": "cg", "ncg": "ncg",
-             "coupled_newton": "newton"}
+             "coupled_newton": "newton", "coupled_ptc": "ptc"}
     return tuple(fixed.get(link.algorithm) or ("verlet" if dict(link.options).get("method", settings.method) == "verlet"
                                                else "fire") for link in CHAINS[key])
 

@@ -40,7 +40,8 @@ class Settings:
     # a Newton line search, FIRE as fallback) or "fire" (FIRE alone, the integrator before issue 13)
     cohesive: str = "ncg"
     # coupled law (seed Eq. 2) with method "fire": "newton" (Newton–Krylov first, its state kept as a continuation
-    # of the ramp's branch, else the "fire" chain) or "fire" (FIRE; Newton–Krylov, then Verlet after a stall)
+    # of the ramp's branch, else the "fire" chain), "ptc" (as "newton", pseudo-transient continuation before FIRE;
+    # measured, not the default) or "fire" (FIRE; Newton–Krylov, then Verlet after a stall)
     coupled: str = "newton"
     # coupled Newton–Krylov: give the step up at the first GMRES solve that misses its tolerance (True: the
     # Newton-first chain's continuation link, `gfmd.chains`; False: go on with the inexact direction)
