@@ -242,6 +242,9 @@ def _cmd_verify(args):
 def _cmd_study_run(args):
     from .study import failure_summary, load_study, run_study
 
+    if len(args.study) > 1:
+        return _cmd_study_suite(args)
+    args.study = args.study[0]
     study = load_study(args.study)  # every parameter set is validated here, before any compute
     out = Path(args.out or f"results/{study.name}")
     n_tasks = len(study.tasks)
@@ -280,6 +283,59 @@ def _cmd_study_run(args):
         for line in failure_summary(record):
             print(f"  - {line}", file=sys.stderr)
     return 1 if record["tasks_failed"] or unconverged else 0
+
+
+def _cmd_study_suite(args):
+    """`gfmd study run A.toml B.toml ... --out DIR`: the studies as one suite (workbench.study_suite)."""
+    import json
+
+    from .safe_files import WriteFailed
+    from .study import failure_summary, load_study
+    from .study_suite import check_names, run_suite, suite_done
+
+    if not args.out:
+        raise ValueError("several study files need --out DIR (each study goes to DIR/<study name>/)")
+    studies = [load_study(path) for path in args.study]  # every file validated before any compute
+    check_names(studies)
+    out = Path(args.out)
+    distinct = len({t.key for s in studies for t in s.tasks})
+    where = f"the Dask scheduler at {args.scheduler}" if args.scheduler else \
+        f"a local Dask cluster of {args.workers or 'all'} worker process(es)"
+    print(f"suite of {len(studies)} studies ({', '.join(s.name for s in studies)}): "
+          f"{sum(len(s.tasks) for s in studies)} task(s), {distinct} distinct, on {where}; results go to "
+          f"{out}/<study name>/", file=sys.stderr)
+    command = f"gfmd study run {' '.join(args.study)} --out {out}" \
+        + (f" --workers {args.workers}" if args.workers else "") \
+        + (f" --scheduler {args.scheduler}" if args.scheduler else "")
+    try:
+        with _interrupt_signals():
+            suite = run_suite(studies, out, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet,
+                              command=command, wait=getattr(args, "wait", 0))
+    except WriteFailed as exc:
+        print(f"gfmd: error: {exc}; the files written before are intact: free space or fix the permissions, then "
+              f"continue with: {command}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"\ngfmd: interrupted: {suite_done(studies, out)} of {distinct} distinct task(s) complete under {out}, "
+              f"the others keep their saved load steps; continue with: {command}", file=sys.stderr)
+        return 130
+    bad = 0
+    for row in suite["studies"]:
+        record = json.loads((out / row["dir"] / "study.json").read_text())
+        print(f"study {row['name']!r}: {row['tasks']} task(s): {row['tasks_reused']} reused, {row['tasks_run']} run, "
+              f"{row['tasks_linked']} linked from a sibling study, {row['tasks_failed']} failed; {out / row['dir']}/",
+              file=sys.stderr)
+        for t in record["tasks"]:
+            if t["all_converged"] is False and t["status"] != "linked":  # named once, where it ran
+                bad += 1
+                print(f"WARNING: {row['name']} set {t['set']}, realization {t['realization']} (task {t['key']}): "
+                      f"non-converged steps: {'; '.join(t['messages'][:3])}", file=sys.stderr)
+        for line in failure_summary(record):
+            print(f"  - {row['name']}: {line}", file=sys.stderr)
+    print(f"suite: {suite['distinct_tasks']} distinct task(s), {suite['tasks_run']} run, {suite['tasks_linked']} "
+          f"linked, {suite['tasks_failed']} failed, {suite['timings']['wall_s']:.1f} s; {out}/suite.json",
+          file=sys.stderr)
+    return 1 if suite["tasks_failed"] or bad else 0
 
 
 def _cmd_study_plot(args):
@@ -371,8 +427,10 @@ def build_parser():
     study_sub = study.add_subparsers(dest="study_command", required=True)
     srun = study_sub.add_parser("run", help="run (or continue) a study file's tasks and write study.csv, "
                                 "summary.csv, summary.nc, study.json")
-    srun.add_argument("study", help="study TOML file (base scene + [axes], optional [zip])")
-    srun.add_argument("--out", help="study directory (default results/<study name>); rerun to resume")
+    srun.add_argument("study", nargs="+", help="study TOML file (base scene + [axes], optional [zip]); several: "
+                      "one suite, each study in DIR/<study name>/, each distinct task computed once")
+    srun.add_argument("--out", help="study directory (default results/<study name>); with several files the "
+                      "suite's directory (required); rerun to resume")
     srun.add_argument("--workers", type=_count(1), default=None,
                       help="worker processes of the local Dask cluster (default: all cores)")
     srun.add_argument("--scheduler", metavar="ADDRESS",

@@ -28,8 +28,11 @@ cluster (or an existing one), and writes the tables and study.json at the end.
 Re-running the same command reuses every finished task (its meta.json says complete) and
 continues an interrupted one from its last saved step (`workbench.io.load_part`), so the
 final files equal an uninterrupted run's (wall_s aside). Tasks are content-addressed:
-any study with the same task scene reuses it. With --scheduler the tasks go to an existing
-Dask cluster; DIR must then be on a file system every worker sees (the same absolute path).
+any study with the same task scene reuses it; several study files run as one job that computes
+each distinct task once: `workbench.study_suite`. Pending tasks are submitted longest first
+(`longest_first`, by `task_cost`: the tail where one long task runs alone is shorter). With
+--scheduler the tasks go to an existing Dask cluster; DIR must then be on a file system every
+worker sees (the same absolute path).
 
 The names of the three modules above are re-exported here, where other code imports them.
 """
@@ -51,7 +54,7 @@ from contact.scene import load_scene, scene_to_toml
 from . import io, safe_files
 from .cycles import write_study_cycles
 from .study_file import (STUDY_KEYS, TASK_NAME, Study, StudyError, Task, _describe, load_study,  # noqa: F401
-                         study_from_dict, task_key, task_key_text, task_scene)
+                         longest_first, study_from_dict, task_cost, task_key, task_key_text, task_scene)
 from .study_tables import (UNITS, _axis_text, _collect, _write_tables, stickiness_columns,  # noqa: F401
                            study_has_paths, study_is_forced, summary_columns, summary_dataset)
 from .study_task import STEP_TOPIC, reuse_freed_arrays, run_task  # noqa: F401
@@ -112,7 +115,7 @@ def readdress_tasks(out, unique):
     tasks_dir = Path(out) / "tasks"
     moved = 0
     for d in sorted(tasks_dir.iterdir()) if tasks_dir.is_dir() else []:
-        if d.name in unique or not (d / "scene.toml").is_file():
+        if d.name in unique or d.name.startswith(".") or not (d / "scene.toml").is_file():  # .*: a suite's link
             continue
         try:
             key = task_key(load_scene(d / "scene.toml"))
@@ -146,12 +149,11 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True, comman
         return _run_study_locked(study, out, workers, scheduler, progress, command)
 
 
-def _run_study_locked(study, out, workers, scheduler, progress, command):
-    from tqdm import tqdm
-
+def open_study_dir(study, out, progress=False):
+    """Prepare `out` for `study` (`prepare_study_dir`), move tasks written under an older address to
+    their key (`readdress_tasks`), tidy the complete ones; returns (out, the set of complete keys)."""
     out = prepare_study_dir(out, study)
-    tasks = study.tasks
-    unique = {t.key: t for t in tasks}
+    unique = {t.key: t for t in study.tasks}
     moved = readdress_tasks(out, unique)
     if moved and progress:
         print(f"{study.name}: {moved} task director{'y' if moved == 1 else 'ies'} written under an older "
@@ -163,66 +165,106 @@ def _run_study_locked(study, out, workers, scheduler, progress, command):
             with contextlib.suppress(safe_files.LockHeld), safe_files.locked(task_dir, what="task"):
                 shutil.rmtree(task_dir / io.PARTIAL, ignore_errors=True)
                 io.remove_temporaries(task_dir)
-    pending = [t for k, t in unique.items() if k not in done]
+    return out, done
+
+
+def _run_study_locked(study, out, workers, scheduler, progress, command):
+    out, done = open_study_dir(study, out, progress)
+    tasks = study.tasks
+    unique = {t.key: t for t in tasks}
+    pending = longest_first([t for k, t in unique.items() if k not in done])
     record = _record(study, out, tasks, {}, {}, complete=False)
     io._atomic_write(out / "study.json", json.dumps(record, indent=2))
     outcomes, failures = {k: {"status": "reused", "steps_reused": 0, "steps_run": 0} for k in done}, {}
     start = time.perf_counter()
-    steps_total = sum(t.scene.loading.steps + 1 for t in unique.values())
-    steps_saved = sum(_saved_steps(out / "tasks" / t.key, t.scene) for t in unique.values())
     if pending:
-        import logging
-
         workers = workers or os.cpu_count() or 1
-        logger = logging.getLogger("distributed")
-        level = logger.level
-        logger.setLevel(logging.WARNING)  # distributed's INFO lines would bury the progress bar
-        client, cluster = _client(min(workers, len(pending)), scheduler)
-        bar = tqdm(total=len(unique), initial=len(done), desc=f"{study.name}: tasks", unit="task",
-                   disable=not progress)
-        steps = [steps_saved]
-        write_failed = []
 
-        def stepped(event):
-            steps[0] += 1
-            bar.set_postfix_str(f"load steps {steps[0]}/{steps_total}", refresh=False)
+        def finished(key, outcome, failure, disk_error):
+            if failure is None:
+                outcomes[key] = outcome
+            else:
+                failures[key] = failure
 
-        try:
-            from distributed import as_completed
+        compute_tasks([(t.key, t.scene, out / "tasks" / t.key) for t in pending], finished, workers=workers,
+                      scheduler=scheduler, progress=progress, command=command, name=study.name,
+                      total=len(unique), initial=len(done),
+                      steps_total=sum(t.scene.loading.steps + 1 for t in unique.values()),
+                      steps_saved=sum(_saved_steps(out / "tasks" / t.key, t.scene) for t in unique.values()))
+    return finish_study(study, out, outcomes, failures, wall=time.perf_counter() - start,
+                        workers=None if scheduler else workers, scheduler=scheduler, command=command)
 
-            client.subscribe_topic(STEP_TOPIC, stepped)
-            futures = {client.submit(run_task, t.scene, str(out / "tasks" / t.key), command,
-                                     key=f"gfmd-task-{t.key}", pure=False): t.key for t in pending}
-            for future in as_completed(futures):
-                key = futures[future]
-                if future.status == "finished":
-                    outcomes[key] = future.result()
-                else:
-                    exc = future.exception()
-                    if isinstance(exc, safe_files.WriteFailed) and exc.code in safe_files.DISK_ERRNOS:
-                        write_failed.append(exc)
-                    tb = "".join(traceback.format_exception(type(exc), exc, future.traceback()))
-                    failures[key] = {"error": f"{type(exc).__name__}: {exc}", "traceback": tb}
-                    bar.set_description(f"{study.name}: tasks ({len(failures)} failed)")
-                bar.update()
-                future.release()
-        except BaseException:
-            if cluster is not None:
-                _kill_workers(cluster)  # at once: a graceful close would wait for the running tasks
-            raise
-        finally:
-            bar.close()
-            _close(client, cluster)
-            logger.setLevel(level)
-        if write_failed:
-            raise write_failed[0]
-    wall = time.perf_counter() - start
+
+def compute_tasks(jobs, finished, *, workers, scheduler, progress, command, name, total, initial, steps_total,
+                  steps_saved):
+    """Run `jobs` [(key, task scene, task directory)] on Dask (`run_task`), submitted in this order
+    (longest first: `longest_first`), each with a priority that keeps that order on the scheduler;
+    finished(key, outcome, failure, disk_error) is called in this process as each ends (outcome: run_task's
+    dict, or failure: {"error", "traceback"}). A progress bar counts tasks (`total`, `initial` done) and
+    load steps. An interrupt kills the local cluster's workers at once and propagates; a task's disk
+    error (`safe_files.DISK_ERRNOS`) is raised after the cluster closed."""
+    import logging
+
+    from tqdm import tqdm
+
+    logger = logging.getLogger("distributed")
+    level = logger.level
+    logger.setLevel(logging.WARNING)  # distributed's INFO lines would bury the progress bar
+    client, cluster = _client(min(workers, len(jobs)), scheduler)
+    bar = tqdm(total=total, initial=initial, desc=f"{name}: tasks", unit="task", disable=not progress)
+    steps = [steps_saved]
+    write_failed = []
+
+    def stepped(event):
+        steps[0] += 1
+        bar.set_postfix_str(f"load steps {steps[0]}/{steps_total}", refresh=False)
+
+    try:
+        from distributed import as_completed
+
+        client.subscribe_topic(STEP_TOPIC, stepped)
+        # submission order is execution order on a local cluster (checked); the priority keeps it where the
+        # scheduler already holds other work (a higher priority runs first)
+        futures = {client.submit(run_task, scene, str(task_dir), command, key=f"gfmd-task-{key}", pure=False,
+                                 priority=len(jobs) - i): key for i, (key, scene, task_dir) in enumerate(jobs)}
+        n_failed = 0
+        for future in as_completed(futures):
+            key = futures[future]
+            if future.status == "finished":
+                finished(key, future.result(), None, False)
+            else:
+                exc = future.exception()
+                disk = isinstance(exc, safe_files.WriteFailed) and exc.code in safe_files.DISK_ERRNOS
+                if disk:
+                    write_failed.append(exc)
+                tb = "".join(traceback.format_exception(type(exc), exc, future.traceback()))
+                n_failed += 1
+                finished(key, None, {"error": f"{type(exc).__name__}: {exc}", "traceback": tb}, disk)
+                bar.set_description(f"{name}: tasks ({n_failed} failed)")
+            bar.update()
+            future.release()
+    except BaseException:
+        if cluster is not None:
+            _kill_workers(cluster)  # at once: a graceful close would wait for the running tasks
+        raise
+    finally:
+        bar.close()
+        _close(client, cluster)
+        logger.setLevel(level)
+    if write_failed:
+        raise write_failed[0]
+
+
+def finish_study(study, out, outcomes, failures, *, wall, workers, scheduler, command, extra=None):
+    """Write the study's tables (study.csv, summary.csv, summary.nc, cycles.csv) and its complete
+    study.json (updated with `extra`); returns the study.json dict."""
+    tasks = study.tasks
     rows, results = _collect(study, out, tasks, failures)
     _write_tables(study, out, rows, results)
     write_study_cycles(study, out, tasks, _axis_text, io._atomic_write)  # load paths only: cycles.csv
-    record = _record(study, out, tasks, outcomes, failures, complete=True, wall=wall,
-                     workers=None if scheduler else workers,
+    record = _record(study, out, tasks, outcomes, failures, complete=True, wall=wall, workers=workers,
                      scheduler=scheduler, command=command)
+    record.update(extra or {})
     io._atomic_write(out / "study.json", json.dumps(record, indent=2))
     return record
 
@@ -271,6 +313,8 @@ def _record(study, out, tasks, outcomes, failures, *, complete, wall=None, worke
                  "steps_reused": outcomes.get(t.key, {}).get("steps_reused", 0),
                  "steps_run": outcomes.get(t.key, {}).get("steps_run", 0),
                  "all_converged": meta.get("all_converged"), "messages": meta.get("messages", [])}
+        if "linked_from" in outcomes.get(t.key, {}):  # a suite's task computed or kept in a sibling study
+            entry["linked_from"] = outcomes[t.key]["linked_from"]
         if t.key in failures:
             entry["error"] = failures[t.key]["error"]
         entries.append(entry)

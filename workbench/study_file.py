@@ -113,6 +113,39 @@ def task_key(task):
     return hashlib.sha256(task_key_text(task).encode()).hexdigest()[:16]
 
 
+#: relative cost factors of `task_cost`, from the seed's full-scale task times (N = 2^17, 200 steps, one
+#: core each; studies/results/seed_full/README.md): a cohesive task 9 s (1 + 50 φn*) (measured 9, 11, 13,
+#: 31, 76 s at φn* = 0.001 … 0.15), the hard wall 27 s, a coupled law (tangential_ratio > 0) 240–720 s
+#: against 40 s for its normal law (fig8)
+COST_HARD_WALL, COST_PER_PHI, COST_COUPLED = 3.0, 50.0, 10.0
+
+
+def task_cost(scene):
+    """A task scene's relative cost (arbitrary units), only to order tasks longest first (`longest_first`).
+
+    steps × N log₂N (N nodes, N_x N_y in 2+1-D) × the law's factor (`COST_HARD_WALL`; cohesive laws
+    1 + `COST_PER_PHI` φn*; × `COST_COUPLED` with tangential_ratio > 0) × the contact the loading reaches,
+    final_penetration / (2 h_rms) within [0.1, 1] (1 where h_rms is 0): at δ = 20 nm the seed's tasks
+    at h_rms = 10, 15, 30 nm took 1 : 0.5 : 0.25 of the time, hard wall and cohesive alike.
+    """
+    import math
+
+    surface, interface = scene.surface, scene.interface
+    n = surface.nodes * max(surface.nodes_y, 1)
+    law = COST_HARD_WALL if interface.law == "hard-wall" else 1.0 + COST_PER_PHI * interface.phi_n_star
+    if interface.tangential_ratio > 0:
+        law *= COST_COUPLED
+    contact = (min(1.0, max(0.1, scene.loading.final_penetration / (2 * surface.h_rms)))
+               if surface.h_rms > 0 else 1.0)
+    return scene.loading.steps * n * math.log2(max(n, 2)) * law * contact
+
+
+def longest_first(tasks):
+    """`tasks` ordered by decreasing `task_cost` (ties keep their order): the classic longest-processing-
+    time-first order, which on a few workers shortens the tail where one long task runs alone."""
+    return sorted(tasks, key=lambda t: -task_cost(t.scene))
+
+
 def _values(where, key, values, unique=True):
     if not isinstance(values, list) or not values:
         raise StudyError(f"{where} {key!r} = {values!r}: must be a non-empty list of values")
