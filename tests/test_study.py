@@ -173,7 +173,7 @@ def test_killed_study_resumes_to_the_uninterrupted_result(tmp_path):
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "gfmd", "study", "run", str(path), "--out", str(out), "--workers", "2", "--quiet"]
     proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
-    deadline = time.monotonic() + 60
+    deadline = time.monotonic() + 600  # a guard against a hang, not a timing: a loaded machine is slow to get there
     tasks = out / "tasks"
     while time.monotonic() < deadline:
         assert proc.poll() is None, "the study ended before it could be interrupted"
@@ -200,7 +200,7 @@ def test_killed_study_resumes_to_the_uninterrupted_result(tmp_path):
                 saved[t.key] = len(part[0].curve["step"])
     assert 1 <= len(complete) < 8 and sum(saved.values()) >= 1
     print(f"killed with {len(complete)} task(s) complete, saved steps of the others: {sorted(saved.values())}")
-    resumed = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    resumed = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
     assert resumed.returncode == 0, resumed.stderr
     record = json.loads((out / "study.json").read_text())
     assert record["complete"] is True
