@@ -12,22 +12,23 @@ from scipy.sparse.linalg import gmres
 
 from contact import laws
 
-from ..fft import Fft, spectral_weights
+from ..coupled_krylov import FORCING, FORCING_MIN, GMRES_CYCLES, GMRES_RESTART, spectral_step
+from ..fft import Fft
 from ..problem import Elastic, coupled_operators
 from ..stopping import finish
 
 #: Newton iterations a coupled-law step gets after FIRE stalls; each solves the linearised balance by GMRES
 #: (restart COUPLED_GMRES_RESTART, at most COUPLED_GMRES_CYCLES cycles).
 COUPLED_NEWTON_ITERATIONS = 60
-COUPLED_GMRES_RESTART = 60
-COUPLED_GMRES_CYCLES = 5
+COUPLED_GMRES_RESTART = GMRES_RESTART
+COUPLED_GMRES_CYCLES = GMRES_CYCLES
 #: Newton step: largest nodal move per iteration in units of min(δn, δt) (trust region), GMRES relative tolerance
 COUPLED_NEWTON_MAX_MOVE = 2.0
-COUPLED_NEWTON_FORCING = 0.1
+COUPLED_NEWTON_FORCING = FORCING
 #: GMRES preconditioner: the FIRE mass M_q = K(q) + ⟨k_loc⟩ (True) or K(q) alone (False)
 COUPLED_NEWTON_SHIFTED = False
 #: GMRES's relative tolerance: min(COUPLED_NEWTON_FORCING, max(COUPLED_NEWTON_FORCING_MIN, 0.3 tolerance / residual))
-COUPLED_NEWTON_FORCING_MIN = 1e-3
+COUPLED_NEWTON_FORCING_MIN = FORCING_MIN
 #: GMRES on the spectrum, right-preconditioned by K⁻¹: one FFT pair per product (False: nodal, two)
 COUPLED_NEWTON_SPECTRAL = True
 
@@ -37,7 +38,7 @@ def solve(problem, start, settings):
 
     Each iteration solves (K + D) δu = f by GMRES, D the nodal 2×2 tangent of Eq. 2
     (`contact.laws.jacobian_coupled`, ∂t/∂u = −D since Δn = z_ind − u_z, Δt = −u_x), K applied
-    by FFT: on the spectrum, right-preconditioned by K⁻¹ (`_spectral_step`, one FFT pair per product; with
+    by FFT: on the spectrum, right-preconditioned by K⁻¹ (`gfmd.coupled_krylov.spectral_step`, one FFT pair per product; with
     COUPLED_NEWTON_SPECTRAL = False on the nodes, preconditioned by K⁻¹ or, COUPLED_NEWTON_SHIFTED, the inverse
     FIRE mass M_q = K(q) + ⟨k_loc⟩, two pairs per product), to the relative tolerance
     min(COUPLED_NEWTON_FORCING, max(COUPLED_NEWTON_FORCING_MIN, 0.3 tolerance / residual)) (no accuracy beyond
@@ -97,7 +98,8 @@ def solve(problem, start, settings):
         rtol = min(COUPLED_NEWTON_FORCING, max(COUPLED_NEWTON_FORCING_MIN, 0.3 * settings.tolerance / residual))
         before = fft.pairs
         if COUPLED_NEWTON_SPECTRAL:
-            du_hat, info = _spectral_step(model, law, z_ind, u, fh, stiff, fft, rtol)
+            du_hat, info = spectral_step(model, law, z_ind, u, fh, stiff, fft, rtol, COUPLED_GMRES_RESTART,
+                                         COUPLED_GMRES_CYCLES)
             du = fft.irfft(du_hat)
         else:
             a_op, m_op, _ = coupled_operators(model, law, z_ind, u, fft, COUPLED_NEWTON_SHIFTED)
@@ -147,45 +149,3 @@ def solve(problem, start, settings):
     out.method = "newton"
     out.stalled = "" if out.converged else out.message  # the chain may go on (`gfmd.chains`)
     return out
-
-
-def _spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol):
-    """(δû, GMRES's info: 0 where it reached rtol) solving (K + D) δu = f by GMRES on the spectrum,
-    right-preconditioned by K⁻¹: y = K δû,
-    B y = y + rfft(D irfft(K⁻¹ y)) = f̂, one FFT pair per product; the unknowns scaled by √(w_q/N) so that
-    GMRES's norm is the nodal one (Parseval). The clamped q = 0 mode of a half-plane stays 0."""
-    from scipy.sparse.linalg import LinearOperator
-
-    n, c = model.nodes, model.components
-    clamp = model.half_plane
-    d_nn, d_nt, d_tn, d_tt = law.law.tangent(z_ind - u[-1], -u[0])
-    scale = np.sqrt(spectral_weights(n) / n)
-    shape = (c, n // 2 + 1)
-    inverse = tuple(b / scale for b in stiff.inv_mass)  # z ↦ K⁻¹ y with y = z / scale, one product per block
-    dv = np.empty((c, n))
-
-    def b_times(x):
-        z = np.ascontiguousarray(x).view(complex).reshape(shape)
-        v = fft.irfft(stiff._apply(inverse, z))
-        if c == 1:
-            np.multiply(d_nn, v[0], out=dv[0])
-        else:
-            np.multiply(d_tt, v[0], out=dv[0])
-            dv[0] += d_tn * v[1]
-            np.multiply(d_nt, v[0], out=dv[1])
-            dv[1] += d_nn * v[1]
-        out = fft.rfft(dv)
-        out *= scale
-        out += z
-        if clamp:
-            out[:, 0] = z[:, 0]
-        return out.view(float).ravel()
-
-    size = 2 * c * (n // 2 + 1)
-    b_op = LinearOperator((size, size), matvec=b_times, dtype=float)
-    rhs = np.ascontiguousarray(f_hat * scale).view(float).ravel()
-    y, info = gmres(b_op, rhs, rtol=rtol, restart=COUPLED_GMRES_RESTART, maxiter=COUPLED_GMRES_CYCLES)
-    du_hat = stiff._apply(inverse, np.ascontiguousarray(y).view(complex).reshape(shape))
-    if clamp:
-        du_hat[:, 0] = 0.0
-    return du_hat, info

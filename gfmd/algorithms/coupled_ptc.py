@@ -12,11 +12,11 @@ import numpy as np
 
 from contact import laws
 
+from ..coupled_krylov import forcing, spectral_step
 from ..fft import Fft, spectral_weights
 from ..problem import Elastic
 from ..settings import stall
 from ..stopping import finish
-from .coupled_newton import COUPLED_NEWTON_FORCING, COUPLED_NEWTON_FORCING_MIN, _spectral_step
 
 #: Ψtc iterations a step gets (each one GMRES solve and one force)
 PTC_ITERATIONS = 100
@@ -87,8 +87,8 @@ def solve(problem, start, settings):
             message = f"Ψtc pseudo-time step fell below {PTC_DT_MIN:g} (iteration {it}, residual {residual:.3g} p_ref)"
             break
         it += 1
-        rtol = min(COUPLED_NEWTON_FORCING, max(COUPLED_NEWTON_FORCING_MIN, 0.3 * settings.tolerance / residual))
-        du_hat, info = _spectral_step(model, law, z_ind, u, fh, _shifted(model, k_mean, 1.0 / dt), fft, rtol)
+        rtol = forcing(settings.tolerance, residual)
+        du_hat, info = spectral_step(model, law, z_ind, u, fh, _shifted(model, k_mean, 1.0 / dt), fft, rtol)
         if info != 0:  # the shifted tangent is near-singular or indefinite along the step: more mass
             dt *= 0.5
             continue
