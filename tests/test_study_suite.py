@@ -20,31 +20,10 @@ from workbench.study import load_study, run_study
 from workbench.study_file import longest_first, task_cost
 from workbench.study_task import run_task
 
-BASE = """
-[surface]
-kind = "self-affine"
-length = 320e-9
-nodes = 256
-hurst = 0.8
-h_rms = 10e-9
-rolloff_wavelength = 160e-9
-rollon_wavelength = 10e-9
-seed = 1
-realizations = 2
+from test_study import BASE as STUDY_BASE
 
-[interface]
-law = "cohesive"
-phi_n_star = 0.15
-length_normal = 2.5e-9
-
-[loading]
-initial_separation = 20e-9
-final_penetration = 8e-9
-steps = 24
-
-[output]
-field_steps = 2
-"""
+# test_study's tiny study scene at half its nodes and 24 steps: the suite runs several studies
+BASE = STUDY_BASE.replace("nodes = 512", "nodes = 256").replace("steps = 40", "steps = 24")
 
 STUDY = """
 name = "{name}"
