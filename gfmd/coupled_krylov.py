@@ -23,6 +23,21 @@ def forcing(tolerance, residual):
     return min(FORCING, max(FORCING_MIN, 0.3 * tolerance / residual))
 
 
+def balance(law, z_ind, fft, stiff, clamp):
+    """The coupled balance as a function of the spectrum: uh ↦ (f̂, f, u), f = t(u) − K u on the nodes (the q = 0
+    mode removed where `clamp`, a half-plane's fixed mean); raises the law's CompressionOverflowError in its overflow range."""
+
+    def force(uh):
+        u = fft.irfft(uh)
+        t, _ = law.traction(u, z_ind)
+        fh = fft.rfft(t) - stiff.stiffness(uh)
+        if clamp:
+            fh[:, 0] = 0.0
+        return fh, fft.irfft(fh), u
+
+    return force
+
+
 def spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_RESTART, cycles=GMRES_CYCLES):
     """(δû, GMRES's info: 0 where it reached rtol) solving (K + D) δu = f by GMRES on the spectrum,
     right-preconditioned by K⁻¹: y = K δû,

@@ -12,7 +12,7 @@ from scipy.sparse.linalg import gmres
 
 from contact import laws
 
-from ..coupled_krylov import FORCING, FORCING_MIN, GMRES_CYCLES, GMRES_RESTART, spectral_step
+from ..coupled_krylov import FORCING, FORCING_MIN, GMRES_CYCLES, GMRES_RESTART, balance, spectral_step
 from ..fft import Fft
 from ..problem import Elastic, coupled_operators
 from ..stopping import finish
@@ -70,14 +70,7 @@ def solve(problem, start, settings):
     stiff = Elastic(model, 0.0, 0.0)
     max_move = COUPLED_NEWTON_MAX_MOVE * law.law.length_scale
 
-    def force(uh):
-        """(f_hat, f, u): the nodal force (mean removed where clamped); raises on overflow."""
-        u = fft.irfft(uh)
-        t, _ = law.traction(u, z_ind)
-        fh = fft.rfft(t) - stiff.stiffness(uh)
-        if clamp:
-            fh[:, 0] = 0.0
-        return fh, fft.irfft(fh), u
+    force = balance(law, z_ind, fft, stiff, clamp)  # uh ↦ (f̂, f, u)
 
     def project(x):
         return x - x.mean(axis=1, keepdims=True) if clamp else x

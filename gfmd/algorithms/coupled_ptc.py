@@ -12,7 +12,7 @@ import numpy as np
 
 from contact import laws
 
-from ..coupled_krylov import forcing, spectral_step
+from ..coupled_krylov import balance, forcing, spectral_step
 from ..fft import Fft, spectral_weights
 from ..problem import Elastic
 from ..settings import stall
@@ -60,14 +60,7 @@ def solve(problem, start, settings):
     stiff = Elastic(model, 0.0, 0.0)
     max_move = PTC_MAX_MOVE * law.law.length_scale
 
-    def force(uh):
-        """(f_hat, f, u); raises CompressionOverflowError in the law's overflow range."""
-        u = fft.irfft(uh)
-        t, _ = law.traction(u, z_ind)
-        fh = fft.rfft(t) - stiff.stiffness(uh)
-        if clamp:
-            fh[:, 0] = 0.0
-        return fh, fft.irfft(fh), u
+    force = balance(law, z_ind, fft, stiff, clamp)  # uh ↦ (f̂, f, u)
 
     try:
         fh, f, u = force(u_hat)
