@@ -248,12 +248,10 @@ def _cmd_study_run(args):
     study = load_study(args.study)  # every parameter set is validated here, before any compute
     out = Path(args.out or f"results/{study.name}")
     n_tasks = len(study.tasks)
-    where = f"the Dask scheduler at {args.scheduler}" if args.scheduler else \
-        f"a local Dask cluster of {args.workers or 'all'} worker process(es)"
+    where = _where(args)
     print(f"study {study.name!r}: {len(study.sets)} parameter set(s), {n_tasks} task(s) on {where}; "
           f"results go to {out}/", file=sys.stderr)
-    command = f"gfmd study run {args.study} --out {out}" + (f" --workers {args.workers}" if args.workers else "") \
-        + (f" --scheduler {args.scheduler}" if args.scheduler else "")
+    command = _rerun_command(args.study, out, args)
     from .safe_files import WriteFailed
 
     try:
@@ -285,6 +283,18 @@ def _cmd_study_run(args):
     return 1 if record["tasks_failed"] or unconverged else 0
 
 
+def _where(args):
+    """Where a study's tasks run, in words (the --scheduler or the local cluster)."""
+    return f"the Dask scheduler at {args.scheduler}" if args.scheduler else \
+        f"a local Dask cluster of {args.workers or 'all'} worker process(es)"
+
+
+def _rerun_command(files, out, args):
+    """The `gfmd study run` command line that continues this run (printed after an interrupt or a disk error)."""
+    return f"gfmd study run {files} --out {out}" + (f" --workers {args.workers}" if args.workers else "") \
+        + (f" --scheduler {args.scheduler}" if args.scheduler else "")
+
+
 def _cmd_study_suite(args):
     """`gfmd study run A.toml B.toml ... --out DIR`: the studies as one suite (workbench.study_suite)."""
     import json
@@ -299,14 +309,11 @@ def _cmd_study_suite(args):
     check_names(studies)
     out = Path(args.out)
     distinct = len({t.key for s in studies for t in s.tasks})
-    where = f"the Dask scheduler at {args.scheduler}" if args.scheduler else \
-        f"a local Dask cluster of {args.workers or 'all'} worker process(es)"
+    where = _where(args)
     print(f"suite of {len(studies)} studies ({', '.join(s.name for s in studies)}): "
           f"{sum(len(s.tasks) for s in studies)} task(s), {distinct} distinct, on {where}; results go to "
           f"{out}/<study name>/", file=sys.stderr)
-    command = f"gfmd study run {' '.join(args.study)} --out {out}" \
-        + (f" --workers {args.workers}" if args.workers else "") \
-        + (f" --scheduler {args.scheduler}" if args.scheduler else "")
+    command = _rerun_command(' '.join(args.study), out, args)
     try:
         with _interrupt_signals():
             suite = run_suite(studies, out, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet,
