@@ -6,7 +6,9 @@ realization's own full-contact limit): warm start (linear extrapolation from the
 last two converged states, or the last one), one retry from the last converged
 state if the extrapolated start fails, the protocol's warnings, the observables
 of `contact.observables` on the N nodes (or the cell's own `observe`), the saved fields, then the progress and
-checkpoint hooks. A method supplies only a `Cell`: how to solve one step.
+checkpoint hooks. A method supplies only a `Cell`: how to solve one step. Scenes that differ
+only in what they observe (`contact.observation`) share one ramp: `variants`, each with its
+own Result, observables and checkpoint.
 
 A `Cell` has
     method       name of the method and variant, e.g. "gfmd-ncg", "fe-p2"

@@ -19,9 +19,10 @@ cluster (or an existing one), and writes the tables and study.json at the end.
                      min p̄ on unloading, < 0 tensile), pull_off_delta and snap_off_delta (m),
                      hysteresis (J/m², ∮ p̄ dδ), closed, jump_in and jump_out (event counts),
                      snap_off_rule (contact.cycle; empty without a snap-off)
-  DIR/study.json     tasks_total, tasks_reused, tasks_run, tasks_failed, steps_reused, every
-                     task (set, parameters, realization, seed, key, status, code version of
-                     the run that computed it, messages), the failures with their tracebacks,
+  DIR/study.json     tasks_total, tasks_reused, tasks_run, tasks_failed, tasks_solved_with,
+                     steps_reused, every task (set, parameters, realization, seed, key, status,
+                     solved_with: the key of the task whose solve it shared, where it did, code
+                     version of the run that computed it, messages), the failures with their tracebacks,
                      the study file's name and content, timings, "complete"
   DIR/study.toml     a copy of the study file; DIR/base_scene.toml the resolved base scene
 
@@ -30,7 +31,9 @@ continues an interrupted one from its last saved step (`workbench.io.load_part`)
 final files equal an uninterrupted run's (wall_s aside). Tasks are content-addressed:
 any study with the same task scene reuses it; several study files run as one job that computes
 each distinct task once: `workbench.study_suite`. Pending tasks are submitted longest first
-(`longest_first`, by `task_cost`: the tail where one long task runs alone is shorter). With
+(`longest_first`, by `task_cost`: the tail where one long task runs alone is shorter); tasks
+that differ only in `contact.observation.OBSERVATION_KEYS` run as one job, one solve (`solve_groups`,
+`workbench.study_task.run_shared`), each task directory as a separate run writes it. With
 --scheduler the tasks go to an existing Dask cluster; DIR must then be on a file system every
 worker sees (the same absolute path).
 
