@@ -6,7 +6,9 @@ realization's own full-contact limit): warm start (linear extrapolation from the
 last two converged states, or the last one), one retry from the last converged
 state if the extrapolated start fails, the protocol's warnings, the observables
 of `contact.observables` on the N nodes (or the cell's own `observe`), the saved fields, then the progress and
-checkpoint hooks. A method supplies only a `Cell`: how to solve one step.
+checkpoint hooks. A method supplies only a `Cell`: how to solve one step. Scenes that differ
+only in what they observe (`contact.observation`) share one ramp: `variants`, each with its
+own Result, observables and checkpoint.
 
 A `Cell` has
     method       name of the method and variant, e.g. "gfmd-ncg", "fe-p2"
@@ -90,7 +92,24 @@ def y_positions(surface):
     return surfaces.grid(surface.nodes_y, surface.length_y) if surface.two_d else None
 
 
-def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, resume=None):
+@dataclass
+class Variant:
+    """A scene that shares a ramp's solve and observes it its own way (`contact.observation`): its own
+    checkpoint hook and resume (as run_ramp's); `result` is set to its finished Result by run_ramp."""
+
+    scene: Any
+    checkpoint: Callable | None = None
+    resume: tuple | None = None
+    result: Any = None
+
+
+def _new_result(scene, cell, realization, h, stop_note):
+    return Result(scene=scene, method=cell.method, model=cell.model, realization=realization,
+                  x=surfaces.grid(scene.surface.nodes, scene.surface.length), h=h, reasons=tuple(cell.reasons),
+                  notes=[stop_note] if stop_note else [], y=y_positions(scene.surface))
+
+
+def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, resume=None, variants=()):
     """Run the load ramp of one realization with the cell `prepare(scene, h, realization)` returns.
 
     Parameters
@@ -101,13 +120,18 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
     prepare : callable(scene, h, realization) -> Cell
         The method's cell (module docstring).
     progress : callable(step, steps), optional
-        Called after every step.
+        Called after every step (and every variant's).
     checkpoint : callable(result, state), optional
         Called after every step with the steps so far and the `RampState` (workbench.io
         writes them to disk).
     resume : (Result, RampState), optional
         What a checkpoint saw: the ramp continues after state.step from that exact state,
         so the final Result equals an uninterrupted run's (wall times aside).
+    variants : list of `Variant`, optional
+        Scenes of the same `contact.observation.solve_key` (displacement control, a cell without its
+        own `observe`): each gets the Result its own run_ramp would return (wall times aside), its
+        observables its own, all else from this one solve. A variant's resume may be further
+        than `resume` (its steps up to there are kept, not appended again), never behind it.
 
     Returns
     -------
@@ -118,16 +142,26 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
     steps, stop_note = realization_steps(scene, h, realization)
     label = realization_label(scene, realization)
     if resume is None:
-        result = Result(scene=scene, method=cell.method, model=cell.model, realization=realization,
-                        x=surfaces.grid(scene.surface.nodes, scene.surface.length), h=h, reasons=tuple(cell.reasons),
-                        notes=[stop_note] if stop_note else [], y=y_positions(scene.surface))
+        result = _new_result(scene, cell, realization, h, stop_note)
         start = cell.initial_state()
         state = RampState(step=-1, current=start, previous=start)
     else:
         result, state = resume
-    # the cell's extras; lists (fallback_steps) continue those of a resumed run
-    result.diagnostics.update({k: v for k, v in cell.diagnostics.items()
-                               if not (isinstance(v, list) and k in result.diagnostics)})
+    targets = [(scene, result, state, checkpoint)]  # every Result this solve writes, with its scene and hook
+    if variants:
+        if scene.loading.control == "force" or getattr(cell, "observe", None) is not None:
+            raise ValueError("run_ramp variants: only a displacement-controlled ramp of the shared "
+                             "observables (contact.observables) can be shared (contact.observation)")
+        for v in variants:
+            if v.resume is not None and v.resume[1].step < state.step:
+                raise ValueError(f"run_ramp variants: a variant resumes at step {v.resume[1].step}, behind the "
+                                 f"ramp's {state.step}: resume the ramp from the variant furthest behind")
+            v_result, v_state = v.resume if v.resume is not None else (
+                _new_result(v.scene, cell, realization, h, stop_note), RampState(step=-1, current=None, previous=None))
+            targets.append((v.scene, v_result, v_state, v.checkpoint))
+    for _, target, _, _ in targets:  # the cell's extras; lists (fallback_steps) continue those of a resumed run
+        target.diagnostics.update({k: v for k, v in cell.diagnostics.items()
+                                   if not (isinstance(v, list) and k in target.diagnostics)})
     keep = field_step_indices(scene.loading, scene.output.field_steps)
     d0 = scene.loading.initial_separation
     current, previous = state.current, state.previous
@@ -157,49 +191,65 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
         where = f"{label}, step {k} (δ = {displacement - d0:.4g} m)"
         if event is not None:
             event.update(step=k, delta_before=event["U_before"] - d0, delta_after=event["U_after"] - d0)
-            result.diagnostics.setdefault("instabilities", []).append(event)
-            result.notes.append(
-                f"{where}: instability at the load p̄ = {event['load']:.6g} Pa: no equilibrium near the previous one "
-                f"(δ = {event['delta_before']:.4g} m, a_rel = {event['a_rel_before']:.4g}); "
-                + ("the body detached: no equilibrium carries this tensile load, the step records the indenter at its "
-                   f"start δ = {-d0:.4g} m with p̄ = {event['p_after']:.4g} Pa" if event["detached"] else
-                   f"continued on the branch it jumps to (δ = {event['delta_after']:.4g} m, "
-                   f"a_rel = {event['a_rel_after']:.4g})"))
-        result.messages.extend(f"{where}: {m}" for m in solved.messages)
-        if solved.fallback:
-            result.diagnostics.setdefault("fallback_steps", []).append(k)
-        if solved.algorithm:  # one label per step (a retry's: the state kept is the retry's)
-            labels = result.diagnostics.setdefault("algorithms", [])
-            labels[k:] = [""] * (k - len(labels)) + [solved.algorithm]
         if solved.converged:
             previous, current = current, solved.state
-        if k == 0 and cell.physics is not None:
-            warning = start_warning(scene, cell.physics, float(np.min(solved.gap)))
-            if warning:
-                result.reasons = tuple(result.reasons) + (WARNING + warning,)
-        if solved.u_x is not None and not state.slip_warned:
-            slipped = slip_warning(scene, k, displacement - d0, solved.gap, solved.u_x)
-            if slipped:
-                result.reasons = tuple(result.reasons) + (WARNING + slipped,)
-                state.slip_warned = True
-        if solved.relaxed:
-            obs = observe(scene, h, solved.gap, solved.t_n)
-        else:  # no state of this step: nothing observed (ḡ is the profile's, known without one)
-            # (observe still runs, on the step's gap and zero traction, so a cell keeps one per-step record per step)
-            obs = dict(observe(scene, h, solved.gap, np.zeros_like(solved.gap)), p=np.nan, a_rel=np.nan, g_r=np.nan)
-        converged = solved.converged and solved.relaxed
-        residual = float(solved.residual)
-        result.append_step(step=k, U=displacement, delta=displacement - d0, iterations=iterations,
-                           residual=residual if np.isfinite(residual) else np.nan,  # NaN: no finite residual
-                           converged=int(converged), wall_s=wall, **obs)
-        if k in keep:
-            result.fields[k] = (solved.fields() if solved.relaxed
-                                else {name: np.full(h.shape, np.nan) for name in FIELD_NAMES})
-            for name, value in solved.keep.items():
-                result.diagnostics.setdefault(name, {})[k] = value
-        state.step, state.current, state.previous = k, current, previous
-        if checkpoint is not None:
-            checkpoint(result, state)
-        if progress is not None:
-            progress(k, scene.loading.steps)
+        warning = (start_warning(scene, cell.physics, float(np.min(solved.gap)))
+                   if k == 0 and cell.physics is not None else None)
+        slipped = (slip_warning(scene, k, displacement - d0, solved.gap, solved.u_x)
+                   if solved.u_x is not None and not all(t[2].slip_warned for t in targets) else None)
+        fields = None
+        for t_scene, target, t_state, t_checkpoint in targets:
+            if t_state.step >= k:  # a variant resumed further than the ramp: this step is in its Result
+                continue
+            if k in keep and fields is None:
+                fields = (solved.fields() if solved.relaxed
+                          else {name: np.full(h.shape, np.nan) for name in FIELD_NAMES})
+            _record_step(target, t_state, k, solved, event, where, warning, slipped, d0, displacement,
+                         iterations, wall, observe(t_scene, h, solved.gap, solved.t_n if solved.relaxed
+                                                   else np.zeros_like(solved.gap)), fields)
+            t_state.step, t_state.current, t_state.previous = k, current, previous
+            if t_checkpoint is not None:
+                t_checkpoint(target, t_state)
+            if progress is not None:
+                progress(k, scene.loading.steps)
+    for v, (_, target, _, _) in zip(variants, targets[1:]):
+        v.result = target.finalize()
     return result.finalize()
+
+
+def _record_step(result, state, k, solved, event, where, warning, slipped, d0, displacement, iterations, wall, obs,
+                 fields):
+    """Append load step k to `result`: its event, messages, fallback and algorithm, warnings, the curve row
+    of the observables `obs` (NaN where the step has no state) and, at a saved step, its `fields`."""
+    if event is not None:
+        result.diagnostics.setdefault("instabilities", []).append(event)
+        result.notes.append(
+            f"{where}: instability at the load p̄ = {event['load']:.6g} Pa: no equilibrium near the previous one "
+            f"(δ = {event['delta_before']:.4g} m, a_rel = {event['a_rel_before']:.4g}); "
+            + ("the body detached: no equilibrium carries this tensile load, the step records the indenter at its "
+               f"start δ = {-d0:.4g} m with p̄ = {event['p_after']:.4g} Pa" if event["detached"] else
+               f"continued on the branch it jumps to (δ = {event['delta_after']:.4g} m, "
+               f"a_rel = {event['a_rel_after']:.4g})"))
+    result.messages.extend(f"{where}: {m}" for m in solved.messages)
+    if solved.fallback:
+        result.diagnostics.setdefault("fallback_steps", []).append(k)
+    if solved.algorithm:  # one label per step (a retry's: the state kept is the retry's)
+        labels = result.diagnostics.setdefault("algorithms", [])
+        labels[k:] = [""] * (k - len(labels)) + [solved.algorithm]
+    if warning:
+        result.reasons = tuple(result.reasons) + (WARNING + warning,)
+    if slipped and not state.slip_warned:
+        result.reasons = tuple(result.reasons) + (WARNING + slipped,)
+        state.slip_warned = True
+    if not solved.relaxed:  # no state of this step: nothing observed (ḡ is the profile's, known without one)
+        # (observe still ran, on the step's gap and zero traction, so a cell keeps one per-step record per step)
+        obs = dict(obs, p=np.nan, a_rel=np.nan, g_r=np.nan)
+    converged = solved.converged and solved.relaxed
+    residual = float(solved.residual)
+    result.append_step(step=k, U=displacement, delta=displacement - d0, iterations=iterations,
+                       residual=residual if np.isfinite(residual) else np.nan,  # NaN: no finite residual
+                       converged=int(converged), wall_s=wall, **obs)
+    if fields is not None:
+        result.fields[k] = fields
+        for name, value in solved.keep.items():
+            result.diagnostics.setdefault(name, {})[k] = value

@@ -121,7 +121,7 @@ def prepare(scene, h, realization=0, settings=None, method_name=None):
 
 
 def run_realization(scene, realization=0, settings=None, progress=None, method_name=None, *, checkpoint=None,
-                    resume=None):
+                    resume=None, variants=()):
     """Run the whole load ramp of one realization with GFMD.
 
     Parameters
@@ -131,8 +131,8 @@ def run_realization(scene, realization=0, settings=None, progress=None, method_n
         Realization index i (random profile seed surface.seed + i).
     settings : gfmd.solver.Settings, optional
         Integrator settings (default: from scene.solver).
-    progress, checkpoint, resume
-        The hooks of `contact.ramp.run_ramp`.
+    progress, checkpoint, resume, variants
+        The hooks and the variants (`contact.ramp.Variant`) of `contact.ramp.run_ramp`.
     method_name : str, optional
         The Result's method label (default `method_label`: "gfmd-" and the chain's key, e.g. "gfmd-ncg").
 
@@ -141,4 +141,4 @@ def run_realization(scene, realization=0, settings=None, progress=None, method_n
     contact.result.Result
     """
     return run_ramp(scene, realization, partial(prepare, settings=settings, method_name=method_name),
-                    progress=progress, checkpoint=checkpoint, resume=resume)
+                    progress=progress, checkpoint=checkpoint, resume=resume, variants=variants)

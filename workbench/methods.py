@@ -6,7 +6,8 @@ the ensembles, the verification harness, the benchmarks) goes through
 options (`[method]`, contact.scene.Method), so a run's scene.toml reproduces it.
 
 A `MethodSpec` has
-    run(scene, realization, progress=, checkpoint=, resume=)  → contact.result.Result
+    run(scene, realization, progress=, checkpoint=, resume=)  → contact.result.Result; a method of
+                      `contact.observation.SHARED_SOLVE_METHODS` also takes variants= (contact.ramp.Variant)
     refuse(scene)     raises SceneError if the method cannot solve the scene, saying why
     export(result, directory)   optional: method-specific files of a finished realization
 """
@@ -28,10 +29,11 @@ class MethodSpec:
     export: Callable | None = None
 
 
-def _run_gfmd(scene, realization=0, progress=None, checkpoint=None, resume=None):
+def _run_gfmd(scene, realization=0, progress=None, checkpoint=None, resume=None, variants=()):
     from gfmd.loading import run_realization
 
-    return run_realization(scene, realization, progress=progress, checkpoint=checkpoint, resume=resume)
+    return run_realization(scene, realization, progress=progress, checkpoint=checkpoint, resume=resume,
+                           variants=variants)
 
 
 def _refuse_nothing(scene):
@@ -98,7 +100,7 @@ def method_of(scene):
     return METHODS[scene.method.name]
 
 
-def run_realization(scene, realization=0, progress=None, checkpoint=None, resume=None):
+def run_realization(scene, realization=0, progress=None, checkpoint=None, resume=None, variants=()):
     """Run one realization of `scene` with the method its [method] section names.
 
     Parameters
@@ -109,9 +111,19 @@ def run_realization(scene, realization=0, progress=None, checkpoint=None, resume
         Realization index i (random profile seed surface.seed + i).
     progress, checkpoint, resume
         The hooks of `contact.ramp.run_ramp`.
+    variants : list of contact.ramp.Variant
+        Scenes of the same `contact.observation.solve_key` sharing this solve (each variant's
+        Result is set on it); only for a method of `contact.observation.SHARED_SOLVE_METHODS`.
 
     Returns
     -------
     contact.result.Result
     """
-    return method_of(scene).run(scene, realization, progress=progress, checkpoint=checkpoint, resume=resume)
+    if not variants:
+        return method_of(scene).run(scene, realization, progress=progress, checkpoint=checkpoint, resume=resume)
+    from contact.observation import solve_key
+
+    if solve_key(scene) is None or any(solve_key(v.scene) != solve_key(scene) for v in variants):
+        raise SceneError(f"method.name = {scene.method.name!r}: these scenes share no solve (contact.observation)")
+    return method_of(scene).run(scene, realization, progress=progress, checkpoint=checkpoint, resume=resume,
+                                variants=variants)

@@ -19,9 +19,10 @@ cluster (or an existing one), and writes the tables and study.json at the end.
                      min p̄ on unloading, < 0 tensile), pull_off_delta and snap_off_delta (m),
                      hysteresis (J/m², ∮ p̄ dδ), closed, jump_in and jump_out (event counts),
                      snap_off_rule (contact.cycle; empty without a snap-off)
-  DIR/study.json     tasks_total, tasks_reused, tasks_run, tasks_failed, steps_reused, every
-                     task (set, parameters, realization, seed, key, status, code version of
-                     the run that computed it, messages), the failures with their tracebacks,
+  DIR/study.json     tasks_total, tasks_reused, tasks_run, tasks_failed, tasks_solved_with,
+                     steps_reused, every task (set, parameters, realization, seed, key, status,
+                     solved_with: the key of the task whose solve it shared, where it did, code
+                     version of the run that computed it, messages), the failures with their tracebacks,
                      the study file's name and content, timings, "complete"
   DIR/study.toml     a copy of the study file; DIR/base_scene.toml the resolved base scene
 
@@ -30,7 +31,9 @@ continues an interrupted one from its last saved step (`workbench.io.load_part`)
 final files equal an uninterrupted run's (wall_s aside). Tasks are content-addressed:
 any study with the same task scene reuses it; several study files run as one job that computes
 each distinct task once: `workbench.study_suite`. Pending tasks are submitted longest first
-(`longest_first`, by `task_cost`: the tail where one long task runs alone is shorter). With
+(`longest_first`, by `task_cost`: the tail where one long task runs alone is shorter); tasks
+that differ only in `contact.observation.OBSERVATION_KEYS` run as one job, one solve (`solve_groups`,
+`workbench.study_task.run_shared`), each task directory as a separate run writes it. With
 --scheduler the tasks go to an existing Dask cluster; DIR must then be on a file system every
 worker sees (the same absolute path).
 
@@ -54,10 +57,11 @@ from contact.scene import load_scene, scene_to_toml
 from . import io, safe_files
 from .cycles import write_study_cycles
 from .study_file import (STUDY_KEYS, TASK_NAME, Study, StudyError, Task, _describe, load_study,  # noqa: F401
-                         longest_first, study_from_dict, task_cost, task_key, task_key_text, task_scene)
+                         longest_first, solve_address, solve_groups, study_from_dict, task_cost, task_key,
+                         task_key_text, task_scene)
 from .study_tables import (UNITS, _axis_text, _collect, _write_tables, stickiness_columns,  # noqa: F401
                            study_has_paths, study_is_forced, summary_columns, summary_dataset)
-from .study_task import STEP_TOPIC, reuse_freed_arrays, run_task  # noqa: F401
+from .study_task import STEP_TOPIC, reuse_freed_arrays, run_shared, run_task  # noqa: F401
 
 #: files and folders a study directory holds
 STUDY_ENTRIES = ("tasks", "study.json", "study.toml", "base_scene.toml", "study.csv", "summary.csv", "summary.nc",
@@ -198,7 +202,8 @@ def _run_study_locked(study, out, workers, scheduler, progress, command):
 def compute_tasks(jobs, finished, *, workers, scheduler, progress, command, name, total, initial, steps_total,
                   steps_saved):
     """Run `jobs` [(key, task scene, task directory)] on Dask (`run_task`), submitted in this order
-    (longest first: `longest_first`), each with a priority that keeps that order on the scheduler;
+    (longest first: `longest_first`), each with a priority that keeps that order on the scheduler; jobs
+    of one `solve_address` (they differ only in observation keys) as one group, one solve (`run_shared`);
     finished(key, outcome, failure, disk_error) is called in this process as each ends (outcome: run_task's
     dict, or failure: {"error", "traceback"}). A progress bar counts tasks (`total`, `initial` done) and
     load steps. An interrupt kills the local cluster's workers at once and propagates; a task's disk
@@ -210,7 +215,8 @@ def compute_tasks(jobs, finished, *, workers, scheduler, progress, command, name
     logger = logging.getLogger("distributed")
     level = logger.level
     logger.setLevel(logging.WARNING)  # distributed's INFO lines would bury the progress bar
-    client, cluster = _client(min(workers, len(jobs)), scheduler)
+    groups = solve_groups(jobs)
+    client, cluster = _client(min(workers, len(groups)), scheduler)
     bar = tqdm(total=total, initial=initial, desc=f"{name}: tasks", unit="task", disable=not progress)
     steps = [steps_saved]
     write_failed = []
@@ -224,24 +230,37 @@ def compute_tasks(jobs, finished, *, workers, scheduler, progress, command, name
 
         client.subscribe_topic(STEP_TOPIC, stepped)
         # submission order is execution order on a local cluster (checked); the priority keeps it where the
-        # scheduler already holds other work (a higher priority runs first)
-        futures = {client.submit(run_task, scene, str(task_dir), command, key=f"gfmd-task-{key}", pure=False,
-                                 priority=len(jobs) - i): key for i, (key, scene, task_dir) in enumerate(jobs)}
+        # scheduler already holds other work (a higher priority runs first). Tasks that differ only in what
+        # they observe run as one group, one solve (`solve_groups`, `run_shared`).
+        futures = {}
+        for i, group in enumerate(groups):
+            if len(group) == 1:
+                key, scene, task_dir = group[0]
+                future = client.submit(run_task, scene, str(task_dir), command, key=f"gfmd-task-{key}", pure=False,
+                                       priority=len(groups) - i)
+            else:
+                future = client.submit(run_shared, [(scene, str(task_dir)) for _, scene, task_dir in group], command,
+                                       key=f"gfmd-shared-{group[0][0]}", pure=False, priority=len(groups) - i)
+            futures[future] = [key for key, _, _ in group]
         n_failed = 0
         for future in as_completed(futures):
-            key = futures[future]
+            keys = futures[future]
             if future.status == "finished":
-                finished(key, future.result(), None, False)
+                outcome = future.result()
+                for key, o in zip(keys, outcome if len(keys) > 1 else [outcome]):
+                    finished(key, o, None, False)
+                    bar.update()
             else:
                 exc = future.exception()
                 disk = isinstance(exc, safe_files.WriteFailed) and exc.code in safe_files.DISK_ERRNOS
                 if disk:
                     write_failed.append(exc)
                 tb = "".join(traceback.format_exception(type(exc), exc, future.traceback()))
-                n_failed += 1
-                finished(key, None, {"error": f"{type(exc).__name__}: {exc}", "traceback": tb}, disk)
+                for key in keys:
+                    n_failed += 1
+                    finished(key, None, {"error": f"{type(exc).__name__}: {exc}", "traceback": tb}, disk)
+                    bar.update()
                 bar.set_description(f"{name}: tasks ({n_failed} failed)")
-            bar.update()
             future.release()
     except BaseException:
         if cluster is not None:
@@ -315,6 +334,8 @@ def _record(study, out, tasks, outcomes, failures, *, complete, wall=None, worke
                  "all_converged": meta.get("all_converged"), "messages": meta.get("messages", [])}
         if "linked_from" in outcomes.get(t.key, {}):  # a suite's task computed or kept in a sibling study
             entry["linked_from"] = outcomes[t.key]["linked_from"]
+        if "solved_with" in outcomes.get(t.key, {}):  # observed on the solve of the task of that key
+            entry["solved_with"] = outcomes[t.key]["solved_with"]
         if t.key in failures:
             entry["error"] = failures[t.key]["error"]
         entries.append(entry)
@@ -328,6 +349,7 @@ def _record(study, out, tasks, outcomes, failures, *, complete, wall=None, worke
         "sets": len(study.sets),
         "tasks_total": len(tasks), "tasks_reused": count("reused"), "tasks_run": count("run"),
         "tasks_failed": count("failed"),
+        "tasks_solved_with": sum(1 for e in entries if "solved_with" in e),
         "steps_reused": sum(e["steps_reused"] for e in entries),
         "code_versions": sorted({e["code_version"] for e in entries if e["code_version"]}),
         "tasks": entries,

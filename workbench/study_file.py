@@ -36,6 +36,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from contact.errors import SceneError
+from contact.observation import solve_key
 from contact.scene import Scene, load_scene, scene_from_dict, scene_to_dict
 
 STUDY_KEYS = ("name", "description", "base", "scene", "axes", "zip")
@@ -138,6 +139,24 @@ def task_cost(scene):
     contact = (min(1.0, max(0.1, scene.loading.final_penetration / (2 * surface.h_rms)))
                if surface.h_rms > 0 else 1.0)
     return scene.loading.steps * n * math.log2(max(n, 2)) * law * contact
+
+
+def solve_address(scene):
+    """The address of the solve a task scene runs: `task_key` of its `contact.observation.solve_key`, the
+    same for tasks that differ only in `contact.observation.OBSERVATION_KEYS`; its own key where it shares
+    no solve (None solve key)."""
+    shared = solve_key(scene)
+    return "solve-" + task_key(shared) if shared is not None else task_key(scene)
+
+
+def solve_groups(jobs):
+    """`jobs` [(key, task scene, ...)] grouped by `solve_address` (a group: one solve, `run_shared`), in
+    the order of each group's first job: jobs ordered `longest_first` give the groups longest first,
+    each counted once (its members cost one solve)."""
+    groups = {}
+    for job in jobs:
+        groups.setdefault(solve_address(job[1]), []).append(job)
+    return list(groups.values())
 
 
 def longest_first(tasks):

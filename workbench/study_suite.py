@@ -18,7 +18,8 @@ movable, read by `gfmd study plot / report` unchanged) and runs them on one Dask
   the suite's start to this study's tables) and suite_wall_s (added when the suite ends); and
   "suite" (the sibling studies).
 - DIR/suite.json: the files, the studies (name, file, tasks, distinct tasks, run / reused /
-  linked / failed), distinct_tasks, tasks_linked, timings, the code version, "complete".
+  linked / failed), distinct_tasks, tasks_linked, tasks_solved_with (tasks observed on another
+  task's solve: `workbench.study_task.run_shared`), timings, the code version, "complete".
 
 DIR and every study directory are locked (`safe_files.locked`) while the suite runs; an interrupt
 or kill -9 loses at most the load steps in flight (tasks write step by step), as for one study.
@@ -217,6 +218,7 @@ def _suite_record(studies, out, needs, records, outcomes, failures, wall, worker
         "distinct_tasks": len(needs),
         "tasks_run": sum(r["tasks_run"] for r in rows),
         "tasks_linked": sum(r["tasks_linked"] for r in rows),
+        "tasks_solved_with": sum(1 for o in outcomes.values() for v in o.values() if "solved_with" in v),
         "tasks_failed": len({k for f in failures.values() for k in f}),
         "code_version": code_version(),
         "date": time.strftime("%Y-%m-%dT%H:%M:%S%z"),

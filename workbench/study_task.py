@@ -6,12 +6,18 @@ task's), an interrupted one continues from its last saved step. The task directo
 locked while a task writes it, so a second execution of the same task (Dask may run one
 twice) waits and then finds the result. Each finished load step is reported to the
 scheduler on `STEP_TOPIC` for the study's progress bar.
+
+Tasks of one `contact.observation.solve_key` (they differ only in what they observe, e.g. the
+contact rule) run as one group (`run_shared`): one load ramp writes every member's directory,
+each exactly what `run_task` would write there (wall times aside).
 """
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import time
+from functools import partial
 from pathlib import Path
 
 from . import io, safe_files
@@ -96,3 +102,63 @@ def _run_task_locked(scene, out, command, progress):
     io.write_run(out, scene, [result], timings={"total_s": time.perf_counter() - start, "workers": 1},
                  command=command, resume={"realizations_reused": 0, "steps_reused": reused})
     return {"status": "run", "steps_reused": reused, "steps_run": ran}
+
+
+def run_shared(members, command=None, progress=_report_step):
+    """Run (or continue, or reuse) tasks [(scene, task_dir)] of one `contact.observation.solve_key` with
+    one load ramp; a list of `run_task`'s dicts, one per member, a member's "solved_with" naming the task
+    directory (its key) whose solve it shared.
+
+    Every member directory is locked (in path order); complete ones are reused as by `run_task`. The
+    ramp continues from the member furthest behind; each member keeps its saved steps and gets the
+    rest, so every directory ends as an uninterrupted `run_task` leaves it (wall times aside).
+    """
+    reuse_freed_arrays()
+    outs = [Path(d) for _, d in members]
+    with contextlib.ExitStack() as stack:
+        for out in sorted(set(outs)):
+            stack.enter_context(safe_files.locked(out, wait=-1, what="task directory", command=command))
+        return _run_shared_locked([scene for scene, _ in members], outs, command, progress)
+
+
+def _run_shared_locked(scenes, outs, command, progress):
+    from contact.ramp import Variant
+
+    from .methods import method_of, run_realization
+
+    outcomes = [None] * len(outs)
+    ramp, parts = [], {}  # members the ramp still writes; member -> its load_part (None: fresh)
+    for i, (scene, out) in enumerate(zip(scenes, outs)):
+        if io.run_complete(out):
+            outcomes[i] = _run_task_locked(scene, out, command, progress)  # reused (or refused)
+            continue
+        resume = (out / "scene.toml").is_file()
+        io.prepare_run_dir(out, scene, resume=resume, overwrite=not resume, command=command)
+        parts[i] = io.load_part(out, scene, 0) if resume else None
+        if parts[i] is None or not parts[i][2]:
+            ramp.append(i)
+    start = time.perf_counter()
+    saved = {i: len(parts[i][0].curve["step"]) if parts[i] is not None else 0 for i in parts}
+    if ramp:
+        ramp.sort(key=lambda i: (saved[i] if parts[i] is not None else -1, i))  # the member furthest behind first
+        for i in ramp:
+            io.start_part(outs[i], 0, parts[i][0] if parts[i] is not None else None)
+        first, rest = ramp[0], ramp[1:]
+        variants = [Variant(scenes[i], partial(io.save_step, outs[i]), parts[i][:2] if parts[i] else None)
+                    for i in rest]
+        result = run_realization(scenes[first], 0, progress=progress, checkpoint=partial(io.save_step, outs[first]),
+                                 resume=parts[first][:2] if parts[first] else None, variants=variants)
+        export = method_of(scenes[first]).export
+        for i, r in [(first, result)] + [(i, v.result) for i, v in zip(rest, variants)]:
+            if export is not None:
+                with safe_files.writing(outs[i] / "vtu" / "realization0"):
+                    export(r, outs[i] / "vtu" / "realization0")
+            io.save_realization(outs[i], r)
+    for i in parts:
+        result = io.load_part(outs[i], scenes[i], 0)[0].finalize()
+        io.write_run(outs[i], scenes[i], [result], timings={"total_s": time.perf_counter() - start, "workers": 1},
+                     command=command, resume={"realizations_reused": 0, "steps_reused": saved[i]})
+        outcomes[i] = {"status": "run", "steps_reused": saved[i], "steps_run": len(result.curve["step"]) - saved[i]}
+        if i in ramp[1:]:
+            outcomes[i]["solved_with"] = outs[ramp[0]].name
+    return outcomes
