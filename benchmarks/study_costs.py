@@ -4,8 +4,8 @@ Usage: python benchmarks/study_costs.py DIR [DIR ...] [--out FILE.md]
 
 Reads what `gfmd study run` wrote (DIR/study.json, DIR/tasks/<key>/curve.csv and meta.json); computes nothing
 anew. Per study: tasks, load steps, wall time (study.json timings), the sum of the task times (meta.json
-timings.total_s: the time each task spent on its worker) and how close the workers came to the ideal
-sum / workers. Per set: its parameters, the median and largest task time, load steps per task-second, the
+timings.total_s: the time each task spent on its worker; tasks that shared a solve, study.json `solved_with`,
+carry the shared solve's time and count once) and how close the workers came to the ideal sum / workers. Per set: its parameters, the median and largest task time, load steps per task-second, the
 mean iterations per step, and the steps per algorithm label (curve.csv `algorithm`, e.g. "newton→fire": the
 continuation Newton gave the step to FIRE; `gfmd.chains`). Task times are wall seconds on a worker, so they
 include what else ran on the machine: say what did when quoting them.
@@ -46,6 +46,7 @@ def study_costs(out):
             continue
         costs = task_costs(task_dir)
         if costs is not None:
+            costs["shared"] = bool(t.get("solved_with"))  # its time is the shared solve's, counted once
             sets.setdefault(t["set"], (t["parameters"], []))[1].append(costs)
     return record, [(s, p, c) for s, (p, c) in sorted(sets.items())]
 
@@ -62,18 +63,19 @@ def _params(p):
 
 def report(dirs):
     """Markdown: one study table (wall time) and one set table per study."""
-    lines = ["| study | tasks | load steps | wall (min) | sum of task times (min) | workers | efficiency | code |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = ["| study | tasks | solves | load steps | wall (min) | sum of solve times (min) | workers | efficiency | code |",
+             "|---|---|---|---|---|---|---|---|---|"]
     per_set = []
     for d in dirs:
         record, sets = study_costs(d)
         costs = [c for _, _, cs in sets for c in cs]
         wall = record.get("timings", {}).get("wall_s")
         workers = record.get("timings", {}).get("workers") or 1
-        total = sum(c["total_s"] for c in costs)
+        total = sum(c["total_s"] for c in costs if not c["shared"])  # a shared solve once
         steps = sum(c["steps"] for c in costs)
         eff = total / (workers * wall) if wall else float("nan")
-        lines.append(f"| {record['study']} | {len(costs)}/{record['tasks_total']} | {steps} | "
+        lines.append(f"| {record['study']} | {len(costs)}/{record['tasks_total']} | "
+                     f"{sum(not c['shared'] for c in costs)} | {steps} | "
                      f"{wall / 60 if wall else float('nan'):.1f} | {total / 60:.1f} | {workers} | {eff:.0%} | "
                      f"{', '.join(record.get('code_versions', []))} |")
         per_set += ["", f"### {record['study']}", "",
