@@ -57,11 +57,11 @@ from contact.scene import load_scene, scene_to_toml
 from . import io, safe_files
 from .cycles import write_study_cycles
 from .study_file import (STUDY_KEYS, TASK_NAME, Study, StudyError, Task, _describe, load_study,  # noqa: F401
-                         longest_first, solve_address, solve_groups, study_from_dict, task_cost, task_key,
+                         longest_first, solve_groups, study_from_dict, task_cost, task_key,
                          task_key_text, task_scene)
 from .study_tables import (UNITS, _axis_text, _collect, _write_tables, stickiness_columns,  # noqa: F401
                            study_has_paths, study_is_forced, summary_columns, summary_dataset)
-from .study_task import STEP_TOPIC, reuse_freed_arrays, run_shared, run_task  # noqa: F401
+from .study_task import STEP_TOPIC, run_shared, run_task
 
 #: files and folders a study directory holds
 STUDY_ENTRIES = ("tasks", "study.json", "study.toml", "base_scene.toml", "study.csv", "summary.csv", "summary.nc",
