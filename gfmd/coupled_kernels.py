@@ -116,8 +116,8 @@ def _weighted_dot_numba(w, a, b):
 def coupled_kernels(name=None):
     """(block_times, tangent_times, coupled_tractions, weighted_dot) of `jit_backend(name)`; signatures:
     block_times(a, b, d, x, out) with x, out (2, …) complex; tangent_times(d_nn, d_nt, d_tn, d_tt, v, out) with
-    v, out (2, N); coupled_tractions(u, z_ind, (φn, δn, φt, δt), out) with u, out (2, N) (x, z); weighted_dot(w, a, b)
-    with a, b (c, nq), w (nq,). Each returns out (the float for weighted_dot)."""
+    v, out (2, N); coupled_tractions(u, z_ind, (φn, δn, φt, δt), out) with u, out (2, N) (x, z);
+    weighted_dot(w, a, b) with a, b (c, nq), w (nq,). Each returns out (the float for weighted_dot)."""
     if jit_backend(name) == "numba":
         return _block_times_numba, _tangent_times_numba, _tractions_numba, _weighted_dot_numba
     return _block_times_numpy, _tangent_times_numpy, _tractions_numpy, _weighted_dot_numpy

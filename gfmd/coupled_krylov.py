@@ -1,5 +1,5 @@
-"""The coupled law's linearised balance solved by GMRES on the spectrum (seed Eq. 2), shared by the algorithms that
-take Newton-type steps on it: `gfmd.algorithms.coupled_newton` (K + D) and `gfmd.algorithms.coupled_ptc`
+"""The coupled law's linearised balance solved by GMRES (`gfmd.gmres`) on the spectrum (seed Eq. 2), shared by the
+algorithms that take Newton-type steps on it: `gfmd.algorithms.coupled_newton` (K + D) and `gfmd.algorithms.coupled_ptc`
 (σM + K + D, σ = 1/Δτ). Not an algorithm itself (no `solve`): each algorithm passes its stiffness operator.
 """
 

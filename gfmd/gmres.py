@@ -1,13 +1,13 @@
-"""Restarted GMRES on a real operator, orthogonalised by classical Gram–Schmidt twice through BLAS.
+"""Restarted GMRES on a real operator, orthogonalised by classical Gram–Schmidt (twice where needed) through BLAS.
 
 The same method and stopping rules as scipy.sparse.linalg.gmres(A, b, rtol=, restart=, maxiter=, M=) from x0 = 0
-(scipy ≥ 1.12): Arnoldi on the left-preconditioned operator M⁻¹A, Givens rotations on the Hessenberg matrix, the
-inner cycle stopped by scipy's adaptive estimate of the preconditioned residual (gh-8400), and after each cycle the
+(scipy ≥ 1.12): Arnoldi on the left-preconditioned operator M⁻¹A, Givens rotations on the Hessenberg matrix,
+the inner cycle stopped by scipy's adaptive estimate of the preconditioned residual (gh-8400), and after each cycle the
 true residual ‖b − A x‖ tested against rtol‖b‖; info 0 where it was reached, `maxiter` otherwise. The same number
 of products as scipy (one per Arnoldi vector plus one true residual per cycle). Only the orthogonalisation differs:
-each new vector is projected out of the basis by one matrix–vector product against the stored basis and a second
-(reorthogonalisation) pass, two BLAS calls each, instead of scipy's Python loop of modified Gram–Schmidt; the
-iterates agree with scipy's to round-off.
+each new vector is projected out of the stored basis by two BLAS matrix–vector products (classical Gram–Schmidt),
+and once more where the first pass cancelled (`REORTHOGONALIZE`), instead of scipy's Python loop of modified
+Gram–Schmidt; the iterates agree with scipy's to round-off (tests/test_gmres.py).
 """
 
 from __future__ import annotations
