@@ -9,7 +9,7 @@ import numpy as np
 
 from .coupled_kernels import coupled_kernels
 from .fft import spectral_weights
-from .gmres import gmres
+from scipy.sparse.linalg import LinearOperator, gmres
 
 #: GMRES: restart length and the most restart cycles of one solve
 GMRES_RESTART = 60
@@ -69,7 +69,8 @@ def spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_R
         return out.view(float).ravel()
 
     rhs = np.ascontiguousarray(f_hat * scale).view(float).ravel()
-    y, info = gmres(b_times, rhs, rtol, restart, cycles)
+    size = rhs.size
+    y, info = gmres(LinearOperator((size, size), matvec=b_times, dtype=float), rhs, rtol=rtol, restart=restart, maxiter=cycles)
     du_hat = stiff._apply(inverse, np.ascontiguousarray(y).view(complex).reshape(shape))
     if clamp:
         du_hat[:, 0] = 0.0
