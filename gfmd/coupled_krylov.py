@@ -1,13 +1,15 @@
-"""The coupled law's linearised balance solved by GMRES on the spectrum (seed Eq. 2), shared by the algorithms that
-take Newton-type steps on it: `gfmd.algorithms.coupled_newton` (K + D) and `gfmd.algorithms.coupled_ptc`
+"""The coupled law's linearised balance solved by GMRES (scipy's) on the spectrum (seed Eq. 2), shared by the
+algorithms that take Newton-type steps on it: `gfmd.algorithms.coupled_newton` (K + D) and `gfmd.algorithms.coupled_ptc`
 (σM + K + D, σ = 1/Δτ). Not an algorithm itself (no `solve`): each algorithm passes its stiffness operator.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from scipy.sparse.linalg import gmres
 
+from scipy.sparse.linalg import LinearOperator, gmres
+
+from .coupled_kernels import coupled_kernels
 from .fft import spectral_weights
 
 #: GMRES: restart length and the most restart cycles of one solve
@@ -43,26 +45,23 @@ def spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_R
     right-preconditioned by K⁻¹: y = K δû,
     B y = y + rfft(D irfft(K⁻¹ y)) = f̂, one FFT pair per product; the unknowns scaled by √(w_q/N) so that
     GMRES's norm is the nodal one (Parseval). The clamped q = 0 mode of a half-plane stays 0."""
-    from scipy.sparse.linalg import LinearOperator
-
     n, c = model.nodes, model.components
     clamp = model.half_plane
     d_nn, d_nt, d_tn, d_tt = law.law.tangent(z_ind - u[-1], -u[0])
     scale = np.sqrt(spectral_weights(n) / n)
     shape = (c, n // 2 + 1)
     inverse = tuple(b / scale for b in stiff.inv_mass)  # z ↦ K⁻¹ y with y = z / scale, one product per block
+    tangent_times = coupled_kernels()[1]
     dv = np.empty((c, n))
+    ky = np.empty(shape, complex)
 
     def b_times(x):
         z = np.ascontiguousarray(x).view(complex).reshape(shape)
-        v = fft.irfft(stiff._apply(inverse, z))
+        v = fft.irfft(stiff._apply(inverse, z, ky))
         if c == 1:
             np.multiply(d_nn, v[0], out=dv[0])
         else:
-            np.multiply(d_tt, v[0], out=dv[0])
-            dv[0] += d_tn * v[1]
-            np.multiply(d_nt, v[0], out=dv[1])
-            dv[1] += d_nn * v[1]
+            tangent_times(d_nn, d_nt, d_tn, d_tt, v, dv)
         out = fft.rfft(dv)
         out *= scale
         out += z
@@ -70,9 +69,9 @@ def spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_R
             out[:, 0] = z[:, 0]
         return out.view(float).ravel()
 
-    size = 2 * c * (n // 2 + 1)
-    b_op = LinearOperator((size, size), matvec=b_times, dtype=float)
     rhs = np.ascontiguousarray(f_hat * scale).view(float).ravel()
+    size = rhs.size
+    b_op = LinearOperator((size, size), matvec=b_times, dtype=float)
     y, info = gmres(b_op, rhs, rtol=rtol, restart=restart, maxiter=cycles)
     du_hat = stiff._apply(inverse, np.ascontiguousarray(y).view(complex).reshape(shape))
     if clamp:

@@ -29,6 +29,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse
 
+from contact import laws
+
+from .coupled_kernels import coupled_kernels
 from .fft import Fft, irfft_nodes, rfft_nodes
 
 
@@ -47,6 +50,12 @@ class InterfaceLaw:
         self.law = model.law
         # a constraint (the hard wall) has no traction function: the algorithms project instead
         self.constraint = self.law.constraint
+        # Eq. 2 on (x, z) fused in one pass (`gfmd.coupled_kernels`, the same as the law's formula to round-off)
+        self._fused = (type(self.law) is laws.CoupledCohesive and model.tangential and model.components == 2)
+        if self._fused:
+            self._tractions = coupled_kernels()[2]
+            self._params = (self.law.work_normal, self.law.length_normal, self.law.work_tangential,
+                            self.law.length_tangential)
         # initial slopes of the law (Pa/m): the interface stiffness in Verlet's mode frequencies
         self.k_int_x, self.k_int_z = (0.0, 0.0) if self.constraint else self.law.initial_stiffness
 
@@ -67,6 +76,9 @@ class InterfaceLaw:
 
     def traction(self, u, z_ind):
         """(t, Δn): tractions (c, N) on the body and the normal gap, for displacements u (c, N)."""
+        if self._fused:
+            t = self._tractions(u, z_ind, self._params, np.empty_like(u))
+            return t, z_ind - u[-1]
         gap, slip = self._gaps(u, z_ind)
         t = np.zeros_like(u)
         if self.constraint:  # zero off the wall; the wall's reaction is `gfmd.stopping.finish`'s
@@ -84,6 +96,7 @@ class Elastic:
     def __init__(self, model, k_int_x, k_int_z):
         self.model = model
         self.clamp = model.half_plane
+        self._block_times = coupled_kernels()[0]
         if model.tangential:
             a = model.k_xx + k_int_x
             b = model.k_xz
@@ -103,12 +116,13 @@ class Elastic:
             self.mass = (m,)
             self.inv_mass = (inv,)
 
-    @staticmethod
-    def _apply(blocks, x):
+    def _apply(self, blocks, x, out=None):
+        """The block product of `blocks` ((m,) or (a, b, d): (a b; b̄ d)) with spectra x, into `out` if given."""
         if len(blocks) == 1:
-            return blocks[0] * x
-        a, b, d = blocks
-        return np.stack([a * x[0] + b * x[1], np.conj(b) * x[0] + d * x[1]])
+            return np.multiply(blocks[0], x, out=out)
+        if out is None:
+            out = np.empty(x.shape, np.result_type(x, *blocks))
+        return self._block_times(*blocks, x, out)
 
     def stiffness(self, x):
         """K(q) x for spectra x of shape (c, nq)."""

@@ -18,6 +18,7 @@ import numpy as np
 
 from contact import laws
 
+from ..coupled_kernels import coupled_kernels
 from ..fft import Fft, spectral_weights
 from ..integrators import Fire, verlet_coefficients
 from ..problem import Elastic
@@ -39,8 +40,10 @@ def solve(problem, start, settings):
     k_mean = law.mean_stiffness(fft.irfft(u_hat), z_ind)
     elastic = Elastic(model, *k_mean)
 
-    def dot(a, b):
-        return float(np.sum(w * (np.conj(a) * b).real))
+    weighted_dot = coupled_kernels()[3]
+
+    def dot(a, b):  # Σ_q w_q Re(conj(a_q) b_q): nodal products (Parseval)
+        return weighted_dot(w, a, b)
 
     fire = None if settings.method == "verlet" else Fire(settings)
     if fire is None:  # Verlet: per-mode ω² from the diagonal stiffness plus the law's initial slope
