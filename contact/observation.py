@@ -6,11 +6,13 @@ tolerance and its gap are read by `in_contact` / `contact_gap` alone, and GFMD (
 neither. So a GFMD load ramp of one scene is the ramp of every scene that differs from it only
 in these keys (`contact.ramp.run_ramp`'s `variants`), step for step.
 
-`solve_key(scene)` is the scene with those keys at their defaults, or None where sharing is not
-proven: a method other than those of `SHARED_SOLVE_METHODS` (the FE reference computes its own
-observables inside its cell, with per-step side effects), force control (the load search and its
-instability events read a_rel, `contact.force`), a user law (its contact set is the user's code).
-Every other key (length_normal included: it sets GFMD's wall tolerance) keeps scenes apart.
+`solve_key(scene)` is the scene with those keys at their defaults, or None where the scene's own
+loading or law may read them: force control (the load search and its instability events read a_rel,
+`contact.force`), a user law (its contact set is the user's code). Which *methods* solve without
+reading them is each method's declaration (`workbench.methods.MethodSpec.shares_solve`: GFMD yes; the
+FE reference computes its own observables inside its cell, with per-step side effects);
+`workbench.methods.solve_key` combines the two. Every other key (length_normal included: it sets
+GFMD's wall tolerance) keeps scenes apart.
 """
 
 from __future__ import annotations
@@ -22,15 +24,11 @@ from .scene_sections import Interface
 #: the dotted scene keys that enter only the observables of a step (module docstring)
 OBSERVATION_KEYS = ("interface.contact_rule", "interface.contact_tolerance", "interface.contact_gap")
 
-#: the methods whose solve is proven not to read `OBSERVATION_KEYS`
-SHARED_SOLVE_METHODS = ("gfmd",)
-
-
 def solve_key(scene):
-    """The scene whose solve `scene` runs: its `OBSERVATION_KEYS` at their defaults; None where the
-    solve may read them (module docstring), so that the scene shares no solve."""
-    if (scene.method.name not in SHARED_SOLVE_METHODS or scene.loading.control != "displacement"
-            or scene.user_law is not None):
+    """The scene whose solve `scene` runs: its `OBSERVATION_KEYS` at their defaults; None where its
+    loading or law may read them (module docstring), so that the scene shares no solve. The method's
+    part: `workbench.methods.solve_key`."""
+    if scene.loading.control != "displacement" or scene.user_law is not None:
         return None
     default = Interface()
     values = {key.partition(".")[2]: getattr(default, key.partition(".")[2]) for key in OBSERVATION_KEYS}

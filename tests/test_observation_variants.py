@@ -14,9 +14,10 @@ import tomllib
 import numpy as np
 import pytest
 
-from contact.observation import OBSERVATION_KEYS, solve_key
+from contact.observation import OBSERVATION_KEYS
 from contact.scene import scene_from_dict
 from workbench import io
+from workbench.methods import solve_key
 from workbench.study import load_study, run_study
 from workbench.study_file import solve_address, solve_groups, task_scene
 from workbench.study_suite import run_suite

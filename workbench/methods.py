@@ -6,10 +6,12 @@ the ensembles, the verification harness, the benchmarks) goes through
 options (`[method]`, contact.scene.Method), so a run's scene.toml reproduces it.
 
 A `MethodSpec` has
-    run(scene, realization, progress=, checkpoint=, resume=)  → contact.result.Result; a method of
-                      `contact.observation.SHARED_SOLVE_METHODS` also takes variants= (contact.ramp.Variant)
+    run(scene, realization, progress=, checkpoint=, resume=)  → contact.result.Result; a method that
+                      `shares_solve` also takes variants= (contact.ramp.Variant)
     refuse(scene)     raises SceneError if the method cannot solve the scene, saying why
     export(result, directory)   optional: method-specific files of a finished realization
+    shares_solve      its solve reads none of `contact.observation.OBSERVATION_KEYS` (proven by
+                      tests/test_observation_variants.py), so scenes differing only in them share it
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ class MethodSpec:
     run: Callable
     refuse: Callable
     export: Callable | None = None
+    shares_solve: bool = False
 
 
 def _run_gfmd(scene, realization=0, progress=None, checkpoint=None, resume=None, variants=()):
@@ -89,7 +92,7 @@ def _export_fe(result, directory):
 
 
 METHODS = {
-    "gfmd": MethodSpec("gfmd", _run_gfmd, _refuse_nothing),
+    "gfmd": MethodSpec("gfmd", _run_gfmd, _refuse_nothing, shares_solve=True),
     "fe": MethodSpec("fe", _run_fe, _refuse_fe, _export_fe),
 }
 assert set(METHODS) == set(METHOD_KEYS), "the registry and the scene schema name the same methods"
@@ -98,6 +101,14 @@ assert set(METHODS) == set(METHOD_KEYS), "the registry and the scene schema name
 def method_of(scene):
     """The `MethodSpec` of scene.method.name."""
     return METHODS[scene.method.name]
+
+
+def solve_key(scene):
+    """The scene whose solve `scene` runs (`contact.observation.solve_key`), or None where it shares no
+    solve: its method does not `shares_solve`, or its loading or law reads the observation keys."""
+    from contact import observation
+
+    return observation.solve_key(scene) if method_of(scene).shares_solve else None
 
 
 def run_realization(scene, realization=0, progress=None, checkpoint=None, resume=None, variants=()):
@@ -112,8 +123,8 @@ def run_realization(scene, realization=0, progress=None, checkpoint=None, resume
     progress, checkpoint, resume
         The hooks of `contact.ramp.run_ramp`.
     variants : list of contact.ramp.Variant
-        Scenes of the same `contact.observation.solve_key` sharing this solve (each variant's
-        Result is set on it); only for a method of `contact.observation.SHARED_SOLVE_METHODS`.
+        Scenes of the same `solve_key` sharing this solve (each variant's Result is set on it); only
+        for a method that `shares_solve`.
 
     Returns
     -------
@@ -121,8 +132,6 @@ def run_realization(scene, realization=0, progress=None, checkpoint=None, resume
     """
     if not variants:
         return method_of(scene).run(scene, realization, progress=progress, checkpoint=checkpoint, resume=resume)
-    from contact.observation import solve_key
-
     if solve_key(scene) is None or any(solve_key(v.scene) != solve_key(scene) for v in variants):
         raise SceneError(f"method.name = {scene.method.name!r}: these scenes share no solve (contact.observation)")
     return method_of(scene).run(scene, realization, progress=progress, checkpoint=checkpoint, resume=resume,

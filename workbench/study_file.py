@@ -36,8 +36,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from contact.errors import SceneError
-from contact.observation import solve_key
 from contact.scene import Scene, load_scene, scene_from_dict, scene_to_dict
+
+from .methods import solve_key
 
 STUDY_KEYS = ("name", "description", "base", "scene", "axes", "zip")
 
@@ -142,7 +143,7 @@ def task_cost(scene):
 
 
 def solve_address(scene):
-    """The address of the solve a task scene runs: `task_key` of its `contact.observation.solve_key`, the
+    """The address of the solve a task scene runs: `task_key` of its `workbench.methods.solve_key`, the
     same for tasks that differ only in `contact.observation.OBSERVATION_KEYS`; its own key where it shares
     no solve (None solve key)."""
     shared = solve_key(scene)

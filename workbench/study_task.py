@@ -7,7 +7,7 @@ locked while a task writes it, so a second execution of the same task (Dask may 
 twice) waits and then finds the result. Each finished load step is reported to the
 scheduler on `STEP_TOPIC` for the study's progress bar.
 
-Tasks of one `contact.observation.solve_key` (they differ only in what they observe, e.g. the
+Tasks of one `workbench.methods.solve_key` (they differ only in what they observe, e.g. the
 contact rule) run as one group (`run_shared`): one load ramp writes every member's directory,
 each exactly what `run_task` would write there (wall times aside).
 """
@@ -105,7 +105,7 @@ def _run_task_locked(scene, out, command, progress):
 
 
 def run_shared(members, command=None, progress=_report_step):
-    """Run (or continue, or reuse) tasks [(scene, task_dir)] of one `contact.observation.solve_key` with
+    """Run (or continue, or reuse) tasks [(scene, task_dir)] of one `workbench.methods.solve_key` with
     one load ramp; a list of `run_task`'s dicts, one per member, a member's "solved_with" naming the task
     directory (its key) whose solve it shared.
 
