@@ -63,11 +63,17 @@ CLASSES = {
 OTHER = {"coupled": ("fire (before issue 24)", {"coupled": "fire"})}
 
 
-def ramp(n, cls, options=None, max_steps=None):
-    """One task's ramp at N = n: list of per-step dicts (it, pairs, cpu, a_rel, method, converged)."""
+def ramp(n, cls, options=None, max_steps=None, realization=1, scene_keys=None, a_rel_stop=A_REL_STOP, states=None):
+    """One task's ramp at N = n: list of per-step dicts (it, pairs, cpu, a_rel, method, converged).
+
+    realization: the surface seed (seed_base.toml's seed 1 is realization 1); scene_keys: more scene
+    overrides (e.g. {"interface.length_normal": 0.25e-9}); states: a list that receives each step's
+    (p̄, gap) when given.
+    """
     base = load_scene(SEED / "seed_base.toml")
     rollon = max(base.surface.rollon_wavelength, ROLLON_NODES * base.surface.length / n)
-    scene = task_scene(base.replace(**{"surface.nodes": n, "surface.rollon_wavelength": rollon, **CLASSES[cls]}), 0)
+    keys = {"surface.nodes": n, "surface.rollon_wavelength": rollon, **CLASSES[cls], **(scene_keys or {})}
+    scene = task_scene(base.replace(**keys), realization - base.surface.seed)
     h = surfaces.profile(scene.surface, 0)
     cell = prepare(scene, h)
     settings = replace(cell.settings, **(options or {}))
@@ -90,10 +96,12 @@ def ramp(n, cls, options=None, max_steps=None):
         obs = step_observables(scene, h, r.gap, r.t_z)
         rows.append({"k": k, "delta": displacement - d0, "it": it, "pairs": pairs, "cpu": cpu,
                      "a_rel": float(obs["a_rel"]), "method": r.method, "converged": bool(r.converged),
-                     "residual": r.residual})
+                     "residual": r.residual, "p": float(obs["p"])})
+        if states is not None:
+            states.append(np.array(r.gap, copy=True))
         if r.converged:
             previous, current = current, r.u_hat
-        if obs["a_rel"] >= A_REL_STOP or (max_steps and k + 1 >= max_steps):
+        if obs["a_rel"] >= a_rel_stop or (max_steps and k + 1 >= max_steps):
             break
     return rows
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from contact import laws
 
-from .. import kernels
+from .. import cohesive_preconditioner, kernels
 from ..fft import Fft, dot
 from ..settings import stall
 from ..stopping import finish
@@ -116,6 +116,12 @@ def solve(problem, start, settings):
 
     g = preconditioner()
     products, direction, advance = kernels.ncg_kernels(grid=model.grid)  # the spectral algebra (numpy or fused)
+    cohesive_preconditioner.check(settings, model.grid)
+    if user and settings.cohesive_preconditioner == "two-level":
+        raise ValueError("Settings.cohesive_preconditioner = 'two-level' needs seed Eq. 3's law, not a user law")
+    other = cohesive_preconditioner.build(settings.cohesive_preconditioner, fft, k, clamp, n,
+                                          float(cz.work_normal) / float(cz.length_normal) ** 2 if not user else 0.0)
+    ones = np.ones(k.size)
     far = NCG_FAR_FRACTION * settings.tolerance * p_ref  # a far node's |T_n| is below this (Pa)
     cut = cz.far_gap(far) / dn if user else _attraction_cut(far / tn_scale)  # s_c
     scaled_gap = nodal.state  # Eq. 3: (s, e^{−s}); a user law: (T_n, dT_n/dΔn)
@@ -171,7 +177,18 @@ def solve(problem, start, settings):
     ratio = None  # last max|f| / rms(f): predicts when the max-norm test can pass
     it = 0
     while True:
-        rz, f_old_s, f_d_old = products(f_hat, f_old, d_hat, g, n)  # f·s, f_old·s, f·d_old; s = K⁻¹ f
+        engaged = other is not None and it >= cohesive_preconditioner.ENGAGE_AFTER
+        if not engaged:
+            rz, f_old_s, f_d_old = products(f_hat, f_old, d_hat, g, n)  # f·s, f_old·s, f·d_old; s = K⁻¹ f
+        else:  # s = M⁻¹ f (`gfmd.cohesive_preconditioner`), rebuilt from the state (a restart where it changed)
+            if (it - cohesive_preconditioner.ENGAGE_AFTER) % cohesive_preconditioner.REBUILD_EVERY == 0:
+                k_loc = np.zeros(n)
+                k_loc[idx] = nodal.stiffness(sv, ev)
+                if other.rebuild(k_loc) or it == cohesive_preconditioner.ENGAGE_AFTER:
+                    restart = True
+            s_hat = other.apply(f_hat)
+            _, rz, f_d_old = products(f_hat, s_hat, d_hat, ones, n)
+            f_old_s = products(s_hat, f_old, d_hat, ones, n)[1]
         e_norm = np.sqrt(max(rz, 0.0))
         if ratio is None or it % settings.check_every == 0 or e_norm * ratio < settings.tolerance * p_ref:
             # the test of `gfmd.algorithms.dynamics` (verification.mutations' stop-early-cohesive mutates all three)
@@ -203,7 +220,11 @@ def solve(problem, start, settings):
             if not slope0 < 0:
                 failed = "no descent direction"
                 break
-        direction(f_hat, g, beta, d_hat)  # d̂ ← ŝ + β d̂
+        if not engaged:
+            direction(f_hat, g, beta, d_hat)  # d̂ ← ŝ + β d̂
+        else:  # K s ≠ f: d·Kd as a sum over the modes
+            direction(s_hat, ones, beta, d_hat)
+            c2 = products(d_hat, d_hat, d_hat, k, n)[0]
         restart = False
         f_old, rz_old = f_hat, rz
         d_all = fft.irfft(d_hat)
@@ -332,6 +353,10 @@ class _Eq3Nodes:
         """Σ_j T_n,j d_j."""
         return self.tn_scale * float(np.einsum("i,i,i->", s, e, d))
 
+    def stiffness(self, s, e):
+        """k_loc = (φn/δn²)(1 − s) e^{−s} (Pa/m)."""
+        return self.kn_scale * (1.0 - s) * e
+
     def curvature_sum(self, s, e, d):
         """Σ_j k_loc,j d_j², k_loc = (φn/δn²)(1 − s) e^{−s}."""
         x = e * d
@@ -356,6 +381,9 @@ class _UserNodes:
 
     def work(self, t, k, d):
         return dot(t, d)  # no BLAS (`gfmd.fft.dot`)
+
+    def stiffness(self, t, k):
+        return k
 
     def curvature_sum(self, t, k, d):
         return float(np.einsum("i,i,i->", k, d, d))
