@@ -11,7 +11,8 @@ crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.c
   (I − P A) K⁻¹ (I − A P) + P, P = Z E⁻¹ Zᵀ, E = Zᵀ A Z, Z piecewise constant on blocks of consecutive
   stiff nodes (max(k_loc, 0) ≥ STIFF_FRACTION φn/δn²) of about half the crossover wavelength, so that
   the modes inside a block are held by K again. SPD for D ≥ 0 (max(k_loc, 0) is used); E from K's
-  real-space kernel (no FFT); 3 extra FFT pairs per application where a coarse space exists.
+  real-space kernel (no FFT); 2 FFT pairs per application where a coarse space exists, one of which
+  the NCG saves (the direction on the nodes comes with it).
   Profiles (1+1-D) only.
 
 A step starts with K⁻¹; after ENGAGE_AFTER iterations the NCG switches to the chosen one, rebuilds it
@@ -81,7 +82,8 @@ class Shifted:
         return True
 
     def apply(self, f_hat):
-        return self.g * f_hat
+        """(ŝ, None): no nodal s."""
+        return self.g * f_hat, None
 
 
 class TwoLevel:
@@ -151,18 +153,23 @@ class TwoLevel:
         return scipy.linalg.cho_solve(factor, np.add.reduceat(x[stiff], starts))
 
     def apply(self, f_hat):
-        """s = P f + (I − P A) K⁻¹ (I − A P) f on the spectrum f̂ (3 FFT pairs with a coarse space)."""
+        """(ŝ, s on the nodes or None): s = P f + (I − P A) K⁻¹ (I − A P) f on the spectrum f̂.
+
+        With w = Π Z c, c = E⁻¹ Zᵀ f, and K K⁻¹ = 1 on the free modes, y = K⁻¹(f − A w) = K⁻¹(f − D w) − w and
+        Zᵀ A y = Zᵀ (f − A w) + Zᵀ D y = Zᵀ D y (Zᵀ A w = E c = Zᵀ f), so s = K⁻¹(f − D w) − Π Z c₂,
+        c₂ = E⁻¹ Zᵀ Π D y: 2 FFT pairs (irfft f̂, rfft D w, irfft for y, rfft Π Z c₂), s on the nodes for free.
+        """
         if self.coarse is None:
-            return self.g * f_hat
-        fft, k = self.fft, self.k
-        c = self._restrict(fft.irfft(f_hat))
-        w = self._spread(c)
-        v_hat = k * fft.rfft(w) + fft.rfft(self.d * w)  # A Π Z c
-        y_hat = self.g * (f_hat - v_hat)
-        ay = fft.irfft(k * y_hat) + self.d * fft.irfft(y_hat)
+            return self.g * f_hat, None
+        fft = self.fft
+        w = self._spread(self._restrict(fft.irfft(f_hat)))
+        x_hat = self.g * (f_hat - fft.rfft(self.d * w))  # K⁻¹(f − D w)
+        x = fft.irfft(x_hat)
+        dy = self.d * (x - w)  # D y, y = x − w
         if self.clamp:
-            ay -= ay.mean()
-        s_hat = y_hat + fft.rfft(self._spread(c - self._restrict(ay)))
+            dy -= dy.mean()
+        z = self._spread(self._restrict(dy))  # Π Z c₂
+        s_hat = x_hat - fft.rfft(z)
         if self.clamp:
             s_hat[0] = 0.0
-        return s_hat
+        return s_hat, x - z

@@ -2,7 +2,7 @@
 
 * "two-level": its coarse matrix is Zᵀ(K + D)Z computed by FFT (the double cumulative sums of K's kernel);
   the balancing operator is symmetric positive definite and exact on the coarse space (M A z = z for z in
-  range(ΠZ)), on a half-plane (q = 0 clamped) and on a layer;
+  range(ΠZ)), its nodal s the irfft of its ŝ, on a half-plane (q = 0 clamped) and on a layer;
 * a ramp into strong adhesion with the coarse level engaged from the first iteration reaches the states of
   the default K⁻¹ (within the tolerance bound of tests/test_solver_ncg.py) in fewer iterations;
 * a bad Settings value is refused naming the key.
@@ -56,7 +56,10 @@ def test_two_level_is_spd_and_exact_on_its_coarse_space(thickness):
     # the balancing operator on the (mean-free where clamped) nodal space
     proj = np.eye(n) - (1.0 / n if clamp else 0.0)
     a_mat = proj @ (np.array([fft.irfft(k * fft.rfft(e)) for e in np.eye(n)]).T + np.diag(np.maximum(k_loc, 0))) @ proj
-    m = proj @ dense(pre.apply, n, fft) @ proj  # the NCG's forces are mean-free where clamped
+    m = proj @ dense(lambda f: pre.apply(f)[0], n, fft) @ proj  # the NCG's forces are mean-free where clamped
+    f = proj @ np.random.default_rng(2).standard_normal(n)
+    s_hat, s_nodes = pre.apply(fft.rfft(f))
+    np.testing.assert_allclose(s_nodes, fft.irfft(s_hat), atol=1e-12 * np.max(np.abs(s_nodes)))  # nodal s as given
     np.testing.assert_allclose(m, m.T, atol=1e-10 * np.max(np.abs(m)))
     eig = np.linalg.eigvalsh(proj @ (0.5 * (m + m.T)) @ proj)
     assert np.sum(eig > 1e-10 * eig.max()) == n - (1 if clamp else 0)  # positive definite on the space

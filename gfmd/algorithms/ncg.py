@@ -176,6 +176,7 @@ def solve(problem, start, settings):
     eta = settings.line_search_tol
     ratio = None  # last max|f| / rms(f): predicts when the max-norm test can pass
     it = 0
+    d_nodes = None  # d on the nodes where the preconditioner gives s there (`gfmd.cohesive_preconditioner`)
     while True:
         engaged = other is not None and it >= cohesive_preconditioner.ENGAGE_AFTER
         if not engaged:
@@ -186,7 +187,7 @@ def solve(problem, start, settings):
                 k_loc[idx] = nodal.stiffness(sv, ev)
                 if other.rebuild(k_loc) or it == cohesive_preconditioner.ENGAGE_AFTER:
                     restart = True
-            s_hat = other.apply(f_hat)
+            s_hat, s_nodes = other.apply(f_hat)
             _, rz, f_d_old = products(f_hat, s_hat, d_hat, ones, n)
             f_old_s = products(s_hat, f_old, d_hat, ones, n)[1]
         e_norm = np.sqrt(max(rz, 0.0))
@@ -225,9 +226,13 @@ def solve(problem, start, settings):
         else:  # K s ≠ f: d·Kd as a sum over the modes
             direction(s_hat, ones, beta, d_hat)
             c2 = products(d_hat, d_hat, d_hat, k, n)[0]
+            if s_nodes is not None and (beta == 0.0 or d_nodes is not None):  # d on the nodes without an irfft
+                d_nodes = s_nodes if beta == 0.0 else s_nodes + beta * d_nodes
+            else:
+                d_nodes = None
         restart = False
         f_old, rz_old = f_hat, rz
-        d_all = fft.irfft(d_hat)
+        d_all = fft.irfft(d_hat) if not engaged or d_nodes is None else d_nodes
         approach = float(np.max(d_all)) if not isinstance(idx, slice) else 0.0  # Δn falls by α d: d > 0 approaches
         for _ in range(2):  # a second pass only when the step left the near set stale: rebuilt, searched again
             d = d_all[idx]
