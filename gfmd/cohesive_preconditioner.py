@@ -1,12 +1,11 @@
 """Preconditioners of the cohesive NCG (`gfmd.algorithms.ncg`) beyond its default K⁻¹ (issue 24).
 
 The NCG's Hessian is A = K + D, K diagonal on the modes (K(q) ∝ q E*/2), D = diag(k_loc) on the nodes
-(k_loc = dT_n/dΔn-curvature of the law, ≈ φn/δn² in and near contact). Under K⁻¹ the spectrum is
+(k_loc = V''(Δn), the law's curvature, ≈ φn/δn² in and near contact). Under K⁻¹ the spectrum is
 I + K⁻¹D: its largest eigenvalues grow with the width of the stiff patches (the modes longer than the
 crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.cohesive_preconditioner`:
 
 * "stiffness": K⁻¹ (the default; the NCG's own fused path, no object of this module);
-* "shifted": (K(q) + k̄)⁻¹ on the modes, k̄ the mean of max(k_loc, 0) over the nodes;
 * "two-level": K⁻¹ balanced by a coarse space (the BNN form of `gfmd.algorithms.hard_wall_two_level_cg`),
   (I − P A) K⁻¹ (I − A P) + P, P = Z E⁻¹ Zᵀ, E = Zᵀ A Z, Z piecewise constant on blocks of consecutive
   stiff nodes (max(k_loc, 0) ≥ STIFF_FRACTION φn/δn²) of about half the crossover wavelength, so that
@@ -15,8 +14,10 @@ crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.c
   the NCG saves (the direction on the nodes comes with it).
   Profiles (1+1-D) only.
 
-A step starts with K⁻¹; after ENGAGE_AFTER iterations the NCG switches to the chosen one, rebuilds it
-from the state every REBUILD_EVERY iterations and restarts its direction where it changed.
+(K(q) + ⟨max(k_loc, 0)⟩)⁻¹ on the modes was measured and dropped (more iterations than K⁻¹,
+benchmarks/results/bench_cohesive_preconditioner.md). A step starts with K⁻¹; after ENGAGE_AFTER iterations
+the NCG switches to the two-level one, rebuilds it from the state every REBUILD_EVERY iterations and restarts
+its direction where the stiff set changed.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-CHOICES = ("stiffness", "shifted", "two-level")
+CHOICES = ("stiffness", "two-level")
 #: a step runs its first ENGAGE_AFTER iterations with K⁻¹ (the easy steps never pay for the coarse level)
 ENGAGE_AFTER = 40
 #: then the NCG rebuilds the preconditioner every this many iterations, restarting its direction where it changed
@@ -52,38 +53,19 @@ def check(settings, grid=None):
 
 
 def build(name, fft, k, clamp, n, kn_scale):
-    """The preconditioner `name` ("shifted" or "two-level") for K(q) = k on the modes (q = 0 clamped
+    """The preconditioner `name` ("two-level") for K(q) = k on the modes (q = 0 clamped
     where `clamp`), or None for "stiffness" (the NCG's own K⁻¹)."""
     if name == "stiffness":
         return None
-    if name == "shifted":
-        return Shifted(k, clamp)
     return TwoLevel(fft, k, clamp, n, kn_scale)
 
 
-def _inverse(k, clamp, shift=0.0):
+def _inverse(k, clamp):
     g = np.zeros(k.size)
-    np.divide(1.0, k + shift, out=g, where=k + shift > 0)
+    np.divide(1.0, k, out=g, where=k > 0)
     if clamp:
         g[0] = 0.0
     return g
-
-
-class Shifted:
-    """(K(q) + k̄)⁻¹ on the modes, k̄ = ⟨max(k_loc, 0)⟩ over the nodes at the last `rebuild`."""
-
-    def __init__(self, k, clamp):
-        self.k, self.clamp = k, clamp
-        self.g = _inverse(k, clamp)
-
-    def rebuild(self, k_loc):
-        """True (k̄ refreshed)."""
-        self.g = _inverse(self.k, self.clamp, float(np.mean(np.maximum(k_loc, 0.0))))
-        return True
-
-    def apply(self, f_hat):
-        """(ŝ, None): no nodal s."""
-        return self.g * f_hat, None
 
 
 class TwoLevel:

@@ -87,6 +87,10 @@ def solve(problem, start, settings):
     product: d·Ku = Σ_j d_j T_n,j − f·d (f = T_n − K u − ⟨T_n⟩, Σ_j d_j = 0 on a half-plane) and,
     with K s = f, d·Kd = f·s + 2β f·d_old + β² d_old·K d_old: no K d.
 
+    `Settings.cohesive_preconditioner` = "two-level" replaces K⁻¹ after the step's first iterations by K⁻¹
+    balanced by a coarse space on the stiff patches (`gfmd.cohesive_preconditioner`); K s ≠ f then, so d·Kd
+    is a sum over the modes, and the direction restarts where the preconditioner is rebuilt.
+
     Stall: a step NCG does not finish within min(NCG_BUDGET, max_iterations / 2) iterations, or
     whose line search finds no descent, is handed over (`Relaxed.stalled`; `gfmd.chains` restarts it
     from the same guess with FIRE and the rest of the iterations, `Relaxed.method` "ncg→fire").
