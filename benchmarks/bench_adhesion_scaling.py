@@ -2,8 +2,10 @@
 
 Usage: python benchmarks/bench_adhesion_scaling.py [--quick] [--sizes 12 14 17] [--out DIR]
                                                    [--classes cohesive coupled normal] [--compare]
+                                                   [--realization SEED] [--length-normal DN]
 
-Task classes, on the full-scale seed base scene (studies/seed/seed_base.toml, realization seed 1) with
+Task classes, on the full-scale seed base scene (studies/seed/seed_base.toml, realization seed 1 unless
+--realization; δn of the scene unless --length-normal) with
 `surface.nodes` = N (L = 10.24 µm fixed; λs,H = max(2.5 nm, 4 L/N), i.e. 10 nm at 2^12), the ramp of
 `contact.loading.realization_steps` (200 steps from δ0 = 12 nm out of contact towards δ = 20 nm), stopped
 after the first step whose a_rel reaches A_REL_STOP (0.5; realization seed 1 reaches 0.27 at δ = 20 nm):
@@ -63,11 +65,17 @@ CLASSES = {
 OTHER = {"coupled": ("fire (before issue 24)", {"coupled": "fire"})}
 
 
-def ramp(n, cls, options=None, max_steps=None):
-    """One task's ramp at N = n: list of per-step dicts (it, pairs, cpu, a_rel, method, converged)."""
+def ramp(n, cls, options=None, max_steps=None, realization=1, scene_keys=None, a_rel_stop=A_REL_STOP, states=None):
+    """One task's ramp at N = n: list of per-step dicts (it, pairs, cpu, a_rel, method, converged).
+
+    realization: the surface seed (seed_base.toml's seed 1 is realization 1); scene_keys: more scene
+    overrides (e.g. {"interface.length_normal": 0.25e-9}); states: a list that receives each step's
+    (p̄, gap) when given.
+    """
     base = load_scene(SEED / "seed_base.toml")
     rollon = max(base.surface.rollon_wavelength, ROLLON_NODES * base.surface.length / n)
-    scene = task_scene(base.replace(**{"surface.nodes": n, "surface.rollon_wavelength": rollon, **CLASSES[cls]}), 0)
+    keys = {"surface.nodes": n, "surface.rollon_wavelength": rollon, **CLASSES[cls], **(scene_keys or {})}
+    scene = task_scene(base.replace(**keys), realization - base.surface.seed)
     h = surfaces.profile(scene.surface, 0)
     cell = prepare(scene, h)
     settings = replace(cell.settings, **(options or {}))
@@ -90,10 +98,12 @@ def ramp(n, cls, options=None, max_steps=None):
         obs = step_observables(scene, h, r.gap, r.t_z)
         rows.append({"k": k, "delta": displacement - d0, "it": it, "pairs": pairs, "cpu": cpu,
                      "a_rel": float(obs["a_rel"]), "method": r.method, "converged": bool(r.converged),
-                     "residual": r.residual})
+                     "residual": r.residual, "p": float(obs["p"])})
+        if states is not None:
+            states.append(np.array(r.gap, copy=True))
         if r.converged:
             previous, current = current, r.u_hat
-        if obs["a_rel"] >= A_REL_STOP or (max_steps and k + 1 >= max_steps):
+        if obs["a_rel"] >= a_rel_stop or (max_steps and k + 1 >= max_steps):
             break
     return rows
 
@@ -126,6 +136,8 @@ def main(argv=None):
     ap.add_argument("--classes", nargs="+", default=list(CLASSES), choices=list(CLASSES))
     ap.add_argument("--compare", action="store_true", help="also run the solver before issue 24 per class")
     ap.add_argument("--max-steps", type=int, default=None)
+    ap.add_argument("--realization", type=int, default=1, help="surface seed (seed_base.toml's is 1)")
+    ap.add_argument("--length-normal", type=float, default=None, help="interface.length_normal δn (m)")
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results"))
     args = ap.parse_args(argv)
     sizes = args.sizes or ([12, 14] if args.quick else [12, 14, 17])
@@ -134,7 +146,8 @@ def main(argv=None):
     head = ["# Strong adhesion and the coupled law along the ramp (issue 24)", "",
             f"`python benchmarks/bench_adhesion_scaling.py {' '.join(argv or sys.argv[1:])}`; git "
             f"{os.popen(f'git -C {ROOT} rev-parse --short HEAD').read().strip()}; ramp: the seed base scene, "
-            f"realization seed 1, from δ0 = 12 nm out of contact until a_rel ≥ {A_REL_STOP} (or δ = 20 nm). "
+            f"realization seed {args.realization}"
+            f"{f', δn = {args.length_normal:g} m' if args.length_normal else ''}, from δ0 = 12 nm out of contact until a_rel ≥ {A_REL_STOP} (or δ = 20 nm). "
             "FFT pairs and iterations are deterministic counts; CPU s/step are MEASURED UNDER LOAD on a shared "
             f"2-core machine (load average at start {load0[0]:.2f}).", ""]
     table = ["| N | class | solver | steps | it/step mean | it/step max | FFT pairs/step mean | max | "
@@ -152,7 +165,8 @@ def main(argv=None):
                     rows = cohesive_rows  # the same task (c = 0): not run twice
                 else:
                     ramp(n, cls, options, max_steps=3)  # warm-up: numba's compilation and FFT plans untimed
-                    rows = ramp(n, cls, options, args.max_steps)
+                    keys = {"interface.length_normal": args.length_normal} if args.length_normal else None
+                    rows = ramp(n, cls, options, args.max_steps, args.realization, keys)
                 if cls == "cohesive" and name == "default":
                     cohesive_rows = rows
                 s = summary(rows)

@@ -43,6 +43,9 @@ class Settings:
     # of the ramp's branch, else the "fire" chain), "ptc" (as "newton", pseudo-transient continuation before FIRE;
     # measured, not the default) or "fire" (FIRE; Newton–Krylov, then Verlet after a stall)
     coupled: str = "newton"
+    # cohesive NCG's preconditioner (`gfmd.cohesive_preconditioner`): "stiffness" (K⁻¹ on the modes) or
+    # "two-level" (K⁻¹ balanced by a coarse space on the stiff patches, engaged on the steps that need it)
+    cohesive_preconditioner: str = "stiffness"
     # coupled Newton–Krylov: give the step up at the first GMRES solve that misses its tolerance (True: the
     # Newton-first chain's continuation link, `gfmd.chains`; False: go on with the inexact direction)
     coupled_gmres_give_up: bool = False

@@ -14,7 +14,7 @@ import numpy as np
 
 from contact import laws
 
-from .. import kernels
+from .. import cohesive_preconditioner, kernels
 from ..fft import Fft, dot
 from ..settings import stall
 from ..stopping import finish
@@ -87,6 +87,10 @@ def solve(problem, start, settings):
     product: d·Ku = Σ_j d_j T_n,j − f·d (f = T_n − K u − ⟨T_n⟩, Σ_j d_j = 0 on a half-plane) and,
     with K s = f, d·Kd = f·s + 2β f·d_old + β² d_old·K d_old: no K d.
 
+    `Settings.cohesive_preconditioner` = "two-level" replaces K⁻¹ after the step's first iterations by K⁻¹
+    balanced by a coarse space on the stiff patches (`gfmd.cohesive_preconditioner`); K s ≠ f then, so d·Kd
+    is a sum over the modes, and the direction restarts where the preconditioner is rebuilt.
+
     Stall: a step NCG does not finish within min(NCG_BUDGET, max_iterations / 2) iterations, or
     whose line search finds no descent, is handed over (`Relaxed.stalled`; `gfmd.chains` restarts it
     from the same guess with FIRE and the rest of the iterations, `Relaxed.method` "ncg→fire").
@@ -116,6 +120,12 @@ def solve(problem, start, settings):
 
     g = preconditioner()
     products, direction, advance = kernels.ncg_kernels(grid=model.grid)  # the spectral algebra (numpy or fused)
+    cohesive_preconditioner.check(settings, model.grid)
+    if user and settings.cohesive_preconditioner == "two-level":
+        raise ValueError("Settings.cohesive_preconditioner = 'two-level' needs seed Eq. 3's law, not a user law")
+    other = cohesive_preconditioner.build(settings.cohesive_preconditioner, fft, k, clamp, n,
+                                          float(cz.work_normal) / float(cz.length_normal) ** 2 if not user else 0.0)
+    ones = np.ones(k.size)
     far = NCG_FAR_FRACTION * settings.tolerance * p_ref  # a far node's |T_n| is below this (Pa)
     cut = cz.far_gap(far) / dn if user else _attraction_cut(far / tn_scale)  # s_c
     scaled_gap = nodal.state  # Eq. 3: (s, e^{−s}); a user law: (T_n, dT_n/dΔn)
@@ -170,8 +180,20 @@ def solve(problem, start, settings):
     eta = settings.line_search_tol
     ratio = None  # last max|f| / rms(f): predicts when the max-norm test can pass
     it = 0
+    d_nodes = None  # d on the nodes where the preconditioner gives s there (`gfmd.cohesive_preconditioner`)
     while True:
-        rz, f_old_s, f_d_old = products(f_hat, f_old, d_hat, g, n)  # f·s, f_old·s, f·d_old; s = K⁻¹ f
+        engaged = other is not None and it >= cohesive_preconditioner.ENGAGE_AFTER
+        if not engaged:
+            rz, f_old_s, f_d_old = products(f_hat, f_old, d_hat, g, n)  # f·s, f_old·s, f·d_old; s = K⁻¹ f
+        else:  # s = M⁻¹ f (`gfmd.cohesive_preconditioner`), rebuilt from the state (a restart where it changed)
+            if (it - cohesive_preconditioner.ENGAGE_AFTER) % cohesive_preconditioner.REBUILD_EVERY == 0:
+                k_loc = np.zeros(n)
+                k_loc[idx] = nodal.stiffness(sv, ev)
+                if other.rebuild(k_loc) or it == cohesive_preconditioner.ENGAGE_AFTER:
+                    restart = True
+            s_hat, s_nodes = other.apply(f_hat)
+            _, rz, f_d_old = products(f_hat, s_hat, d_hat, ones, n)
+            f_old_s = products(s_hat, f_old, d_hat, ones, n)[1]
         e_norm = np.sqrt(max(rz, 0.0))
         if ratio is None or it % settings.check_every == 0 or e_norm * ratio < settings.tolerance * p_ref:
             # the test of `gfmd.algorithms.dynamics` (verification.mutations' stop-early-cohesive mutates all three)
@@ -203,10 +225,18 @@ def solve(problem, start, settings):
             if not slope0 < 0:
                 failed = "no descent direction"
                 break
-        direction(f_hat, g, beta, d_hat)  # d̂ ← ŝ + β d̂
+        if not engaged:
+            direction(f_hat, g, beta, d_hat)  # d̂ ← ŝ + β d̂
+        else:  # K s ≠ f: d·Kd as a sum over the modes
+            direction(s_hat, ones, beta, d_hat)
+            c2 = products(d_hat, d_hat, d_hat, k, n)[0]
+            if s_nodes is not None and (beta == 0.0 or d_nodes is not None):  # d on the nodes without an irfft
+                d_nodes = s_nodes if beta == 0.0 else s_nodes + beta * d_nodes
+            else:
+                d_nodes = None
         restart = False
         f_old, rz_old = f_hat, rz
-        d_all = fft.irfft(d_hat)
+        d_all = fft.irfft(d_hat) if not engaged or d_nodes is None else d_nodes
         approach = float(np.max(d_all)) if not isinstance(idx, slice) else 0.0  # Δn falls by α d: d > 0 approaches
         for _ in range(2):  # a second pass only when the step left the near set stale: rebuilt, searched again
             d = d_all[idx]
@@ -332,6 +362,10 @@ class _Eq3Nodes:
         """Σ_j T_n,j d_j."""
         return self.tn_scale * float(np.einsum("i,i,i->", s, e, d))
 
+    def stiffness(self, s, e):
+        """k_loc = (φn/δn²)(1 − s) e^{−s} (Pa/m)."""
+        return self.kn_scale * (1.0 - s) * e
+
     def curvature_sum(self, s, e, d):
         """Σ_j k_loc,j d_j², k_loc = (φn/δn²)(1 − s) e^{−s}."""
         x = e * d
@@ -356,6 +390,9 @@ class _UserNodes:
 
     def work(self, t, k, d):
         return dot(t, d)  # no BLAS (`gfmd.fft.dot`)
+
+    def stiffness(self, t, k):
+        return k
 
     def curvature_sum(self, t, k, d):
         return float(np.einsum("i,i,i->", k, d, d))

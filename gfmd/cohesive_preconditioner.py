@@ -1,0 +1,157 @@
+"""Preconditioners of the cohesive NCG (`gfmd.algorithms.ncg`) beyond its default K⁻¹ (issue 24).
+
+The NCG's Hessian is A = K + D, K diagonal on the modes (K(q) ∝ q E*/2), D = diag(k_loc) on the nodes
+(k_loc = V''(Δn), the law's curvature, ≈ φn/δn² in and near contact). Under K⁻¹ the spectrum is
+I + K⁻¹D: its largest eigenvalues grow with the width of the stiff patches (the modes longer than the
+crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.cohesive_preconditioner`:
+
+* "stiffness": K⁻¹ (the default; the NCG's own fused path, no object of this module);
+* "two-level": K⁻¹ balanced by a coarse space (the BNN form of `gfmd.algorithms.hard_wall_two_level_cg`),
+  (I − P A) K⁻¹ (I − A P) + P, P = Z E⁻¹ Zᵀ, E = Zᵀ A Z, Z piecewise constant on blocks of consecutive
+  stiff nodes (max(k_loc, 0) ≥ STIFF_FRACTION φn/δn²) of about half the crossover wavelength, so that
+  the modes inside a block are held by K again. SPD for D ≥ 0 (max(k_loc, 0) is used); E from K's
+  real-space kernel (no FFT); 2 FFT pairs per application where a coarse space exists, one of which
+  the NCG saves (the direction on the nodes comes with it).
+  Profiles (1+1-D) only.
+
+(K(q) + ⟨max(k_loc, 0)⟩)⁻¹ on the modes was measured and dropped (more iterations than K⁻¹,
+benchmarks/results/bench_cohesive_preconditioner.md). A step starts with K⁻¹; after ENGAGE_AFTER iterations
+the NCG switches to the two-level one, rebuilds it from the state every REBUILD_EVERY iterations and restarts
+its direction where the stiff set changed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg
+
+CHOICES = ("stiffness", "two-level")
+#: a step runs its first ENGAGE_AFTER iterations with K⁻¹ (the easy steps never pay for the coarse level)
+ENGAGE_AFTER = 40
+#: then the NCG rebuilds the preconditioner every this many iterations, restarting its direction where it changed
+REBUILD_EVERY = 20
+#: "two-level": a node is stiff (in the coarse space) where max(k_loc, 0) ≥ this × φn/δn²
+STIFF_FRACTION = 0.25
+
+
+def blocks(nodes, block):
+    """Start positions (in `nodes`, sorted node indices) of runs of ≤ block consecutive nodes, never across a gap."""
+    pos = np.arange(nodes.size)
+    run_start = np.r_[0, np.flatnonzero(np.diff(nodes) > 1) + 1]
+    in_run = pos - run_start[np.searchsorted(run_start, pos, side="right") - 1]
+    return np.flatnonzero(in_run % block == 0)
+
+
+def check(settings, grid=None):
+    """Raise ValueError naming Settings.cohesive_preconditioner for an unknown choice (or "two-level" on a
+    2+1-D surface)."""
+    name = settings.cohesive_preconditioner
+    if name not in CHOICES:
+        raise ValueError(f"Settings.cohesive_preconditioner = {name!r}: expected one of {', '.join(CHOICES)}")
+    if name == "two-level" and grid is not None and np.ndim(grid) > 0 and len(grid) > 1:
+        raise ValueError("Settings.cohesive_preconditioner = 'two-level' is for profiles (1+1-D) only")
+
+
+def build(name, fft, k, clamp, n, kn_scale):
+    """The preconditioner `name` ("two-level") for K(q) = k on the modes (q = 0 clamped
+    where `clamp`), or None for "stiffness" (the NCG's own K⁻¹)."""
+    if name == "stiffness":
+        return None
+    return TwoLevel(fft, k, clamp, n, kn_scale)
+
+
+def _inverse(k, clamp):
+    g = np.zeros(k.size)
+    np.divide(1.0, k, out=g, where=k > 0)
+    if clamp:
+        g[0] = 0.0
+    return g
+
+
+class TwoLevel:
+    """K⁻¹ balanced by piecewise constants on blocks of stiff nodes (module docstring)."""
+
+    def __init__(self, fft, k, clamp, n, kn_scale):
+        self.fft, self.k, self.clamp, self.n, self.kn_scale = fft, k, clamp, n, kn_scale
+        self.g = _inverse(k, clamp)
+        kq = k.copy()
+        if clamp:
+            kq[0] = 0.0
+        kr = fft.irfft(kq.astype(complex))  # (K u)_i = Σ_j kr(i − j) u_j
+        cs1 = np.r_[0.0, np.cumsum(kr[np.arange(-n, n) % n])]  # cs1[x] = Σ of kr over offsets −n … x − n − 1
+        self.cs2 = np.r_[0.0, np.cumsum(cs1)]
+        above = np.flatnonzero(k >= kn_scale)  # the crossover mode: K(q) = φn/δn²
+        crossover = int(above[0]) if above.size else k.size
+        self.block = max(1, int(round(n / (2.0 * max(crossover, 1)))))
+        self.coarse = self.stiff = None
+
+    def rebuild(self, k_loc):
+        """The coarse space of the stiff nodes at k_loc (Pa/m per node, every node); False (kept as it was)
+        where the stiff set has not changed."""
+        d = np.maximum(k_loc, 0.0)
+        stiff = np.flatnonzero(d >= STIFF_FRACTION * self.kn_scale)
+        if self.stiff is not None and np.array_equal(stiff, self.stiff):
+            return False
+        self.d, self.stiff, self.coarse = d, stiff, None
+        if stiff.size == 0:
+            return True
+        starts = blocks(stiff, self.block)
+        ends = np.r_[starts[1:], stiff.size]
+        a, p = stiff[starts], ends - starts  # first node and width of each block (consecutive nodes)
+        e = self.pair_sums(a, p)
+        mass = np.add.reduceat(self.d[stiff], starts)  # Zᵀ D 1 (and Zᵀ D Z = diag of it)
+        e[np.diag_indices_from(e)] += mass
+        if self.clamp:  # Zᵀ Π D Π Z with Π the mean removal (K kills constants: k(0) = 0)
+            w = p.astype(float)
+            e -= (np.outer(w, mass) + np.outer(mass, w)) / self.n
+            e += float(np.sum(self.d)) / self.n**2 * np.outer(w, w)
+        try:
+            factor = scipy.linalg.cho_factor(0.5 * (e + e.T))
+        except np.linalg.LinAlgError:
+            return True
+        self.coarse = stiff, starts, p, factor
+        return True
+
+    def pair_sums(self, a, p):
+        """Zᵀ K Z: Σ_{i∈I} Σ_{j∈J} kr(i − j) for the blocks [a_I, a_I + p_I) (double cumulative sums)."""
+        c2, n = self.cs2, self.n
+        ai, pi = a[:, None], p[:, None]
+        b, r = a[None, :], p[None, :]
+        return ((c2[ai + pi - b + n + 1] - c2[ai - b + n + 1])
+                - (c2[ai + pi - b - r + n + 1] - c2[ai - b - r + n + 1]))
+
+    def _spread(self, c):
+        """Π Z c on every node."""
+        stiff, _, p, _ = self.coarse
+        z = np.zeros(self.n)
+        z[stiff] = np.repeat(c, p)
+        if self.clamp:
+            z -= z.mean()
+        return z
+
+    def _restrict(self, x):
+        """Zᵀ x (x mean-free where clamped, so Zᵀ Π x = Zᵀ x)."""
+        stiff, starts, _, factor = self.coarse
+        return scipy.linalg.cho_solve(factor, np.add.reduceat(x[stiff], starts))
+
+    def apply(self, f_hat):
+        """(ŝ, s on the nodes or None): s = P f + (I − P A) K⁻¹ (I − A P) f on the spectrum f̂.
+
+        With w = Π Z c, c = E⁻¹ Zᵀ f, and K K⁻¹ = 1 on the free modes, y = K⁻¹(f − A w) = K⁻¹(f − D w) − w and
+        Zᵀ A y = Zᵀ (f − A w) + Zᵀ D y = Zᵀ D y (Zᵀ A w = E c = Zᵀ f), so s = K⁻¹(f − D w) − Π Z c₂,
+        c₂ = E⁻¹ Zᵀ Π D y: 2 FFT pairs (irfft f̂, rfft D w, irfft for y, rfft Π Z c₂), s on the nodes for free.
+        """
+        if self.coarse is None:
+            return self.g * f_hat, None
+        fft = self.fft
+        w = self._spread(self._restrict(fft.irfft(f_hat)))
+        x_hat = self.g * (f_hat - fft.rfft(self.d * w))  # K⁻¹(f − D w)
+        x = fft.irfft(x_hat)
+        dy = self.d * (x - w)  # D y, y = x − w
+        if self.clamp:
+            dy -= dy.mean()
+        z = self._spread(self._restrict(dy))  # Π Z c₂
+        s_hat = x_hat - fft.rfft(z)
+        if self.clamp:
+            s_hat[0] = 0.0
+        return s_hat, x - z

@@ -1,0 +1,100 @@
+"""The cohesive NCG's preconditioners (`gfmd.cohesive_preconditioner`, issue 24).
+
+* "two-level": its coarse matrix is Zᵀ(K + D)Z computed by FFT (the double cumulative sums of K's kernel);
+  the balancing operator is symmetric positive definite and exact on the coarse space (M A z = z for z in
+  range(ΠZ)), its nodal s the irfft of its ŝ, on a half-plane (q = 0 clamped) and on a layer;
+* a ramp into strong adhesion with the coarse level engaged from the first iteration reaches the states of
+  the default K⁻¹ (within the tolerance bound of tests/test_solver_ncg.py) in fewer iterations;
+* a bad Settings value is refused naming the key.
+"""
+
+import numpy as np
+import pytest
+
+from gfmd import cohesive_preconditioner as cp
+from gfmd.fft import Fft
+from gfmd.solver import Settings, relax
+from tests.test_solver_ncg import case, ramp, tolerance_bound
+
+TOL = 1e-10
+
+
+def stiff_patches(n, kn, rng):
+    """k_loc with a few stiff patches (≈ kn), soft negative tails and zeros elsewhere."""
+    k_loc = np.zeros(n)
+    for start, width in ((10, 40), (90, 7), (150, 60), (250, 3)):
+        k_loc[start:start + width] = kn * (0.5 + rng.random(width))
+        k_loc[start + width:start + width + 3] = -0.1 * kn  # beyond the law's peak: left out of D
+    return k_loc
+
+
+def dense(apply, n, fft):
+    """The matrix of a spectral operator f̂ ↦ ŝ acting on nodal vectors (columns: unit vectors)."""
+    cols = [fft.irfft(apply(fft.rfft(e))) for e in np.eye(n)]
+    return np.array(cols).T
+
+
+@pytest.mark.parametrize("thickness", [None, 0.5e-6])
+def test_two_level_is_spd_and_exact_on_its_coarse_space(thickness):
+    sc, h, model, law, z_of = case(nodes=256, thickness=thickness)
+    n, clamp = model.nodes, model.half_plane
+    k = np.ascontiguousarray(np.real(model.k_zz), dtype=float)
+    kn = 20.0 * float(k[1])  # crossover near mode 20: blocks of about 256 / 40 nodes
+    fft = Fft(n)
+    pre = cp.TwoLevel(fft, k, clamp, n, kn)
+    assert 4 <= pre.block <= 7
+    k_loc = stiff_patches(n, kn, np.random.default_rng(1))
+    assert pre.rebuild(k_loc) and not pre.rebuild(k_loc)  # unchanged stiff set: kept
+    stiff, starts, p, _ = pre.coarse
+    assert starts.size > 4  # several blocks per wide patch
+    # Zᵀ K Z by FFT against the double cumulative sums
+    z = np.zeros((n, starts.size))
+    for j, (a, w) in enumerate(zip(stiff[starts], p)):
+        z[a:a + w, j] = 1.0
+    kz = np.array([fft.irfft(k * fft.rfft(col)) for col in z.T]).T
+    np.testing.assert_allclose(pre.pair_sums(stiff[starts], p), z.T @ kz, rtol=1e-9, atol=1e-9 * np.max(np.abs(kz)))
+    # the balancing operator on the (mean-free where clamped) nodal space
+    proj = np.eye(n) - (1.0 / n if clamp else 0.0)
+    a_mat = proj @ (np.array([fft.irfft(k * fft.rfft(e)) for e in np.eye(n)]).T + np.diag(np.maximum(k_loc, 0))) @ proj
+    m = proj @ dense(lambda f: pre.apply(f)[0], n, fft) @ proj  # the NCG's forces are mean-free where clamped
+    f = proj @ np.random.default_rng(2).standard_normal(n)
+    s_hat, s_nodes = pre.apply(fft.rfft(f))
+    np.testing.assert_allclose(s_nodes, fft.irfft(s_hat), atol=1e-12 * np.max(np.abs(s_nodes)))  # nodal s as given
+    np.testing.assert_allclose(m, m.T, atol=1e-10 * np.max(np.abs(m)))
+    eig = np.linalg.eigvalsh(proj @ (0.5 * (m + m.T)) @ proj)
+    assert np.sum(eig > 1e-10 * eig.max()) == n - (1 if clamp else 0)  # positive definite on the space
+    zp = proj @ z
+    np.testing.assert_allclose(m @ a_mat @ zp, zp, atol=1e-8 * np.max(np.abs(zp)))
+    # the preconditioned spectrum is tighter than K⁻¹'s on the stiff patches
+    g = proj @ dense(lambda f: pre.g * f, n, fft) @ proj
+    top = lambda mat: np.max(np.real(np.linalg.eigvals(mat @ a_mat)))  # noqa: E731
+    assert top(m) < 0.5 * top(g)
+
+
+def test_two_level_ramp_reaches_the_default_states(monkeypatch):
+    monkeypatch.setattr(cp, "ENGAGE_AFTER", 0)  # the coarse level from the first iteration
+    sc, h, model, law, z_of = case(nodes=2048)
+    deltas = 3e-9 * np.arange(1, 8)
+    ref = ramp(model, law, z_of, deltas, Settings(tolerance=TOL))
+    two = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, cohesive_preconditioner="two-level"))
+    bound = tolerance_bound(model, TOL)
+    for a, b in zip(ref, two):
+        assert b.method == "ncg" and b.residual < TOL
+        assert np.max(np.abs(a.u_z - b.u_z)) < bound
+        np.testing.assert_array_equal(a.t_z < 0, b.t_z < 0)
+    assert np.mean(ref[-1].t_z < 0) > 0.02  # the last steps are in strong contact ...
+    assert sum(r.iterations for r in two[-3:]) < 0.75 * sum(r.iterations for r in ref[-3:])  # ... and cheaper (0.63 here)
+
+
+@pytest.mark.parametrize("value", ["jacobi", "", "Two-Level"])
+def test_bad_preconditioner_names_the_key(value):
+    sc, h, model, law, z_of = case(nodes=256)
+    u0 = np.zeros((model.components, model.nodes // 2 + 1), complex)
+    with pytest.raises(ValueError, match="Settings.cohesive_preconditioner"):
+        relax(model, law, z_of(1e-9), u0, Settings(cohesive_preconditioner=value), 0.0)
+
+
+def test_blocks_are_runs_of_consecutive_nodes():
+    nodes = np.array([3, 4, 5, 6, 7, 9, 10, 20, 21, 22, 23, 24, 25, 26])
+    starts = cp.blocks(nodes, 3)
+    np.testing.assert_array_equal(nodes[starts], [3, 6, 9, 20, 23, 26])
