@@ -63,12 +63,14 @@ CLASSES = {
 OTHER = {"coupled": ("fire (before issue 24)", {"coupled": "fire"})}
 
 
-def ramp(n, cls, options=None, max_steps=None):
-    """One task's ramp at N = n: list of per-step dicts (it, pairs, cpu, a_rel, method, converged)."""
+def ramp(n, cls, options=None, max_steps=None, realization=0, states=False):
+    """One task's ramp at N = n: list of per-step dicts (it, pairs, cpu, p, a_rel, method, converged; the
+    accepted u_hat with states=True). realization i: the profile of seed 1 + i (0: the seed's own)."""
     base = load_scene(SEED / "seed_base.toml")
     rollon = max(base.surface.rollon_wavelength, ROLLON_NODES * base.surface.length / n)
-    scene = task_scene(base.replace(**{"surface.nodes": n, "surface.rollon_wavelength": rollon, **CLASSES[cls]}), 0)
-    h = surfaces.profile(scene.surface, 0)
+    scene = task_scene(base.replace(**{"surface.nodes": n, "surface.rollon_wavelength": rollon, **CLASSES[cls]}),
+                       realization)
+    h = surfaces.profile(scene.surface, 0)  # the task scene's seed is seed + realization, run as 0
     cell = prepare(scene, h)
     settings = replace(cell.settings, **(options or {}))
     steps, _ = realization_steps(scene, h, 0)
@@ -90,7 +92,7 @@ def ramp(n, cls, options=None, max_steps=None):
         obs = step_observables(scene, h, r.gap, r.t_z)
         rows.append({"k": k, "delta": displacement - d0, "it": it, "pairs": pairs, "cpu": cpu,
                      "a_rel": float(obs["a_rel"]), "method": r.method, "converged": bool(r.converged),
-                     "residual": r.residual})
+                     "residual": r.residual, "p": float(obs["p"]), **({"u_hat": r.u_hat} if states else {})})
         if r.converged:
             previous, current = current, r.u_hat
         if obs["a_rel"] >= A_REL_STOP or (max_steps and k + 1 >= max_steps):

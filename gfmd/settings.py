@@ -43,6 +43,10 @@ class Settings:
     # of the ramp's branch, else the "fire" chain), "ptc" (as "newton", pseudo-transient continuation before FIRE;
     # measured, not the default) or "fire" (FIRE; Newton–Krylov, then Verlet after a stall)
     coupled: str = "newton"
+    # coupled chains "handover" / "handover-near" (measured, not the default): FIRE stops at this residual (× p_ref)
+    # and Newton–Krylov finishes from there, kept only near FIRE's state (and, "handover", locally stable), else
+    # FIRE goes on (`gfmd.chains`)
+    coupled_handover: float = 1e-4
     # coupled Newton–Krylov: give the step up at the first GMRES solve that misses its tolerance (True: the
     # Newton-first chain's continuation link, `gfmd.chains`; False: go on with the inexact direction)
     coupled_gmres_give_up: bool = False
