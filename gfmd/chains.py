@@ -28,6 +28,12 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   ``coupled = "ptc"`` (issue 24, measured, not the default: benchmarks/results/bench_coupled_ptc.md): the Newton
   chain with pseudo-transient continuation (`coupled_ptc`, from the guess, kept only where locally stable)
   between the continuation Newton and FIRE.
+  ``coupled = "handover-near"`` / ``"handover"`` (issue 24, measured, not the default:
+  benchmarks/results/bench_coupled_handover.md): the Newton chain whose FIRE stops at the looser residual
+  `Settings.coupled_handover` (link tolerance "handover") and hands its state to Newton–Krylov (GMRES give-up),
+  whose converged state is kept only where no node moved `COUPLED_HANDOVER_MOVE` law lengths from FIRE's state (the
+  equilibrium FIRE's damped dynamics was approaching) and, "handover", where locally stable; else FIRE goes on from
+  its handover state with the rest of its budget, and then as the "newton" chain.
 * cohesive wall: projected FIRE, or Verlet (method "verlet").
 * user law (`contact.user_law`, normal-only, a potential): as the normal-only cohesive law, the NCG (its
   generic nodal path: the user's traction and tangent on every node) and FIRE after a stall; the labels are
