@@ -103,14 +103,14 @@ def tolerance_bound(n, realization):
 
 def compare(ref, rows, n):
     """Per-step differences from the default: max |Δp|/max|p|, steps with a_rel differing, max nodal |Δu| / δn."""
-    dp, da, du, steps = 0.0, [], 0.0, min(len(ref), len(rows))
+    dp, da, du, steps = 0.0, [], None, min(len(ref), len(rows))
     pscale = max(abs(r["p"]) for r in ref)
     for a, b in zip(ref[:steps], rows[:steps]):
         dp = max(dp, abs(a["p"] - b["p"]) / pscale)
         if a["a_rel"] != b["a_rel"]:
             da.append(a["k"])
         if "u_hat" in a:
-            du = max(du, float(np.max(np.abs(np.fft.irfft(a["u_hat"] - b["u_hat"], n)))) / 1e-9)  # δn = 1 nm
+            du = max(du or 0.0, float(np.max(np.abs(np.fft.irfft(a["u_hat"] - b["u_hat"], n)))) / 1e-9)  # δn = 1 nm
     return dp, da, du
 
 
@@ -148,7 +148,7 @@ def main(argv=None):
                 labels = "/".join(sorted({r["method"] for r in rows}))
                 line = (f"| 2^{e} | {real} | {name} | {len(rows)} | {len(ev)} | {sum(r['pairs'] for r in rows):.0f} | "
                         f"{sum(r['stab'] for r in rows):.0f} | {sum(r['pairs'] for r in ev):.0f} | {cpu:.1f} | "
-                        f"{dp:.2g} | {da or '—'} | {du:.2g} ({bound:.2g}) | {labels} |")
+                        f"{dp:.2g} | {da or '—'} | {'not kept' if du is None else f'{du:.2g}'} ({bound:.2g}) | {labels} |")
                 table.append(line)
                 print(line, flush=True)
             names = [v[0] for v in variants]
