@@ -65,12 +65,13 @@ CLASSES = {
 OTHER = {"coupled": ("fire (before issue 24)", {"coupled": "fire"})}
 
 
-def ramp(n, cls, options=None, max_steps=None, realization=1, scene_keys=None, a_rel_stop=A_REL_STOP, states=None):
+def ramp(n, cls, options=None, max_steps=None, realization=1, scene_keys=None, a_rel_stop=A_REL_STOP, states=None,
+         keep_u_hat=False):
     """One task's ramp at N = n: list of per-step dicts (it, pairs, cpu, a_rel, method, converged).
 
     realization: the surface seed (seed_base.toml's seed 1 is realization 1); scene_keys: more scene
     overrides (e.g. {"interface.length_normal": 0.25e-9}); states: a list that receives each step's
-    (p̄, gap) when given.
+    (p̄, gap) when given; keep_u_hat: each row also holds the accepted spectra u_hat.
     """
     base = load_scene(SEED / "seed_base.toml")
     rollon = max(base.surface.rollon_wavelength, ROLLON_NODES * base.surface.length / n)
@@ -98,7 +99,7 @@ def ramp(n, cls, options=None, max_steps=None, realization=1, scene_keys=None, a
         obs = step_observables(scene, h, r.gap, r.t_z)
         rows.append({"k": k, "delta": displacement - d0, "it": it, "pairs": pairs, "cpu": cpu,
                      "a_rel": float(obs["a_rel"]), "method": r.method, "converged": bool(r.converged),
-                     "residual": r.residual, "p": float(obs["p"])})
+                     "residual": r.residual, "p": float(obs["p"]), **({"u_hat": r.u_hat} if keep_u_hat else {})})
         if states is not None:
             states.append(np.array(r.gap, copy=True))
         if r.converged:

@@ -28,6 +28,12 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   ``coupled = "ptc"`` (issue 24, measured, not the default: benchmarks/results/bench_coupled_ptc.md): the Newton
   chain with pseudo-transient continuation (`coupled_ptc`, from the guess, kept only where locally stable)
   between the continuation Newton and FIRE.
+  ``coupled = "handover-near"`` / ``"handover"`` (issue 24, measured, not the default:
+  benchmarks/results/bench_coupled_handover.md): the Newton chain whose FIRE stops at the looser residual
+  `Settings.coupled_handover` (link tolerance "handover") and hands its state to Newton–Krylov (GMRES give-up),
+  whose converged state is kept only where no node moved `COUPLED_HANDOVER_MOVE` law lengths from FIRE's state (the
+  equilibrium FIRE's damped dynamics was approaching) and, "handover", where locally stable; else FIRE goes on from
+  its handover state with the rest of its budget, and then as the "newton" chain.
 * cohesive wall: projected FIRE, or Verlet (method "verlet").
 * user law (`contact.user_law`, normal-only, a potential): as the normal-only cohesive law, the NCG (its
   generic nodal path: the user's traction and tangent on every node) and FIRE after a stall; the labels are
@@ -75,6 +81,9 @@ COUPLED_FIRE_BUDGET = 2000
 #: length, min(δn, δt)) or more from the step's start: the continuation of the stable branch the ramp is on.
 #: A larger move (a snap or slip event) hands the step to the FIRE chain, whose Newton is tested for stability
 COUPLED_JUMP = 1.0
+#: handover chains (``coupled = "handover"``): Newton's state from FIRE's handover state is kept only where no node
+#: moved COUPLED_HANDOVER_MOVE · min(δn, δt) or more from it (the equilibrium FIRE was approaching, not another)
+COUPLED_HANDOVER_MOVE = 0.1
 
 
 @dataclass(frozen=True)
@@ -85,8 +94,12 @@ class Link:
     tried in turn until one is kept: "guess" (the step's), "end" (where the link before stopped),
     "finite end" (that, unless its residual was not finite); budget: its iterations, "all"
     (max_iterations), "left" (what the links before left), "rest" (that, at least 1), "coupled fire"
-    (min(COUPLED_FIRE_BUDGET, max_iterations // 2)); accept: "locally stable" keeps a converged state
-    only where the tangent's eigenvalues nearest 0 have Re λ > 0.
+    (min(COUPLED_FIRE_BUDGET, max_iterations // 2)), "coupled fire left" (that less the handover link's
+    iterations, at least 1); accept: "locally stable" keeps a converged state only where the tangent's
+    eigenvalues nearest 0 have Re λ > 0, "near" only where no node moved COUPLED_HANDOVER_MOVE law lengths from
+    its start, "near, locally stable" both; tolerance: "handover" runs the link to the looser residual
+    `Settings.coupled_handover` and hands the state it reaches to the links after it (start "handover": that
+    state; the link is skipped where the handover residual was not reached).
     """
 
     algorithm: str
@@ -94,6 +107,7 @@ class Link:
     starts: tuple = ("guess",)
     budget: str = "all"
     accept: str = ""
+    tolerance: str = ""
 
 
 _VERLET = (("method", "verlet"),)
@@ -120,6 +134,21 @@ CHAINS = {
                          Link("dynamics", budget="coupled fire"),
                          Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                          Link("dynamics", options=_VERLET, budget="rest")),
+    # FIRE to the handover residual, Newton from there (kept near FIRE's state: the same equilibrium), else FIRE
+    # goes on from its handover state with the budget left; then as the "newton" chain
+    ("coupled", "handover"): (Link("coupled_newton", options=_GIVE_UP, accept="continuation"),
+                              Link("dynamics", budget="coupled fire", tolerance="handover"),
+                              Link("coupled_newton", options=_GIVE_UP, starts=("handover",),
+                                   accept="near, locally stable"),
+                              Link("dynamics", starts=("handover",), budget="coupled fire left"),
+                              Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
+                              Link("dynamics", options=_VERLET, budget="rest")),
+    ("coupled", "handover-near"): (Link("coupled_newton", options=_GIVE_UP, accept="continuation"),
+                                   Link("dynamics", budget="coupled fire", tolerance="handover"),
+                                   Link("coupled_newton", options=_GIVE_UP, starts=("handover",), accept="near"),
+                                   Link("dynamics", starts=("handover",), budget="coupled fire left"),
+                                   Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
+                                   Link("dynamics", options=_VERLET, budget="rest")),
     ("coupled", "verlet"): (Link("dynamics"),),
     ("user", "ncg"): (Link("ncg"), Link("dynamics", budget="rest")),
     ("user", "fire"): (Link("dynamics"),),
@@ -134,7 +163,9 @@ WORDS = {"hard_wall_two_level_cg": "the two-level dual CG", "cg-dual2": "the two
          "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov",
          "ptc": "pseudo-transient continuation"}
 STARTS = {"guess": "the step's guess", "end": "the end state of the one before",
-          "finite end": "the end state of the one before"}
+          "finite end": "the end state of the one before", "handover": "FIRE's handover state"}
+#: Settings.coupled's chains (`chain_key`)
+COUPLED_KEYS = ("newton", "ptc", "fire", "handover", "handover-near")
 
 
 #: why a 2+1-D surface is normal-only (`refuse_tangential_surface`)
@@ -175,8 +206,13 @@ def chain_key(problem, settings):
             raise ValueError(f"Settings.hard_wall = {settings.hard_wall!r}: expected 'cg' or 'fire'")
         return kind, "verlet" if settings.method == "verlet" else "fire"
     if kind == "coupled":
-        if settings.method == "fire" and settings.coupled not in ("newton", "ptc", "fire"):
-            raise ValueError(f"Settings.coupled = {settings.coupled!r}: expected 'newton', 'ptc' or 'fire'")
+        if settings.method == "fire" and settings.coupled not in COUPLED_KEYS:
+            raise ValueError(f"Settings.coupled = {settings.coupled!r}: expected one of {', '.join(COUPLED_KEYS)}")
+        if settings.method == "fire" and settings.coupled.startswith("handover"):
+            h = settings.coupled_handover
+            if not (isinstance(h, (float, int)) and settings.tolerance < h < 1.0):
+                raise ValueError(f"Settings.coupled_handover = {h!r}: expected a residual (× p_ref) between "
+                                 f"Settings.tolerance = {settings.tolerance:g} and 1")
         return kind, (settings.coupled if settings.method == "fire" else "verlet")
     if settings.method == "fire" and settings.cohesive not in ("ncg", "fire"):
         raise ValueError(f"Settings.cohesive = {settings.cohesive!r}: expected 'ncg' or 'fire'")
@@ -200,11 +236,12 @@ def describe(key, settings):
     return first + (f" (then {' → '.join(rest)} where it stalls)" if rest else "")
 
 
-def _budget(link, settings, used):
+def _budget(link, settings, used, handover_used=0):
     if link.budget == "all":
         return settings.max_iterations
-    if link.budget == "coupled fire":
-        return min(COUPLED_FIRE_BUDGET, settings.max_iterations // 2)
+    if link.budget.startswith("coupled fire"):
+        fire = min(COUPLED_FIRE_BUDGET, settings.max_iterations // 2)
+        return fire if link.budget == "coupled fire" else max(fire - handover_used, 1)
     left = settings.max_iterations - used
     return left if link.budget == "left" else max(left, 1)
 
@@ -215,7 +252,12 @@ def _rejected(problem, link, r, origin):
         move = float(np.max(np.abs(problem.displacements(r.u_hat - origin)))) / problem.law.law.length_scale
         return (f"a node moved {move:.3g} law lengths from the step's start (a snap or slip event: left to the "
                 "chain that tests stability)") if move >= COUPLED_JUMP else ""
-    if link.accept != "locally stable":
+    if link.accept.startswith("near"):  # the equilibrium the handover state was approaching, not another one
+        move = float(np.max(np.abs(problem.displacements(r.u_hat - origin)))) / problem.law.law.length_scale
+        if move >= COUPLED_HANDOVER_MOVE:
+            return (f"a node moved {move:.3g} law lengths from FIRE's handover state (another equilibrium than "
+                    "FIRE's), rejected")
+    if not link.accept.endswith("locally stable"):
         return ""
     lowest = coupled_stability(problem.model, problem.law, problem.z_ind, r.u_hat)
     if lowest is not None and lowest <= 0.0:  # not the state damped dynamics would settle in
@@ -266,17 +308,24 @@ def _relax(problem, chain, u_hat, settings):
     """`relax` along `chain` on a 1+1-D problem or a surface's flat view."""
     used, pairs, names, notes = 0, 0.0, [], []
     before = None  # the last link's final result: "end" starts from it
+    handed, handover_used = None, 0  # the state a "handover" link reached (start "handover") and its iterations
     for i, link in enumerate(chain):
         options = dict(link.options)
-        budget = _budget(link, settings, used)
+        budget = _budget(link, settings, used, handover_used)
         if budget != settings.max_iterations:
             options["max_iterations"] = budget
+        if link.tolerance == "handover":
+            options["tolerance"] = settings.coupled_handover
         run = replace(settings, **options) if options else settings
         last_link = i == len(chain) - 1
         result = None
         for start in link.starts:
             if start == "guess":
                 origin = u_hat
+            elif start == "handover":
+                if handed is None:
+                    continue
+                origin = handed.u_hat
             elif start == "end" or np.isfinite(before.residual):
                 origin = before.u_hat
             else:
@@ -286,9 +335,13 @@ def _relax(problem, chain, u_hat, settings):
             pairs += r.fft_pairs
             if r.method and (not names or names[-1] != r.method):
                 names.append(r.method)
+            label = WORDS.get(r.method) or WORDS.get(link.algorithm, link.algorithm)
+            if link.tolerance == "handover" and r.converged:  # the looser residual: handed on, not the answer
+                handed, handover_used = r, r.iterations
+                notes.append(f"{label} handed over at residual {r.residual:.3g} p_ref")
+                break
             why = _rejected(problem, link, r, origin) if r.converged else ""
             where = "" if start == "guess" or i == 0 else f" from {STARTS[start]}"
-            label = WORDS.get(r.method) or WORDS.get(link.algorithm, link.algorithm)
             if r.converged and not why or not r.converged and (last_link or not r.stalled):
                 result = r
                 break

@@ -41,8 +41,12 @@ class Settings:
     cohesive: str = "ncg"
     # coupled law (seed Eq. 2) with method "fire": "newton" (Newton–Krylov first, its state kept as a continuation
     # of the ramp's branch, else the "fire" chain), "ptc" (as "newton", pseudo-transient continuation before FIRE;
-    # measured, not the default) or "fire" (FIRE; Newton–Krylov, then Verlet after a stall)
+    # measured, not the default), "fire" (FIRE; Newton–Krylov, then Verlet after a stall) or "handover-near" /
+    # "handover" (as "newton", FIRE handing over to Newton–Krylov at `coupled_handover`; measured, not the default)
     coupled: str = "newton"
+    # the handover chains: FIRE stops at this residual (× p_ref) and Newton–Krylov finishes from there, its state kept
+    # only near FIRE's (and, "handover", locally stable), else FIRE goes on (`gfmd.chains`)
+    coupled_handover: float = 1e-4
     # cohesive NCG's preconditioner (`gfmd.cohesive_preconditioner`): "stiffness" (K⁻¹ on the modes) or
     # "two-level" (K⁻¹ balanced by a coarse space on the stiff patches, engaged on the steps that need it)
     cohesive_preconditioner: str = "stiffness"
@@ -83,7 +87,8 @@ class Relaxed:
     message: str = ""
     fft_pairs: float = 0.0  # rfft+irfft pairs the relaxation used (0 where not counted)
     #: the algorithms that produced this state, joined by "→" where a fallback ran: "ncg", "ncg→fire",
-    #: "fire", "verlet", "cg-dual2", "cg-dual2→cg", "cg-dual", "cg-dual→cg", "cg", "fire→newton", "fire→newton→verlet"
+    #: "fire", "verlet", "cg-dual2", "cg-dual2→cg", "cg-dual", "cg-dual→cg", "cg", "fire→newton", "fire→newton→verlet",
+    #: "newton→fire→newton" (a handover chain's Newton finished FIRE's step)
     method: str = ""
     stalled: str = ""  # non-empty: the algorithm hands the step over to the next of its chain (why)
 
