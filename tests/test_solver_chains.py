@@ -121,7 +121,8 @@ def test_energy_is_infinite_through_the_wall_and_undefined_for_the_coupled_law()
 
 SETTINGS_OF_KEY = {"cg": Settings(), "cg-band": Settings(dual_coarse_block=0), "cg-primal": Settings(dual_contact_limit=0.0),
                    "fire": Settings(hard_wall="fire", cohesive="fire", coupled="fire"), "verlet": Settings(method="verlet"),
-                   "ncg": Settings(), "newton": Settings(), "ptc": Settings(coupled="ptc")}
+                   "ncg": Settings(), "newton": Settings(), "ptc": Settings(coupled="ptc"),
+                   "handover": Settings(coupled="handover"), "handover-near": Settings(coupled="handover-near")}
 LAW_OF_KIND = {"hard-wall": ("hard-wall", {}), "cohesive": ("cohesive", {}), "cohesive-wall": ("cohesive-wall", {}),
                "coupled": ("cohesive", {"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3}),
                "user": ("user", {})}
