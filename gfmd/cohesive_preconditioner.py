@@ -5,7 +5,10 @@ The NCG's Hessian is A = K + D, K diagonal on the modes (K(q) ∝ q E*/2), D = d
 I + K⁻¹D: its largest eigenvalues grow with the width of the stiff patches (the modes longer than the
 crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.cohesive_preconditioner`:
 
-* "stiffness": K⁻¹ (the default; the NCG's own fused path, no object of this module);
+* "auto" (the default): "two-level" on a profile with seed Eq. 3's law, "stiffness" elsewhere (2+1-D
+  surfaces, user laws), `resolve`; measured at N = 2^17 on the strong-adhesion ramp (seed 2, δn = 0.25 nm,
+  φn* = 0.15): −36 % FFT pairs, −33 % CPU, the same states (benchmarks/results/bench_cohesive_preconditioner.md);
+* "stiffness": K⁻¹ (the NCG's own fused path, no object of this module; the default before session 25);
 * "two-level": K⁻¹ balanced by a coarse space (the BNN form of `gfmd.algorithms.hard_wall_two_level_cg`),
   (I − P A) K⁻¹ (I − A P) + P, P = Z E⁻¹ Zᵀ, E = Zᵀ A Z, Z piecewise constant on blocks of consecutive
   stiff nodes (max(k_loc, 0) ≥ STIFF_FRACTION φn/δn²) of about half the crossover wavelength, so that
@@ -25,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-CHOICES = ("stiffness", "two-level")
+CHOICES = ("auto", "stiffness", "two-level")
 #: a step runs its first ENGAGE_AFTER iterations with K⁻¹ (the easy steps never pay for the coarse level)
 ENGAGE_AFTER = 40
 #: then the NCG rebuilds the preconditioner every this many iterations, restarting its direction where it changed
@@ -50,6 +53,15 @@ def check(settings, grid=None):
         raise ValueError(f"Settings.cohesive_preconditioner = {name!r}: expected one of {', '.join(CHOICES)}")
     if name == "two-level" and grid is not None and np.ndim(grid) > 0 and len(grid) > 1:
         raise ValueError("Settings.cohesive_preconditioner = 'two-level' is for profiles (1+1-D) only")
+
+
+def resolve(name, grid=None, user=False):
+    """The preconditioner a `Settings.cohesive_preconditioner` value runs: "auto" is "two-level" on a profile
+    with seed Eq. 3's law, "stiffness" on a 2+1-D surface or for a user law (`user`)."""
+    if name != "auto":
+        return name
+    surface = grid is not None and np.ndim(grid) > 0 and len(grid) > 1
+    return "stiffness" if surface or user else "two-level"
 
 
 def build(name, fft, k, clamp, n, kn_scale):

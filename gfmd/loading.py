@@ -20,6 +20,7 @@ from contact.ramp import StepSolution, run_ramp
 
 from . import kernels
 from .chains import chain_key, describe, relax
+from .cohesive_preconditioner import resolve as resolve_preconditioner
 from .fft import fft_backend
 from .problem import InterfaceLaw, Problem
 from .settings import Settings
@@ -87,8 +88,13 @@ def chain(physics, settings):
 def integrator(physics, settings):
     """Which GFMD algorithms relax the steps (`gfmd.chains`), in words."""
     key = chain(physics, settings)
+    preconditioner = ""
+    if key[1] == "ncg":  # which preconditioner the NCG runs (`gfmd.cohesive_preconditioner`)
+        name = resolve_preconditioner(settings.cohesive_preconditioner, physics.grid, key[0] == "user")
+        preconditioner = f"; NCG preconditioner {name!r} (Settings.cohesive_preconditioner = " \
+                         f"{settings.cohesive_preconditioner!r})"
     return (f"integrator: {describe(key, settings)} (gfmd.chains {key[0]} / {key[1]}: solver.method = "
-            f"{settings.method!r}; each step's algorithm is in curve.csv's algorithm column)")
+            f"{settings.method!r}; each step's algorithm is in curve.csv's algorithm column{preconditioner})")
 
 
 def describe_scene(scene, settings=None):

@@ -47,9 +47,10 @@ class Settings:
     # the handover chains: FIRE stops at this residual (× p_ref) and Newton–Krylov finishes from there, its state kept
     # only near FIRE's (and, "handover", locally stable), else FIRE goes on (`gfmd.chains`)
     coupled_handover: float = 1e-4
-    # cohesive NCG's preconditioner (`gfmd.cohesive_preconditioner`): "stiffness" (K⁻¹ on the modes) or
-    # "two-level" (K⁻¹ balanced by a coarse space on the stiff patches, engaged on the steps that need it)
-    cohesive_preconditioner: str = "stiffness"
+    # cohesive NCG's preconditioner (`gfmd.cohesive_preconditioner`): "auto" ("two-level" on a profile with Eq. 3's
+    # law, else "stiffness"), "stiffness" (K⁻¹ on the modes) or "two-level" (K⁻¹ balanced by a coarse space on the
+    # stiff patches, engaged on the steps that need it)
+    cohesive_preconditioner: str = "auto"
     # coupled Newton–Krylov: give the step up at the first GMRES solve that misses its tolerance (True: the
     # Newton-first chain's continuation link, `gfmd.chains`; False: go on with the inexact direction)
     coupled_gmres_give_up: bool = False

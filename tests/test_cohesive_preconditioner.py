@@ -75,7 +75,7 @@ def test_two_level_ramp_reaches_the_default_states(monkeypatch):
     monkeypatch.setattr(cp, "ENGAGE_AFTER", 0)  # the coarse level from the first iteration
     sc, h, model, law, z_of = case(nodes=2048)
     deltas = 3e-9 * np.arange(1, 8)
-    ref = ramp(model, law, z_of, deltas, Settings(tolerance=TOL))
+    ref = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, cohesive_preconditioner="stiffness"))
     two = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, cohesive_preconditioner="two-level"))
     bound = tolerance_bound(model, TOL)
     for a, b in zip(ref, two):
@@ -84,6 +84,14 @@ def test_two_level_ramp_reaches_the_default_states(monkeypatch):
         np.testing.assert_array_equal(a.t_z < 0, b.t_z < 0)
     assert np.mean(ref[-1].t_z < 0) > 0.02  # the last steps are in strong contact ...
     assert sum(r.iterations for r in two[-3:]) < 0.75 * sum(r.iterations for r in ref[-3:])  # ... and cheaper (0.63 here)
+
+
+def test_auto_is_two_level_on_profiles_with_eq3_only():
+    assert Settings().cohesive_preconditioner == "auto"
+    assert cp.resolve("auto", (256,)) == "two-level" and cp.resolve("auto", None) == "two-level"
+    assert cp.resolve("auto", (64, 64)) == "stiffness"  # 2+1-D surface
+    assert cp.resolve("auto", (256,), user=True) == "stiffness"  # a user law
+    assert cp.resolve("stiffness", (256,)) == "stiffness" and cp.resolve("two-level", (256,)) == "two-level"
 
 
 @pytest.mark.parametrize("value", ["jacobi", "", "Two-Level"])

@@ -92,9 +92,11 @@ def test_embedded_sinusoid_equals_profile(embedded):
     methods = set()
     for push in (3e-9, 8e-9, 9.9e-9):
         z1, z2 = indenter_surface(h, d0, d0 + push), indenter_surface(h2, d0, d0 + push)
-        # the profile with the dual CG a surface runs (the band preconditioner; a surface has no two-level CG)
+        # the profile with the algorithms a surface runs (the dual CG's band preconditioner, the NCG's K⁻¹: a
+        # surface has no two-level CG and no two-level NCG preconditioner)
         r1 = relax(m1, InterfaceLaw(m1), z1, np.zeros((1, NODES // 2 + 1), complex),
-                   dataclasses.replace(settings, dual_coarse_block=0), wall_tolerance)
+                   dataclasses.replace(settings, dual_coarse_block=0, cohesive_preconditioner="stiffness"),
+                   wall_tolerance)
         r2 = relax(m2, InterfaceLaw(m2), z2, np.zeros((1,) + m2.spectrum_shape, complex), settings, wall_tolerance)
         assert r1.converged and r2.converged, (r1.message, r2.message)
         assert r2.u_hat.shape == (1, NODES, 8 // 2 + 1) and r2.u_z.shape == r2.t_z.shape == r2.gap.shape == (NODES, 8)

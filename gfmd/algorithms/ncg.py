@@ -87,7 +87,8 @@ def solve(problem, start, settings):
     product: d·Ku = Σ_j d_j T_n,j − f·d (f = T_n − K u − ⟨T_n⟩, Σ_j d_j = 0 on a half-plane) and,
     with K s = f, d·Kd = f·s + 2β f·d_old + β² d_old·K d_old: no K d.
 
-    `Settings.cohesive_preconditioner` = "two-level" replaces K⁻¹ after the step's first iterations by K⁻¹
+    `Settings.cohesive_preconditioner` = "two-level" (the default "auto" on a profile with Eq. 3's law) replaces
+    K⁻¹ after the step's first iterations by K⁻¹
     balanced by a coarse space on the stiff patches (`gfmd.cohesive_preconditioner`); K s ≠ f then, so d·Kd
     is a sum over the modes, and the direction restarts where the preconditioner is rebuilt.
 
@@ -123,7 +124,8 @@ def solve(problem, start, settings):
     cohesive_preconditioner.check(settings, model.grid)
     if user and settings.cohesive_preconditioner == "two-level":
         raise ValueError("Settings.cohesive_preconditioner = 'two-level' needs seed Eq. 3's law, not a user law")
-    other = cohesive_preconditioner.build(settings.cohesive_preconditioner, fft, k, clamp, n,
+    preconditioner_name = cohesive_preconditioner.resolve(settings.cohesive_preconditioner, model.grid, user)
+    other = cohesive_preconditioner.build(preconditioner_name, fft, k, clamp, n,
                                           float(cz.work_normal) / float(cz.length_normal) ** 2 if not user else 0.0)
     ones = np.ones(k.size)
     far = NCG_FAR_FRACTION * settings.tolerance * p_ref  # a far node's |T_n| is below this (Pa)
