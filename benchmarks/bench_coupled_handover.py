@@ -31,39 +31,20 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import bench_adhesion_scaling as bas  # noqa: E402
-from gfmd import chains, problem as gproblem  # noqa: E402
+import bench_coupled_ptc as ptc  # noqa: E402  (its stability-test pair counter)
+from gfmd import chains  # noqa: E402
 
 _calls = []  # per chains.relax call: (stability-test FFT pairs, converged)
 
 
-def _counted_stability(model, law, z_ind, u_hat, _inner=gproblem.coupled_stability):
-    """`coupled_stability`, its FFT pairs added to the current call's count."""
-    made, plain = [], gproblem.Fft
-
-    class Counting(plain):
-        def __init__(self, *a, **k):
-            super().__init__(*a, **k)
-            made.append(self)
-
-    gproblem.Fft = Counting
-    try:
-        return _inner(model, law, z_ind, u_hat)
-    finally:
-        gproblem.Fft = plain
-        _counting[0] += sum(f.pairs for f in made)
-
-
-_counting = [0.0]
-
-
 def _relax(*args, _inner=chains.relax):
-    _counting[0] = 0.0
+    ptc._stability_pairs[0] = 0.0
     r = _inner(*args)
-    _calls.append((_counting[0], r.converged))
+    _calls.append((ptc._stability_pairs[0], r.converged))
     return r
 
 
-chains.coupled_stability = _counted_stability
+chains.coupled_stability = ptc._counted_stability  # counts the stability test's FFT pairs
 bas.relax = _relax
 
 
