@@ -18,7 +18,10 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   tolerance, the sign of a near-singular or indefinite tangent along the step), its converged state kept only as
   a continuation of the ramp's branch (no node moved `COUPLED_JUMP` law lengths from the step's start);
   otherwise, and where it stalls, the chain of
-  ``coupled = "fire"``: FIRE; after a stall (`COUPLED_FIRE_BUDGET`) Newton–Krylov from the guess, then from
+  ``coupled = "fire"``, whose FIRE, where it stalls from the guess, runs again from the state where the
+  continuation Newton stalled (start "stalled end"; a jump-in fold, Fig. 8 at 2^17, seed 2, step 176: Newton stops at
+  a minimum of |f| beside the fold, FIRE from the guess does not settle in its budget, FIRE from Newton's state
+  carries the snap in 1 500 iterations): ``coupled = "fire"``: FIRE; after a stall (`COUPLED_FIRE_BUDGET`) Newton–Krylov from the guess, then from
   FIRE's end state, a converged state kept only where locally stable (`gfmd.problem.coupled_stability`, the FE
   reference's criterion); then Verlet from the guess. Method "verlet": Verlet. Measured
   (benchmarks/results/bench_adhesion_scaling_full.md): the Newton-first chain needs 2.8–3.1× fewer FFT pairs per
@@ -92,7 +95,8 @@ class Link:
 
     options: Settings fields this link sets, e.g. (("method", "verlet"),); starts: where it starts,
     tried in turn until one is kept: "guess" (the step's), "end" (where the link before stopped),
-    "finite end" (that, unless its residual was not finite); budget: its iterations, "all"
+    "finite end" (that, unless its residual was not finite), "stalled end" (that, only where the link before
+    stopped without converging at a finite residual: never a converged state it rejected); budget: its iterations, "all"
     (max_iterations), "left" (what the links before left), "rest" (that, at least 1), "coupled fire"
     (min(COUPLED_FIRE_BUDGET, max_iterations // 2)), "coupled fire left" (that less the handover link's
     iterations, at least 1); accept: "locally stable" keeps a converged state only where the tangent's
@@ -126,7 +130,7 @@ CHAINS = {
                           Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                           Link("dynamics", options=_VERLET, budget="rest")),
     ("coupled", "newton"): (Link("coupled_newton", options=_GIVE_UP, accept="continuation"),
-                            Link("dynamics", budget="coupled fire"),
+                            Link("dynamics", budget="coupled fire", starts=("guess", "stalled end")),
                             Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                             Link("dynamics", options=_VERLET, budget="rest")),
     ("coupled", "ptc"): (Link("coupled_newton", options=_GIVE_UP, accept="continuation"),
@@ -137,14 +141,16 @@ CHAINS = {
     # FIRE to the handover residual, Newton from there (kept near FIRE's state: the same equilibrium), else FIRE
     # goes on from its handover state with the budget left; then as the "newton" chain
     ("coupled", "handover"): (Link("coupled_newton", options=_GIVE_UP, accept="continuation"),
-                              Link("dynamics", budget="coupled fire", tolerance="handover"),
+                              Link("dynamics", budget="coupled fire", tolerance="handover",
+                                   starts=("guess", "stalled end")),
                               Link("coupled_newton", options=_GIVE_UP, starts=("handover",),
                                    accept="near, locally stable"),
                               Link("dynamics", starts=("handover",), budget="coupled fire left"),
                               Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                               Link("dynamics", options=_VERLET, budget="rest")),
     ("coupled", "handover-near"): (Link("coupled_newton", options=_GIVE_UP, accept="continuation"),
-                                   Link("dynamics", budget="coupled fire", tolerance="handover"),
+                                   Link("dynamics", budget="coupled fire", tolerance="handover",
+                                   starts=("guess", "stalled end")),
                                    Link("coupled_newton", options=_GIVE_UP, starts=("handover",), accept="near"),
                                    Link("dynamics", starts=("handover",), budget="coupled fire left"),
                                    Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
@@ -163,7 +169,8 @@ WORDS = {"hard_wall_two_level_cg": "the two-level dual CG", "cg-dual2": "the two
          "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov",
          "ptc": "pseudo-transient continuation"}
 STARTS = {"guess": "the step's guess", "end": "the end state of the one before",
-          "finite end": "the end state of the one before", "handover": "FIRE's handover state"}
+          "finite end": "the end state of the one before", "handover": "FIRE's handover state",
+          "stalled end": "where the one before stalled"}
 #: Settings.coupled's chains (`chain_key`)
 COUPLED_KEYS = ("newton", "ptc", "fire", "handover", "handover-near")
 
@@ -326,6 +333,10 @@ def _relax(problem, chain, u_hat, settings):
                 if handed is None:
                     continue
                 origin = handed.u_hat
+            elif start == "stalled end":  # a fold's neighbourhood, where Newton stalled: FIRE carries the snap
+                if before is None or before.converged or not np.isfinite(before.residual):
+                    continue
+                origin = before.u_hat
             elif start == "end" or np.isfinite(before.residual):
                 origin = before.u_hat
             else:

@@ -24,7 +24,7 @@ from contact.scene import default_scene
 from gfmd import chains
 from gfmd.loading import prepare, run_realization
 from gfmd.problem import Problem
-from gfmd.solver import InterfaceLaw, Settings, relax
+from gfmd.solver import InterfaceLaw, Relaxed, Settings, relax
 
 
 def problem(law="cohesive", nodes=256, delta=3e-9, thickness=None, **extra):
@@ -185,3 +185,40 @@ def test_ramp_results_name_the_algorithm_of_every_step():
     assert prepare(hard, surfaces.profile(hard.surface, 0)).method == "gfmd-cg"
     verlet = sc.replace(**{"solver.method": "verlet"})
     assert prepare(verlet, surfaces.profile(verlet.surface, 0)).method == "gfmd-verlet"
+
+
+@pytest.mark.parametrize("newton_converged", [False, True])
+def test_coupled_fire_restarts_where_newton_stalled_never_from_a_rejected_state(monkeypatch, newton_converged):
+    """The default coupled chain: FIRE stalled from the guess runs again from the state where the continuation
+    Newton stalled (a fold: Fig. 8 at 2^17, seed 2, step 176); a converged Newton state the chain rejected (a jump)
+    is never a start (FIRE would keep it without the stability test)."""
+    p = problem("cohesive", **{"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3})
+    settings = Settings(tolerance=1e-8)
+    assert chains.chain_key(p, settings) == ("coupled", "newton")
+    shape = (p.model.components, p.model.nodes // 2 + 1)
+    guess, newton_end = np.zeros(shape, complex), np.full(shape, 1e-12 + 0j)
+    starts = []
+
+    def record(u_hat, converged, method):
+        fields = np.zeros((p.model.nodes,))
+        return Relaxed(u_hat, fields, fields, fields, fields, fields, 5, 1e-9 if converged else 1e-4, converged,
+                       method=method, stalled="" if converged else "stalled")
+
+    def newton(problem, start, run):
+        starts.append(("newton", start is guess))
+        return record(newton_end, newton_converged and run.coupled_gmres_give_up, "newton")
+
+    def fire(problem, start, run):
+        starts.append(("fire", "guess" if start is guess else "newton end" if start is newton_end else "other"))
+        return record(start, start is newton_end, "fire")
+
+    monkeypatch.setitem(chains.ALGORITHMS, "coupled_newton", newton)
+    monkeypatch.setitem(chains.ALGORITHMS, "dynamics", fire)
+    monkeypatch.setattr(chains, "_rejected", lambda problem, link, r, origin: "a jump" if link.accept else "")
+    r = chains.relax(p.model, p.law, p.z_ind, guess, settings, p.wall_tolerance)
+    fires = [s for s in starts if s[0] == "fire"]
+    if newton_converged:  # rejected: FIRE and then Verlet from the guess, never from the rejected state
+        assert fires == [("fire", "guess"), ("fire", "guess")] and not r.converged
+    else:
+        assert fires == [("fire", "guess"), ("fire", "newton end")]
+        assert r.converged and r.method == "newton→fire" and "FIRE stopped" in r.message
