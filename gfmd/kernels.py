@@ -68,6 +68,11 @@ def _raw(a, b):
     return float(np.einsum("i,i->", a.view(np.float64), b.view(np.float64)))
 
 
+def nodal_dot(a, b, nodes):
+    """Σ_j a_j b_j of two profiles' nodal fields from their rfft spectra (Parseval, `_nodal`)."""
+    return _nodal(_raw(a, b), a, b, nodes)
+
+
 def _products_numpy(f, f_old, d, g, nodes):
     s = g * f
     return (_nodal(_raw(f, s), f, s, nodes), _nodal(_raw(f_old, s), f_old, s, nodes),

@@ -194,8 +194,8 @@ def solve(problem, start, settings):
                 if other.rebuild(k_loc) or it == cohesive_preconditioner.ENGAGE_AFTER:
                     restart = True
             s_hat, s_nodes = other.apply(f_hat)
-            _, rz, f_d_old = products(f_hat, s_hat, d_hat, ones, n)
-            f_old_s = products(s_hat, f_old, d_hat, ones, n)[1]
+            rz, f_old_s = kernels.nodal_dot(f_hat, s_hat, n), kernels.nodal_dot(f_old, s_hat, n)
+            f_d_old = kernels.nodal_dot(f_hat, d_hat, n)
         e_norm = np.sqrt(max(rz, 0.0))
         if ratio is None or it % settings.check_every == 0 or e_norm * ratio < settings.tolerance * p_ref:
             # the test of `gfmd.algorithms.dynamics` (verification.mutations' stop-early-cohesive mutates all three)
@@ -231,7 +231,7 @@ def solve(problem, start, settings):
             direction(f_hat, g, beta, d_hat)  # d̂ ← ŝ + β d̂
         else:  # K s ≠ f: d·Kd as a sum over the modes
             direction(s_hat, ones, beta, d_hat)
-            c2 = products(d_hat, d_hat, d_hat, k, n)[0]
+            c2 = kernels.nodal_dot(d_hat, k * d_hat, n)
             if s_nodes is not None and (beta == 0.0 or d_nodes is not None):  # d on the nodes without an irfft
                 d_nodes = s_nodes if beta == 0.0 else s_nodes + beta * d_nodes
             else:
