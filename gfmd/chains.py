@@ -253,14 +253,19 @@ def _budget(link, settings, used, handover_used=0):
     return left if link.budget == "left" else max(left, 1)
 
 
+def _move(problem, r, origin):
+    """The largest nodal move from `origin` to r's state, in law lengths (min(δn, δt))."""
+    return float(np.max(np.abs(problem.displacements(r.u_hat - origin)))) / problem.law.law.length_scale
+
+
 def _rejected(problem, link, r, origin):
     """Why a converged state fails the link's acceptance test ("" if it passes)."""
     if link.accept == "continuation":  # kept only where no node moved COUPLED_JUMP law lengths from the start
-        move = float(np.max(np.abs(problem.displacements(r.u_hat - origin)))) / problem.law.law.length_scale
+        move = _move(problem, r, origin)
         return (f"a node moved {move:.3g} law lengths from the step's start (a snap or slip event: left to the "
                 "chain that tests stability)") if move >= COUPLED_JUMP else ""
     if link.accept.startswith("near"):  # the equilibrium the handover state was approaching, not another one
-        move = float(np.max(np.abs(problem.displacements(r.u_hat - origin)))) / problem.law.law.length_scale
+        move = _move(problem, r, origin)
         if move >= COUPLED_HANDOVER_MOVE:
             return (f"a node moved {move:.3g} law lengths from FIRE's handover state (another equilibrium than "
                     "FIRE's), rejected")
