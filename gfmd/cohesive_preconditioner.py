@@ -45,13 +45,18 @@ def blocks(nodes, block):
     return np.flatnonzero(in_run % block == 0)
 
 
+def _surface(grid):
+    """True for a 2+1-D surface's grid (Nx, Ny); a profile's (N,) or None: False."""
+    return grid is not None and np.ndim(grid) > 0 and len(grid) > 1
+
+
 def check(settings, grid=None):
     """Raise ValueError naming Settings.cohesive_preconditioner for an unknown choice (or "two-level" on a
     2+1-D surface)."""
     name = settings.cohesive_preconditioner
     if name not in CHOICES:
         raise ValueError(f"Settings.cohesive_preconditioner = {name!r}: expected one of {', '.join(CHOICES)}")
-    if name == "two-level" and grid is not None and np.ndim(grid) > 0 and len(grid) > 1:
+    if name == "two-level" and _surface(grid):
         raise ValueError("Settings.cohesive_preconditioner = 'two-level' is for profiles (1+1-D) only")
 
 
@@ -60,8 +65,7 @@ def resolve(name, grid=None, user=False):
     with seed Eq. 3's law, "stiffness" on a 2+1-D surface or for a user law (`user`)."""
     if name != "auto":
         return name
-    surface = grid is not None and np.ndim(grid) > 0 and len(grid) > 1
-    return "stiffness" if surface or user else "two-level"
+    return "stiffness" if _surface(grid) or user else "two-level"
 
 
 def build(name, fft, k, clamp, n, kn_scale):
