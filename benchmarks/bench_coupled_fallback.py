@@ -5,7 +5,7 @@ Usage: python benchmarks/bench_coupled_fallback.py [--small] [--replay RUN_DIR F
 Two chains relax the same steps from the same warm starts, one after the other in one run:
   before  the Newton-first chain as it was: the continuation Newton goes on with inexact GMRES directions
           (up to COUPLED_NEWTON_ITERATIONS = 60) before FIRE;
-  after   the default chain (`gfmd.chains.CHAINS[("coupled", "newton")]`): its continuation Newton
+  after   the "newton" chain (`gfmd.chains.CHAINS[("coupled", "newton")]`): its continuation Newton
           (Settings.coupled_gmres_give_up) gives the step up at the first GMRES solve that misses its tolerance.
 --small: the coupled tasks of studies/seed/fig8_small.toml (N = 4096, 100 steps, ν = 0.1 and 0.45, c = 0.5,
 realizations 0 and 1), whole ramps; each chain runs its own ramp (warm starts from its own states).

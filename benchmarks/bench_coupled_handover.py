@@ -1,15 +1,16 @@
-"""The coupled chain's FIRE→Newton handover vs the default chain on the Fig. 8 coupled ramp (issue 24).
+"""The coupled chain's FIRE→Newton handover vs the "newton" chain on the Fig. 8 coupled ramp (issue 24).
 
 Usage: python benchmarks/bench_coupled_handover.py [--sizes 13 14] [--realizations 0 1] [--max-steps K]
                                                    [--handover 1e-4] [--variants handover handover-near]
 
 The coupled class of bench_adhesion_scaling (seed base scene, φn* = 0.15, c = 0.5, δt = 1 nm, until a_rel ≥ 0.5),
 realization i = profile seed 1 + i, each chain its own ramp in the same run (warm-up of 3 steps each, untimed):
-the default (Settings.coupled = "newton") and the handover chains ("handover": Newton from FIRE's state at
-Settings.coupled_handover kept where near and locally stable; "handover-near": near only). FFT pairs include the
+the "newton" chain (Settings.coupled = "newton", the default before session 26) and the handover chains
+("handover": Newton from FIRE's state at Settings.coupled_handover kept where near and locally stable;
+"handover-near", the default since: near only). FFT pairs include the
 stability test's (`gfmd.problem.coupled_stability`, not in `Relaxed.fft_pairs`: counted here, column "stab").
 Event steps: those the continuation Newton does not finish (label ≠ "newton"). Per step the variant's p and a_rel
-are compared with the default's, and (N ≤ 2^14) the largest nodal |Δu| / δn between the accepted states.
+are compared with the "newton" chain's, and (N ≤ 2^14) the largest nodal |Δu| / δn between the accepted states.
 Writes benchmarks/results/bench_coupled_handover_<tag>.md.
 """
 
@@ -83,7 +84,7 @@ def tolerance_bound(n, realization):
 
 
 def compare(ref, rows, n):
-    """Per-step differences from the default: max |Δp|/max|p|, steps with a_rel differing, max nodal |Δu| / δn."""
+    """Per-step differences from the "newton" chain: max |Δp|/max|p|, steps with a_rel differing, max nodal |Δu| / δn."""
     dp, da, du, steps = 0.0, [], None, min(len(ref), len(rows))
     pscale = max(abs(r["p"]) for r in ref)
     for a, b in zip(ref[:steps], rows[:steps]):
@@ -117,13 +118,13 @@ def main(argv=None):
     for e in args.sizes:
         n = 2**e
         for real in args.realizations:
-            variants = [("newton (default)", None)] + [(v, {"coupled": v, "coupled_handover": args.handover})
+            variants = [("newton", {"coupled": "newton"})] + [(v, {"coupled": v, "coupled_handover": args.handover})
                                                        for v in args.variants]
             results, bound = {}, tolerance_bound(n, real)
             for name, options in variants:
                 rows, cpu = run(n, real, options, args.max_steps)
                 results[name] = rows
-                ref = results["newton (default)"]
+                ref = results["newton"]
                 dp, da, du = compare(ref, rows, n)
                 ev = [r for r in rows if r["event"]]
                 labels = "/".join(sorted({r["method"] for r in rows}))

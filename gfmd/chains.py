@@ -13,15 +13,26 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
 * normal-only cohesive law (a potential), method "fire": the NCG, FIRE after a stall
   (``cohesive = "fire"``: FIRE alone); "verlet": Verlet. (A trust-region Newton–CG was measured against the
   NCG for issue 24 and dropped: 49.7 vs 44.2 FFT pairs per step at 2^17, benchmarks/results/bench_adhesion_scaling_full.md.)
-* coupled law (seed Eq. 2, no potential), method "fire", ``coupled = "newton"`` (default, issue 24): the
-  Newton–Krylov first (``coupled_gmres_give_up``: it gives up at the first GMRES solve that misses its
-  tolerance, the sign of a near-singular or indefinite tangent along the step), its converged state kept only as
-  a continuation of the ramp's branch (no node moved `COUPLED_JUMP` law lengths from the step's start);
-  otherwise, and where it stalls, the chain of
-  ``coupled = "fire"``, whose FIRE, where it stalls from the guess, runs again from the state where the
-  continuation Newton stalled (start "stalled end"; a jump-in fold, Fig. 8 at 2^17, seed 2, step 176: Newton stops at
-  a minimum of |f| beside the fold, FIRE from the guess does not settle in its budget, FIRE from Newton's state
-  carries the snap in 1 500 iterations): ``coupled = "fire"``: FIRE; after a stall (`COUPLED_FIRE_BUDGET`) Newton–Krylov from the guess, then from
+* coupled law (seed Eq. 2, no potential), method "fire", ``coupled = "handover-near"`` (default since session 26):
+  the continuation Newton–Krylov first, its converged state kept only as a continuation of the ramp's branch (no
+  node moved `COUPLED_JUMP` law lengths from the step's start); it gives up at the first GMRES solve that misses
+  its tolerance (``coupled_gmres_give_up``: a near-singular or indefinite tangent along the step) and once an
+  iterate has moved a node `COUPLED_JUMP` law lengths (``coupled_continuation_jump``: a state the acceptance
+  test would reject; measured, benchmarks/results/bench_coupled_continuation_*.md: −7 to −16 % FFT pairs per
+  whole ramp at 2^13–2^14, the states unchanged). Otherwise FIRE from the guess to the looser residual
+  `Settings.coupled_handover` (link tolerance "handover"), Newton–Krylov from the state it hands over, kept where
+  no node moved `COUPLED_HANDOVER_MOVE` law lengths from it (the equilibrium FIRE's damped dynamics was
+  approaching), else FIRE goes on from its handover state with the rest of its budget; FIRE from where the
+  continuation Newton stalled (start "stalled end", resumed without the break-off where it broke off: a jump-in
+  fold, Fig. 8 at 2^17, seed 2, step 176: Newton stops at a minimum of |f| beside the fold, FIRE from the guess
+  does not settle in its budget, FIRE from Newton's stall carries the snap in 1 530 iterations); then the
+  stability-tested Newton and Verlet of ``coupled = "fire"``. Measured against the default before (the "newton"
+  chain without the break-off; benchmarks/results/bench_coupled_continuation_*.md): −21 to −33 % FFT pairs per
+  whole ramp at 2^13–2^14 (the handover alone −15 to −21 %), −50 % on the event steps 167–174 of Fig. 8's seed-3
+  task at 2^17, the states within 5e-6 δn.
+  ``coupled = "newton"`` (the default of issue 24 until session 26): the continuation Newton, then FIRE from the
+  guess and, where it stalls there, from the continuation's stall ("stalled end"), then as ``coupled = "fire"``:
+  FIRE; after a stall (`COUPLED_FIRE_BUDGET`) Newton–Krylov from the guess, then from
   FIRE's end state, a converged state kept only where locally stable (`gfmd.problem.coupled_stability`, the FE
   reference's criterion); then Verlet from the guess. Method "verlet": Verlet. Measured
   (benchmarks/results/bench_adhesion_scaling_full.md): the Newton-first chain needs 2.8–3.1× fewer FFT pairs per
@@ -30,13 +41,9 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   pairs, 81–186 s in the Fig. 8 study) to one GMRES solve before FIRE, the accepted states unchanged.
   ``coupled = "ptc"`` (issue 24, measured, not the default: benchmarks/results/bench_coupled_ptc.md): the Newton
   chain with pseudo-transient continuation (`coupled_ptc`, from the guess, kept only where locally stable)
-  between the continuation Newton and FIRE.
-  ``coupled = "handover-near"`` / ``"handover"`` (issue 24, measured, not the default:
-  benchmarks/results/bench_coupled_handover.md): the Newton chain whose FIRE stops at the looser residual
-  `Settings.coupled_handover` (link tolerance "handover") and hands its state to Newton–Krylov (GMRES give-up),
-  whose converged state is kept only where no node moved `COUPLED_HANDOVER_MOVE` law lengths from FIRE's state (the
-  equilibrium FIRE's damped dynamics was approaching) and, "handover", where locally stable; else FIRE goes on from
-  its handover state with the rest of its budget, and then as the "newton" chain.
+  between the continuation Newton and FIRE. ``coupled = "handover"`` (measured, not the default:
+  benchmarks/results/bench_coupled_handover.md): "handover-near" whose handed-over Newton state is also
+  stability-tested (≈ 5× the event steps' cost).
 * cohesive wall: projected FIRE, or Verlet (method "verlet").
 * user law (`contact.user_law`, normal-only, a potential): as the normal-only cohesive law, the NCG (its
   generic nodal path: the user's traction and tangent on every node) and FIRE after a stall; the labels are
@@ -95,8 +102,9 @@ class Link:
 
     options: Settings fields this link sets, e.g. (("method", "verlet"),); starts: where it starts,
     tried in turn until one is kept: "guess" (the step's), "end" (where the link before stopped),
-    "finite end" (that, unless its residual was not finite), "stalled end" (that, only where the link before
-    stopped without converging at a finite residual: never a converged state it rejected); budget: its iterations, "all"
+    "finite end" (that, unless its residual was not finite), "stalled end" (where the chain's first link, the
+    continuation Newton, stopped without converging at a finite residual, resumed to its stall where it broke off
+    at a jump: never a converged state the chain rejected; `_stall_point`); budget: its iterations, "all"
     (max_iterations), "left" (what the links before left), "rest" (that, at least 1), "coupled fire"
     (min(COUPLED_FIRE_BUDGET, max_iterations // 2)), "coupled fire left" (that less the handover link's
     iterations, at least 1); accept: "locally stable" keeps a converged state only where the tangent's
@@ -115,7 +123,9 @@ class Link:
 
 
 _VERLET = (("method", "verlet"),)
-_GIVE_UP = (("coupled_gmres_give_up", True),)  # the continuation Newton stops at a missed GMRES solve
+_GIVE_UP = (("coupled_gmres_give_up", True),)  # Newton stops at a missed GMRES solve
+#: the continuation Newton: stops at a missed GMRES solve and once an iterate moved COUPLED_JUMP law lengths
+_CONTINUATION = _GIVE_UP + (("coupled_continuation_jump", COUPLED_JUMP),)
 #: {(law kind, key): chain}: the law kinds of `gfmd.problem.Problem.kind`, the keys of `chain_key`
 CHAINS = {
     ("hard-wall", "cg"): (Link("hard_wall_two_level_cg"), Link("hard_wall_primal_cg", starts=("end",), budget="left")),
@@ -129,30 +139,31 @@ CHAINS = {
     ("coupled", "fire"): (Link("dynamics", budget="coupled fire"),
                           Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                           Link("dynamics", options=_VERLET, budget="rest")),
-    ("coupled", "newton"): (Link("coupled_newton", options=_GIVE_UP, accept="continuation"),
+    ("coupled", "newton"): (Link("coupled_newton", options=_CONTINUATION, accept="continuation"),
                             Link("dynamics", budget="coupled fire", starts=("guess", "stalled end")),
                             Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                             Link("dynamics", options=_VERLET, budget="rest")),
-    ("coupled", "ptc"): (Link("coupled_newton", options=_GIVE_UP, accept="continuation"),
+    ("coupled", "ptc"): (Link("coupled_newton", options=_CONTINUATION, accept="continuation"),
                          Link("coupled_ptc", accept="locally stable"),
                          Link("dynamics", budget="coupled fire"),
                          Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                          Link("dynamics", options=_VERLET, budget="rest")),
     # FIRE to the handover residual, Newton from there (kept near FIRE's state: the same equilibrium), else FIRE
-    # goes on from its handover state with the budget left; then as the "newton" chain
-    ("coupled", "handover"): (Link("coupled_newton", options=_GIVE_UP, accept="continuation"),
-                              Link("dynamics", budget="coupled fire", tolerance="handover",
-                                   starts=("guess", "stalled end")),
+    # goes on from its handover state with the budget left; FIRE from where the continuation stalled (a fold); then
+    # as the "fire" chain
+    ("coupled", "handover"): (Link("coupled_newton", options=_CONTINUATION, accept="continuation"),
+                              Link("dynamics", budget="coupled fire", tolerance="handover"),
                               Link("coupled_newton", options=_GIVE_UP, starts=("handover",),
                                    accept="near, locally stable"),
                               Link("dynamics", starts=("handover",), budget="coupled fire left"),
+                              Link("dynamics", starts=("stalled end",), budget="coupled fire"),
                               Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                               Link("dynamics", options=_VERLET, budget="rest")),
-    ("coupled", "handover-near"): (Link("coupled_newton", options=_GIVE_UP, accept="continuation"),
-                                   Link("dynamics", budget="coupled fire", tolerance="handover",
-                                   starts=("guess", "stalled end")),
+    ("coupled", "handover-near"): (Link("coupled_newton", options=_CONTINUATION, accept="continuation"),
+                                   Link("dynamics", budget="coupled fire", tolerance="handover"),
                                    Link("coupled_newton", options=_GIVE_UP, starts=("handover",), accept="near"),
                                    Link("dynamics", starts=("handover",), budget="coupled fire left"),
+                                   Link("dynamics", starts=("stalled end",), budget="coupled fire"),
                                    Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                                    Link("dynamics", options=_VERLET, budget="rest")),
     ("coupled", "verlet"): (Link("dynamics"),),
@@ -170,7 +181,7 @@ WORDS = {"hard_wall_two_level_cg": "the two-level dual CG", "cg-dual2": "the two
          "ptc": "pseudo-transient continuation"}
 STARTS = {"guess": "the step's guess", "end": "the end state of the one before",
           "finite end": "the end state of the one before", "handover": "FIRE's handover state",
-          "stalled end": "where the one before stalled"}
+          "stalled end": "where the continuation Newton stalled"}
 #: Settings.coupled's chains (`chain_key`)
 COUPLED_KEYS = ("newton", "ptc", "fire", "handover", "handover-near")
 
@@ -258,6 +269,22 @@ def _move(problem, r, origin):
     return float(np.max(np.abs(problem.displacements(r.u_hat - origin)))) / problem.law.law.length_scale
 
 
+def _stall_point(problem, link, before, settings):
+    """(the state where `link`, the chain's first link, stalled (its result `before`): not converged, at a finite
+    residual, or None; the resumed run or None). A continuation Newton that broke off where an iterate jumped (`coupled_newton.BROKE_OFF`) is
+    first resumed from there without the break-off, to where its line search stalls: the state the whole run would
+    have stopped at (Newton is deterministic), which FIRE needs at a jump-in fold (Fig. 8 at 2^17, seed 2,
+    step 176); a resumed run that converges reached another equilibrium, never a start."""
+    if before is None or before.converged or not np.isfinite(before.residual):
+        return None, None
+    if coupled_newton.BROKE_OFF not in before.stalled:
+        return before, None
+    run = replace(settings, **{**dict(link.options), "coupled_continuation_jump": 0.0})
+    resumed = ALGORITHMS[link.algorithm](problem, before.u_hat, run)
+    stop = None if resumed.converged or not np.isfinite(resumed.residual) else resumed
+    return stop, resumed
+
+
 def _rejected(problem, link, r, origin):
     """Why a converged state fails the link's acceptance test ("" if it passes)."""
     if link.accept == "continuation":  # kept only where no node moved COUPLED_JUMP law lengths from the start
@@ -320,6 +347,7 @@ def _relax(problem, chain, u_hat, settings):
     """`relax` along `chain` on a 1+1-D problem or a surface's flat view."""
     used, pairs, names, notes = 0, 0.0, [], []
     before = None  # the last link's final result: "end" starts from it
+    first, stall = None, None  # the first link's final result; where it stalled ("stalled end", found once)
     handed, handover_used = None, 0  # the state a "handover" link reached (start "handover") and its iterations
     for i, link in enumerate(chain):
         options = dict(link.options)
@@ -339,9 +367,21 @@ def _relax(problem, chain, u_hat, settings):
                     continue
                 origin = handed.u_hat
             elif start == "stalled end":  # a fold's neighbourhood, where Newton stalled: FIRE carries the snap
-                if before is None or before.converged or not np.isfinite(before.residual):
+                if stall is None:
+                    stall = _stall_point(problem, chain[0], first, settings)
+                    resumed = stall[1]
+                else:
+                    resumed = None
+                stop = stall[0]
+                if resumed is not None:
+                    used += resumed.iterations
+                    pairs += resumed.fft_pairs
+                    names.append(resumed.method)
+                    notes.append(f"{WORDS[resumed.method]} resumed without the break-off "
+                                 f"({resumed.stalled or 'converged: another equilibrium, not a start'})")
+                if stop is None:
                     continue
-                origin = before.u_hat
+                origin = stop.u_hat
             elif start == "end" or np.isfinite(before.residual):
                 origin = before.u_hat
             else:
@@ -366,6 +406,7 @@ def _relax(problem, chain, u_hat, settings):
         if result is not None:
             break
         before = r
+        first = r if i == 0 else first
     else:  # every link stalled or was rejected: the last state is the answer, not converged
         result = r
         result.converged = False

@@ -39,11 +39,13 @@ class Settings:
     # cohesive normal-only law (a potential) with method "fire": "ncg" (nonlinear preconditioned CG with
     # a Newton line search, FIRE as fallback) or "fire" (FIRE alone, the integrator before issue 13)
     cohesive: str = "ncg"
-    # coupled law (seed Eq. 2) with method "fire": "newton" (Newton–Krylov first, its state kept as a continuation
-    # of the ramp's branch, else the "fire" chain), "ptc" (as "newton", pseudo-transient continuation before FIRE;
-    # measured, not the default), "fire" (FIRE; Newton–Krylov, then Verlet after a stall) or "handover-near" /
-    # "handover" (as "newton", FIRE handing over to Newton–Krylov at `coupled_handover`; measured, not the default)
-    coupled: str = "newton"
+    # coupled law (seed Eq. 2) with method "fire": "handover-near" (default since session 26: Newton–Krylov first,
+    # its state kept as a continuation of the ramp's branch, else FIRE to `coupled_handover` and Newton–Krylov from
+    # there, kept near FIRE's state, else the "fire" chain), "newton" (the default of issue 24: the continuation,
+    # else the "fire" chain), "handover" (as "handover-near", the handed-over state also stability-tested), "ptc"
+    # (as "newton", pseudo-transient continuation before FIRE) or "fire" (FIRE; Newton–Krylov, then Verlet after a
+    # stall); measured in `gfmd.chains`
+    coupled: str = "handover-near"
     # the handover chains: FIRE stops at this residual (× p_ref) and Newton–Krylov finishes from there, its state kept
     # only near FIRE's (and, "handover", locally stable), else FIRE goes on (`gfmd.chains`)
     coupled_handover: float = 1e-4
@@ -54,6 +56,10 @@ class Settings:
     # coupled Newton–Krylov: give the step up at the first GMRES solve that misses its tolerance (True: the
     # Newton-first chain's continuation link, `gfmd.chains`; False: go on with the inexact direction)
     coupled_gmres_give_up: bool = False
+    # coupled Newton–Krylov: give the step up once an iterate has moved a node this many law lengths (min(δn, δt))
+    # from its start (the Newton-first chain's continuation link: `gfmd.chains.COUPLED_JUMP`, the move its
+    # acceptance test rejects; 0: never)
+    coupled_continuation_jump: float = 0.0
     # NCG line search: stop when |dE/dα| ≤ line_search_tol · |dE/dα(0)|
     line_search_tol: float = 0.1
     # hard-wall CG: release the wall nodes that pull away once their forces' norm exceeds

@@ -2,7 +2,7 @@
 
 The ramp is bench_adhesion_scaling's coupled class at N = 2^12 (seed base scene, φn* = 0.15, c = 0.5, δt = 1 nm,
 λs,H = 10 nm, realization seed 1) through its first event steps, 46 and 47, where the continuation Newton gives the
-step up and the default chain's FIRE relaxes it ("newton→fire").
+step up and the "newton" chain's FIRE relaxes it ("newton→fire").
 """
 
 from dataclasses import replace
@@ -52,7 +52,7 @@ def _ramp(scene, settings):
 @pytest.fixture(scope="module")
 def ramps():
     scene = _scene()
-    base = settings_of(scene)
+    base = replace(settings_of(scene), coupled="newton")
     from contact import surfaces
     cell = prepare(scene, surfaces.profile(scene.surface, 0), 0)
     return cell, _ramp(scene, base), _ramp(scene, replace(base, coupled="handover-near"))
@@ -79,7 +79,7 @@ def _nodal(cell, u_hat):
     return np.fft.irfft(u_hat, cell.physics.nodes)
 
 
-def test_handover_ramp_has_the_defaults_states_and_its_label(ramps):
+def test_handover_ramp_has_the_newton_chains_states_and_its_label(ramps):
     cell, default, handover = ramps
     for k in (EVENT, STOP):
         assert default["labels"][k] == "newton→fire"  # the event steps: FIRE relaxed them to the tolerance
@@ -96,7 +96,7 @@ def test_handover_ramp_has_the_defaults_states_and_its_label(ramps):
 def test_event_step_handover_is_near_fires_state_and_cheaper(ramps):
     cell, default, _ = ramps
     z, guess = _event_step(cell, default)
-    base = chains.relax(cell.physics, cell.law, z, guess, cell.settings)
+    base = chains.relax(cell.physics, cell.law, z, guess, replace(cell.settings, coupled="newton"))
     near = chains.relax(cell.physics, cell.law, z, guess, replace(cell.settings, coupled="handover-near"))
     assert base.method == "newton→fire" and near.method == "newton→fire→newton", (base.method, near.method)
     assert near.converged and near.residual < cell.settings.tolerance
@@ -110,7 +110,7 @@ def test_rejected_newton_hands_back_to_fire(ramps, monkeypatch):
     goes on from its handover state with the budget it has left."""
     cell, default, _ = ramps
     z, guess = _event_step(cell, default)
-    base = chains.relax(cell.physics, cell.law, z, guess, cell.settings)
+    base = chains.relax(cell.physics, cell.law, z, guess, replace(cell.settings, coupled="newton"))
     monkeypatch.setattr(chains, "COUPLED_HANDOVER_MOVE", 0.0)  # every Newton state "moved too far"
     far = chains.relax(cell.physics, cell.law, z, guess, replace(cell.settings, coupled="handover-near"))
     assert far.converged and far.method == "newton→fire→newton→fire", far.method
@@ -127,14 +127,15 @@ def test_rejected_newton_hands_back_to_fire(ramps, monkeypatch):
     assert stable.method == "newton→fire→newton" and len(tested) == 2
 
 
-def test_handover_not_reached_goes_on_as_the_default_chain(ramps):
+def test_handover_not_reached_goes_on_as_the_newton_chain(ramps):
     """FIRE's handover link and its continuation together get the coupled FIRE budget: with a budget too small for
-    the handover residual the step goes on to Newton from the guess, as the default chain does after a stall."""
+    the handover residual the step goes on as the "newton" chain does after a stall (FIRE from where the
+    continuation stalled, then Newton from the guess)."""
     cell, default, _ = ramps
     z, guess = _event_step(cell, default)
     small = replace(cell.settings, max_iterations=40)  # coupled fire budget: 20 iterations
     r = chains.relax(cell.physics, cell.law, z, guess, replace(small, coupled="handover-near"))
-    d = chains.relax(cell.physics, cell.law, z, guess, small)
+    d = chains.relax(cell.physics, cell.law, z, guess, replace(small, coupled="newton"))
     assert r.method == d.method and r.iterations == d.iterations, (r.method, d.method)
 
 

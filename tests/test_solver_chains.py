@@ -22,6 +22,7 @@ from contact.loading import indenter_surface
 from contact.model import build_model
 from contact.scene import default_scene
 from gfmd import chains
+from gfmd.algorithms import coupled_newton
 from gfmd.loading import prepare, run_realization
 from gfmd.problem import Problem
 from gfmd.solver import InterfaceLaw, Relaxed, Settings, relax
@@ -121,8 +122,8 @@ def test_energy_is_infinite_through_the_wall_and_undefined_for_the_coupled_law()
 
 SETTINGS_OF_KEY = {"cg": Settings(), "cg-band": Settings(dual_coarse_block=0), "cg-primal": Settings(dual_contact_limit=0.0),
                    "fire": Settings(hard_wall="fire", cohesive="fire", coupled="fire"), "verlet": Settings(method="verlet"),
-                   "ncg": Settings(), "newton": Settings(), "ptc": Settings(coupled="ptc"),
-                   "handover": Settings(coupled="handover"), "handover-near": Settings(coupled="handover-near")}
+                   "ncg": Settings(), "newton": Settings(coupled="newton"), "ptc": Settings(coupled="ptc"),
+                   "handover": Settings(coupled="handover"), "handover-near": Settings()}
 LAW_OF_KIND = {"hard-wall": ("hard-wall", {}), "cohesive": ("cohesive", {}), "cohesive-wall": ("cohesive-wall", {}),
                "coupled": ("cohesive", {"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3}),
                "user": ("user", {})}
@@ -189,11 +190,11 @@ def test_ramp_results_name_the_algorithm_of_every_step():
 
 @pytest.mark.parametrize("newton_converged", [False, True])
 def test_coupled_fire_restarts_where_newton_stalled_never_from_a_rejected_state(monkeypatch, newton_converged):
-    """The default coupled chain: FIRE stalled from the guess runs again from the state where the continuation
+    """The "newton" coupled chain: FIRE stalled from the guess runs again from the state where the continuation
     Newton stalled (a fold: Fig. 8 at 2^17, seed 2, step 176); a converged Newton state the chain rejected (a jump)
     is never a start (FIRE would keep it without the stability test)."""
     p = problem("cohesive", **{"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3})
-    settings = Settings(tolerance=1e-8)
+    settings = Settings(tolerance=1e-8, coupled="newton")
     assert chains.chain_key(p, settings) == ("coupled", "newton")
     shape = (p.model.components, p.model.nodes // 2 + 1)
     guess, newton_end = np.zeros(shape, complex), np.full(shape, 1e-12 + 0j)
@@ -222,3 +223,46 @@ def test_coupled_fire_restarts_where_newton_stalled_never_from_a_rejected_state(
     else:
         assert fires == [("fire", "guess"), ("fire", "newton end")]
         assert r.converged and r.method == "newton→fire" and "FIRE stopped" in r.message
+
+
+@pytest.mark.parametrize("resumed_converges", [False, True])
+def test_a_broken_off_continuation_is_resumed_to_its_stall_before_fire_restarts(monkeypatch, resumed_converges):
+    """The continuation Newton breaks off where an iterate jumped (`coupled_newton.BROKE_OFF`); where FIRE then
+    stalls from the guess, the chain resumes that Newton without the break-off (Settings.coupled_continuation_jump
+    0, from its break-off state) and starts FIRE again where it stalls, the state the whole Newton run reaches (the
+    fold of Fig. 8 at 2^17, seed 2, step 176); a resumed run that converges is never a start. Its iterations count,
+    the label and the message name it."""
+    p = problem("cohesive", **{"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3})
+    settings = Settings(tolerance=1e-8, coupled="newton")
+    shape = (p.model.components, p.model.nodes // 2 + 1)
+    guess, broken, stalled = (np.full(shape, v + 0j) for v in (0.0, 1e-12, 2e-12))
+    calls = []
+
+    def record(u_hat, converged, method, why):
+        fields = np.zeros((p.model.nodes,))
+        return Relaxed(u_hat, fields, fields, fields, fields, fields, 7, 1e-9 if converged else 1e-4, converged,
+                       fft_pairs=11.0, method=method, stalled="" if converged else why)
+
+    def newton(problem, start, run):
+        calls.append(("newton", "guess" if start is guess else "broken" if start is broken else "other",
+                      run.coupled_continuation_jump))
+        if start is broken:
+            return record(stalled, resumed_converges, "newton", "line search found no decrease")
+        if run.coupled_continuation_jump > 0:
+            return record(broken, False, "newton", f"a node moved 2 law lengths: {coupled_newton.BROKE_OFF}")
+        return record(start, False, "newton", "line search found no decrease")
+
+    def fire(problem, start, run):
+        calls.append(("fire", "guess" if start is guess else "stalled" if start is stalled else "other"))
+        return record(start, start is stalled, "fire", "not converged")
+
+    monkeypatch.setitem(chains.ALGORITHMS, "coupled_newton", newton)
+    monkeypatch.setitem(chains.ALGORITHMS, "dynamics", fire)
+    r = chains.relax(p.model, p.law, p.z_ind, guess, settings, p.wall_tolerance)
+    assert calls[:3] == [("newton", "guess", chains.COUPLED_JUMP), ("fire", "guess"), ("newton", "broken", 0.0)]
+    if resumed_converges:  # another equilibrium: not a start; the chain goes on to its stability-tested Newton
+        assert ("fire", "stalled") not in calls and "another equilibrium" in r.message
+    else:
+        assert calls[3] == ("fire", "stalled") and len(calls) == 4
+        assert r.converged and r.method == "newton→fire→newton→fire" and r.iterations == 4 * 7
+        assert r.fft_pairs == 4 * 11.0 and "resumed without the break-off" in r.message

@@ -161,6 +161,28 @@ def test_continuation_gives_up_at_a_missed_gmres_solve(fig8_step, monkeypatch):
     assert plain.iterations > 1 and "GMRES" not in plain.message, plain.message
 
 
+def test_continuation_breaks_off_where_an_iterate_jumps(fig8_step, monkeypatch):
+    """`coupled_newton.solve` with Settings.coupled_continuation_jump (the Newton-first chain's first link: the
+    continuation's COUPLED_JUMP) gives the step up as soon as an unconverged iterate has moved a node that many law
+    lengths from the start, the move the continuation's acceptance test would reject; 0 never breaks off. Step 99
+    from step 98's state moves its nodes less than a law length; a break-off at a tenth of its largest first-
+    iteration move must stop at iteration 1."""
+    cell, previous, _current, (z99, _) = fig8_step
+    problem = Problem(cell.physics, cell.law, z99)
+    length = cell.law.law.length_scale
+    plain = coupled_newton.solve(problem, previous, cell.settings)
+    assert plain.converged and plain.iterations > 1, plain.message
+    whole = coupled_newton.solve(problem, previous, replace(cell.settings, coupled_continuation_jump=chains.COUPLED_JUMP))
+    assert whole.converged and whole.iterations == plain.iterations  # a continuation: no break-off
+    with monkeypatch.context() as m:
+        m.setattr(coupled_newton, "COUPLED_NEWTON_ITERATIONS", 1)
+        first = coupled_newton.solve(problem, previous, cell.settings)
+    moved = np.max(np.abs(problem.displacements(first.u_hat - previous))) / length
+    cut = coupled_newton.solve(problem, previous, replace(cell.settings, coupled_continuation_jump=0.1 * moved))
+    assert not cut.converged and cut.iterations == 1 and "law lengths from the start" in cut.stalled, cut.message
+    assert dict(chains._CONTINUATION)["coupled_continuation_jump"] == chains.COUPLED_JUMP
+
+
 def test_missed_gmres_hands_the_step_to_fire_with_the_same_state(fig8_step, monkeypatch):
     """Where the continuation gives up (GMRES starved as above), the chain's FIRE relaxes the step from the guess
     to the state the Newton continuation keeps unstarved, within the solver tolerance's bound; the label and the

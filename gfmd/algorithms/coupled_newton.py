@@ -31,6 +31,9 @@ COUPLED_NEWTON_SHIFTED = False
 COUPLED_NEWTON_FORCING_MIN = FORCING_MIN
 #: GMRES on the spectrum, right-preconditioned by K⁻¹: one FFT pair per product (False: nodal, two)
 COUPLED_NEWTON_SPECTRAL = True
+#: the break-off's words in `Relaxed.stalled` (`Settings.coupled_continuation_jump`; `gfmd.chains` resumes such a
+#: Newton without it where it needs the state Newton stalls at)
+BROKE_OFF = "a snap or slip event, no continuation"
 
 
 def solve(problem, start, settings):
@@ -51,7 +54,9 @@ def solve(problem, start, settings):
     GMRES's products. Not converged (message says why) after COUPLED_NEWTON_ITERATIONS or
     when the line search finds no decrease; with `Settings.coupled_gmres_give_up` (the Newton-first chain's
     continuation, `gfmd.chains`) also at the first GMRES solve that misses its tolerance in COUPLED_GMRES_CYCLES
-    restarts (`stalled`), rather than going on with the inexact direction. Measured
+    restarts (`stalled`), rather than going on with the inexact direction, and, with
+    `Settings.coupled_continuation_jump` > 0, once an unconverged iterate has moved a node that many law lengths from
+    the start (the continuation's acceptance test would reject such a state). Measured
     (benchmarks/results/bench_coupled_fallback.md): on the fig8_small ramps (N = 4096) no GMRES solve missed; on the
     replayed full-scale Fig. 8 steps every kept Newton state used ≤ 229 FFT pairs (< one capped GMRES solve); where one
     missed, the tangent K + D was near-singular or indefinite along the step (a snap or
@@ -69,6 +74,7 @@ def solve(problem, start, settings):
         u_hat[:, 0] = 0.0
     stiff = Elastic(model, 0.0, 0.0)
     max_move = COUPLED_NEWTON_MAX_MOVE * law.law.length_scale
+    jump = settings.coupled_continuation_jump * law.law.length_scale
 
     force = balance(law, z_ind, fft, stiff, clamp)  # uh ↦ (f̂, f, u)
 
@@ -81,6 +87,7 @@ def solve(problem, start, settings):
         out = finish(problem, u_hat, 0, np.inf, False, f"diverged: {exc}")
         out.method, out.stalled = "newton", out.message
         return out
+    origin = u  # the nodal start, for the continuation's break-off
     residual = float(np.max(np.abs(f))) / p_ref
     message, converged, it = "", residual < settings.tolerance, 0
     while not converged:
@@ -135,6 +142,12 @@ def solve(problem, start, settings):
         if not np.isfinite(residual):
             message = "diverged: non-finite force residual"
             break
+        if jump > 0 and residual >= settings.tolerance:
+            moved = float(np.max(np.abs(u - origin)))
+            if moved >= jump:
+                message = (f"a node moved {moved / law.law.length_scale:.3g} law lengths from the start at Newton "
+                           f"iteration {it} (residual {residual:.3g} p_ref): {BROKE_OFF}")
+                break
         converged = residual < settings.tolerance
     pairs = fft.pairs
     out = finish(problem, u_hat, it, residual, converged, message)

@@ -1,0 +1,96 @@
+"""The continuation Newton's break-off where an iterate jumps, with and without the FIRE→Newton handover (issue 24).
+
+Usage: python benchmarks/bench_coupled_continuation.py [--sizes 13 14] [--realizations 0 1] [--max-steps K]
+                                                       [--handover 1e-4]
+
+The coupled ramps of bench_coupled_handover (seed base scene, φn* = 0.15, c = 0.5, δt = 1 nm, until a_rel ≥ 0.5,
+realization i = profile seed 1 + i), four chains each on its own ramp in the same run:
+  newton, no break-off        the coupled "newton" chain before the break-off (its continuation link with
+                              Settings.coupled_continuation_jump = 0: Newton runs until it converges or stalls)
+  newton                      the "newton" chain: the continuation gives up once an iterate moved COUPLED_JUMP
+                              law lengths (`gfmd.chains._CONTINUATION`)
+  handover-near, no break-off / handover-near   the same pair for the handover chain (FIRE to
+                              Settings.coupled_handover, Newton from there kept where near FIRE's state)
+FFT pairs per step include the stability test's (column "stab" of bench_coupled_handover); p, a_rel and (N ≤ 2^14)
+the nodal states are compared with the first chain's. Writes benchmarks/results/bench_coupled_continuation_<tag>.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from contextlib import contextmanager
+from dataclasses import replace
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+import bench_coupled_handover as bch  # noqa: E402  (sets one BLAS thread before numpy, counts the stability test)
+from gfmd import chains  # noqa: E402
+
+
+@contextmanager
+def without_break_off(key):
+    """CHAINS[("coupled", key)] with its continuation link's break-off off (coupled_continuation_jump 0)."""
+    chain = chains.CHAINS[("coupled", key)]
+    off = tuple(replace(link, options=tuple((k, 0.0 if k == "coupled_continuation_jump" else v)
+                                            for k, v in link.options)) for link in chain)
+    chains.CHAINS[("coupled", key)] = off
+    try:
+        yield
+    finally:
+        chains.CHAINS[("coupled", key)] = chain
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", type=int, nargs="+", default=[13, 14])
+    ap.add_argument("--realizations", type=int, nargs="+", default=[0, 1])
+    ap.add_argument("--max-steps", type=int, default=None)
+    ap.add_argument("--handover", type=float, default=1e-4)
+    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results"))
+    args = ap.parse_args(argv)
+    commit = os.popen(f"git -C {ROOT} rev-parse --short HEAD").read().strip()
+    dirty = " (+ uncommitted changes)" if os.popen(f"git -C {ROOT} status --porcelain gfmd").read().strip() else ""
+    head = [f"`python benchmarks/bench_coupled_continuation.py {' '.join(argv or sys.argv[1:])}`; git {commit}{dirty}; "
+            f"COUPLED_JUMP = {chains.COUPLED_JUMP}, handover residual {args.handover:g} p_ref; load average at start "
+            f"{os.getloadavg()[0]:.2f} (2-core machine: CPU s may be under load; FFT pairs deterministic up to ARPACK's "
+            "random start in the stability test)", ""]
+    table = ["| N | real. | chain | steps | event steps | FFT pairs total | of which stab | pairs on event steps | "
+             "CPU s ramp | max |Δp|/max p | a_rel differs at | max |Δu|/δn (bound) | labels |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    variants = [("newton, no break-off", "newton", False), ("newton", "newton", True),
+                ("handover-near, no break-off", "handover-near", False), ("handover-near", "handover-near", True)]
+    for e in args.sizes:
+        n = 2**e
+        for real in args.realizations:
+            results, bound = {}, bch.tolerance_bound(n, real)
+            for name, key, break_off in variants:
+                options = {"coupled": key, "coupled_handover": args.handover}
+                if break_off:
+                    rows, cpu = bch.run(n, real, options, args.max_steps)
+                else:
+                    with without_break_off(key):
+                        rows, cpu = bch.run(n, real, options, args.max_steps)
+                results[name] = rows
+                dp, da, du = bch.compare(results[variants[0][0]], rows, n)
+                ev = [r for r in rows if r["event"]]
+                labels = "/".join(sorted({r["method"] for r in rows}))
+                line = (f"| 2^{e} | {real} | {name} | {len(rows)} | {len(ev)} | {sum(r['pairs'] for r in rows):.0f} | "
+                        f"{sum(r['stab'] for r in rows):.0f} | {sum(r['pairs'] for r in ev):.0f} | {cpu:.1f} | "
+                        f"{dp:.2g} | {da or '—'} | {'not kept' if du is None else f'{du:.2g}'} ({bound:.2g}) | {labels} |")
+                table.append(line)
+                print(line, flush=True)
+    text = "\n".join(head + table + ["", f"Load average at end: {os.getloadavg()[0]:.2f}.", ""])
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    tag = "e" + "_".join(map(str, args.sizes)) + "_r" + "_".join(map(str, args.realizations))
+    path = out / f"bench_coupled_continuation_{tag}.md"
+    path.write_text(text + "\n")
+    print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()
