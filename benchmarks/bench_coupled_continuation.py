@@ -58,9 +58,7 @@ def main(argv=None):
             f"COUPLED_JUMP = {chains.COUPLED_JUMP}, handover residual {args.handover:g} p_ref; load average at start "
             f"{os.getloadavg()[0]:.2f} (2-core machine: CPU s may be under load; FFT pairs deterministic up to ARPACK's "
             "random start in the stability test)", ""]
-    table = ["| N | real. | chain | steps | event steps | FFT pairs total | of which stab | pairs on event steps | "
-             "CPU s ramp | max |Δp|/max p | a_rel differs at | max |Δu|/δn (bound) | labels |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    table = list(bch.TABLE)
     variants = [("newton, no break-off", "newton", False), ("newton", "newton", True),
                 ("handover-near, no break-off", "handover-near", False), ("handover-near", "handover-near", True)]
     for e in args.sizes:
@@ -75,21 +73,10 @@ def main(argv=None):
                     with without_break_off(key):
                         rows, cpu = bch.run(n, real, options, args.max_steps)
                 results[name] = rows
-                dp, da, du = bch.compare(results[variants[0][0]], rows, n)
-                ev = [r for r in rows if r["event"]]
-                labels = "/".join(sorted({r["method"] for r in rows}))
-                line = (f"| 2^{e} | {real} | {name} | {len(rows)} | {len(ev)} | {sum(r['pairs'] for r in rows):.0f} | "
-                        f"{sum(r['stab'] for r in rows):.0f} | {sum(r['pairs'] for r in ev):.0f} | {cpu:.1f} | "
-                        f"{dp:.2g} | {da or '—'} | {'not kept' if du is None else f'{du:.2g}'} ({bound:.2g}) | {labels} |")
+                line = bch.table_row(e, real, name, rows, cpu, results[variants[0][0]], bound)
                 table.append(line)
                 print(line, flush=True)
-    text = "\n".join(head + table + ["", f"Load average at end: {os.getloadavg()[0]:.2f}.", ""])
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    tag = "e" + "_".join(map(str, args.sizes)) + "_r" + "_".join(map(str, args.realizations))
-    path = out / f"bench_coupled_continuation_{tag}.md"
-    path.write_text(text + "\n")
-    print(f"wrote {path}")
+    bch.write(args, "bench_coupled_continuation", head + table + ["", f"Load average at end: {os.getloadavg()[0]:.2f}."])
 
 
 if __name__ == "__main__":

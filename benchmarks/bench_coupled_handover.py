@@ -83,6 +83,31 @@ def tolerance_bound(n, realization):
     return (20 * cell.settings.tolerance * m.reference_traction * np.sqrt(m.nodes) / k1 + 1e-6 * dn) / dn
 
 
+TABLE = ["| N | real. | chain | steps | event steps | FFT pairs total | of which stab | pairs on event steps | "
+         "CPU s ramp | max |Δp|/max p | a_rel differs at | max |Δu|/δn (bound) | labels |",
+         "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+
+
+def table_row(e, realization, name, rows, cpu, ref, bound):
+    """One row of TABLE: the ramp `rows` of chain `name` at N = 2^e against the reference ramp `ref`."""
+    dp, da, du = compare(ref, rows, 2**e)
+    ev = [r for r in rows if r["event"]]
+    labels = "/".join(sorted({r["method"] for r in rows}))
+    return (f"| 2^{e} | {realization} | {name} | {len(rows)} | {len(ev)} | {sum(r['pairs'] for r in rows):.0f} | "
+            f"{sum(r['stab'] for r in rows):.0f} | {sum(r['pairs'] for r in ev):.0f} | {cpu:.1f} | "
+            f"{dp:.2g} | {da or '—'} | {'not kept' if du is None else f'{du:.2g}'} ({bound:.2g}) | {labels} |")
+
+
+def write(args, stem, lines):
+    """benchmarks/results/<stem>_e<sizes>_r<realizations>.md (args.out) from the report's lines."""
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    tag = "e" + "_".join(map(str, args.sizes)) + "_r" + "_".join(map(str, args.realizations))
+    path = out / f"{stem}_{tag}.md"
+    path.write_text("\n".join(lines) + "\n")
+    print(f"wrote {path}")
+
+
 def compare(ref, rows, n):
     """Per-step differences from the "newton" chain: max |Δp|/max|p|, steps with a_rel differing, max nodal |Δu| / δn."""
     dp, da, du, steps = 0.0, [], None, min(len(ref), len(rows))
@@ -111,9 +136,7 @@ def main(argv=None):
             f"handover residual {args.handover:g} p_ref, COUPLED_HANDOVER_MOVE = {chains.COUPLED_HANDOVER_MOVE}; load "
             f"average at start {os.getloadavg()[0]:.2f} (2-core machine shared with a full-scale study: CPU s under "
             "load, FFT pairs deterministic up to ARPACK's random start in the stability test)", ""]
-    table = ["| N | real. | chain | steps | event steps | FFT pairs total | of which stab | pairs on event steps | "
-             "CPU s ramp | max |Δp|/max p | a_rel differs at | max |Δu|/δn (bound) | labels |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    table = list(TABLE)
     detail = []
     for e in args.sizes:
         n = 2**e
@@ -124,13 +147,7 @@ def main(argv=None):
             for name, options in variants:
                 rows, cpu = run(n, real, options, args.max_steps)
                 results[name] = rows
-                ref = results["newton"]
-                dp, da, du = compare(ref, rows, n)
-                ev = [r for r in rows if r["event"]]
-                labels = "/".join(sorted({r["method"] for r in rows}))
-                line = (f"| 2^{e} | {real} | {name} | {len(rows)} | {len(ev)} | {sum(r['pairs'] for r in rows):.0f} | "
-                        f"{sum(r['stab'] for r in rows):.0f} | {sum(r['pairs'] for r in ev):.0f} | {cpu:.1f} | "
-                        f"{dp:.2g} | {da or '—'} | {'not kept' if du is None else f'{du:.2g}'} ({bound:.2g}) | {labels} |")
+                line = table_row(e, real, name, rows, cpu, results["newton"], bound)
                 table.append(line)
                 print(line, flush=True)
             names = [v[0] for v in variants]
@@ -145,13 +162,8 @@ def main(argv=None):
                     cells.append("—" if r is None else f"{r['it']} / {r['pairs']:.0f} ({r['stab']:.0f}) / {r['method']}")
                 detail.append(f"| {k} | " + " | ".join(cells) + " |")
             detail.append("")
-    text = "\n".join(head + table + ["", f"Load average at end: {os.getloadavg()[0]:.2f}.", ""] + detail)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    tag = "e" + "_".join(map(str, args.sizes)) + "_r" + "_".join(map(str, args.realizations))
-    path = out / f"bench_coupled_handover_{tag}.md"
-    path.write_text(text + "\n")
-    print(f"wrote {path}")
+    write(args, "bench_coupled_handover", head + table + ["", f"Load average at end: {os.getloadavg()[0]:.2f}.", ""]
+          + detail)
 
 
 if __name__ == "__main__":
