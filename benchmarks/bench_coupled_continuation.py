@@ -17,7 +17,6 @@ the nodal states are compared with the first chain's. Writes benchmarks/results/
 
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 from contextlib import contextmanager
@@ -45,16 +44,8 @@ def without_break_off(key):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--sizes", type=int, nargs="+", default=[13, 14])
-    ap.add_argument("--realizations", type=int, nargs="+", default=[0, 1])
-    ap.add_argument("--max-steps", type=int, default=None)
-    ap.add_argument("--handover", type=float, default=1e-4)
-    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results"))
-    args = ap.parse_args(argv)
-    commit = os.popen(f"git -C {ROOT} rev-parse --short HEAD").read().strip()
-    dirty = " (+ uncommitted changes)" if os.popen(f"git -C {ROOT} status --porcelain gfmd").read().strip() else ""
-    head = [f"`python benchmarks/bench_coupled_continuation.py {' '.join(argv or sys.argv[1:])}`; git {commit}{dirty}; "
+    args = bch.parser(__doc__.splitlines()[0]).parse_args(argv)
+    head = [f"`python benchmarks/bench_coupled_continuation.py {' '.join(argv or sys.argv[1:])}`; {bch.code_version()}; "
             f"COUPLED_JUMP = {chains.COUPLED_JUMP}, handover residual {args.handover:g} p_ref; load average at start "
             f"{os.getloadavg()[0]:.2f} (2-core machine: CPU s may be under load; FFT pairs deterministic up to ARPACK's "
             "random start in the stability test)", ""]

@@ -98,6 +98,24 @@ def table_row(e, realization, name, rows, cpu, ref, bound):
             f"{dp:.2g} | {da or '—'} | {'not kept' if du is None else f'{du:.2g}'} ({bound:.2g}) | {labels} |")
 
 
+def parser(description):
+    """The arguments the coupled-chain benchmarks share: --sizes, --realizations, --max-steps, --handover, --out."""
+    ap = argparse.ArgumentParser(description=description)
+    ap.add_argument("--sizes", type=int, nargs="+", default=[13, 14])
+    ap.add_argument("--realizations", type=int, nargs="+", default=[0, 1])
+    ap.add_argument("--max-steps", type=int, default=None)
+    ap.add_argument("--handover", type=float, default=1e-4)
+    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results"))
+    return ap
+
+
+def code_version():
+    """"git <commit>", with "(+ uncommitted changes)" where gfmd/ differs from it."""
+    commit = os.popen(f"git -C {ROOT} rev-parse --short HEAD").read().strip()
+    dirty = " (+ uncommitted changes)" if os.popen(f"git -C {ROOT} status --porcelain gfmd").read().strip() else ""
+    return f"git {commit}{dirty}"
+
+
 def write(args, stem, lines):
     """benchmarks/results/<stem>_e<sizes>_r<realizations>.md (args.out) from the report's lines."""
     out = Path(args.out)
@@ -122,17 +140,10 @@ def compare(ref, rows, n):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--sizes", type=int, nargs="+", default=[13, 14])
-    ap.add_argument("--realizations", type=int, nargs="+", default=[0, 1])
-    ap.add_argument("--max-steps", type=int, default=None)
-    ap.add_argument("--handover", type=float, default=1e-4)
+    ap = parser(__doc__.splitlines()[0])
     ap.add_argument("--variants", nargs="+", default=["handover", "handover-near"])
-    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results"))
     args = ap.parse_args(argv)
-    commit = os.popen(f"git -C {ROOT} rev-parse --short HEAD").read().strip()
-    dirty = " (+ uncommitted changes)" if os.popen(f"git -C {ROOT} status --porcelain gfmd").read().strip() else ""
-    head = [f"`python benchmarks/bench_coupled_handover.py {' '.join(argv or sys.argv[1:])}`; git {commit}{dirty}; "
+    head = [f"`python benchmarks/bench_coupled_handover.py {' '.join(argv or sys.argv[1:])}`; {code_version()}; "
             f"handover residual {args.handover:g} p_ref, COUPLED_HANDOVER_MOVE = {chains.COUPLED_HANDOVER_MOVE}; load "
             f"average at start {os.getloadavg()[0]:.2f} (2-core machine shared with a full-scale study: CPU s under "
             "load, FFT pairs deterministic up to ARPACK's random start in the stability test)", ""]
