@@ -271,10 +271,11 @@ def _move(problem, r, origin):
 
 def _stall_point(problem, link, before, settings):
     """(the state where `link`, the chain's first link, stalled (its result `before`): not converged, at a finite
-    residual, or None; the resumed run or None). A continuation Newton that broke off where an iterate jumped (`coupled_newton.BROKE_OFF`) is
-    first resumed from there without the break-off, to where its line search stalls: the state the whole run would
-    have stopped at (Newton is deterministic), which FIRE needs at a jump-in fold (Fig. 8 at 2^17, seed 2,
-    step 176); a resumed run that converges reached another equilibrium, never a start."""
+    residual, or None; the resumed run or None). A continuation Newton that broke off where an iterate jumped
+    (`coupled_newton.BROKE_OFF`) is first resumed from there without the break-off, to where its line search
+    stalls: the state the whole run would have stopped at (its iterates depend on the state alone), which FIRE needs
+    at a jump-in fold (Fig. 8 at 2^17, seed 2, step 176); a resumed run that converges reached another equilibrium,
+    never a start."""
     if before is None or before.converged or not np.isfinite(before.residual):
         return None, None
     if coupled_newton.BROKE_OFF not in before.stalled:
