@@ -5,10 +5,10 @@ Usage: python benchmarks/bench_coupled_continuation.py [--sizes 13 14] [--realiz
 
 The coupled ramps of bench_coupled_handover (seed base scene, φn* = 0.15, c = 0.5, δt = 1 nm, until a_rel ≥ 0.5,
 realization i = profile seed 1 + i), four chains each on its own ramp in the same run:
-  newton, no break-off        the coupled "newton" chain before the break-off (its continuation link with
-                              Settings.coupled_continuation_jump = 0: Newton runs until it converges or stalls)
+  newton, no break-off        the coupled "newton" chain before the break-off (its continuation link without
+                              the options BREAK_OFF: Newton runs until it converges or stalls, or 60 iterations)
   newton                      the "newton" chain: the continuation gives up once an iterate moved COUPLED_JUMP
-                              law lengths (`gfmd.chains._CONTINUATION`)
+                              law lengths and after COUPLED_CONTINUATION_ITERATIONS (`gfmd.chains._CONTINUATION`)
   handover-near, no break-off / handover-near   the same pair for the handover chain (FIRE to
                               Settings.coupled_handover, Newton from there kept where near FIRE's state)
 FFT pairs per step include the stability test's (column "stab" of bench_coupled_handover); p, a_rel and (N ≤ 2^14)
@@ -30,12 +30,16 @@ import bench_coupled_handover as bch  # noqa: E402  (sets one BLAS thread before
 from gfmd import chains  # noqa: E402
 
 
+#: the continuation link's options this session added (the break-off at a jump, the iteration cap)
+BREAK_OFF = ("coupled_continuation_jump", "coupled_continuation_iterations")
+
+
 @contextmanager
 def without_break_off(key):
-    """CHAINS[("coupled", key)] with its continuation link's break-off off (coupled_continuation_jump 0)."""
+    """CHAINS[("coupled", key)] with its continuation link's break-off off (no jump test, 60 iterations)."""
     chain = chains.CHAINS[("coupled", key)]
-    off = tuple(replace(link, options=tuple((k, 0.0 if k == "coupled_continuation_jump" else v)
-                                            for k, v in link.options)) for link in chain)
+    off = tuple(replace(link, options=tuple((k, v) for k, v in link.options if k not in BREAK_OFF))
+                for link in chain)
     chains.CHAINS[("coupled", key)] = off
     try:
         yield

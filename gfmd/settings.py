@@ -60,6 +60,9 @@ class Settings:
     # from its start (the Newton-first chain's continuation link: `gfmd.chains.COUPLED_JUMP`, the move its
     # acceptance test rejects; 0: never)
     coupled_continuation_jump: float = 0.0
+    # coupled Newton–Krylov: give the step up after this many iterations (the Newton-first chain's continuation link:
+    # `gfmd.chains.COUPLED_CONTINUATION_ITERATIONS`; 0: `gfmd.algorithms.coupled_newton.COUPLED_NEWTON_ITERATIONS`)
+    coupled_continuation_iterations: int = 0
     # NCG line search: stop when |dE/dα| ≤ line_search_tol · |dE/dα(0)|
     line_search_tol: float = 0.1
     # hard-wall CG: release the wall nodes that pull away once their forces' norm exceeds

@@ -164,7 +164,8 @@ def test_continuation_gives_up_at_a_missed_gmres_solve(fig8_step, monkeypatch):
 def test_continuation_breaks_off_where_an_iterate_jumps(fig8_step, monkeypatch):
     """`coupled_newton.solve` with Settings.coupled_continuation_jump (the Newton-first chain's first link: the
     continuation's COUPLED_JUMP) gives the step up as soon as an unconverged iterate has moved a node that many law
-    lengths from the start, the move the continuation's acceptance test would reject; 0 never breaks off. Step 99
+    lengths from the start, the move the continuation's acceptance test would reject; 0 never breaks off (and
+    Settings.coupled_continuation_iterations caps its iterations: the continuation's cap). Step 99
     from step 98's state moves its nodes less than a law length; a break-off at a tenth of its largest first-
     iteration move must stop at iteration 1."""
     cell, previous, _current, (z99, _) = fig8_step
@@ -181,6 +182,9 @@ def test_continuation_breaks_off_where_an_iterate_jumps(fig8_step, monkeypatch):
     cut = coupled_newton.solve(problem, previous, replace(cell.settings, coupled_continuation_jump=0.1 * moved))
     assert not cut.converged and cut.iterations == 1 and "law lengths from the start" in cut.stalled, cut.message
     assert dict(chains._CONTINUATION)["coupled_continuation_jump"] == chains.COUPLED_JUMP
+    capped = coupled_newton.solve(problem, previous, replace(cell.settings, coupled_continuation_iterations=1))
+    assert not capped.converged and capped.iterations == 1 and "after 1 Newton iterations" in capped.stalled
+    assert dict(chains._CONTINUATION)["coupled_continuation_iterations"] == chains.COUPLED_CONTINUATION_ITERATIONS
 
 
 def test_missed_gmres_hands_the_step_to_fire_with_the_same_state(fig8_step, monkeypatch):

@@ -56,7 +56,8 @@ def solve(problem, start, settings):
     continuation, `gfmd.chains`) also at the first GMRES solve that misses its tolerance in COUPLED_GMRES_CYCLES
     restarts (`stalled`), rather than going on with the inexact direction, and, with
     `Settings.coupled_continuation_jump` > 0, once an unconverged iterate has moved a node that many law lengths from
-    the start (the continuation's acceptance test would reject such a state). Measured
+    the start (the continuation's acceptance test would reject such a state); `Settings.coupled_continuation_iterations`
+    > 0 replaces COUPLED_NEWTON_ITERATIONS (the continuation's cap). Measured
     (benchmarks/results/bench_coupled_fallback.md): on the fig8_small ramps (N = 4096) no GMRES solve missed; on the
     replayed full-scale Fig. 8 steps every kept Newton state used ≤ 229 FFT pairs (< one capped GMRES solve); where one
     missed, the tangent K + D was near-singular or indefinite along the step (a snap or
@@ -90,8 +91,9 @@ def solve(problem, start, settings):
     origin = u  # the nodal start, for the continuation's break-off
     residual = float(np.max(np.abs(f))) / p_ref
     message, converged, it = "", residual < settings.tolerance, 0
+    limit = settings.coupled_continuation_iterations or COUPLED_NEWTON_ITERATIONS
     while not converged:
-        if it >= COUPLED_NEWTON_ITERATIONS:
+        if it >= limit:
             message = f"not converged after {it} Newton iterations (residual {residual:.3g} p_ref)"
             break
         it += 1
