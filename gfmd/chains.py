@@ -18,8 +18,9 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   node moved `COUPLED_JUMP` law lengths from the step's start); it gives up at the first GMRES solve that misses
   its tolerance (``coupled_gmres_give_up``: a near-singular or indefinite tangent along the step) and once an
   iterate has moved a node `COUPLED_JUMP` law lengths (``coupled_continuation_jump``: a state the acceptance
-  test would reject; measured, benchmarks/results/bench_coupled_continuation_*.md: −7 to −16 % FFT pairs per
-  whole ramp at 2^13–2^14, the states unchanged). Otherwise FIRE from the guess to the looser residual
+  test would reject) or after `COUPLED_CONTINUATION_ITERATIONS` (``coupled_continuation_iterations``); measured,
+  benchmarks/results/bench_coupled_continuation_*.md: −7 to −27 % FFT pairs per whole ramp at 2^13–2^14, the
+  states unchanged. Otherwise FIRE from the guess to the looser residual
   `Settings.coupled_handover` (link tolerance "handover"), Newton–Krylov from the state it hands over, kept where
   no node moved `COUPLED_HANDOVER_MOVE` law lengths from it (the equilibrium FIRE's damped dynamics was
   approaching), else FIRE goes on from its handover state with the rest of its budget; FIRE from where the
@@ -27,8 +28,8 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   fold, Fig. 8 at 2^17, seed 2, step 176: Newton stops at a minimum of |f| beside the fold, FIRE from the guess
   does not settle in its budget, FIRE from Newton's stall carries the snap in 1 530 iterations); then the
   stability-tested Newton and Verlet of ``coupled = "fire"``. Measured against the default before (the "newton"
-  chain without the break-off; benchmarks/results/bench_coupled_continuation_*.md): −21 to −33 % FFT pairs per
-  whole ramp at 2^13–2^14 (the handover alone −15 to −21 %), −50 % on the event steps 167–174 of Fig. 8's seed-3
+  chain without the break-off; benchmarks/results/bench_coupled_continuation_*.md): −22 to −41 % FFT pairs per
+  whole ramp at 2^13–2^14 (the handover alone −14 to −17 %), −50 % on the event steps 167–174 of Fig. 8's seed-3
   task at 2^17, the states within 5e-6 δn.
   ``coupled = "newton"`` (the default of issue 24 until session 26): the continuation Newton, then FIRE from the
   guess and, where it stalls there, from the continuation's stall ("stalled end"), then as ``coupled = "fire"``:
