@@ -358,8 +358,16 @@ def _on_grid(result, model):
 def _relax(problem, chain, u_hat, settings):
     """`relax` along `chain` on a 1+1-D problem or a surface's flat view."""
     used, pairs, names, notes = 0, 0.0, [], []
+
+    def count(r):  # every algorithm run adds its iterations, FFT pairs and label
+        nonlocal used, pairs
+        used += r.iterations
+        pairs += r.fft_pairs
+        if r.method and (not names or names[-1] != r.method):
+            names.append(r.method)
+
     before = None  # the last link's final result: "end" starts from it
-    first, stall = None, None  # the first link's final result; where it stalled ("stalled end", found once)
+    first, stall = None, None  # the first link's final result; (where it stalled,) for "stalled end", found once
     handed, handover_used = None, 0  # the state a "handover" link reached (start "handover") and its iterations
     for i, link in enumerate(chain):
         options = dict(link.options)
@@ -379,30 +387,22 @@ def _relax(problem, chain, u_hat, settings):
                     continue
                 origin = handed.u_hat
             elif start == "stalled end":  # a fold's neighbourhood, where Newton stalled: FIRE carries the snap
-                if stall is None:
-                    stall = _stall_point(problem, chain[0], first, settings)
-                    resumed = stall[1]
-                else:
-                    resumed = None
-                stop = stall[0]
-                if resumed is not None:
-                    used += resumed.iterations
-                    pairs += resumed.fft_pairs
-                    names.append(resumed.method)
-                    notes.append(f"{WORDS[resumed.method]} resumed without the break-off "
-                                 f"({resumed.stalled or 'converged: another equilibrium, not a start'})")
-                if stop is None:
+                if stall is None:  # found once per step
+                    stop, resumed = _stall_point(problem, chain[0], first, settings)
+                    stall = (stop,)
+                    if resumed is not None:
+                        count(resumed)
+                        notes.append(f"{WORDS[resumed.method]} resumed without the break-off "
+                                     f"({resumed.stalled or 'converged: another equilibrium, not a start'})")
+                if stall[0] is None:
                     continue
-                origin = stop.u_hat
+                origin = stall[0].u_hat
             elif start == "end" or np.isfinite(before.residual):
                 origin = before.u_hat
             else:
                 continue
             r = ALGORITHMS[link.algorithm](problem, origin, run)
-            used += r.iterations
-            pairs += r.fft_pairs
-            if r.method and (not names or names[-1] != r.method):
-                names.append(r.method)
+            count(r)
             label = WORDS.get(r.method) or WORDS.get(link.algorithm, link.algorithm)
             if link.tolerance == "handover" and r.converged:  # the looser residual: handed on, not the answer
                 handed, handover_used = r, r.iterations
