@@ -110,7 +110,8 @@ class Link:
     tried in turn until one is kept: "guess" (the step's), "end" (where the link before stopped),
     "finite end" (that, unless its residual was not finite), "stalled end" (where the chain's first link, the
     continuation Newton, stopped without converging at a finite residual, resumed to its stall where it broke off
-    at a jump: never a converged state the chain rejected; `_stall_point`); budget: its iterations, "all"
+    at a jump: never a converged state the chain rejected, `_stall_point`; skipped where that is the guess itself,
+    which every chain's FIRE has started from before); budget: its iterations, "all"
     (max_iterations), "left" (what the links before left), "rest" (that, at least 1), "coupled fire"
     (min(COUPLED_FIRE_BUDGET, max_iterations // 2)), "coupled fire left" (that less the handover link's
     iterations, at least 1); accept: "locally stable" keeps a converged state only where the tangent's
@@ -389,11 +390,14 @@ def _relax(problem, chain, u_hat, settings):
             elif start == "stalled end":  # a fold's neighbourhood, where Newton stalled: FIRE carries the snap
                 if stall is None:  # found once per step
                     stop, resumed = _stall_point(problem, chain[0], first, settings)
-                    stall = (stop,)
                     if resumed is not None:
                         count(resumed)
                         notes.append(f"{WORDS[resumed.method]} resumed without the break-off "
                                      f"({resumed.stalled or 'converged: another equilibrium, not a start'})")
+                    if stop is not None and np.array_equal(stop.u_hat, u_hat):  # e.g. GMRES missed at iteration 1
+                        notes.append("the continuation stalled at the guess, where FIRE ran already: not run again")
+                        stop = None
+                    stall = (stop,)
                 if stall[0] is None:
                     continue
                 origin = stall[0].u_hat
