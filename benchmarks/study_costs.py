@@ -3,9 +3,11 @@
 Usage: python benchmarks/study_costs.py DIR [DIR ...] [--out FILE.md]
 
 Reads what `gfmd study run` wrote (DIR/study.json, DIR/tasks/<key>/curve.csv and meta.json); computes nothing
-anew. Per study: tasks, load steps, wall time (study.json timings), the sum of the task times (meta.json
-timings.total_s: the time each task spent on its worker; tasks that shared a solve, study.json `solved_with`,
-carry the shared solve's time and count once) and how close the workers came to the ideal sum / workers. Per set: its parameters, the median and largest task time, load steps per task-second, the
+anew. Per study: tasks, load steps, wall time (study.json timings: the last run's where the study was resumed),
+the sum of the task times (meta.json timings.total_s: the time each task spent on its worker, or for a task resumed
+after an interruption the sum of its steps' wall times, which covers every run; tasks that shared a solve,
+study.json `solved_with`, carry the shared solve's time and count once) and how close the workers came to the
+ideal sum / workers. Per set: its parameters, the median and largest task time, load steps per task-second, the
 mean iterations per step, and the steps per algorithm label (curve.csv `algorithm`, e.g. "newton→fire": the
 continuation Newton gave the step to FIRE; `gfmd.chains`). Task times are wall seconds on a worker, so they
 include what else ran on the machine: say what did when quoting them.
@@ -29,10 +31,14 @@ def task_costs(task_dir):
         return None
     with open(task_dir / "curve.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
-    return {"total_s": float(meta["timings"]["total_s"]), "steps": len(rows),
+    step_wall = [float(r["wall_s"]) for r in rows]
+    total = float(meta["timings"]["total_s"])
+    # a task resumed after an interruption: total_s is the last run's, its steps' wall times cover the whole ramp
+    resumed = sum(step_wall) > total
+    return {"total_s": max(total, sum(step_wall)), "steps": len(rows), "resumed": resumed,
             "iterations": sum(int(r["iterations"]) for r in rows),
             "algorithms": Counter(r.get("algorithm", "") for r in rows),
-            "step_wall_s": [float(r["wall_s"]) for r in rows]}
+            "step_wall_s": step_wall}
 
 
 def study_costs(out):
@@ -74,7 +80,9 @@ def report(dirs):
         total = sum(c["total_s"] for c in costs if not c["shared"])  # a shared solve once
         steps = sum(c["steps"] for c in costs)
         eff = total / (workers * wall) if wall else float("nan")
-        lines.append(f"| {record['study']} | {len(costs)}/{record['tasks_total']} | "
+        resumed = sum(c["resumed"] for c in costs)
+        lines.append(f"| {record['study']} | {len(costs)}/{record['tasks_total']}"
+                     f"{f' ({resumed} resumed)' if resumed else ''} | "
                      f"{sum(not c['shared'] for c in costs)} | {steps} | "
                      f"{wall / 60 if wall else float('nan'):.1f} | {total / 60:.1f} | {workers} | {eff:.0%} | "
                      f"{', '.join(record.get('code_versions', []))} |")

@@ -20,7 +20,9 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   iterate has moved a node `COUPLED_JUMP` law lengths (``coupled_continuation_jump``: a state the acceptance
   test would reject) or after `COUPLED_CONTINUATION_ITERATIONS` (``coupled_continuation_iterations``); measured,
   benchmarks/results/bench_coupled_continuation_*.md: −7 to −27 % FFT pairs per whole ramp at 2^13–2^14, the
-  states unchanged. Otherwise FIRE from the guess to the looser residual
+  states unchanged. Its GMRES solves get `COUPLED_CONTINUATION_GMRES_CYCLES` restart cycles of the fallback
+  Newton's five (``coupled_continuation_gmres_cycles``; a miss is a break-off): Fig. 8 at 2^17, seed 7, steps
+  161–198, 22 194 → 18 977 FFT pairs, the states bit for bit (kept continuations never needed a third cycle). Otherwise FIRE from the guess to the looser residual
   `Settings.coupled_handover` (link tolerance "handover"), Newton–Krylov from the state it hands over, kept where
   no node moved `COUPLED_HANDOVER_MOVE` law lengths from it (the equilibrium FIRE's damped dynamics was
   approaching), else FIRE goes on from its handover state with the rest of its budget; FIRE from where the
@@ -97,6 +99,10 @@ COUPLED_JUMP = 1.0
 #: iterations, 98 % ≤ 4), while a step whose Newton wanders ran its 60 (seed 8, step 104: 3 721 FFT pairs, then
 #: FIRE and Newton finished it in 443)
 COUPLED_CONTINUATION_ITERATIONS = 20
+#: and each of its GMRES solves gets COUPLED_CONTINUATION_GMRES_CYCLES restart cycles (of 60 products): the solves of
+#: kept continuations took ≤ 104 products (Fig. 8 at 2^17, seed 7, steps 161–198), while on event steps they grew to
+#: 150–300 or missed after all 5 cycles (305 FFT pairs) before the continuation was given up anyway
+COUPLED_CONTINUATION_GMRES_CYCLES = 2
 #: handover chains (``coupled = "handover"``): Newton's state from FIRE's handover state is kept only where no node
 #: moved COUPLED_HANDOVER_MOVE · min(δn, δt) or more from it (the equilibrium FIRE was approaching, not another)
 COUPLED_HANDOVER_MOVE = 0.1
@@ -110,7 +116,8 @@ class Link:
     tried in turn until one is kept: "guess" (the step's), "end" (where the link before stopped),
     "finite end" (that, unless its residual was not finite), "stalled end" (where the chain's first link, the
     continuation Newton, stopped without converging at a finite residual, resumed to its stall where it broke off
-    at a jump: never a converged state the chain rejected; `_stall_point`); budget: its iterations, "all"
+    at a jump: never a converged state the chain rejected, `_stall_point`; skipped where that is the guess itself,
+    which every chain's FIRE has started from before); budget: its iterations, "all"
     (max_iterations), "left" (what the links before left), "rest" (that, at least 1), "coupled fire"
     (min(COUPLED_FIRE_BUDGET, max_iterations // 2)), "coupled fire left" (that less the handover link's
     iterations, at least 1); accept: "locally stable" keeps a converged state only where the tangent's
@@ -130,10 +137,11 @@ class Link:
 
 _VERLET = (("method", "verlet"),)
 _GIVE_UP = (("coupled_gmres_give_up", True),)  # Newton stops at a missed GMRES solve
-#: the continuation Newton: stops at a missed GMRES solve, once an iterate moved COUPLED_JUMP law lengths and after
-#: COUPLED_CONTINUATION_ITERATIONS iterations
+#: the continuation Newton: stops at a GMRES solve missed within COUPLED_CONTINUATION_GMRES_CYCLES, once an iterate
+#: moved COUPLED_JUMP law lengths and after COUPLED_CONTINUATION_ITERATIONS iterations
 _CONTINUATION = _GIVE_UP + (("coupled_continuation_jump", COUPLED_JUMP),
-                            ("coupled_continuation_iterations", COUPLED_CONTINUATION_ITERATIONS))
+                            ("coupled_continuation_iterations", COUPLED_CONTINUATION_ITERATIONS),
+                            ("coupled_continuation_gmres_cycles", COUPLED_CONTINUATION_GMRES_CYCLES))
 #: {(law kind, key): chain}: the law kinds of `gfmd.problem.Problem.kind`, the keys of `chain_key`
 CHAINS = {
     ("hard-wall", "cg"): (Link("hard_wall_two_level_cg"), Link("hard_wall_primal_cg", starts=("end",), budget="left")),
@@ -280,8 +288,8 @@ def _move(problem, r, origin):
 def _stall_point(problem, link, before, settings):
     """(the state where `link`, the chain's first link, stalled (its result `before`): not converged, at a finite
     residual, or None; the resumed run or None). A continuation Newton that broke off where an iterate jumped
-    (`coupled_newton.BROKE_OFF`) is first resumed from there without the break-off, to where its line search
-    stalls: the state the whole run would have stopped at (its iterates depend on the state alone), which FIRE needs
+    or a GMRES solve missed within the continuation's cycles (`coupled_newton.BROKE_OFF`) is first resumed from there
+    without the break-off and with all GMRES cycles, to where its line search stalls: the state the whole run would have stopped at (its iterates depend on the state alone), which FIRE needs
     at a jump-in fold (Fig. 8 at 2^17, seed 2, step 176); a resumed run that converges reached another equilibrium,
     never a start."""
     if before is None or before.converged or not np.isfinite(before.residual):
@@ -291,6 +299,7 @@ def _stall_point(problem, link, before, settings):
     options = dict(link.options)
     limit = options.get("coupled_continuation_iterations") or coupled_newton.COUPLED_NEWTON_ITERATIONS
     run = replace(settings, **{**options, "coupled_continuation_jump": 0.0,  # the whole run's iterations left
+                               "coupled_continuation_gmres_cycles": 0,  # and its GMRES cycles
                                "coupled_continuation_iterations": max(limit - before.iterations, 1)})
     resumed = ALGORITHMS[link.algorithm](problem, before.u_hat, run)
     stop = None if resumed.converged or not np.isfinite(resumed.residual) else resumed
@@ -389,11 +398,14 @@ def _relax(problem, chain, u_hat, settings):
             elif start == "stalled end":  # a fold's neighbourhood, where Newton stalled: FIRE carries the snap
                 if stall is None:  # found once per step
                     stop, resumed = _stall_point(problem, chain[0], first, settings)
-                    stall = (stop,)
                     if resumed is not None:
                         count(resumed)
                         notes.append(f"{WORDS[resumed.method]} resumed without the break-off "
                                      f"({resumed.stalled or 'converged: another equilibrium, not a start'})")
+                    if stop is not None and np.array_equal(stop.u_hat, u_hat):  # e.g. GMRES missed at iteration 1
+                        notes.append("the continuation stalled at the guess, where FIRE ran already: not run again")
+                        stop = None
+                    stall = (stop,)
                 if stall[0] is None:
                     continue
                 origin = stall[0].u_hat

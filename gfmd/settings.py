@@ -63,6 +63,10 @@ class Settings:
     # coupled Newton–Krylov: give the step up after this many iterations (the Newton-first chain's continuation link:
     # `gfmd.chains.COUPLED_CONTINUATION_ITERATIONS`; 0: `gfmd.algorithms.coupled_newton.COUPLED_NEWTON_ITERATIONS`)
     coupled_continuation_iterations: int = 0
+    # coupled Newton–Krylov: each GMRES solve gets this many restart cycles (the Newton-first chain's continuation
+    # link: `gfmd.chains.COUPLED_CONTINUATION_GMRES_CYCLES`, a miss then breaks the step off as a jump does;
+    # 0: `gfmd.algorithms.coupled_newton.COUPLED_GMRES_CYCLES`)
+    coupled_continuation_gmres_cycles: int = 0
     # NCG line search: stop when |dE/dα| ≤ line_search_tol · |dE/dα(0)|
     line_search_tol: float = 0.1
     # hard-wall CG: release the wall nodes that pull away once their forces' norm exceeds

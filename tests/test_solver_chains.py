@@ -246,6 +246,8 @@ def test_a_broken_off_continuation_is_resumed_to_its_stall_before_fire_restarts(
     def newton(problem, start, run):
         calls.append(("newton", "guess" if start is guess else "broken" if start is broken else "other",
                       run.coupled_continuation_jump))
+        if start is broken:  # resumed with all its GMRES cycles
+            assert run.coupled_continuation_gmres_cycles == 0
         if start is broken:
             return record(stalled, resumed_converges, "newton", "line search found no decrease")
         if run.coupled_continuation_jump > 0:
@@ -266,3 +268,35 @@ def test_a_broken_off_continuation_is_resumed_to_its_stall_before_fire_restarts(
         assert calls[3] == ("fire", "stalled") and len(calls) == 4
         assert r.converged and r.method == "newton→fire→newton→fire" and r.iterations == 4 * 7
         assert r.fft_pairs == 4 * 11.0 and "resumed without the break-off" in r.message
+
+
+@pytest.mark.parametrize("coupled", ["newton", "handover-near"])
+def test_a_continuation_stalled_at_the_guess_does_not_start_fire_twice(monkeypatch, coupled):
+    """Where the continuation Newton stalls at the guess itself (GMRES missed at its first iteration: Fig. 8 at
+    2^17, seed 7, step 199), its "stalled end" is the guess, where FIRE ran already: the chain goes on to its
+    stability-tested Newton without repeating that FIRE run (a copy of the guess counts as the guess)."""
+    p = problem("cohesive", **{"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3})
+    settings = Settings(tolerance=1e-8, coupled=coupled)
+    shape = (p.model.components, p.model.nodes // 2 + 1)
+    guess = np.zeros(shape, complex)
+    calls = []
+
+    def record(u_hat, converged, method):
+        fields = np.zeros((p.model.nodes,))
+        return Relaxed(u_hat, fields, fields, fields, fields, fields, 3, 1e-9 if converged else 2.0, converged,
+                       fft_pairs=5.0, method=method, stalled="" if converged else "stalled")
+
+    def newton(problem, start, run):
+        calls.append(("newton", "continuation" if run.coupled_continuation_jump > 0 else "other"))
+        return record(start.copy(), False, "newton")  # stalls where it started
+
+    def fire(problem, start, run):
+        calls.append(("fire", run.method))
+        return record(start, run.method == "verlet", "fire" if run.method == "fire" else "verlet")
+
+    monkeypatch.setitem(chains.ALGORITHMS, "coupled_newton", newton)
+    monkeypatch.setitem(chains.ALGORITHMS, "dynamics", fire)
+    r = chains.relax(p.model, p.law, p.z_ind, guess, settings, p.wall_tolerance)
+    assert calls == [("newton", "continuation"), ("fire", "fire"),  # then the fallback Newton from both its starts
+                     ("newton", "other"), ("newton", "other"), ("fire", "verlet")]
+    assert r.converged and "stalled at the guess" in r.message and r.fft_pairs == 5 * 5.0

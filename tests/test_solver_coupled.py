@@ -187,6 +187,23 @@ def test_continuation_breaks_off_where_an_iterate_jumps(fig8_step, monkeypatch):
     assert dict(chains._CONTINUATION)["coupled_continuation_iterations"] == chains.COUPLED_CONTINUATION_ITERATIONS
 
 
+def test_continuation_gmres_cycles_break_off_a_solve_that_needs_more(fig8_step, monkeypatch):
+    """Settings.coupled_continuation_gmres_cycles (the continuation's COUPLED_CONTINUATION_GMRES_CYCLES) gives each
+    GMRES solve fewer restart cycles; a solve that misses within them breaks the step off (BROKE_OFF, so that the
+    chain can resume it with all cycles), where all COUPLED_GMRES_CYCLES reach the tolerance and Newton converges.
+    Restarts of 20 products: step 99's first solve needs more than one and fewer than five."""
+    cell, previous, _current, (z99, _) = fig8_step
+    problem = Problem(cell.physics, cell.law, z99)
+    monkeypatch.setattr(coupled_newton, "COUPLED_GMRES_RESTART", 20)
+    cont = replace(cell.settings, coupled_gmres_give_up=True)
+    whole = coupled_newton.solve(problem, previous, replace(cont, coupled_continuation_gmres_cycles=0))
+    assert whole.converged, whole.message
+    one = coupled_newton.solve(problem, previous, replace(cont, coupled_continuation_gmres_cycles=1))
+    assert not one.converged and one.iterations == 1 and coupled_newton.BROKE_OFF in one.stalled, one.message
+    assert one.fft_pairs < 0.5 * whole.fft_pairs
+    assert dict(chains._CONTINUATION)["coupled_continuation_gmres_cycles"] == chains.COUPLED_CONTINUATION_GMRES_CYCLES
+
+
 def test_missed_gmres_hands_the_step_to_fire_with_the_same_state(fig8_step, monkeypatch):
     """Where the continuation gives up (GMRES starved as above), the chain's FIRE relaxes the step from the guess
     to the state the Newton continuation keeps unstarved, within the solver tolerance's bound; the label and the

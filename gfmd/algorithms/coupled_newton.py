@@ -57,12 +57,13 @@ def solve(problem, start, settings):
     restarts (`stalled`), rather than going on with the inexact direction, and, with
     `Settings.coupled_continuation_jump` > 0, once an unconverged iterate has moved a node that many law lengths from
     the start (the continuation's acceptance test would reject such a state); `Settings.coupled_continuation_iterations`
-    > 0 replaces COUPLED_NEWTON_ITERATIONS (the continuation's cap). Measured
-    (benchmarks/results/bench_coupled_fallback.md): on the fig8_small ramps (N = 4096) no GMRES solve missed; on the
-    replayed full-scale Fig. 8 steps every kept Newton state used ≤ 229 FFT pairs (< one capped GMRES solve); where one
-    missed, the tangent K + D was near-singular or indefinite along the step (a snap or
-    slip event) and the continuation went on for 23–60 iterations (5 400–13 300 FFT pairs at 2^17) without
-    converging, before FIRE relaxed the step from the guess in ~600–700 iterations.
+    > 0 replaces COUPLED_NEWTON_ITERATIONS (the continuation's cap) and `Settings.coupled_continuation_gmres_cycles` > 0
+    COUPLED_GMRES_CYCLES (a miss within fewer cycles is a break-off, BROKE_OFF, resumable with all of them). Measured
+    (benchmarks/results/bench_coupled_fallback.md): on the fig8_small ramps (N = 4096) no GMRES solve missed; where
+    one missed at 2^17, the tangent K + D was near-singular or indefinite along the step (a snap or slip event) and
+    the continuation went on for 23–60 iterations (5 400–13 300 FFT pairs) without converging, before FIRE relaxed
+    the step from the guess in ~600–700 iterations. The solves of kept continuations took ≤ 104 products (Fig. 8,
+    seed 7, steps 161–198 at 2^17; `gfmd.chains.COUPLED_CONTINUATION_GMRES_CYCLES`).
     """
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
     u_hat = start  # the step's initial displacements (c, N//2+1), rfft
@@ -92,6 +93,7 @@ def solve(problem, start, settings):
     residual = float(np.max(np.abs(f))) / p_ref
     message, converged, it = "", residual < settings.tolerance, 0
     limit = settings.coupled_continuation_iterations or COUPLED_NEWTON_ITERATIONS
+    cycles = settings.coupled_continuation_gmres_cycles or COUPLED_GMRES_CYCLES
     while not converged:
         if it >= limit:
             message = f"not converged after {it} Newton iterations (residual {residual:.3g} p_ref)"
@@ -100,19 +102,19 @@ def solve(problem, start, settings):
         rtol = min(COUPLED_NEWTON_FORCING, max(COUPLED_NEWTON_FORCING_MIN, 0.3 * settings.tolerance / residual))
         before = fft.pairs
         if COUPLED_NEWTON_SPECTRAL:
-            du_hat, info = spectral_step(model, law, z_ind, u, fh, stiff, fft, rtol, COUPLED_GMRES_RESTART,
-                                         COUPLED_GMRES_CYCLES)
+            du_hat, info = spectral_step(model, law, z_ind, u, fh, stiff, fft, rtol, COUPLED_GMRES_RESTART, cycles)
             du = fft.irfft(du_hat)
         else:
             a_op, m_op, _ = coupled_operators(model, law, z_ind, u, fft, COUPLED_NEWTON_SHIFTED)
-            du, info = gmres(a_op, f.ravel(), M=m_op, rtol=rtol, restart=COUPLED_GMRES_RESTART,
-                             maxiter=COUPLED_GMRES_CYCLES)
+            du, info = gmres(a_op, f.ravel(), M=m_op, rtol=rtol, restart=COUPLED_GMRES_RESTART, maxiter=cycles)
             du = project(du.reshape(c, n))
             du_hat = None
         if settings.coupled_gmres_give_up and info != 0:
             message = (f"GMRES missed its tolerance {rtol:.2g} in {fft.pairs - before:.0f} FFT pairs (Newton iteration "
                        f"{it}, residual {residual:.3g} p_ref): the tangent is near-singular or indefinite along the "
                        "step, no continuation")
+            if cycles < COUPLED_GMRES_CYCLES:  # the continuation's shorter solve: resumable as a jump's break-off
+                message += f" within {cycles} of {COUPLED_GMRES_CYCLES} cycles: {BROKE_OFF}"
             break
         largest = float(np.max(np.abs(du)))
         if not np.isfinite(largest) or largest == 0.0:
