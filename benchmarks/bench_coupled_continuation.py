@@ -30,13 +30,14 @@ import bench_coupled_handover as bch  # noqa: E402  (sets one BLAS thread before
 from gfmd import chains  # noqa: E402
 
 
-#: the continuation link's options this session added (the break-off at a jump, the iteration cap)
-BREAK_OFF = ("coupled_continuation_jump", "coupled_continuation_iterations")
+#: the continuation link's options sessions 26–27 added (the break-off at a jump, the iteration cap, the GMRES cycles)
+BREAK_OFF = ("coupled_continuation_jump", "coupled_continuation_iterations", "coupled_continuation_gmres_cycles")
 
 
 @contextmanager
 def without_break_off(key):
-    """CHAINS[("coupled", key)] with its continuation link's break-off off (no jump test, 60 iterations)."""
+    """CHAINS[("coupled", key)] with its continuation link's break-off off (no jump test, 60 iterations, 5 GMRES
+    cycles)."""
     chain = chains.CHAINS[("coupled", key)]
     off = tuple(replace(link, options=tuple((k, v) for k, v in link.options if k not in BREAK_OFF))
                 for link in chain)
