@@ -22,11 +22,11 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   benchmarks/results/bench_coupled_continuation_*.md: −7 to −27 % FFT pairs per whole ramp at 2^13–2^14, the
   states unchanged. Its GMRES solves get `COUPLED_CONTINUATION_GMRES_CYCLES` restart cycles of the fallback
   Newton's five (``coupled_continuation_gmres_cycles``; a miss is a break-off): Fig. 8 at 2^17, seed 7, steps
-  161–198, 22 194 → 18 977 FFT pairs, the states bit for bit (kept continuations never needed a third cycle). Otherwise FIRE from the guess to the looser residual
-  `Settings.coupled_handover` (link tolerance "handover"), Newton–Krylov from the state it hands over, kept where
-  no node moved `COUPLED_HANDOVER_MOVE` law lengths from it (the equilibrium FIRE's damped dynamics was
-  approaching), else FIRE goes on from its handover state with the rest of its budget; FIRE from where the
-  continuation Newton stalled (start "stalled end", resumed without the break-off where it broke off: a jump-in
+  161–198, 22 194 → 18 977 FFT pairs, the states bit for bit (kept continuations never needed a third cycle).
+  Otherwise FIRE from the guess to the looser residual `Settings.coupled_handover` (link tolerance "handover"),
+  Newton–Krylov from the state it hands over, kept where no node moved `COUPLED_HANDOVER_MOVE` law lengths from it
+  (the equilibrium FIRE's damped dynamics was approaching), else FIRE goes on from its handover state for up to
+  `COUPLED_FIRE_CRAWL` iterations in all (through a fold's ghost); FIRE from where the continuation Newton stalled (start "stalled end", resumed without the break-off where it broke off: a jump-in
   fold, Fig. 8 at 2^17, seed 2, step 176: Newton stops at a minimum of |f| beside the fold, FIRE from the guess
   does not settle in its budget, FIRE from Newton's stall carries the snap in 1 530 iterations); then the
   stability-tested Newton and Verlet of ``coupled = "fire"``. Measured against the default before (the "newton"
@@ -90,6 +90,13 @@ ALGORITHMS = {"hard_wall_two_level_cg": hard_wall_two_level_cg.solve, "hard_wall
 #: up to δ = 32 nm (N = 64; ≤ 350 at N = 128), then 950, 7 580, 33 060 and fails (residual 1e-2 to
 #: 1e2 p_ref) from δ ≈ 39 nm (N = 128), where Verlet converges in 500–1 140. Budget ≈ 2.5 × 790.
 COUPLED_FIRE_BUDGET = 2000
+#: FIRE from a handover state (residual ≤ Settings.coupled_handover, Newton's state there rejected or not converged)
+#: gets COUPLED_FIRE_CRAWL iterations with the handover link's: near a fold the equilibrium FIRE was approaching is
+#: gone, and it crawls through the fold's ghost at residuals 1e-6 to 1e-5 p_ref, moving slowly, before the snap.
+#: Measured (Fig. 8 at 2^17, ν = 0.45, c = 0.5, seed 8, step 156): 6 220 iterations after the handover, moves
+#: 0.10 → 0.16 δn over the first 5 000, then a 2.38 δn snap, converged (60 CPU s); with COUPLED_FIRE_BUDGET's
+#: 1 720 left, every other link stalled at 2e-6 p_ref beside it and damped Verlet ran over an hour. ≈ 3 × 6 220.
+COUPLED_FIRE_CRAWL = 20000
 #: Newton-first coupled chain: its converged state is kept only where no node moved COUPLED_JUMP · (the law's
 #: length, min(δn, δt)) or more from the step's start: the continuation of the stable branch the ramp is on.
 #: A larger move (a snap or slip event) hands the step to the FIRE chain, whose Newton is tested for stability
@@ -119,8 +126,8 @@ class Link:
     at a jump: never a converged state the chain rejected, `_stall_point`; skipped where that is the guess itself,
     which every chain's FIRE has started from before); budget: its iterations, "all"
     (max_iterations), "left" (what the links before left), "rest" (that, at least 1), "coupled fire"
-    (min(COUPLED_FIRE_BUDGET, max_iterations // 2)), "coupled fire left" (that less the handover link's
-    iterations, at least 1); accept: "locally stable" keeps a converged state only where the tangent's
+    (min(COUPLED_FIRE_BUDGET, max_iterations // 2)), "coupled crawl" (min(COUPLED_FIRE_CRAWL, max_iterations // 2)
+    less the handover link's iterations, at least 1); accept: "locally stable" keeps a converged state only where the tangent's
     eigenvalues nearest 0 have Re λ > 0, "near" only where no node moved COUPLED_HANDOVER_MOVE law lengths from
     its start, "near, locally stable" both; tolerance: "handover" runs the link to the looser residual
     `Settings.coupled_handover` and hands the state it reaches to the links after it (start "handover": that
@@ -165,20 +172,20 @@ CHAINS = {
                          Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                          Link("dynamics", options=_VERLET, budget="rest")),
     # FIRE to the handover residual, Newton from there (kept near FIRE's state: the same equilibrium), else FIRE
-    # goes on from its handover state with the budget left; FIRE from where the continuation stalled (a fold); then
+    # goes on from its handover state (up to COUPLED_FIRE_CRAWL in all); FIRE from where the continuation stalled (a fold); then
     # as the "fire" chain
     ("coupled", "handover"): (Link("coupled_newton", options=_CONTINUATION, accept="continuation"),
                               Link("dynamics", budget="coupled fire", tolerance="handover"),
                               Link("coupled_newton", options=_GIVE_UP, starts=("handover",),
                                    accept="near, locally stable"),
-                              Link("dynamics", starts=("handover",), budget="coupled fire left"),
+                              Link("dynamics", starts=("handover",), budget="coupled crawl"),
                               Link("dynamics", starts=("stalled end",), budget="coupled fire"),
                               Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                               Link("dynamics", options=_VERLET, budget="rest")),
     ("coupled", "handover-near"): (Link("coupled_newton", options=_CONTINUATION, accept="continuation"),
                                    Link("dynamics", budget="coupled fire", tolerance="handover"),
                                    Link("coupled_newton", options=_GIVE_UP, starts=("handover",), accept="near"),
-                                   Link("dynamics", starts=("handover",), budget="coupled fire left"),
+                                   Link("dynamics", starts=("handover",), budget="coupled crawl"),
                                    Link("dynamics", starts=("stalled end",), budget="coupled fire"),
                                    Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                                    Link("dynamics", options=_VERLET, budget="rest")),
@@ -273,9 +280,10 @@ def describe(key, settings):
 def _budget(link, settings, used, handover_used=0):
     if link.budget == "all":
         return settings.max_iterations
-    if link.budget.startswith("coupled fire"):
-        fire = min(COUPLED_FIRE_BUDGET, settings.max_iterations // 2)
-        return fire if link.budget == "coupled fire" else max(fire - handover_used, 1)
+    if link.budget == "coupled fire":
+        return min(COUPLED_FIRE_BUDGET, settings.max_iterations // 2)
+    if link.budget == "coupled crawl":  # with the handover link's iterations
+        return max(min(COUPLED_FIRE_CRAWL, settings.max_iterations // 2) - handover_used, 1)
     left = settings.max_iterations - used
     return left if link.budget == "left" else max(left, 1)
 

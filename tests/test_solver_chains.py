@@ -300,3 +300,38 @@ def test_a_continuation_stalled_at_the_guess_does_not_start_fire_twice(monkeypat
     assert calls == [("newton", "continuation"), ("fire", "fire"),  # then the fallback Newton from both its starts
                      ("newton", "other"), ("newton", "other"), ("fire", "verlet")]
     assert r.converged and "stalled at the guess" in r.message and r.fft_pairs == 5 * 5.0
+
+
+def test_fire_from_the_handover_state_gets_the_crawl_budget(monkeypatch):
+    """FIRE going on from its handover state (Newton there not kept) gets COUPLED_FIRE_CRAWL iterations with the
+    handover link's, not what is left of COUPLED_FIRE_BUDGET: near a fold it crawls through the ghost of the
+    equilibrium it was approaching (Fig. 8 at 2^17, ν = 0.45, seed 8, step 156: 6 220 iterations after the handover,
+    where 1 720 left the step to Verlet for over an hour); never more than half of Settings.max_iterations."""
+    p = problem("cohesive", **{"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3})
+    shape = (p.model.components, p.model.nodes // 2 + 1)
+    guess = np.zeros(shape, complex)
+    handed = np.full(shape, 1e-12 + 0j)
+    budgets = []
+
+    def record(u_hat, converged, method, iterations=7):
+        fields = np.zeros((p.model.nodes,))
+        return Relaxed(u_hat, fields, fields, fields, fields, fields, iterations, 1e-9 if converged else 1e-4,
+                       converged, method=method, stalled="" if converged else "stalled")
+
+    def newton(problem, start, run):
+        return record(start, False, "newton")
+
+    def fire(problem, start, run):
+        budgets.append((start is handed, run.max_iterations))
+        if run.tolerance == run.coupled_handover:  # the handover link reaches its residual
+            return record(handed, True, "fire")
+        return record(start, start is handed, "fire")
+
+    monkeypatch.setitem(chains.ALGORITHMS, "coupled_newton", newton)
+    monkeypatch.setitem(chains.ALGORITHMS, "dynamics", fire)
+    for settings, crawl in ((Settings(tolerance=1e-8), chains.COUPLED_FIRE_CRAWL),
+                            (Settings(tolerance=1e-8, max_iterations=3000), 1500)):
+        budgets.clear()
+        r = chains.relax(p.model, p.law, p.z_ind, guess, settings, p.wall_tolerance)
+        assert r.converged and r.method == "newton→fire→newton→fire", r.method
+        assert budgets == [(False, min(chains.COUPLED_FIRE_BUDGET, settings.max_iterations // 2)), (True, crawl - 7)]
