@@ -26,8 +26,9 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   Otherwise FIRE from the guess to the looser residual `Settings.coupled_handover` (link tolerance "handover"),
   Newton–Krylov from the state it hands over, kept where no node moved `COUPLED_HANDOVER_MOVE` law lengths from it
   (the equilibrium FIRE's damped dynamics was approaching), else FIRE goes on from its handover state for up to
-  `COUPLED_FIRE_CRAWL` iterations in all (through a fold's ghost); FIRE from where the continuation Newton stalled (start "stalled end", resumed without the break-off where it broke off: a jump-in
-  fold, Fig. 8 at 2^17, seed 2, step 176: Newton stops at a minimum of |f| beside the fold, FIRE from the guess
+  `COUPLED_FIRE_CRAWL` iterations in all (through a fold's ghost); FIRE from where the continuation Newton
+  stalled (start "stalled end", resumed without the break-off where it broke off: a jump-in fold, Fig. 8 at 2^17,
+  seed 2, step 176: Newton stops at a minimum of |f| beside the fold, FIRE from the guess
   does not settle in its budget, FIRE from Newton's stall carries the snap in 1 530 iterations); then the
   stability-tested Newton and Verlet of ``coupled = "fire"``. Measured against the default before (the "newton"
   chain without the break-off; benchmarks/results/bench_coupled_continuation_*.md): −22 to −41 % FFT pairs per
@@ -127,9 +128,9 @@ class Link:
     which every chain's FIRE has started from before); budget: its iterations, "all"
     (max_iterations), "left" (what the links before left), "rest" (that, at least 1), "coupled fire"
     (min(COUPLED_FIRE_BUDGET, max_iterations // 2)), "coupled crawl" (min(COUPLED_FIRE_CRAWL, max_iterations // 2)
-    less the handover link's iterations, at least 1); accept: "locally stable" keeps a converged state only where the tangent's
-    eigenvalues nearest 0 have Re λ > 0, "near" only where no node moved COUPLED_HANDOVER_MOVE law lengths from
-    its start, "near, locally stable" both; tolerance: "handover" runs the link to the looser residual
+    less the handover link's iterations, at least 1); accept: "locally stable" keeps a converged state only where
+    the tangent's eigenvalues nearest 0 have Re λ > 0, "near" only where no node moved COUPLED_HANDOVER_MOVE law
+    lengths from its start, "near, locally stable" both; tolerance: "handover" runs the link to the looser residual
     `Settings.coupled_handover` and hands the state it reaches to the links after it (start "handover": that
     state; the link is skipped where the handover residual was not reached).
     """
@@ -172,8 +173,8 @@ CHAINS = {
                          Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                          Link("dynamics", options=_VERLET, budget="rest")),
     # FIRE to the handover residual, Newton from there (kept near FIRE's state: the same equilibrium), else FIRE
-    # goes on from its handover state (up to COUPLED_FIRE_CRAWL in all); FIRE from where the continuation stalled (a fold); then
-    # as the "fire" chain
+    # goes on from its handover state (up to COUPLED_FIRE_CRAWL in all); FIRE from where the continuation stalled
+    # (a fold); then as the "fire" chain
     ("coupled", "handover"): (Link("coupled_newton", options=_CONTINUATION, accept="continuation"),
                               Link("dynamics", budget="coupled fire", tolerance="handover"),
                               Link("coupled_newton", options=_GIVE_UP, starts=("handover",),
@@ -297,9 +298,9 @@ def _stall_point(problem, link, before, settings):
     """(the state where `link`, the chain's first link, stalled (its result `before`): not converged, at a finite
     residual, or None; the resumed run or None). A continuation Newton that broke off where an iterate jumped
     or a GMRES solve missed within the continuation's cycles (`coupled_newton.BROKE_OFF`) is first resumed from there
-    without the break-off and with all GMRES cycles, to where its line search stalls: the state the whole run would have stopped at (its iterates depend on the state alone), which FIRE needs
-    at a jump-in fold (Fig. 8 at 2^17, seed 2, step 176); a resumed run that converges reached another equilibrium,
-    never a start."""
+    without the break-off and with all GMRES cycles, to where its line search stalls: the state the whole run
+    would have stopped at (its iterates depend on the state alone), which FIRE needs at a jump-in fold (Fig. 8 at
+    2^17, seed 2, step 176); a resumed run that converges reached another equilibrium, never a start."""
     if before is None or before.converged or not np.isfinite(before.residual):
         return None, None
     if coupled_newton.BROKE_OFF not in before.stalled:
