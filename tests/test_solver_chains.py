@@ -188,6 +188,14 @@ def test_ramp_results_name_the_algorithm_of_every_step():
     assert prepare(verlet, surfaces.profile(verlet.surface, 0)).method == "gfmd-verlet"
 
 
+def fake_result(p, u_hat, converged, method, iterations, fft_pairs=0.0, residual=1e-4, why="stalled"):
+    """A `Relaxed` an algorithm stubbed into `chains.ALGORITHMS` returns: converged at 1e-9, else at `residual`
+    stalled for `why`."""
+    fields = np.zeros((p.model.nodes,))
+    return Relaxed(u_hat, fields, fields, fields, fields, fields, iterations, 1e-9 if converged else residual,
+                   converged, fft_pairs=fft_pairs, method=method, stalled="" if converged else why)
+
+
 @pytest.mark.parametrize("newton_converged", [False, True])
 def test_coupled_fire_restarts_where_newton_stalled_never_from_a_rejected_state(monkeypatch, newton_converged):
     """The "newton" coupled chain: FIRE stalled from the guess runs again from the state where the continuation
@@ -201,9 +209,7 @@ def test_coupled_fire_restarts_where_newton_stalled_never_from_a_rejected_state(
     starts = []
 
     def record(u_hat, converged, method):
-        fields = np.zeros((p.model.nodes,))
-        return Relaxed(u_hat, fields, fields, fields, fields, fields, 5, 1e-9 if converged else 1e-4, converged,
-                       method=method, stalled="" if converged else "stalled")
+        return fake_result(p, u_hat, converged, method, 5)
 
     def newton(problem, start, run):
         starts.append(("newton", start is guess))
@@ -239,9 +245,7 @@ def test_a_broken_off_continuation_is_resumed_to_its_stall_before_fire_restarts(
     calls = []
 
     def record(u_hat, converged, method, why):
-        fields = np.zeros((p.model.nodes,))
-        return Relaxed(u_hat, fields, fields, fields, fields, fields, 7, 1e-9 if converged else 1e-4, converged,
-                       fft_pairs=11.0, method=method, stalled="" if converged else why)
+        return fake_result(p, u_hat, converged, method, 7, fft_pairs=11.0, why=why)
 
     def newton(problem, start, run):
         calls.append(("newton", "guess" if start is guess else "broken" if start is broken else "other",
@@ -282,9 +286,7 @@ def test_a_continuation_stalled_at_the_guess_does_not_start_fire_twice(monkeypat
     calls = []
 
     def record(u_hat, converged, method):
-        fields = np.zeros((p.model.nodes,))
-        return Relaxed(u_hat, fields, fields, fields, fields, fields, 3, 1e-9 if converged else 2.0, converged,
-                       fft_pairs=5.0, method=method, stalled="" if converged else "stalled")
+        return fake_result(p, u_hat, converged, method, 3, fft_pairs=5.0, residual=2.0)
 
     def newton(problem, start, run):
         calls.append(("newton", "continuation" if run.coupled_continuation_jump > 0 else "other"))
@@ -313,10 +315,8 @@ def test_fire_from_the_handover_state_gets_the_crawl_budget(monkeypatch):
     handed = np.full(shape, 1e-12 + 0j)
     budgets = []
 
-    def record(u_hat, converged, method, iterations=7):
-        fields = np.zeros((p.model.nodes,))
-        return Relaxed(u_hat, fields, fields, fields, fields, fields, iterations, 1e-9 if converged else 1e-4,
-                       converged, method=method, stalled="" if converged else "stalled")
+    def record(u_hat, converged, method):
+        return fake_result(p, u_hat, converged, method, 7)
 
     def newton(problem, start, run):
         return record(start, False, "newton")
