@@ -15,14 +15,29 @@ from .fft import spectral_weights
 #: GMRES: restart length and the most restart cycles of one solve
 GMRES_RESTART = 60
 GMRES_CYCLES = 5
-#: inexact Newton's forcing rule: GMRES's relative tolerance min(FORCING, max(FORCING_MIN, 0.3 tolerance / residual))
+#: inexact Newton's forcing rule (`forcing`): GMRES's relative tolerance
+#: min(FORCING, max(η, FORCING_MIN, 0.3 tolerance / residual))
 FORCING = 0.1
 FORCING_MIN = 1e-3
+#: η: Eisenstat & Walker's choice 2 (SIAM J. Sci. Comput. 17, 16 (1996), Eq. 2.6), η_k = γ (‖F_k‖/‖F_k−1‖)^α,
+#: η_0 = FORCING; their safeguard (η_k ≥ γ η_k−1^α where that exceeds 0.1) never binds under η ≤ FORCING = 0.1
+EW_GAMMA = 0.9
+EW_ALPHA = 2.0
 
 
-def forcing(tolerance, residual):
-    """GMRES's relative tolerance for a step at `residual` (p_ref units): no accuracy beyond what the stop needs."""
-    return min(FORCING, max(FORCING_MIN, 0.3 * tolerance / residual))
+def eisenstat_walker(residual, previous=None):
+    """η of the next GMRES solve from this and the previous Newton residual (any one norm): FORCING at the first
+    iteration (previous None), else γ (residual/previous)^α, at most FORCING: loose while Newton converges
+    linearly, tight once it converges quadratically."""
+    if previous is None or previous <= 0.0:
+        return FORCING
+    return min(FORCING, EW_GAMMA * (residual / previous) ** EW_ALPHA)
+
+
+def forcing(tolerance, residual, eta=0.0):
+    """GMRES's relative tolerance for a step at `residual` (p_ref units): no accuracy beyond what the stop needs
+    (0.3 tolerance / residual), nor beyond η (`eisenstat_walker`; 0: the floor FORCING_MIN alone)."""
+    return min(FORCING, max(eta, FORCING_MIN, 0.3 * tolerance / residual))
 
 
 def balance(law, z_ind, fft, stiff, clamp):

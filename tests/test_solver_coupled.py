@@ -27,6 +27,7 @@ from contact.loading import indenter_surface, realization_steps
 from contact.scene import load_scene
 from gfmd import chains, solver as gs
 from gfmd.algorithms import coupled_newton, dynamics
+from gfmd.coupled_krylov import FORCING, FORCING_MIN, eisenstat_walker, forcing
 from gfmd.loading import prepare, run_realization
 from gfmd.problem import Problem, coupled_stability
 from gfmd.stopping import finish
@@ -187,14 +188,50 @@ def test_continuation_breaks_off_where_an_iterate_jumps(fig8_step, monkeypatch):
     assert dict(chains._CONTINUATION)["coupled_continuation_iterations"] == chains.COUPLED_CONTINUATION_ITERATIONS
 
 
+def test_newton_forcing_is_eisenstat_walker(fig8_step, monkeypatch):
+    """Each GMRES solve of the coupled Newton gets forcing(tolerance, r_k, η_k), η_k by Eisenstat–Walker from the
+    residuals r_k, r_k−1 at the solve (η_0 = FORCING, the first solve loose); with the rule off
+    (COUPLED_NEWTON_EISENSTAT_WALKER False, the rule before session 28) the floor alone, the first solve at
+    FORCING_MIN. Both reach the same equilibrium, within the tolerance's bound."""
+    cell, previous, _current, (z99, _) = fig8_step
+    problem = Problem(cell.physics, cell.law, z99)
+    calls, inner = [], coupled_newton.spectral_step
+
+    def spy(model, law, z_ind, u, f_hat, stiff, fft, rtol, *args):
+        calls.append((float(np.max(np.abs(fft.irfft(f_hat)))) / model.reference_traction, rtol))
+        return inner(model, law, z_ind, u, f_hat, stiff, fft, rtol, *args)
+
+    monkeypatch.setattr(coupled_newton, "spectral_step", spy)
+    tol = cell.settings.tolerance
+    ew = coupled_newton.solve(problem, previous, cell.settings)
+    assert ew.converged and len(calls) == ew.iterations >= 2, ew.message
+    residuals = [r for r, _ in calls]
+    expected = [forcing(tol, r, eisenstat_walker(r, residuals[k - 1] if k else None)) for k, r in enumerate(residuals)]
+    assert [rtol for _, rtol in calls] == pytest.approx(expected, rel=1e-12)
+    assert calls[0][1] == FORCING
+    calls.clear()
+    monkeypatch.setattr(coupled_newton, "COUPLED_NEWTON_EISENSTAT_WALKER", False)
+    floor = coupled_newton.solve(problem, previous, cell.settings)
+    assert floor.converged, floor.message
+    assert [rtol for _, rtol in calls] == pytest.approx([forcing(tol, r) for r, _ in calls], rel=1e-12)
+    assert calls[0][1] == FORCING_MIN
+    m = cell.physics
+    k1 = min(abs(m.k_xx[1]), abs(m.k_zz[1])) - abs(m.k_xz[1])
+    bound = 2 * tol * m.reference_traction * np.sqrt(m.nodes) / k1
+    for a, b in ((ew.u_z, floor.u_z), (ew.u_x, floor.u_x)):
+        assert np.max(np.abs(a - b)) < 10 * bound + 1e-6 * cell.scene.interface.length_normal
+
+
 def test_continuation_gmres_cycles_break_off_a_solve_that_needs_more(fig8_step, monkeypatch):
     """Settings.coupled_continuation_gmres_cycles (the continuation's COUPLED_CONTINUATION_GMRES_CYCLES) gives each
     GMRES solve fewer restart cycles; a solve that misses within them breaks the step off (BROKE_OFF, so that the
     chain can resume it with all cycles), where all COUPLED_GMRES_CYCLES reach the tolerance and Newton converges.
-    Restarts of 20 products: step 99's first solve needs more than one and fewer than five."""
+    Restarts of 20 products at the forcing floor alone (every solve to FORCING_MIN): step 99's first solve needs
+    more than one and fewer than five (under Eisenstat–Walker's loose first solve, the second one would)."""
     cell, previous, _current, (z99, _) = fig8_step
     problem = Problem(cell.physics, cell.law, z99)
     monkeypatch.setattr(coupled_newton, "COUPLED_GMRES_RESTART", 20)
+    monkeypatch.setattr(coupled_newton, "COUPLED_NEWTON_EISENSTAT_WALKER", False)
     cont = replace(cell.settings, coupled_gmres_give_up=True)
     whole = coupled_newton.solve(problem, previous, replace(cont, coupled_continuation_gmres_cycles=0))
     assert whole.converged, whole.message

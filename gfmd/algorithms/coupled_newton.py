@@ -12,7 +12,7 @@ from scipy.sparse.linalg import gmres
 
 from contact import laws
 
-from ..coupled_krylov import FORCING, FORCING_MIN, GMRES_CYCLES, GMRES_RESTART, balance, spectral_step
+from ..coupled_krylov import GMRES_CYCLES, GMRES_RESTART, balance, eisenstat_walker, forcing, spectral_step
 from ..fft import Fft
 from ..problem import Elastic, coupled_operators
 from ..stopping import finish
@@ -22,13 +22,13 @@ from ..stopping import finish
 COUPLED_NEWTON_ITERATIONS = 60
 COUPLED_GMRES_RESTART = GMRES_RESTART
 COUPLED_GMRES_CYCLES = GMRES_CYCLES
-#: Newton step: largest nodal move per iteration in units of min(δn, δt) (trust region), GMRES relative tolerance
+#: Newton step: largest nodal move per iteration in units of min(δn, δt) (trust region)
 COUPLED_NEWTON_MAX_MOVE = 2.0
-COUPLED_NEWTON_FORCING = FORCING
 #: GMRES preconditioner: the FIRE mass M_q = K(q) + ⟨k_loc⟩ (True) or K(q) alone (False)
 COUPLED_NEWTON_SHIFTED = False
-#: GMRES's relative tolerance: min(COUPLED_NEWTON_FORCING, max(COUPLED_NEWTON_FORCING_MIN, 0.3 tolerance / residual))
-COUPLED_NEWTON_FORCING_MIN = FORCING_MIN
+#: GMRES's relative tolerance `gfmd.coupled_krylov.forcing` with Eisenstat–Walker's η (True, since session 28) or
+#: its floor alone (False, the rule before: every solve but the last to 1e-3 at 2^17)
+COUPLED_NEWTON_EISENSTAT_WALKER = True
 #: GMRES on the spectrum, right-preconditioned by K⁻¹: one FFT pair per product (False: nodal, two)
 COUPLED_NEWTON_SPECTRAL = True
 #: the break-off's words in `Relaxed.stalled` (`Settings.coupled_continuation_jump`; `gfmd.chains` resumes such a
@@ -44,11 +44,13 @@ def solve(problem, start, settings):
     by FFT: on the spectrum, right-preconditioned by K⁻¹ (`gfmd.coupled_krylov.spectral_step`, one FFT pair per product; with
     COUPLED_NEWTON_SPECTRAL = False on the nodes, preconditioned by K⁻¹ or, COUPLED_NEWTON_SHIFTED, the inverse
     FIRE mass M_q = K(q) + ⟨k_loc⟩, two pairs per product), to the relative tolerance
-    min(COUPLED_NEWTON_FORCING, max(COUPLED_NEWTON_FORCING_MIN, 0.3 tolerance / residual)) (no accuracy beyond
+    min(FORCING, max(η, FORCING_MIN, 0.3 tolerance / residual)) (`gfmd.coupled_krylov.forcing`: no accuracy beyond
     what the stopping test needs; measured on the Fig. 8 ramp at 2^12: 72 FFT pairs per step vs 83 with a fixed
-    1e-3, and 184 on the nodes with K⁻¹, 265 with the FIRE mass); the step is capped so that no node moves
-    more than COUPLED_NEWTON_MAX_MOVE·min(δn, δt) and halved until ‖f‖₂ decreases (a step
-    into the law's overflow range counts as no decrease). Half-plane: the mean modes stay
+    1e-3, and 184 on the nodes with K⁻¹, 265 with the FIRE mass), η Eisenstat–Walker's (loose while Newton
+    converges linearly, tight once quadratically; COUPLED_NEWTON_EISENSTAT_WALKER; measured in
+    benchmarks/results/bench_coupled_forcing_*.md); the step is capped so that no node moves more than
+    COUPLED_NEWTON_MAX_MOVE·min(δn, δt) and halved until ‖f‖₂ decreases (a step into the law's overflow range
+    counts as no decrease). Half-plane: the mean modes stay
     clamped (the operator acts on zero-mean fields). Stops on the solver's residual
     (max |f| < tolerance·p_ref); `iterations` counts Newton iterations, `fft_pairs` includes
     GMRES's products. Not converged (message says why) after COUPLED_NEWTON_ITERATIONS or
@@ -94,12 +96,15 @@ def solve(problem, start, settings):
     message, converged, it = "", residual < settings.tolerance, 0
     limit = settings.coupled_continuation_iterations or COUPLED_NEWTON_ITERATIONS
     cycles = settings.coupled_continuation_gmres_cycles or COUPLED_GMRES_CYCLES
+    previous = None  # the last iteration's residual (Eisenstat–Walker's η)
     while not converged:
         if it >= limit:
             message = f"not converged after {it} Newton iterations (residual {residual:.3g} p_ref)"
             break
         it += 1
-        rtol = min(COUPLED_NEWTON_FORCING, max(COUPLED_NEWTON_FORCING_MIN, 0.3 * settings.tolerance / residual))
+        eta = eisenstat_walker(residual, previous) if COUPLED_NEWTON_EISENSTAT_WALKER else 0.0
+        previous = residual
+        rtol = forcing(settings.tolerance, residual, eta)
         before = fft.pairs
         if COUPLED_NEWTON_SPECTRAL:
             du_hat, info = spectral_step(model, law, z_ind, u, fh, stiff, fft, rtol, COUPLED_GMRES_RESTART, cycles)
