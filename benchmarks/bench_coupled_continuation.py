@@ -30,8 +30,10 @@ import bench_coupled_handover as bch  # noqa: E402  (sets one BLAS thread before
 from gfmd import chains  # noqa: E402
 
 
-#: the continuation link's options sessions 26–27 added (the break-off at a jump, the iteration cap, the GMRES cycles)
-BREAK_OFF = ("coupled_continuation_jump", "coupled_continuation_iterations", "coupled_continuation_gmres_cycles")
+#: the continuation link's options sessions 26–29 added (the break-off at a jump, the iteration cap, the GMRES cycles,
+#: the stagnation test)
+BREAK_OFF = ("coupled_continuation_jump", "coupled_continuation_iterations", "coupled_continuation_gmres_cycles",
+             "coupled_continuation_stagnation")
 
 
 @contextmanager

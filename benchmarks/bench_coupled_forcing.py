@@ -58,6 +58,12 @@ def label(rule):
 
 def replay(task, step, count, rules):
     """Table lines: the study task's steps step+1 … step+count from the same start under each rule."""
+    return replay_variants(task, step, count, [(label(rule), lambda rule=rule: forcing_rule(rule)) for rule in rules])
+
+
+def replay_variants(task, step, count, variants):
+    """Table lines: the study task's steps step+1 … step+count, each relaxed from the same start (the first
+    variant's state carried on) under every variant, a (label, context manager factory) pair."""
     from contact import surfaces
     from contact.loading import indenter_surface, realization_steps
     from contact.scene import load_scene
@@ -72,16 +78,17 @@ def replay(task, step, count, rules):
     u = np.stack([fields[f"r0_s{step}_u_x"], fields[f"r0_s{step}_u_z"]])
     current = previous = rfft_nodes(u, (u.shape[1],))
     steps, _ = realization_steps(scene, h, 0)
-    lines = [f"Replay of `{task}` (N = {u.shape[1]}) from its step-{step} state; per step and rule: chain label, "
-             "FFT pairs, CPU s; max |Δu|/δn against the first rule's state.", "",
-             "| step | " + " | ".join(label(f) for f in rules) + " | max |Δu|/δn |",
-             "|---|" + "---|" * (len(rules) + 1)]
+    lines = [f"Replay of `{task}` (N = {u.shape[1]}) from its step-{step} state; per step and variant: chain label, "
+             "FFT pairs, CPU s; max |Δu|/δn against the first variant's state.", "",
+             "| step | " + " | ".join(name for name, _ in variants) + " | max |Δu|/δn |",
+             "|---|" + "---|" * (len(variants) + 1)]
+    rules = [name for name, _ in variants]
     totals = {f: [0.0, 0.0] for f in rules}
     for k in range(step + 1, step + 1 + count):
         z_ind = indenter_surface(h, scene.loading.initial_separation, steps[k])
         out = {}
-        for rule in rules:
-            with forcing_rule(rule):
+        for rule, context in variants:
+            with context():
                 t0 = time.process_time()
                 r = chains.relax(cell.physics, cell.law, z_ind, 2 * current - previous, cell.settings, 0.0)
                 cpu = time.process_time() - t0

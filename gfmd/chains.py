@@ -18,7 +18,10 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   node moved `COUPLED_JUMP` law lengths from the step's start); it gives up at the first GMRES solve that misses
   its tolerance (``coupled_gmres_give_up``: a near-singular or indefinite tangent along the step) and once an
   iterate has moved a node `COUPLED_JUMP` law lengths (``coupled_continuation_jump``: a state the acceptance
-  test would reject) or after `COUPLED_CONTINUATION_ITERATIONS` (``coupled_continuation_iterations``); measured,
+  test would reject), once two iterations in a row each left more than `COUPLED_CONTINUATION_STAGNATION` of the
+  residual (``coupled_continuation_stagnation``; Fig. 8 at 2^17, steps 121–160 of seed 7: −13 % CPU at ν = 0.45,
+  −23 % at ν = 0.1, the states bit for bit, benchmarks/results/bench_coupled_stagnation_*.md) or after
+  `COUPLED_CONTINUATION_ITERATIONS` (``coupled_continuation_iterations``); measured,
   benchmarks/results/bench_coupled_continuation_*.md: −7 to −27 % FFT pairs per whole ramp at 2^13–2^14, the
   states unchanged. Its GMRES solves get `COUPLED_CONTINUATION_GMRES_CYCLES` restart cycles of the fallback
   Newton's five (``coupled_continuation_gmres_cycles``; a miss is a break-off): Fig. 8 at 2^17, seed 7, steps
@@ -111,6 +114,11 @@ COUPLED_CONTINUATION_ITERATIONS = 20
 #: kept continuations took ≤ 104 products (Fig. 8 at 2^17, seed 7, steps 161–198), while on event steps they grew to
 #: 150–300 or missed after all 5 cycles (305 FFT pairs) before the continuation was given up anyway
 COUPLED_CONTINUATION_GMRES_CYCLES = 2
+#: and it gives up once two iterations in a row each left more than COUPLED_CONTINUATION_STAGNATION of the residual
+#: before them (a Newton crawling along a near-singular tangent, which went on to the iteration cap or a line search
+#: stall: Fig. 8 at 2^17, ν = 0.45, seed 7, step 122: 1.4e-2 p_ref for 17 iterations, 14 of the step's 17 CPU s);
+#: kept continuations converge superlinearly (benchmarks/results/bench_coupled_stagnation_*.md)
+COUPLED_CONTINUATION_STAGNATION = 0.5
 #: handover chains (``coupled = "handover"``): Newton's state from FIRE's handover state is kept only where no node
 #: moved COUPLED_HANDOVER_MOVE · min(δn, δt) or more from it (the equilibrium FIRE was approaching, not another)
 COUPLED_HANDOVER_MOVE = 0.1
@@ -146,10 +154,12 @@ class Link:
 _VERLET = (("method", "verlet"),)
 _GIVE_UP = (("coupled_gmres_give_up", True),)  # Newton stops at a missed GMRES solve
 #: the continuation Newton: stops at a GMRES solve missed within COUPLED_CONTINUATION_GMRES_CYCLES, once an iterate
-#: moved COUPLED_JUMP law lengths and after COUPLED_CONTINUATION_ITERATIONS iterations
+#: moved COUPLED_JUMP law lengths, once its residual stagnates (COUPLED_CONTINUATION_STAGNATION) and after
+#: COUPLED_CONTINUATION_ITERATIONS iterations
 _CONTINUATION = _GIVE_UP + (("coupled_continuation_jump", COUPLED_JUMP),
                             ("coupled_continuation_iterations", COUPLED_CONTINUATION_ITERATIONS),
-                            ("coupled_continuation_gmres_cycles", COUPLED_CONTINUATION_GMRES_CYCLES))
+                            ("coupled_continuation_gmres_cycles", COUPLED_CONTINUATION_GMRES_CYCLES),
+                            ("coupled_continuation_stagnation", COUPLED_CONTINUATION_STAGNATION))
 #: {(law kind, key): chain}: the law kinds of `gfmd.problem.Problem.kind`, the keys of `chain_key`
 CHAINS = {
     ("hard-wall", "cg"): (Link("hard_wall_two_level_cg"), Link("hard_wall_primal_cg", starts=("end",), budget="left")),
@@ -296,11 +306,12 @@ def _move(problem, r, origin):
 
 def _stall_point(problem, link, before, settings):
     """(the state where `link`, the chain's first link, stalled (its result `before`): not converged, at a finite
-    residual, or None; the resumed run or None). A continuation Newton that broke off where an iterate jumped
-    or a GMRES solve missed within the continuation's cycles (`coupled_newton.BROKE_OFF`) is first resumed from there
-    without the break-off and with all GMRES cycles, to where its line search stalls: the state the whole run
-    would have stopped at (its iterates depend on the state alone), which FIRE needs at a jump-in fold (Fig. 8 at
-    2^17, seed 2, step 176); a resumed run that converges reached another equilibrium, never a start."""
+    residual, or None; the resumed run or None). A continuation Newton that broke off where an iterate jumped,
+    its residual stagnated or a GMRES solve missed within the continuation's cycles (`coupled_newton.BROKE_OFF`) is
+    first resumed from there without the break-off and with all GMRES cycles, to where its line search stalls: the
+    state the whole run would have stopped at (its iterates depend on the state alone, but for Eisenstat–Walker's
+    first forcing term), which FIRE needs at a jump-in fold (Fig. 8 at 2^17, seed 2, step 176); a resumed run that
+    converges reached another equilibrium, never a start."""
     if before is None or before.converged or not np.isfinite(before.residual):
         return None, None
     if coupled_newton.BROKE_OFF not in before.stalled:
@@ -309,6 +320,7 @@ def _stall_point(problem, link, before, settings):
     limit = options.get("coupled_continuation_iterations") or coupled_newton.COUPLED_NEWTON_ITERATIONS
     run = replace(settings, **{**options, "coupled_continuation_jump": 0.0,  # the whole run's iterations left
                                "coupled_continuation_gmres_cycles": 0,  # and its GMRES cycles
+                               "coupled_continuation_stagnation": 0.0,  # without the stagnation test
                                "coupled_continuation_iterations": max(limit - before.iterations, 1)})
     resumed = ALGORITHMS[link.algorithm](problem, before.u_hat, run)
     stop = None if resumed.converged or not np.isfinite(resumed.residual) else resumed

@@ -67,6 +67,10 @@ class Settings:
     # link: `gfmd.chains.COUPLED_CONTINUATION_GMRES_CYCLES`, a miss then breaks the step off as a jump does;
     # 0: `gfmd.algorithms.coupled_newton.COUPLED_GMRES_CYCLES`)
     coupled_continuation_gmres_cycles: int = 0
+    # coupled Newton–Krylov: give the step up once two iterations in a row each left more than this fraction of the
+    # residual before them (the Newton-first chain's continuation link: `gfmd.chains.COUPLED_CONTINUATION_STAGNATION`,
+    # a stagnating Newton then breaks the step off as a jump does; 0: never)
+    coupled_continuation_stagnation: float = 0.0
     # NCG line search: stop when |dE/dα| ≤ line_search_tol · |dE/dα(0)|
     line_search_tol: float = 0.1
     # hard-wall CG: release the wall nodes that pull away once their forces' norm exceeds

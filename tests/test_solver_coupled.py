@@ -188,6 +188,30 @@ def test_continuation_breaks_off_where_an_iterate_jumps(fig8_step, monkeypatch):
     assert dict(chains._CONTINUATION)["coupled_continuation_iterations"] == chains.COUPLED_CONTINUATION_ITERATIONS
 
 
+def test_continuation_breaks_off_where_its_residual_stagnates(fig8_step, monkeypatch):
+    """Settings.coupled_continuation_stagnation (the continuation's COUPLED_CONTINUATION_STAGNATION) gives the step up
+    once two Newton iterations in a row each left more than that fraction of the residual before them, as a
+    break-off (BROKE_OFF: the chain resumes it without the test where it needs the stall); 0 never does. Step 99
+    converges with it; with every Newton step capped at 0.01 law lengths each iteration removes a sliver of the
+    residual, and the test stops at iteration 2, where without it Newton crawls on to its cap."""
+    cell, previous, _current, (z99, _) = fig8_step
+    problem = Problem(cell.physics, cell.law, z99)
+    threshold = chains.COUPLED_CONTINUATION_STAGNATION
+    assert dict(chains._CONTINUATION)["coupled_continuation_stagnation"] == threshold and 0 < threshold < 1
+    plain = coupled_newton.solve(problem, previous, cell.settings)
+    tested = coupled_newton.solve(problem, previous, replace(cell.settings, coupled_continuation_stagnation=threshold))
+    assert plain.converged and tested.converged and tested.iterations == plain.iterations, tested.message
+    assert np.array_equal(tested.u_hat, plain.u_hat)
+    monkeypatch.setattr(coupled_newton, "COUPLED_NEWTON_MAX_MOVE", 1e-2)
+    crawl = replace(cell.settings, coupled_continuation_iterations=5)
+    on = coupled_newton.solve(problem, previous, replace(crawl, coupled_continuation_stagnation=threshold))
+    assert not on.converged and on.iterations == 2 and coupled_newton.BROKE_OFF in on.stalled, on.message
+    assert "stagnated" in on.message
+    off = coupled_newton.solve(problem, previous, crawl)
+    assert not off.converged and off.iterations == 5 and "after 5 Newton iterations" in off.message, off.message
+    assert off.fft_pairs > on.fft_pairs
+
+
 def test_newton_forcing_is_eisenstat_walker(fig8_step, monkeypatch):
     """Each GMRES solve of the coupled Newton gets forcing(tolerance, r_k, η_k), η_k by Eisenstat–Walker from the
     residuals r_k, r_k−1 at the solve (η_0 = FORCING, the first solve loose); with the rule off

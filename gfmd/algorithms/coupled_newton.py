@@ -60,7 +60,9 @@ def solve(problem, start, settings):
     `Settings.coupled_continuation_jump` > 0, once an unconverged iterate has moved a node that many law lengths from
     the start (the continuation's acceptance test would reject such a state); `Settings.coupled_continuation_iterations`
     > 0 replaces COUPLED_NEWTON_ITERATIONS (the continuation's cap) and `Settings.coupled_continuation_gmres_cycles` > 0
-    COUPLED_GMRES_CYCLES (a miss within fewer cycles is a break-off, BROKE_OFF, resumable with all of them). Measured
+    COUPLED_GMRES_CYCLES (a miss within fewer cycles is a break-off, BROKE_OFF, resumable with all of them);
+    `Settings.coupled_continuation_stagnation` > 0 breaks off (BROKE_OFF) once two iterations in a row each left more
+    than that fraction of the residual before them (a Newton that crawls along a near-singular tangent). Measured
     (benchmarks/results/bench_coupled_fallback.md): on the fig8_small ramps (N = 4096) no GMRES solve missed; where
     one missed at 2^17, the tangent K + D was near-singular or indefinite along the step (a snap or slip event) and
     the continuation went on for 23–60 iterations (5 400–13 300 FFT pairs) without converging, before FIRE relaxed
@@ -97,6 +99,7 @@ def solve(problem, start, settings):
     limit = settings.coupled_continuation_iterations or COUPLED_NEWTON_ITERATIONS
     cycles = settings.coupled_continuation_gmres_cycles or COUPLED_GMRES_CYCLES
     previous = None  # the last iteration's residual (Eisenstat–Walker's η)
+    stagnation, slow = settings.coupled_continuation_stagnation, 0  # iterations in a row that left > stagnation of it
     while not converged:
         if it >= limit:
             message = f"not converged after {it} Newton iterations (residual {residual:.3g} p_ref)"
@@ -156,6 +159,12 @@ def solve(problem, start, settings):
             if moved >= jump:
                 message = (f"a node moved {moved / law.law.length_scale:.3g} law lengths from the start at Newton "
                            f"iteration {it} (residual {residual:.3g} p_ref): {BROKE_OFF}")
+                break
+        if stagnation > 0 and residual >= settings.tolerance:
+            slow = slow + 1 if residual > stagnation * previous else 0
+            if slow == 2:
+                message = (f"the residual stagnated: two Newton iterations in a row each left more than {stagnation:g} "
+                           f"of it (iteration {it}, residual {residual:.3g} p_ref): {BROKE_OFF}")
                 break
         converged = residual < settings.tolerance
     pairs = fft.pairs
