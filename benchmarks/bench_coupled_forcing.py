@@ -56,11 +56,6 @@ def label(rule):
     return "Eisenstat–Walker" if rule == "ew" else f"floor {float(rule):g}"
 
 
-def replay(task, step, count, rules):
-    """Table lines: the study task's steps step+1 … step+count from the same start under each rule."""
-    return replay_variants(task, step, count, [(label(rule), lambda rule=rule: forcing_rule(rule)) for rule in rules])
-
-
 def replay_variants(task, step, count, variants):
     """Table lines: the study task's steps step+1 … step+count, each relaxed from the same start (the first
     variant's state carried on) under every variant, a (label, context manager factory) pair."""
@@ -108,6 +103,28 @@ def replay_variants(task, step, count, variants):
     return lines
 
 
+def measure(args, variants):
+    """The report's table lines, every variant (label, context manager factory) in turn: --replay's steps
+    (`replay_variants`), or the ramps of bench_coupled_handover per size and realization (bch.TABLE's rows, the
+    first variant the reference)."""
+    if args.replay:
+        task, step, count = args.replay
+        args.sizes, args.realizations = ["replay"], [Path(task).name]
+        return replay_variants(task, int(step), int(count), variants)
+    lines = list(bch.TABLE)
+    for e in args.sizes:
+        for real in args.realizations:
+            results, bound = {}, bch.tolerance_bound(2**e, real)
+            for name, context in variants:
+                with context():
+                    rows, cpu = bch.run(2**e, real, {}, args.max_steps)
+                results[name] = rows
+                line = bch.table_row(e, real, name, rows, cpu, results[variants[0][0]], bound)
+                lines.append(line)
+                print(line, flush=True)
+    return lines
+
+
 def main(argv=None):
     ap = bch.parser(__doc__.splitlines()[0])
     ap.add_argument("--rules", nargs="+", default=["1e-3", "ew", "3e-2"])
@@ -118,23 +135,8 @@ def main(argv=None):
             f"{'Eisenstat–Walker' if coupled_newton.COUPLED_NEWTON_EISENSTAT_WALKER else 'floor'}; load average at "
             f"start {os.getloadavg()[0]:.2f} (2-core machine: CPU s may be under load; FFT pairs deterministic up to "
             "ARPACK's random start in the stability test)", ""]
-    lines = list(head)
-    if args.replay:
-        task, step, count = args.replay
-        lines += replay(task, int(step), int(count), args.rules)
-        args.sizes, args.realizations = ["replay"], [Path(task).name]
-    else:
-        lines += list(bch.TABLE)
-        for e in args.sizes:
-            for real in args.realizations:
-                results, bound = {}, bch.tolerance_bound(2**e, real)
-                for rule in args.rules:
-                    with forcing_rule(rule):
-                        rows, cpu = bch.run(2**e, real, {}, args.max_steps)
-                    results[rule] = rows
-                    line = bch.table_row(e, real, label(rule), rows, cpu, results[args.rules[0]], bound)
-                    lines.append(line)
-                    print(line, flush=True)
+    variants = [(label(rule), lambda rule=rule: forcing_rule(rule)) for rule in args.rules]
+    lines = head + measure(args, variants)
     bch.write(args, "bench_coupled_forcing", lines + ["", f"Load average at end: {os.getloadavg()[0]:.2f}."])
 
 

@@ -110,24 +110,8 @@ def main(argv=None):
     command = f"python benchmarks/bench_coupled_stagnation.py {' '.join(argv or sys.argv[1:])}"
     head = [f"`{command}`; {bch.code_version()}; COUPLED_CONTINUATION_STAGNATION {threshold:g}; load average at "
             f"start {os.getloadavg()[0]:.2f} (2-core machine: CPU s may be under load; FFT pairs deterministic)", ""]
-    lines = list(head)
     _histories.clear()
-    if args.replay:
-        task, step, count = args.replay
-        lines += bcf.replay_variants(task, int(step), int(count), variants)
-        args.sizes, args.realizations = ["replay"], [Path(task).name]
-    else:
-        lines += list(bch.TABLE)
-        for e in args.sizes:
-            for real in args.realizations:
-                results, bound = {}, bch.tolerance_bound(2**e, real)
-                for name, context in variants:
-                    with context():
-                        rows, cpu = bch.run(2**e, real, {}, args.max_steps)
-                    results[name] = rows
-                    line = bch.table_row(e, real, name, rows, cpu, results[variants[0][0]], bound)
-                    lines.append(line)
-                    print(line, flush=True)
+    lines = head + bcf.measure(args, variants)
     lines += [""] + history_summary(threshold)
     bch.write(args, "bench_coupled_stagnation", lines + ["", f"Load average at end: {os.getloadavg()[0]:.2f}."])
 
