@@ -90,7 +90,8 @@ def ramp(n, cls, options=None, max_steps=None, realization=1, scene_keys=None, a
         extrapolate = extrapolation_allowed(scene.loading, k)
         guess = 2 * current - previous if extrapolate else current
         t0 = time.process_time()
-        r = relax(cell.physics, cell.law, z_ind, guess, settings, wall_tolerance)
+        r = relax(cell.physics, cell.law, z_ind, guess, settings, wall_tolerance,
+                  previous=current if extrapolate else None)  # as the study's ramp (gfmd.loading.GfmdCell.solve)
         it, pairs = r.iterations, r.fft_pairs
         if not r.converged and extrapolate:
             r = relax(cell.physics, cell.law, z_ind, current, settings, wall_tolerance)

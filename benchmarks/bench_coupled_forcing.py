@@ -85,7 +85,8 @@ def replay_variants(task, step, count, variants):
         for rule, context in variants:
             with context():
                 t0 = time.process_time()
-                r = chains.relax(cell.physics, cell.law, z_ind, 2 * current - previous, cell.settings, 0.0)
+                r = chains.relax(cell.physics, cell.law, z_ind, 2 * current - previous, cell.settings, 0.0,
+                                 previous=current)
                 cpu = time.process_time() - t0
             out[rule] = r
             totals[rule][0] += r.fft_pairs

@@ -38,9 +38,9 @@ from gfmd import chains  # noqa: E402
 _calls = []  # per chains.relax call: (stability-test FFT pairs, converged)
 
 
-def _relax(*args, _inner=chains.relax):
+def _relax(*args, _inner=chains.relax, **kwargs):
     ptc._stability_pairs[0] = 0.0
-    r = _inner(*args)
+    r = _inner(*args, **kwargs)
     _calls.append((ptc._stability_pairs[0], r.converged))
     return r
 

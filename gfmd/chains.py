@@ -13,7 +13,8 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
 * normal-only cohesive law (a potential), method "fire": the NCG, FIRE after a stall
   (``cohesive = "fire"``: FIRE alone); "verlet": Verlet. (A trust-region Newton–CG was measured against the
   NCG for issue 24 and dropped: 49.7 vs 44.2 FFT pairs per step at 2^17, benchmarks/results/bench_adhesion_scaling_full.md.)
-* coupled law (seed Eq. 2, no potential), method "fire", ``coupled = "handover-near"`` (default since session 26):
+* coupled law (seed Eq. 2, no potential), method "fire", ``coupled = "handover-near"`` (default since session 26),
+  from the better of the step's guess and the last state (`relax`'s `previous`, `COUPLED_BETTER_START`):
   the continuation Newton–Krylov first, its converged state kept only as a continuation of the ramp's branch (no
   node moved `COUPLED_JUMP` law lengths from the step's start); it gives up at the first GMRES solve that misses
   its tolerance (``coupled_gmres_give_up``: a near-singular or indefinite tangent along the step) and once an
@@ -79,7 +80,9 @@ from contact import laws
 
 from .algorithms import (cohesive_wall, coupled_newton, coupled_ptc, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
                          hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
-from .problem import Problem, coupled_stability, flat_problem
+from .coupled_krylov import balance
+from .fft import Fft
+from .problem import Elastic, Problem, coupled_stability, flat_problem
 from .stopping import finish
 
 #: the algorithms by name (gfmd.algorithms: one module each, `solve(problem, start, settings) -> Relaxed`)
@@ -119,6 +122,16 @@ COUPLED_CONTINUATION_GMRES_CYCLES = 2
 #: stall: Fig. 8 at 2^17, ν = 0.45, seed 7, step 122: 1.4e-2 p_ref for 17 iterations, 14 of the step's 17 CPU s);
 #: kept continuations converge superlinearly (benchmarks/results/bench_coupled_stagnation_*.md)
 COUPLED_CONTINUATION_STAGNATION = 0.5
+#: coupled chains: where the ramp extrapolated the step's guess from its last two states (`relax`'s `previous`, the
+#: last one), the chain starts from the last state where the guess's nodal force residual is more than
+#: COUPLED_START_MARGIN times the last state's: through a snap the extrapolation carries the snapped nodes on into the
+#: indenter (Fig. 8 at 2^17, the steps after an event: 7.5 to 2e4 p_ref against 0.3–0.5 from the last state), where
+#: the continuation Newton moves a node a law length and hands the step to FIRE; from the last state it is a
+#: continuation, the same state within 3e-7 δn. A guess 1.5–1.7× worse was no overshoot: from it the continuation did
+#: as well or better (moves from the last state reach a law length sooner), hence the margin
+#: (benchmarks/results/bench_coupled_start_*.md)
+COUPLED_BETTER_START = True
+COUPLED_START_MARGIN = 2.0
 #: handover chains (``coupled = "handover"``): Newton's state from FIRE's handover state is kept only where no node
 #: moved COUPLED_HANDOVER_MOVE · min(δn, δt) or more from it (the equilibrium FIRE was approaching, not another)
 COUPLED_HANDOVER_MOVE = 0.1
@@ -347,11 +360,13 @@ def _rejected(problem, link, r, origin):
     return ""
 
 
-def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
+def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0, previous=None):
     """Relax one load step from the initial guess `u_hat` (c, N//2+1) along its chain; returns `Relaxed`.
 
     z_ind: indenter surface z_ind(x) (m) at this step; wall_tolerance (m): gap below which a wall node
-    counts as touching the wall. iterations and fft_pairs add up every algorithm that ran.
+    counts as touching the wall. iterations and fft_pairs add up every algorithm that ran. previous: the last
+    converged state where `u_hat` was extrapolated from it; the coupled chains start from it where the guess's force
+    residual is more than COUPLED_START_MARGIN times its own (COUPLED_BETTER_START; the message then says so).
     2+1-D surface (model.shape (Nx, Ny)): u_hat (c, Nx, Ny//2+1), z_ind (Nx, Ny); the algorithms run on the
     flat view (`gfmd.problem.flat_problem`) and the result's spectra and fields come back on the grid.
     """
@@ -362,7 +377,31 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0):
         flat = flat_problem(problem)
         result = _relax(flat, CHAINS[key], np.reshape(u_hat, (u_hat.shape[0], -1)), settings)
         return _on_grid(result, model)
-    return _relax(problem, CHAINS[key], u_hat, settings)
+    if previous is None or not COUPLED_BETTER_START or problem.kind != "coupled":
+        return _relax(problem, CHAINS[key], u_hat, settings)
+    start, residuals, pairs = _better_start(problem, u_hat, previous)
+    result = _relax(problem, CHAINS[key], start, settings)
+    result.fft_pairs += pairs
+    if start is previous:
+        note = (f"started from the last state (force residual {residuals[1]:.3g} p_ref; the extrapolated guess's "
+                f"{residuals[0]:.3g})")
+        result.message = note + (f"; {result.message}" if result.message else "")
+    return result
+
+
+def _better_start(problem, guess, previous):
+    """(`previous` where the max nodal force residual of `guess` is more than COUPLED_START_MARGIN times its own, else
+    `guess`; both residuals in p_ref; the FFT pairs spent): a start in the law's overflow range counts as infinite."""
+    model = problem.model
+    fft = Fft(model.nodes)
+    force = balance(problem.law, problem.z_ind, fft, Elastic(model, 0.0, 0.0), model.half_plane)
+    residuals = []
+    for start in (guess, previous):
+        try:
+            residuals.append(float(np.max(np.abs(force(start)[1]))) / model.reference_traction)
+        except laws.CompressionOverflowError:
+            residuals.append(np.inf)
+    return (previous if COUPLED_START_MARGIN * residuals[1] < residuals[0] else guess), residuals, fft.pairs
 
 
 def _check_surface_shapes(model, z_ind, u_hat):

@@ -53,13 +53,15 @@ class GfmdCell:
         return np.zeros((self.physics.components,) + tuple(self.physics.spectrum_shape), complex)
 
     def solve(self, displacement, guess, fallback):
-        """Relax the load step at indenter displacement U (m) from the rfft displacements `guess`; the step's
+        """Relax the load step at indenter displacement U (m) from the rfft displacements `guess` (extrapolated from
+        `fallback`, the last converged state, unless it is that: `gfmd.chains.relax`'s `previous`); the step's
         `algorithm` is the chain's label of what relaxed it (`Relaxed.method`: "ncg", "ncg→fire", ...)."""
         loading = self.scene.loading
         z_ind = indenter_surface(self.h, loading.initial_separation, displacement)
         wall_tolerance = 1e-12 * max(float(np.ptp(self.h)), self.scene.interface.length_normal)
         try:
-            r = relax(self.physics, self.law, z_ind, guess, self.settings, wall_tolerance)
+            r = relax(self.physics, self.law, z_ind, guess, self.settings, wall_tolerance,
+                      previous=None if fallback is guess else fallback)
         except CompressionOverflowError as exc:  # the extrapolated guess left the law's range
             return StepSolution(state=guess, converged=False, iterations=0, residual=np.nan, gap=z_ind,
                                 t_n=np.zeros_like(z_ind), fields=dict, messages=(str(exc),), relaxed=False)

@@ -245,11 +245,11 @@ def test_gfmd_step_without_state_is_marked_not_a_crash(tmp_path, monkeypatch):
 
     relax, calls = gfmd.loading.relax, []
 
-    def overflow_from_step_3(physics, law, z_ind, guess, settings, wall_tolerance):
+    def overflow_from_step_3(physics, law, z_ind, guess, settings, wall_tolerance, previous=None):
         calls.append(1)
         if len(calls) > 3:  # steps 0-2 relax, every later solve fails
             raise CompressionOverflowError("normal gap Δn = -1e6 δn is beyond the law's range (injected)")
-        return relax(physics, law, z_ind, guess, settings, wall_tolerance)
+        return relax(physics, law, z_ind, guess, settings, wall_tolerance, previous=previous)
 
     monkeypatch.setattr(gfmd.loading, "relax", overflow_from_step_3)
     path = _example_scene(tmp_path, **{"steps = 200 ": "steps = 5 ", "field_steps = 5 ": "field_steps = 6 "})

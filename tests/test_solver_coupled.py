@@ -212,6 +212,28 @@ def test_continuation_breaks_off_where_its_residual_stagnates(fig8_step, monkeyp
     assert off.fft_pairs > on.fft_pairs
 
 
+def test_coupled_chain_starts_from_the_last_state_where_the_extrapolation_overshoots(fig8_step, monkeypatch):
+    """relax(previous=the last state) on the coupled law starts from whichever of the extrapolated guess and the last
+    state has the smaller force residual (COUPLED_BETTER_START). The ramp's own extrapolation to step 100 wins: the
+    run from it, bit for bit, plus the two residuals' FFT pairs. A guess carried on too far (the last increment ten
+    times over, as an extrapolation through a snap carries the snapped nodes into the indenter) loses: the run from
+    the last state, bit for bit, its message saying so. Off, the guess always."""
+    cell, previous, current, (_, z100) = fig8_step
+    s = cell.settings
+    good, bad = 2 * current - previous, current + 10 * (current - previous)
+    from_good = gs.relax(cell.physics, cell.law, z100, good, s)
+    picked = gs.relax(cell.physics, cell.law, z100, good, s, previous=current)
+    assert picked.converged and np.array_equal(picked.u_hat, from_good.u_hat)
+    assert picked.fft_pairs > from_good.fft_pairs and "last state" not in picked.message
+    from_last = gs.relax(cell.physics, cell.law, z100, current, s)
+    over = gs.relax(cell.physics, cell.law, z100, bad, s, previous=current)
+    assert over.converged and np.array_equal(over.u_hat, from_last.u_hat), over.message
+    assert over.message.startswith("started from the last state"), over.message
+    monkeypatch.setattr(chains, "COUPLED_BETTER_START", False)
+    off = gs.relax(cell.physics, cell.law, z100, bad, s, previous=current)
+    assert "last state" not in off.message and not np.array_equal(off.u_hat, from_last.u_hat)
+
+
 def test_newton_forcing_is_eisenstat_walker(fig8_step, monkeypatch):
     """Each GMRES solve of the coupled Newton gets forcing(tolerance, r_k, η_k), η_k by Eisenstat–Walker from the
     residuals r_k, r_k−1 at the solve (η_0 = FORCING, the first solve loose); with the rule off
