@@ -80,9 +80,8 @@ from contact import laws
 
 from .algorithms import (cohesive_wall, coupled_newton, coupled_ptc, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
                          hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
-from .coupled_krylov import balance
-from .fft import Fft
-from .problem import Elastic, Problem, coupled_stability, flat_problem
+from .coupled_krylov import balance_residual
+from .problem import Problem, coupled_stability, flat_problem
 from .stopping import finish
 
 #: the algorithms by name (gfmd.algorithms: one module each, `solve(problem, start, settings) -> Relaxed`)
@@ -391,17 +390,10 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0, previous=None)
 
 def _better_start(problem, guess, previous):
     """(`previous` where the max nodal force residual of `guess` is more than COUPLED_START_MARGIN times its own, else
-    `guess`; both residuals in p_ref; the FFT pairs spent): a start in the law's overflow range counts as infinite."""
-    model = problem.model
-    fft = Fft(model.nodes)
-    force = balance(problem.law, problem.z_ind, fft, Elastic(model, 0.0, 0.0), model.half_plane)
-    residuals = []
-    for start in (guess, previous):
-        try:
-            residuals.append(float(np.max(np.abs(force(start)[1]))) / model.reference_traction)
-        except laws.CompressionOverflowError:
-            residuals.append(np.inf)
-    return (previous if COUPLED_START_MARGIN * residuals[1] < residuals[0] else guess), residuals, fft.pairs
+    `guess`; both residuals in p_ref, infinite in the law's overflow range; the FFT pairs spent)."""
+    (at_guess, pairs), (at_last, more) = (balance_residual(problem.model, problem.law, problem.z_ind, start)
+                                          for start in (guess, previous))
+    return (previous if COUPLED_START_MARGIN * at_last < at_guess else guess), (at_guess, at_last), pairs + more
 
 
 def _check_surface_shapes(model, z_ind, u_hat):

@@ -9,8 +9,11 @@ import numpy as np
 
 from scipy.sparse.linalg import LinearOperator, gmres
 
+from contact import laws
+
 from .coupled_kernels import coupled_kernels
-from .fft import spectral_weights
+from .fft import Fft, spectral_weights
+from .problem import Elastic
 
 #: GMRES: restart length and the most restart cycles of one solve
 GMRES_RESTART = 60
@@ -53,6 +56,17 @@ def balance(law, z_ind, fft, stiff, clamp):
         return fh, fft.irfft(fh), u
 
     return force
+
+
+def balance_residual(model, law, z_ind, u_hat):
+    """(max nodal |f| / p_ref of the coupled balance at the spectrum u_hat, inf in the law's overflow range; the FFT
+    pairs it took)."""
+    fft = Fft(model.nodes)
+    try:
+        _, f, _ = balance(law, z_ind, fft, Elastic(model, 0.0, 0.0), model.half_plane)(u_hat)
+    except laws.CompressionOverflowError:
+        return np.inf, fft.pairs
+    return float(np.max(np.abs(f))) / model.reference_traction, fft.pairs
 
 
 def spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_RESTART, cycles=GMRES_CYCLES):
