@@ -32,17 +32,17 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   (the equilibrium FIRE's damped dynamics was approaching), else FIRE goes on from its handover state for up to
   `COUPLED_FIRE_CRAWL` iterations in all (through a fold's ghost); FIRE from where the continuation Newton
   stalled (start "stalled end", resumed without the break-off where it broke off: a jump-in fold, Fig. 8 at 2^17,
-  seed 2, step 176: Newton stops at a minimum of |f| beside the fold, FIRE from the guess
-  does not settle in its budget, FIRE from Newton's stall carries the snap in 1 530 iterations); then the
-  stability-tested Newton and Verlet of ``coupled = "fire"``. Measured against the default before (the "newton"
-  chain without the break-off; benchmarks/results/bench_coupled_continuation_*.md): −22 to −41 % FFT pairs per
-  whole ramp at 2^13–2^14 (the handover alone −14 to −17 %), −50 % on the event steps 167–174 of Fig. 8's seed-3
-  task at 2^17, the states within 5e-6 δn.
+  seed 2, step 176: Newton stops at a minimum of |f| beside the fold, FIRE from the guess does not settle in its
+  budget, FIRE from Newton's stall carries the snap in 1 530 iterations); then the stability-tested Newton of
+  ``coupled = "fire"``, Ψtc (kept where locally stable, `_LAST_RESORT`) and Verlet. Measured against the default
+  before (the "newton" chain without the break-off; benchmarks/results/bench_coupled_continuation_*.md): −22 to −41 %
+  FFT pairs per whole ramp at 2^13–2^14 (the handover alone −14 to −17 %), −50 % on the event steps 167–174 of Fig.
+  8's seed-3 task at 2^17, the states within 5e-6 δn.
   ``coupled = "newton"`` (the default of issue 24 until session 26): the continuation Newton, then FIRE from the
   guess and, where it stalls there, from the continuation's stall ("stalled end"), then as ``coupled = "fire"``:
   FIRE; after a stall (`COUPLED_FIRE_BUDGET`) Newton–Krylov from the guess, then from
   FIRE's end state, a converged state kept only where locally stable (`gfmd.problem.coupled_stability`, the FE
-  reference's criterion); then Verlet from the guess. Method "verlet": Verlet. Measured
+  reference's criterion); then Ψtc and Verlet from the guess. Method "verlet": Verlet. Measured
   (benchmarks/results/bench_adhesion_scaling_full.md): the Newton-first chain needs 2.8–3.1× fewer FFT pairs per
   step than FIRE first on the Fig. 8 ramp; the GMRES give-up (benchmarks/results/bench_coupled_fallback.md) cuts
   the full-scale fallback steps whose continuation Newton used to run 23–60 inexact iterations (5 400–13 300 FFT
@@ -164,6 +164,10 @@ class Link:
 
 
 _VERLET = (("method", "verlet"),)
+#: the Newton-first chains' last resort before damped Verlet: Ψtc, kept only where locally stable (deep in the slip
+#: regime FIRE's dynamics circulate and Newton's line search stalls: Fig. 8 at 2^17, ν = 0.1, seed 7, step 199: Ψtc
+#: converged in 24 iterations, 1 672 FFT pairs, ≈ 3.5 min with its stability test, where Verlet ran ≈ 45 min)
+_LAST_RESORT = (Link("coupled_ptc", accept="locally stable"), Link("dynamics", options=_VERLET, budget="rest"))
 _GIVE_UP = (("coupled_gmres_give_up", True),)  # Newton stops at a missed GMRES solve
 #: the continuation Newton: stops at a GMRES solve missed within COUPLED_CONTINUATION_GMRES_CYCLES, once an iterate
 #: moved COUPLED_JUMP law lengths, once its residual stagnates (COUPLED_CONTINUATION_STAGNATION) and after
@@ -188,7 +192,7 @@ CHAINS = {
     ("coupled", "newton"): (Link("coupled_newton", options=_CONTINUATION, accept="continuation"),
                             Link("dynamics", budget="coupled fire", starts=("guess", "stalled end")),
                             Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
-                            Link("dynamics", options=_VERLET, budget="rest")),
+                            *_LAST_RESORT),
     ("coupled", "ptc"): (Link("coupled_newton", options=_CONTINUATION, accept="continuation"),
                          Link("coupled_ptc", accept="locally stable"),
                          Link("dynamics", budget="coupled fire"),
@@ -204,14 +208,14 @@ CHAINS = {
                               Link("dynamics", starts=("handover",), budget="coupled crawl"),
                               Link("dynamics", starts=("stalled end",), budget="coupled fire"),
                               Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
-                              Link("dynamics", options=_VERLET, budget="rest")),
+                              *_LAST_RESORT),
     ("coupled", "handover-near"): (Link("coupled_newton", options=_CONTINUATION, accept="continuation"),
                                    Link("dynamics", budget="coupled fire", tolerance="handover"),
                                    Link("coupled_newton", options=_GIVE_UP, starts=("handover",), accept="near"),
                                    Link("dynamics", starts=("handover",), budget="coupled crawl"),
                                    Link("dynamics", starts=("stalled end",), budget="coupled fire"),
                                    Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
-                                   Link("dynamics", options=_VERLET, budget="rest")),
+                                   *_LAST_RESORT),
     ("coupled", "verlet"): (Link("dynamics"),),
     ("user", "ncg"): (Link("ncg"), Link("dynamics", budget="rest")),
     ("user", "fire"): (Link("dynamics"),),

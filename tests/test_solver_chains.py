@@ -296,12 +296,52 @@ def test_a_continuation_stalled_at_the_guess_does_not_start_fire_twice(monkeypat
         calls.append(("fire", run.method))
         return record(start, run.method == "verlet", "fire" if run.method == "fire" else "verlet")
 
+    def ptc(problem, start, run):
+        calls.append(("ptc", start is guess))
+        return record(start, False, "ptc")
+
     monkeypatch.setitem(chains.ALGORITHMS, "coupled_newton", newton)
     monkeypatch.setitem(chains.ALGORITHMS, "dynamics", fire)
+    monkeypatch.setitem(chains.ALGORITHMS, "coupled_ptc", ptc)
     r = chains.relax(p.model, p.law, p.z_ind, guess, settings, p.wall_tolerance)
     assert calls == [("newton", "continuation"), ("fire", "fire"),  # then the fallback Newton from both its starts
-                     ("newton", "other"), ("newton", "other"), ("fire", "verlet")]
-    assert r.converged and "stalled at the guess" in r.message and r.fft_pairs == 5 * 5.0
+                     ("newton", "other"), ("newton", "other"), ("ptc", True), ("fire", "verlet")]
+    assert r.converged and "stalled at the guess" in r.message and r.fft_pairs == 6 * 5.0
+
+
+@pytest.mark.parametrize("stable", [True, False])
+@pytest.mark.parametrize("coupled", ["newton", "handover", "handover-near"])
+def test_ptc_runs_before_verlet_where_fire_and_newton_gave_up(monkeypatch, coupled, stable):
+    """Where FIRE and the stability-tested Newton gave up (Fig. 8 at 2^17, ν = 0.1, seed 7, step 199: FIRE's dynamics
+    circulate, Newton's line search stalls, then damped Verlet ran ≈ 45 min), the Newton-first chains run Ψtc from
+    the guess before Verlet; its converged state is kept only where locally stable, else Verlet runs as before."""
+    p = problem("cohesive", **{"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3})
+    shape = (p.model.components, p.model.nodes // 2 + 1)
+    guess, settled = np.zeros(shape, complex), np.full(shape, 3e-12 + 0j)
+    calls = []
+
+    def newton(problem, start, run):
+        calls.append("newton")
+        return fake_result(p, start, False, "newton", 3)
+
+    def fire(problem, start, run):
+        calls.append(run.method)
+        return fake_result(p, start, run.method == "verlet", run.method, 3)
+
+    def ptc(problem, start, run):
+        calls.append(("ptc", start is guess))
+        return fake_result(p, settled, True, "ptc", 3)
+
+    monkeypatch.setitem(chains.ALGORITHMS, "coupled_newton", newton)
+    monkeypatch.setitem(chains.ALGORITHMS, "dynamics", fire)
+    monkeypatch.setitem(chains.ALGORITHMS, "coupled_ptc", ptc)
+    monkeypatch.setattr(chains, "coupled_stability", lambda model, law, z_ind, u_hat: 1.0 if stable else -1.0)
+    r = chains.relax(p.model, p.law, p.z_ind, guess, Settings(tolerance=1e-8, coupled=coupled), p.wall_tolerance)
+    assert calls.index(("ptc", True)) == max(i for i, c in enumerate(calls) if c == "newton") + 1
+    if stable:
+        assert r.converged and r.method.endswith("newton→ptc") and "verlet" not in calls and r.u_hat is settled
+    else:
+        assert calls[-1] == "verlet" and r.method.endswith("ptc→verlet") and "not locally stable" in r.message
 
 
 def test_fire_from_the_handover_state_gets_the_crawl_budget(monkeypatch):
