@@ -166,7 +166,7 @@ class Link:
 _VERLET = (("method", "verlet"),)
 #: the Newton-first chains' last resort before damped Verlet: Ψtc, kept only where locally stable (deep in the slip
 #: regime FIRE's dynamics circulate and Newton's line search stalls: Fig. 8 at 2^17, ν = 0.1, seed 7, step 199: Ψtc
-#: converged in 24 iterations, 1 672 FFT pairs, ≈ 3.5 min with its stability test, where Verlet ran ≈ 45 min)
+#: converged in 24 iterations, 1 672 FFT pairs, ≈ 3.4 min with its stability test; Verlet: 58 min, not converged)
 _LAST_RESORT = (Link("coupled_ptc", accept="locally stable"), Link("dynamics", options=_VERLET, budget="rest"))
 _GIVE_UP = (("coupled_gmres_give_up", True),)  # Newton stops at a missed GMRES solve
 #: the continuation Newton: stops at a GMRES solve missed within COUPLED_CONTINUATION_GMRES_CYCLES, once an iterate
