@@ -6,8 +6,9 @@ I + K⁻¹D: its largest eigenvalues grow with the width of the stiff patches (t
 crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.cohesive_preconditioner`:
 
 * "auto" (the default): "two-level" on a profile with seed Eq. 3's law, "stiffness" elsewhere (2+1-D
-  surfaces, user laws), `resolve`; measured at N = 2^17 on the strong-adhesion ramp (seed 2, δn = 0.25 nm,
-  φn* = 0.15): −36 % FFT pairs, −33 % CPU, the same states (benchmarks/results/bench_cohesive_preconditioner.md);
+  surfaces, user laws), `resolve`; measured at N = 2^17 on whole strong-adhesion ramps (φn* = 0.15): seed 2,
+  δn = 0.25 nm −36 % FFT pairs, −33 % CPU; seed 7, δn = 1 nm (the seed's figures) −13 % pairs, −13 % CPU; the
+  same states (benchmarks/results/bench_cohesive_preconditioner.md);
 * "stiffness": K⁻¹ (the NCG's own fused path, no object of this module; the default before session 25);
 * "two-level": K⁻¹ balanced by a coarse space (the BNN form of `gfmd.algorithms.hard_wall_two_level_cg`),
   (I − P A) K⁻¹ (I − A P) + P, P = Z E⁻¹ Zᵀ, E = Zᵀ A Z, Z piecewise constant on blocks of consecutive
@@ -19,8 +20,8 @@ crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.c
 
 (K(q) + ⟨max(k_loc, 0)⟩)⁻¹ on the modes was measured and dropped (more iterations than K⁻¹,
 benchmarks/results/bench_cohesive_preconditioner.md). A step starts with K⁻¹; after ENGAGE_AFTER iterations
-the NCG switches to the two-level one, rebuilds it from the state every REBUILD_EVERY iterations and restarts
-its direction where the stiff set changed.
+the NCG builds the two-level one (a step that finishes before never pays its setup), switches to it, rebuilds
+it from the state every REBUILD_EVERY iterations and restarts its direction where the stiff set changed.
 """
 
 from __future__ import annotations

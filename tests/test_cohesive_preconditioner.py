@@ -5,6 +5,7 @@
   range(ΠZ)), its nodal s the irfft of its ŝ, on a half-plane (q = 0 clamped) and on a layer;
 * a ramp into strong adhesion with the coarse level engaged from the first iteration reaches the states of
   the default K⁻¹ (within the tolerance bound of tests/test_solver_ncg.py) in fewer iterations;
+* it is built only by the steps that reach its engagement point, once each;
 * a bad Settings value is refused naming the key.
 """
 
@@ -86,6 +87,20 @@ def test_two_level_ramp_reaches_the_default_states(monkeypatch):
         np.testing.assert_array_equal(a.t_z < 0, b.t_z < 0)
     assert np.mean(ref[-1].t_z < 0) > 0.02  # the last steps are in strong contact ...
     assert sum(r.iterations for r in two[-3:]) < 0.75 * sum(r.iterations for r in ref[-3:])  # ... and cheaper (0.63 here)
+
+
+def test_two_level_is_built_only_by_steps_that_engage_it(monkeypatch):
+    """Its setup (an irfft and cumulative sums over 2N) is paid only by a step that reaches ENGAGE_AFTER
+    iterations, once; the iterates are those of the eager build (the preconditioner is not used before)."""
+    built = []
+    plain = cp.build
+    monkeypatch.setattr(cp, "build", lambda *a, **k: built.append(1) or plain(*a, **k))
+    sc, h, model, law, z_of = case(nodes=2048)
+    deltas = np.r_[-6e-9, -4e-9, 3e-9 * np.arange(1, 5)]  # two steps out of contact, then into strong adhesion
+    runs = ramp(model, law, z_of, deltas, Settings(tolerance=TOL, cohesive_preconditioner="two-level"))
+    engaged = [r.iterations > cp.ENGAGE_AFTER for r in runs]
+    assert any(engaged) and not all(engaged)  # the case has both kinds of step
+    assert len(built) == sum(engaged)  # one build per engaging step, none for the others
 
 
 def test_auto_is_two_level_on_profiles_with_eq3_only():
