@@ -1,7 +1,8 @@
 """The cohesive NCG's preconditioners compared along one ramp (issue 24, `gfmd.cohesive_preconditioner`).
 
 Usage: python benchmarks/bench_cohesive_preconditioner.py [--size 14] [--realization 2] [--length-normal 0.25e-9]
-                                                         [--preconditioners stiffness two-level] [--max-steps M]
+                                                         [--preconditioners stiffness two-level two-level:F]
+                                                         [--max-steps M]
                                                          [--a-rel-stop 0.5] [--out FILE] [--dump FILE]
        python benchmarks/bench_cohesive_preconditioner.py --merge DUMP1 DUMP2 [--out FILE]
 
@@ -13,6 +14,8 @@ the largest per-step differences of p̄ (relative to the ramp's largest |p̄|), 
 reference (each step converged to Settings.tolerance; a different branch of a jump-in shows as a gap
 difference of the order of δn). --dump saves a run (rows and float32 gaps, pickle) instead of the table, so
 that two preconditioners run as two simultaneous processes; --merge tabulates such dumps, the first the reference.
+"two-level:F" runs the two-level preconditioner with `gfmd.cohesive_preconditioner.STIFF_FRACTION` = F (the share of
+φn/δn² above which a node's max(k_loc, 0) puts it in the coarse space).
 """
 
 from __future__ import annotations
@@ -33,6 +36,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from benchmarks.bench_adhesion_scaling import A_REL_STOP, ramp  # noqa: E402
+from gfmd import cohesive_preconditioner  # noqa: E402
+
+STIFF_FRACTION = cohesive_preconditioner.STIFF_FRACTION  # the module's value, restored after each run
 
 BINS = (0.0, 0.02, 0.05, 0.1, 0.2, np.inf)
 
@@ -78,11 +84,14 @@ def main(argv=None):
     load0 = os.getloadavg()[0]
     runs = {}
     for name in args.preconditioners:
-        ramp(min(n, 2**12), "cohesive", {"cohesive_preconditioner": name}, max_steps=3)  # numba / plans untimed
+        setting, _, fraction = name.partition(":")  # "two-level:F": with cohesive_preconditioner.STIFF_FRACTION = F
+        cohesive_preconditioner.STIFF_FRACTION = float(fraction) if fraction else STIFF_FRACTION
+        ramp(min(n, 2**12), "cohesive", {"cohesive_preconditioner": setting}, max_steps=3)  # numba / plans untimed
         states = []
         t0 = time.process_time()
-        rows = ramp(n, "cohesive", {"cohesive_preconditioner": name}, args.max_steps, args.realization, keys,
+        rows = ramp(n, "cohesive", {"cohesive_preconditioner": setting}, args.max_steps, args.realization, keys,
                     args.a_rel_stop, states)
+        cohesive_preconditioner.STIFF_FRACTION = STIFF_FRACTION
         runs[name] = rows, [s.astype(np.float32) for s in states] if args.dump else states
         print(f"{name}: {len(rows)} steps, {time.process_time() - t0:.1f} CPU s, "
               f"{sum(r['pairs'] for r in rows):.0f} pairs", flush=True)

@@ -6,9 +6,10 @@ I + K⁻¹D: its largest eigenvalues grow with the width of the stiff patches (t
 crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.cohesive_preconditioner`:
 
 * "auto" (the default): "two-level" on a profile with seed Eq. 3's law, "stiffness" elsewhere (2+1-D
-  surfaces, user laws), `resolve`; measured at N = 2^17 on whole strong-adhesion ramps (φn* = 0.15): seed 2,
-  δn = 0.25 nm −36 % FFT pairs, −33 % CPU; seed 7, δn = 1 nm (the seed's figures) −13 % pairs, −13 % CPU; the
-  same states (benchmarks/results/bench_cohesive_preconditioner.md);
+  surfaces, user laws), `resolve`; measured at N = 2^17 on whole strong-adhesion ramps (φn* = 0.15) against K⁻¹:
+  seed 2, δn = 0.25 nm −36 % FFT pairs, −33 % CPU; seed 7, δn = 1 nm (the seed's figures) −13 % pairs, −13 % CPU
+  (with STIFF_FRACTION 0.25; 0.01 saves another 17–21 % of the pairs); the same states
+  (benchmarks/results/bench_cohesive_preconditioner.md);
 * "stiffness": K⁻¹ (the NCG's own fused path, no object of this module; the default before session 25);
 * "two-level": K⁻¹ balanced by a coarse space (the BNN form of `gfmd.algorithms.hard_wall_two_level_cg`),
   (I − P A) K⁻¹ (I − A P) + P, P = Z E⁻¹ Zᵀ, E = Zᵀ A Z, Z piecewise constant on blocks of consecutive
@@ -34,8 +35,12 @@ CHOICES = ("auto", "stiffness", "two-level")
 ENGAGE_AFTER = 40
 #: then the NCG rebuilds the preconditioner every this many iterations, restarting its direction where it changed
 REBUILD_EVERY = 20
-#: "two-level": a node is stiff (in the coarse space) where max(k_loc, 0) ≥ this × φn/δn²
-STIFF_FRACTION = 0.25
+#: "two-level": a node is stiff (in the coarse space) where max(k_loc, 0) ≥ this × φn/δn². Measured (whole 201-step
+#: ramps at N = 2^17, φn* = 0.15, benchmarks/results/bench_cohesive_preconditioner.md §6): 0.01 against 0.25 −17 % FFT
+#: pairs and −15 % CPU (seed 2, δn = 0.25 nm), −21 % and −18 % (seed 7, δn = 1 nm), the same states; at 2^14 0.05 and
+#: 0.1 lie between, 0 (every node) cuts the pairs further but its coarse matrix grows to N/block (δn = 0.25 nm:
+#: 20× the CPU)
+STIFF_FRACTION = 0.01
 
 
 def blocks(nodes, block):
