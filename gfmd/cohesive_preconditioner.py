@@ -14,7 +14,9 @@ crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.c
 * "two-level": K⁻¹ balanced by a coarse space (the BNN form of `gfmd.algorithms.hard_wall_two_level_cg`),
   (I − P A) K⁻¹ (I − A P) + P, P = Z E⁻¹ Zᵀ, E = Zᵀ A Z, Z piecewise constant on blocks of consecutive
   stiff nodes (max(k_loc, 0) ≥ STIFF_FRACTION φn/δn²) of about half the crossover wavelength, so that
-  the modes inside a block are held by K again. SPD for D ≥ 0 (max(k_loc, 0) is used); E from K's
+  the modes inside a block are held by K again, and on each gap between them as one block (`COARSE_GAPS`,
+  `cover`; on a half-plane the last block is dropped: the blocks sum to a constant, which Π removes, so the
+  span of Π Z is the same and E stays definite). SPD for D ≥ 0 (max(k_loc, 0) is used); E from K's
   real-space kernel (no FFT); 2 FFT pairs per application where a coarse space exists, one of which
   the NCG saves (the direction on the nodes comes with it).
   Profiles (1+1-D) only.
@@ -41,6 +43,11 @@ REBUILD_EVERY = 20
 #: 0.1 lie between, 0 (every node) cuts the pairs further but its coarse matrix grows to N/block (δn = 0.25 nm:
 #: 20× the CPU)
 STIFF_FRACTION = 0.01
+#: "two-level": the coarse space also holds each run of soft nodes between the stiff blocks as one block (the gaps
+#: between the adhered patches; `cover`), so that it spans the cell. Measured (whole 201-step ramps at N = 2^17,
+#: φn* = 0.15, benchmarks/results/bench_cohesive_preconditioner.md §7): −33 % FFT pairs and −28 % CPU (seed 2,
+#: δn = 0.25 nm), −26 % and −23 % (seed 7, δn = 1 nm), the same states
+COARSE_GAPS = True
 
 
 def blocks(nodes, block):
@@ -49,6 +56,17 @@ def blocks(nodes, block):
     run_start = np.r_[0, np.flatnonzero(np.diff(nodes) > 1) + 1]
     in_run = pos - run_start[np.searchsorted(run_start, pos, side="right") - 1]
     return np.flatnonzero(in_run % block == 0)
+
+
+def cover(stiff, n, block):
+    """(nodes, starts) of a coarse space over every node 0 … n − 1: the runs of consecutive stiff nodes (`stiff`, sorted)
+    cut every `block` nodes (`blocks`), and each run of soft nodes between them one block; nodes = 0 … n − 1, starts
+    the positions where a block begins (a run that wraps around the cell's end is two blocks)."""
+    soft = np.ones(n, bool)
+    soft[stiff] = False
+    run_start = np.flatnonzero(np.r_[True, soft[1:] != soft[:-1]])
+    starts = np.union1d(stiff[blocks(stiff, block)], run_start[soft[run_start]])
+    return np.arange(n), starts
 
 
 def _surface(grid):
@@ -117,11 +135,18 @@ class TwoLevel:
         self.d, self.stiff, self.coarse = d, stiff, None
         if stiff.size == 0:
             return True
-        starts = blocks(stiff, self.block)
-        ends = np.r_[starts[1:], stiff.size]
-        a, p = stiff[starts], ends - starts  # first node and width of each block (consecutive nodes)
+        if COARSE_GAPS:  # every node: the stiff blocks and one block per gap between them
+            nodes, starts = cover(stiff, self.n, self.block)
+            if self.clamp:  # Σ of all blocks = 1, which Π removes: the last block is the others' negative, dropped
+                if starts.size < 2:
+                    return True
+                nodes, starts = nodes[:starts[-1]], starts[:-1]
+        else:
+            nodes, starts = stiff, blocks(stiff, self.block)
+        ends = np.r_[starts[1:], nodes.size]
+        a, p = nodes[starts], ends - starts  # first node and width of each block (consecutive nodes)
         e = self.pair_sums(a, p)
-        mass = np.add.reduceat(self.d[stiff], starts)  # Zᵀ D 1 (and Zᵀ D Z = diag of it)
+        mass = np.add.reduceat(self.d[nodes], starts)  # Zᵀ D 1 (and Zᵀ D Z = diag of it)
         e[np.diag_indices_from(e)] += mass
         if self.clamp:  # Zᵀ Π D Π Z with Π the mean removal (K kills constants: k(0) = 0)
             w = p.astype(float)
@@ -131,7 +156,7 @@ class TwoLevel:
             factor = scipy.linalg.cho_factor(0.5 * (e + e.T))
         except np.linalg.LinAlgError:
             return True
-        self.coarse = stiff, starts, p, factor
+        self.coarse = nodes, starts, p, factor
         return True
 
     def pair_sums(self, a, p):
@@ -144,17 +169,17 @@ class TwoLevel:
 
     def _spread(self, c):
         """Π Z c on every node."""
-        stiff, _, p, _ = self.coarse
+        nodes, _, p, _ = self.coarse
         z = np.zeros(self.n)
-        z[stiff] = np.repeat(c, p)
+        z[nodes] = np.repeat(c, p)
         if self.clamp:
             z -= z.mean()
         return z
 
     def _restrict(self, x):
         """Zᵀ x (x mean-free where clamped, so Zᵀ Π x = Zᵀ x)."""
-        stiff, starts, _, factor = self.coarse
-        return scipy.linalg.cho_solve(factor, np.add.reduceat(x[stiff], starts))
+        nodes, starts, _, factor = self.coarse
+        return scipy.linalg.cho_solve(factor, np.add.reduceat(x[nodes], starts))
 
     def apply(self, f_hat):
         """(ŝ, s on the nodes or None): s = P f + (I − P A) K⁻¹ (I − A P) f on the spectrum f̂.

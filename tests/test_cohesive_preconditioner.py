@@ -123,3 +123,35 @@ def test_blocks_are_runs_of_consecutive_nodes():
     nodes = np.array([3, 4, 5, 6, 7, 9, 10, 20, 21, 22, 23, 24, 25, 26])
     starts = cp.blocks(nodes, 3)
     np.testing.assert_array_equal(nodes[starts], [3, 6, 9, 20, 23, 26])
+
+
+def test_cover_adds_one_block_per_gap_and_keeps_the_stiff_blocks():
+    stiff = np.array([3, 4, 5, 6, 7, 9, 10, 20, 21, 22, 23, 24, 25, 26])
+    nodes, starts = cp.cover(stiff, 30, 3)
+    np.testing.assert_array_equal(nodes, np.arange(30))  # every node, in order
+    # soft runs 0–2, 8, 11–19, 27–29 one block each; stiff runs cut every 3 nodes as `blocks`
+    np.testing.assert_array_equal(starts, [0, 3, 6, 8, 9, 11, 20, 23, 26, 27])
+    assert set(stiff[cp.blocks(stiff, 3)]) <= set(starts)
+
+
+def test_the_dropped_gap_block_is_in_the_coarse_space_on_a_half_plane():
+    """On a half-plane the blocks cover the cell and sum to a constant, which Π removes: the last block is dropped
+    (E would be singular), and its Π Z column lies in the span of the others: the preconditioner is exact on it too."""
+    sc, h, model, law, z_of = case(nodes=256)
+    n = model.nodes
+    assert model.half_plane
+    k = np.ascontiguousarray(np.real(model.k_zz), dtype=float)
+    kn = 20.0 * float(k[1])
+    fft = Fft(n)
+    pre = cp.TwoLevel(fft, k, True, n, kn)
+    k_loc = stiff_patches(n, kn, np.random.default_rng(1))
+    assert pre.rebuild(k_loc)
+    nodes, starts, p, _ = pre.coarse
+    last = np.zeros(n)
+    last[nodes.size:] = 1.0  # the dropped block: the nodes after the kept ones
+    assert 0 < nodes.size < n and np.all(k_loc[nodes.size:] < cp.STIFF_FRACTION * kn)  # a gap
+    proj = np.eye(n) - 1.0 / n
+    a_mat = proj @ (np.array([fft.irfft(k * fft.rfft(e)) for e in np.eye(n)]).T + np.diag(np.maximum(k_loc, 0))) @ proj
+    m = proj @ dense(lambda f: pre.apply(f)[0], n, fft) @ proj
+    zp = proj @ last
+    np.testing.assert_allclose(m @ a_mat @ zp, zp, atol=1e-8 * np.max(np.abs(zp)))
