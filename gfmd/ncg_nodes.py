@@ -6,8 +6,8 @@ gap s = Δn/δn, e^{−s}, dE/dα's law term Σ_j T_n,j d_j and d²E/dα²'s Σ_
     T_n = (φn/δn) s e^{−s},   k_loc = dT_n/dΔn = (φn/δn²)(1 − s) e^{−s}.
 
 numpy needs 7 passes over the nodes per trial (a temporary each); the numba kernel (the ``fast`` extra) one,
-with the exp, into reused arrays. Measured (benchmarks/results/bench_ncg_nodes.md, N = 2^17): a trial 1.1 ms
-against 4.7 ms; whole Fig. 3 ramps (realization 1, the same iterations, p̄ within 2e-12) CPU −18 % at φn* = 0.15 and
+with the exp, into reused arrays. Measured (benchmarks/results/bench_ncg_nodes.md, N = 2^17): a trial 0.86 ms
+against 3.8 ms; whole Fig. 3 ramps (realization 1, the same iterations, p̄ within 2e-12) CPU −18 % at φn* = 0.15 and
 −5 % at 0.001 (medians of 4). Both give the same sums up to round-off (the fused sums are reassociated);
 ``GFMD_JIT`` chooses, as for the spectral algebra (`gfmd.kernels.jit_backend`).
 A user law (`contact.user_law`) evaluates its own callables (`UserNodes`).
