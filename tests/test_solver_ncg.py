@@ -221,6 +221,41 @@ def test_ncg_kernels_are_the_nodal_algebra(backend, n, seed, beta, alpha):
                                atol=1e-12 * n)
 
 
+@pytest.mark.parametrize("backend", JIT_BACKENDS)
+@given(n=st.integers(1, 300), seed=st.integers(0, 2**32 - 1), alpha=st.floats(-2, 2),
+       dn=st.sampled_from([0.25e-9, 1e-9]))
+def test_eq3_nodes_are_the_law(backend, n, seed, alpha, dn):
+    """gfmd.ncg_nodes.Eq3Nodes (numpy and fused) against seed Eq. 3 written out here: at the trial gaps
+    Δ = Δn − α d (s = Δ/δn capped at −MAX_COMPRESSION), Σ T_n d and Σ k_loc d² with T_n = (φn/δn) s e^{−s},
+    k_loc = (φn/δn²)(1 − s) e^{−s}; the gaps span deep compression (the cap) to the far tail."""
+    from contact.laws import MAX_COMPRESSION
+    from gfmd.ncg_nodes import Eq3Nodes
+
+    rng = np.random.default_rng(seed)
+    phi = 0.01
+    gap = dn * rng.uniform(-1.2 * MAX_COMPRESSION, 60.0, n) * (rng.random(n) < 0.05) + dn * rng.uniform(-3, 40, n)
+    d = dn * rng.standard_normal(n)
+    nodes = Eq3Nodes(dn, phi / dn, phi / dn**2, backend)
+    gap_a, s, e, work, curv = nodes.trial(gap, d, alpha)
+    trial_gap = gap - alpha * d
+    s_ref = np.maximum(trial_gap / dn, -MAX_COMPRESSION)
+    t_ref = phi / dn * s_ref * np.exp(-s_ref)
+    k_ref = phi / dn**2 * (1.0 - s_ref) * np.exp(-s_ref)
+    np.testing.assert_allclose(gap_a, trial_gap, rtol=1e-14, atol=1e-14 * dn * np.abs(alpha) * 40)
+    np.testing.assert_allclose(s, s_ref, rtol=1e-13, atol=1e-13)
+    np.testing.assert_allclose(e, np.exp(-s_ref), rtol=1e-12)
+    scale_t = float(np.sum(np.abs(t_ref * d)))  # the sums' round-off grows with their terms' magnitudes
+    scale_k = float(np.sum(np.abs(k_ref) * d**2))
+    assert abs(work - t_ref @ d) <= 1e-12 * scale_t
+    if backend == "numba":
+        assert curv is not None
+    else:
+        assert curv is None  # numpy leaves it to curvature_sum
+        curv = nodes.curvature_sum(s, e, d)
+    assert abs(curv - k_ref @ d**2) <= 1e-12 * scale_k
+    assert abs(nodes.curvature_sum(s, e, d) - k_ref @ d**2) <= 1e-12 * scale_k
+
+
 def test_jit_backend_choice(monkeypatch):
     assert kernels.jit_backend("numpy") == "numpy"
     with pytest.raises(ValueError, match="GFMD_JIT"):

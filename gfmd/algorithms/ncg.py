@@ -4,8 +4,8 @@ Polak–Ribière+ CG, preconditioner K⁻¹ as the hard-wall CG, an FFT-free New
 elastic + CZ energy (`gfmd.problem`); 5–10× fewer FFT pairs per step than FIRE
 (benchmarks/results/bench_vs_tamaas.md). The law's nodal work runs on the nodes near the indenter
 only, the spectral algebra in `gfmd.kernels` (numpy, or fused numba kernels where installed).
-A user law (`contact.user_law`) takes the generic nodal path (`_UserNodes`: its traction and tangent on
-the near set, whose cut is the law's `far_gap`); Eq. 3 keeps its own (`_Eq3Nodes`), bit for bit as before.
+The nodal law work is `gfmd.ncg_nodes`'s: seed Eq. 3's (numpy, or one fused numba pass per line-search trial), or
+a user law's (`contact.user_law`: its traction and tangent on the near set, whose cut is the law's `far_gap`).
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ import numpy as np
 from contact import laws
 
 from .. import cohesive_preconditioner, kernels
+from ..ncg_nodes import Eq3Nodes, UserNodes
 from ..fft import Fft, dot
 from ..settings import stall
 from ..stopping import finish
@@ -104,11 +105,11 @@ def solve(problem, start, settings):
     cz = law.law
     p_ref = model.reference_traction
     if getattr(cz, "user", False):  # a user law (contact.user_law): its callables on the near set (`far_gap`)
-        dn, nodal, user = float(cz.length_scale), _UserNodes(cz), True
+        dn, nodal, user = float(cz.length_scale), UserNodes(cz), True
     else:
         phi, dn = float(cz.work_normal), float(cz.length_normal)
         tn_scale, kn_scale = phi / dn, phi / dn**2
-        nodal, user = _Eq3Nodes(dn, tn_scale, kn_scale), False
+        nodal, user = Eq3Nodes(dn, tn_scale, kn_scale), False
     budget = min(NCG_BUDGET, settings.max_iterations // 2) if settings.max_iterations > 1 else 1
     k = np.ascontiguousarray(np.real(model.k_zz), dtype=float)
 
@@ -250,11 +251,8 @@ def solve(problem, start, settings):
             # d·Ku = Σ_j d_j T_n,j − d·f: f = T_n − K u − ⟨T_n⟩ and Σ_j d_j = 0 on a half-plane
             c1 = dot(d, t) + slope0
 
-            def curvature(s_a, e_a):  # d²E/dα² = d·Kd + Σ k_loc d², k_loc = (φn/δn²)(1 − s) e^{−s}
-                return c2 + nodal.curvature_sum(s_a, e_a, d)
-
-            alpha, found, gap_a, s_a, e_a = _ncg_line_search(curvature, c1, c2, slope0, gap, sv, ev, d, dn,
-                                                             nodal.work, scaled_gap, eta, settings.max_move)
+            alpha, found, gap_a, s_a, e_a = _ncg_line_search(nodal, c1, c2, slope0, gap, sv, ev, d, dn, eta,
+                                                             settings.max_move)
             if alpha * approach <= slack:
                 break
             margin = NCG_NEAR_MARGIN + 2.0 * alpha * approach / dn
@@ -283,14 +281,14 @@ def solve(problem, start, settings):
     return out
 
 
-def _ncg_line_search(curvature, c1, c2, slope0, gap, sv, ev, d, dn, work, scaled_gap, eta, max_move):
+def _ncg_line_search(nodal, c1, c2, slope0, gap, sv, ev, d, dn, eta, max_move):
     """Safeguarded Newton on dE/dα along d (`solve`): (α, found, Δn, s, e^{−s} at α; a user law's T_n, k_loc).
 
-    dE/dα = c1 + α c2 − Σ_j T_n(Δn_j − α d_j) d_j (`work`; Eq. 3: (φn/δn) Σ_j s_j e^{−s_j} d_j); stops at
-    |dE/dα| ≤ eta |dE/dα(0)|.
+    dE/dα = c1 + α c2 − Σ_j T_n(Δn_j − α d_j) d_j, d²E/dα² = c2 + Σ_j k_loc,j d_j² (`gfmd.ncg_nodes`: `nodal.trial`
+    evaluates a trial state, Eq. 3 in one fused pass where numba is installed); stops at |dE/dα| ≤ eta |dE/dα(0)|.
     found = False with α = 0: no step lowers E.
     """
-    curv0 = curvature(sv, ev)
+    curv0 = c2 + nodal.curvature_sum(sv, ev, d)
     reach = float(np.max(np.abs(d))) if d.size else 0.0
     alpha = -slope0 / curv0 if curv0 > 0 else (max_move * dn / reach if reach > 0 else 1.0)
     lo, hi = 0.0, np.inf
@@ -298,10 +296,8 @@ def _ncg_line_search(curvature, c1, c2, slope0, gap, sv, ev, d, dn, work, scaled
     found = False
     widths = []
     for _ in range(100):
-        gap_a = d * (-alpha)
-        gap_a += gap
-        s_a, e_a = scaled_gap(gap_a)
-        p = c1 + alpha * c2 - work(s_a, e_a, d)
+        gap_a, s_a, e_a, work, curv = nodal.trial(gap, d, alpha)
+        p = c1 + alpha * c2 - work
         if not np.isfinite(p):
             hi, p_hi = alpha, np.inf
         elif abs(p) <= eta * abs(slope0):
@@ -311,7 +307,7 @@ def _ncg_line_search(curvature, c1, c2, slope0, gap, sv, ev, d, dn, work, scaled
             lo, p_lo = alpha, p
         else:
             hi, p_hi = alpha, p
-        c = curvature(s_a, e_a) if np.isfinite(p) else np.nan
+        c = c2 + (curv if curv is not None else nodal.curvature_sum(s_a, e_a, d)) if np.isfinite(p) else np.nan
         nxt = alpha - p / c if c > 0 else np.nan
         if np.isfinite(hi):
             if not lo < nxt < hi:
@@ -323,9 +319,7 @@ def _ncg_line_search(curvature, c1, c2, slope0, gap, sv, ev, d, dn, work, scaled
                 nxt = 0.5 * (lo + hi)  # side of the law): bisect whenever two trials did not halve the bracket
             if hi - lo <= 1e-14 * hi:
                 alpha = lo if lo > 0 else hi
-                gap_a = d * (-alpha)
-                gap_a += gap
-                s_a, e_a = scaled_gap(gap_a)
+                gap_a, s_a, e_a, _, _ = nodal.trial(gap, d, alpha)
                 found = alpha > 0
                 break
         elif not nxt > alpha:
@@ -333,73 +327,8 @@ def _ncg_line_search(curvature, c1, c2, slope0, gap, sv, ev, d, dn, work, scaled
         alpha = nxt
     if not found and lo > 0:  # no tight minimum found, but E decreases up to lo: take that step
         alpha = lo
-        gap_a = d * (-alpha)
-        gap_a += gap
-        s_a, e_a = scaled_gap(gap_a)
+        gap_a, s_a, e_a, _, _ = nodal.trial(gap, d, alpha)
         found = True
     if not found:
         alpha = 0.0
     return alpha, found, gap_a, s_a, e_a
-
-
-
-class _Eq3Nodes:
-    """The nodal law work of seed Eq. 3 on the scaled gap: state (s, e^{−s}), s = Δn/δn (the built-in fast path)."""
-
-    def __init__(self, dn, tn_scale, kn_scale):
-        self.dn, self.tn_scale, self.kn_scale = dn, tn_scale, kn_scale
-
-    def state(self, gap_nodes):
-        """(s, e^{−s}) with s = Δn/δn, capped at −MAX_COMPRESSION against overflow."""
-        s = gap_nodes * (1.0 / self.dn)
-        np.maximum(s, -laws.MAX_COMPRESSION, out=s)
-        return s, np.exp(-s)
-
-    def traction_new(self, s, e):
-        """T_n = (φn/δn) s e^{−s} (Pa), as (s e^{−s}) φn/δn."""
-        t = s * e
-        t *= self.tn_scale
-        return t
-
-    def traction(self, s, e):
-        """T_n = (φn/δn) s e^{−s} (Pa)."""
-        return self.tn_scale * s * e
-
-    def work(self, s, e, d):
-        """Σ_j T_n,j d_j."""
-        return self.tn_scale * float(np.einsum("i,i,i->", s, e, d))
-
-    def stiffness(self, s, e):
-        """k_loc = (φn/δn²)(1 − s) e^{−s} (Pa/m)."""
-        return self.kn_scale * (1.0 - s) * e
-
-    def curvature_sum(self, s, e, d):
-        """Σ_j k_loc,j d_j², k_loc = (φn/δn²)(1 − s) e^{−s}."""
-        x = e * d
-        return self.kn_scale * (dot(x, d) - float(np.einsum("i,i,i->", s, x, d)))
-
-
-class _UserNodes:
-    """The nodal law work of a user law (`contact.user_law`): state (T_n, dT_n/dΔn) from its callables."""
-
-    def __init__(self, law):
-        self.law = law
-
-    def state(self, gap_nodes):
-        """(T_n, k_loc) (Pa, Pa/m) at the gaps."""
-        return self.law.tractions(gap_nodes)[0], self.law.tangent(gap_nodes)[0]
-
-    def traction_new(self, t, k):
-        return t
-
-    def traction(self, t, k):
-        return t
-
-    def work(self, t, k, d):
-        return dot(t, d)  # no BLAS (`gfmd.fft.dot`)
-
-    def stiffness(self, t, k):
-        return k
-
-    def curvature_sum(self, t, k, d):
-        return float(np.einsum("i,i,i->", k, d, d))

@@ -1,0 +1,130 @@
+"""The cohesive NCG's nodal law work, numpy against the fused numba pass (`gfmd.ncg_nodes`, issue 24).
+
+Usage: python benchmarks/bench_ncg_nodes.py [--sizes 12 14 17 20] [--ramp-size 17] [--phi 0.001 0.15]
+                                            [--repeats 2] [--out FILE]
+
+1. One line-search trial (`Eq3Nodes.trial`: Δn − α d, s, e^{−s}, Σ T_n d, and Σ k_loc d², which numpy computes
+   only where the line search needs it: both counted) per N, against one FFT pair (rfft + irfft, `gfmd.fft.Fft`).
+2. Whole ramps: the seed base scene (realization 1, 201 steps, δn = 1 nm, the Fig. 3 task) at N = 2^ramp-size per
+   φn*, relaxed with the nodal work on numpy and fused in the same process, alternating `--repeats` times (the same
+   load on both): CPU s per ramp (time.process_time), NCG iterations, and the largest difference of p̄ and a_rel.
+The spectral algebra is the fused one in both (GFMD_JIT's default); only the nodal backend differs.
+Writes benchmarks/results/bench_ncg_nodes.md (or --out).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from pathlib import Path
+
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):  # before numpy: one thread
+    os.environ.setdefault(_var, "1")
+
+import numpy as np  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
+from gfmd import kernels, ncg_nodes  # noqa: E402
+from gfmd.algorithms import ncg  # noqa: E402
+from gfmd.fft import Fft  # noqa: E402
+
+
+def per_call(fn, seconds=0.3):
+    """Mean wall time of fn() (s) over as many calls as fit in about `seconds`, after one warm-up call."""
+    fn()
+    calls, t0 = 0, time.perf_counter()
+    while True:
+        fn()
+        calls += 1
+        elapsed = time.perf_counter() - t0
+        if elapsed > seconds and calls >= 3:
+            return elapsed / calls
+
+
+def trial_table(sizes):
+    rows = ["| N | numpy trial (ms) | fused trial (ms) | numpy / fused | FFT pair (ms) | fused / FFT pair |",
+            "|---|---|---|---|---|---|"]
+    dn = 1e-9
+    for e in sizes:
+        n = 2**e
+        rng = np.random.default_rng(e)
+        gap = dn * rng.uniform(-2.0, 40.0, n)
+        d = dn * rng.standard_normal(n)
+        times = {}
+        for backend in ("numpy", "numba"):
+            nodes = ncg_nodes.Eq3Nodes(dn, 0.01 / dn, 0.01 / dn**2, backend)
+
+            def trial():
+                _, s, e_, _, curv = nodes.trial(gap, d, 0.3)
+                if curv is None:
+                    nodes.curvature_sum(s, e_, d)
+
+            times[backend] = per_call(trial)
+        fft = Fft(n)
+        x = rng.standard_normal(n)
+        pair = per_call(lambda: fft.irfft(fft.rfft(x)))
+        rows.append(f"| 2^{e} | {times['numpy'] * 1e3:.3f} | {times['numba'] * 1e3:.3f} | "
+                    f"{times['numpy'] / times['numba']:.2f} | {pair * 1e3:.3f} | {times['numba'] / pair:.2f} |")
+    return rows
+
+
+def ramp_table(size, phis, repeats):
+    rows = ["| φn* | nodal backend | CPU s per ramp (each repeat) | median | NCG iterations | max |Δp̄|/max|p̄| | "
+            "max |Δa_rel| |", "|---|---|---|---|---|---|---|"]
+    inner = ncg.Eq3Nodes
+    for phi in phis:
+        runs = {"numpy": [], "numba": []}
+        for _ in range(repeats):
+            for backend in ("numpy", "numba"):
+                ncg.Eq3Nodes = lambda *a, b=backend: inner(*a, backend=b)
+                t0 = time.process_time()
+                r = ramp(2**size, "cohesive", realization=1, scene_keys={"interface.phi_n_star": phi}, a_rel_stop=2.0)
+                runs[backend].append((time.process_time() - t0, r))
+        ncg.Eq3Nodes = inner
+        ref = runs["numpy"][0][1]
+        p_ref = np.array([x["p"] for x in ref])
+        for backend, got in runs.items():
+            r = got[0][1]
+            p = np.array([x["p"] for x in r])
+            dp = float(np.max(np.abs(p - p_ref)) / np.max(np.abs(p_ref)))
+            da = max(abs(x["a_rel"] - y["a_rel"]) for x, y in zip(r, ref))
+            cpu = " / ".join(f"{c:.2f}" for c, _ in got)
+            median = float(np.median([c for c, _ in got]))
+            rows.append(f"| {phi:g} | {backend} | {cpu} | {median:.2f} | {sum(x['it'] for x in r)} | {dp:.2g} | "
+                        f"{da:.2g} |")
+    return rows
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", type=int, nargs="+", default=[12, 14, 17, 20])
+    ap.add_argument("--ramp-size", type=int, default=17)
+    ap.add_argument("--phi", type=float, nargs="+", default=[0.001, 0.15])
+    ap.add_argument("--repeats", type=int, default=2)
+    ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "bench_ncg_nodes.md"))
+    args = ap.parse_args(argv)
+    if kernels.numba is None:
+        sys.exit("bench_ncg_nodes: numba is not installed (pip install 'gfmd-contact[fast]')")
+    import subprocess
+    git = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
+                         text=True).stdout.strip()
+    lines = [f"# The cohesive NCG's nodal law work: numpy against the fused pass (`gfmd.ncg_nodes`)", "",
+             f"`python benchmarks/bench_ncg_nodes.py {' '.join(argv if argv is not None else sys.argv[1:])}`; "
+             f"git {git} (+ working tree); load average at start {os.getloadavg()[0]:.2f} (2-core machine)", "",
+             "## 1. One line-search trial (wall time per call)", ""]
+    lines += trial_table(args.sizes)
+    lines += ["", f"## 2. Whole ramps at N = 2^{args.ramp_size} (seed base scene, realization 1, δn = 1 nm)", ""]
+    lines += ramp_table(args.ramp_size, args.phi, args.repeats)
+    lines += ["", f"Load average at end: {os.getloadavg()[0]:.2f}."]
+    text = "\n".join(lines) + "\n"
+    Path(args.out).write_text(text)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()

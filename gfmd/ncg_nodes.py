@@ -1,0 +1,151 @@
+"""The cohesive NCG's nodal law work (`gfmd.algorithms.ncg`): seed Eq. 3's, numpy or fused, and a user law's.
+
+Each NCG iteration evaluates the law on the near set at trial states Δn − α d of its line search: the scaled
+gap s = Δn/δn, e^{−s}, dE/dα's law term Σ_j T_n,j d_j and d²E/dα²'s Σ_j k_loc,j d_j², with (seed Eq. 3)
+
+    T_n = (φn/δn) s e^{−s},   k_loc = dT_n/dΔn = (φn/δn²)(1 − s) e^{−s}.
+
+numpy needs 7 passes over the nodes per trial (a temporary each); the numba kernel (the ``fast`` extra) one,
+with the exp, into reused arrays. Measured (benchmarks/results/bench_ncg_nodes.md, N = 2^17): a trial 0.86 ms
+against 3.8 ms; whole Fig. 3 ramps (realization 1, the same iterations, p̄ within 2e-12) CPU −18 % at φn* = 0.15 and
+−5 % at 0.001 (medians of 4). Both give the same sums up to round-off (the fused sums are reassociated);
+``GFMD_JIT`` chooses, as for the spectral algebra (`gfmd.kernels.jit_backend`).
+A user law (`contact.user_law`) evaluates its own callables (`UserNodes`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from contact import laws
+
+from . import kernels
+from .fft import dot
+
+numba = kernels.numba
+
+
+class Eq3Nodes:
+    """Seed Eq. 3 on the scaled gap: state (s, e^{−s}), s = Δn/δn, capped at −MAX_COMPRESSION against overflow."""
+
+    def __init__(self, dn, tn_scale, kn_scale, backend=None):
+        self.dn, self.tn_scale, self.kn_scale = dn, tn_scale, kn_scale
+        self.fused = kernels.jit_backend(backend) == "numba"
+        self._sets = []  # the fused trial's output arrays: two sets, written in turn
+
+    def _outputs(self, gap):
+        """(Δn, s, e^{−s}) arrays for a fused trial: of the two sets of gap's size, the one that does not hold
+        `gap` (the state the trial starts from, itself an earlier trial's output or a fresh array). Reused:
+        fresh 1 MB arrays cost their page faults, 0.7–0.9 ms a trial at N = 2^17."""
+        for out in self._sets:
+            if out[0].size == gap.size and out[0] is not gap:
+                return out
+        out = (np.empty(gap.size), np.empty(gap.size), np.empty(gap.size))
+        self._sets = [x for x in self._sets if x[0].size == gap.size][-1:] + [out]
+        return out
+
+    def state(self, gap_nodes):
+        """(s, e^{−s}) with s = Δn/δn, capped at −MAX_COMPRESSION against overflow."""
+        s = gap_nodes * (1.0 / self.dn)
+        np.maximum(s, -laws.MAX_COMPRESSION, out=s)
+        return s, np.exp(-s)
+
+    def trial(self, gap, d, alpha):
+        """(Δn − α d, s, e^{−s}, Σ_j T_n,j d_j, Σ_j k_loc,j d_j² or None) at the trial state Δn − α d: the fused
+        kernel gives the curvature sum with the rest, numpy leaves it to `curvature_sum` (when needed). The fused
+        trial's arrays are overwritten by the trial after next (`_outputs`): the line search keeps only its
+        last trial, the NCG only the state it accepted."""
+        if self.fused:
+            gap_a, s, e = self._outputs(gap)
+            work, curv = _trial_fused(gap, d, float(alpha), 1.0 / self.dn, float(laws.MAX_COMPRESSION), gap_a, s, e)
+            return gap_a, s, e, self.tn_scale * work, self.kn_scale * curv
+        gap_a = d * (-alpha)
+        gap_a += gap
+        s, e = self.state(gap_a)
+        return gap_a, s, e, self.work(s, e, d), None
+
+    def traction_new(self, s, e):
+        """T_n = (φn/δn) s e^{−s} (Pa), as (s e^{−s}) φn/δn."""
+        t = s * e
+        t *= self.tn_scale
+        return t
+
+    def traction(self, s, e):
+        """T_n = (φn/δn) s e^{−s} (Pa)."""
+        return self.tn_scale * s * e
+
+    def work(self, s, e, d):
+        """Σ_j T_n,j d_j."""
+        return self.tn_scale * float(np.einsum("i,i,i->", s, e, d))
+
+    def stiffness(self, s, e):
+        """k_loc = (φn/δn²)(1 − s) e^{−s} (Pa/m)."""
+        return self.kn_scale * (1.0 - s) * e
+
+    def curvature_sum(self, s, e, d):
+        """Σ_j k_loc,j d_j², k_loc = (φn/δn²)(1 − s) e^{−s}."""
+        if self.fused:
+            return self.kn_scale * _curvature_fused(s, e, d)
+        x = e * d
+        return self.kn_scale * (dot(x, d) - float(np.einsum("i,i,i->", s, x, d)))
+
+
+class UserNodes:
+    """A user law (`contact.user_law`): state (T_n, dT_n/dΔn) from its callables."""
+
+    def __init__(self, law):
+        self.law = law
+
+    def state(self, gap_nodes):
+        """(T_n, k_loc) (Pa, Pa/m) at the gaps."""
+        return self.law.tractions(gap_nodes)[0], self.law.tangent(gap_nodes)[0]
+
+    def trial(self, gap, d, alpha):
+        """(Δn − α d, T_n, k_loc, Σ_j T_n,j d_j, None) at the trial state (`Eq3Nodes.trial`)."""
+        gap_a = d * (-alpha)
+        gap_a += gap
+        t, k = self.state(gap_a)
+        return gap_a, t, k, self.work(t, k, d), None
+
+    def traction_new(self, t, k):
+        return t
+
+    def traction(self, t, k):
+        return t
+
+    def work(self, t, k, d):
+        return dot(t, d)  # no BLAS (`gfmd.fft.dot`)
+
+    def stiffness(self, t, k):
+        return k
+
+    def curvature_sum(self, t, k, d):
+        return float(np.einsum("i,i,i->", k, d, d))
+
+
+if numba is not None:
+    # reassociated sums and fused multiply-adds, but no finite-math assumptions: an overflowing trial's inf
+    # must reach the line search (its bracket treats a non-finite dE/dα as the upper end)
+    _FLAGS = {"reassoc", "contract", "nsz", "arcp"}
+
+    @numba.njit(cache=True, fastmath=_FLAGS)
+    def _trial_fused(gap, d, alpha, inv_dn, max_compression, gap_a, s, e):  # one pass: Eq3Nodes.trial's sums
+        work = curv = 0.0
+        for i in range(gap.size):
+            g = gap[i] - alpha * d[i]
+            si = g * inv_dn
+            if si < -max_compression:
+                si = -max_compression
+            ei = np.exp(-si)
+            gap_a[i], s[i], e[i] = g, si, ei
+            x = ei * d[i]
+            work += si * x
+            curv += (1.0 - si) * x * d[i]
+        return work, curv
+
+    @numba.njit(cache=True, fastmath=_FLAGS)
+    def _curvature_fused(s, e, d):  # Σ (1 − s) e d²
+        curv = 0.0
+        for i in range(s.size):
+            curv += (1.0 - s[i]) * e[i] * d[i] * d[i]
+        return curv
