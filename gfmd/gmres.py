@@ -1,18 +1,20 @@
-"""Restarted GMRES (Saad & Schultz 1986): classical Gram–Schmidt, selective reorthogonalisation, a float32 basis.
+"""Restarted GMRES (Saad & Schultz 1986), modified Gram–Schmidt in one fused pass, a float32 basis.
 
 The coupled law's Newton steps solve their linearised balance with it (`gfmd.coupled_krylov.spectral_step`), to
 a relative tolerance ≥ 1e-3 (the inexact Newton's forcing, `gfmd.coupled_krylov.forcing`). scipy's
-`scipy.sparse.linalg.gmres` (1.17) orthogonalises by modified Gram–Schmidt in a Python loop, one basis vector at a
-time, in double precision; at N = 2^17 the basis (up to 61 vectors of 2N floats) streams from memory on every
-iteration, and projecting against it costs more than the iteration's FFT pair. Here the Arnoldi step projects
-against the whole basis at once, two BLAS matrix–vector products (h = Vᵀw, w ← w − V h), repeated once where the
-projection cancelled more than 1 − 1/√2 of w (Daniel, Gragg, Kaufman & Stewart 1976), and, for rtol ≥
-SINGLE_BASIS_RTOL, the basis is stored in float32 (half the traffic; mixed-precision GMRES: the Arnoldi relation
-holds to ≈ 1e-7, far below the tolerance, and the verdict is the double-precision true residual's). Measured on
-whole coupled ramps: benchmarks/results/bench_gmres.md. The iteration is scipy's otherwise: x0 = 0, no
-preconditioner (the caller's operator is preconditioned already), the inner loop stops at the estimated residual
-ptol, each cycle ends with the true residual b − A x, whose norm ≤ rtol ‖b‖ is convergence, and ptol adapts between
-cycles as scipy's does (gh-8400). Returns (x, info): info 0 where it converged, else the number of cycles allowed.
+`scipy.sparse.linalg.gmres` (1.17) orthogonalises by modified Gram–Schmidt in a Python loop (a dot and an axpy
+with a temporary per basis vector) in double precision; at N = 2^17 its basis (up to 61 vectors of 2N floats)
+streams from memory twice on every iteration, 62 % of a Newton solve (README, session 28). Here the same modified
+Gram–Schmidt runs as one numba kernel (double sums), and for rtol ≥ SINGLE_BASIS_RTOL the basis is stored in
+float32: half the traffic (mixed-precision GMRES: the Arnoldi relation holds to ≈ 1e-7, far below the tolerance,
+and w, the Hessenberg matrix, x and the verdict's true residual stay double). Measured on whole coupled ramps:
+benchmarks/results/bench_gmres.md. (Classical Gram–Schmidt with DGKS reorthogonalisation, two BLAS products per
+pass, was tried first: the reorthogonalisation ran on 96 % of the Arnoldi steps, which made it as slow as scipy's at
+2^17.) The iteration is scipy's otherwise: x0 = 0, no preconditioner (the caller's operator is preconditioned
+already), the inner loop stops at the estimated residual ptol, each cycle ends with the true residual b − A x,
+whose norm ≤ rtol ‖b‖ is convergence, and ptol adapts between cycles as scipy's does (gh-8400). Returns (x, info):
+info 0 where it converged, else the number of cycles allowed. Without numba (the ``fast`` extra) the same
+iteration projects in a numpy loop.
 """
 
 from __future__ import annotations
@@ -21,8 +23,8 @@ import math
 
 import numpy as np
 
-#: reorthogonalise where the projection left less than this fraction of ‖w‖ (DGKS's 1/√2)
-REORTHOGONALISE = 1.0 / math.sqrt(2.0)
+from . import kernels
+
 #: the basis is stored in single precision for a solve to rtol ≥ this (the Newton steps' forcing, ≥ 1e-3): half
 #: the memory traffic of its projections, which at N = 2^17 stream the whole basis from memory; its round-off
 #: (≈ 1e-7 relative) is far below the tolerance, and the verdict is the double-precision true residual's
@@ -31,7 +33,9 @@ SINGLE_BASIS_RTOL = 1e-4
 
 def gmres(matvec, b, rtol, restart, maxiter, single=None):
     """x with ‖b − A x‖ ≤ rtol ‖b‖ (A x = matvec(x), float64 vectors), by GMRES(restart), at most `maxiter` cycles:
-    (x, 0) where it converged, else (x, maxiter). single: the basis in float32 (default: rtol ≥ SINGLE_BASIS_RTOL)."""
+    (x, 0) where it converged, else (x, maxiter). single: the basis in float32 (default: rtol ≥ SINGLE_BASIS_RTOL).
+    matvec must return a new array (float64 is projected in place, without a copy) and may not keep its argument
+    (one array, rewritten for every product)."""
     b = np.asarray(b, dtype=float)
     n = b.size
     b_norm = float(np.linalg.norm(b))
@@ -43,10 +47,12 @@ def gmres(matvec, b, rtol, restart, maxiter, single=None):
         single = rtol >= SINGLE_BASIS_RTOL
     dtype = np.float32 if single else np.float64
     eps = np.finfo(dtype).eps
+    project = _project_fused if kernels.jit_backend() == "numba" else _project_numpy
     basis = np.empty((restart + 1, n), dtype=dtype)
     hess = np.zeros((restart + 1, restart))  # column j: the Arnoldi coefficients of A v_j, then rotated
     cos, sin = np.zeros(restart), np.zeros(restart)
     x = np.zeros(n)
+    v_j = np.empty(n)
     r, r_norm = b.copy(), b_norm
     ptol_factor, ptol = 1.0, atol
     presid = r_norm
@@ -56,17 +62,11 @@ def gmres(matvec, b, rtol, restart, maxiter, single=None):
         g[0] = r_norm
         breakdown = False
         for j in range(restart):
-            w = np.array(matvec(basis[j].astype(np.float64)), dtype=dtype)
+            v_j[:] = basis[j]  # (one reused double copy of the basis vector: no fresh array per product)
+            w = np.array(matvec(v_j), dtype=np.float64, copy=None)  # the caller's fresh product, projected in place
             w_norm = float(np.linalg.norm(w))
-            v = basis[:j + 1]
-            h = v @ w
-            w -= h @ v
+            h = project(basis, j, w)  # w ← w − Σ_k (v_k·w) v_k, modified Gram–Schmidt
             h_next = float(np.linalg.norm(w))
-            if h_next < REORTHOGONALISE * w_norm:  # cancellation: a second pass
-                h2 = v @ w
-                w -= h2 @ v
-                h += h2
-                h_next = float(np.linalg.norm(w))
             col = hess[:, j]
             col[:j + 1] = h
             col[j + 1] = h_next
@@ -74,7 +74,7 @@ def gmres(matvec, b, rtol, restart, maxiter, single=None):
                 col[j + 1] = 0.0
                 breakdown = True
             else:
-                basis[j + 1] = w * (1.0 / h_next)
+                np.multiply(w, 1.0 / h_next, out=basis[j + 1], casting="same_kind")
             for k in range(j):  # the rotations so far, on the new column
                 a, c = col[k], col[k + 1]
                 col[k], col[k + 1] = cos[k] * a + sin[k] * c, -sin[k] * a + cos[k] * c
@@ -99,3 +99,33 @@ def gmres(matvec, b, rtol, restart, maxiter, single=None):
         ptol_factor = max(eps, 0.25 * ptol_factor) if presid <= ptol else min(1.0, 1.5 * ptol_factor)
         ptol = presid * min(ptol_factor, atol / r_norm)
     return x, (0 if r_norm <= atol else maxiter)
+
+
+def _project_numpy(basis, j, w):
+    """Modified Gram–Schmidt of w (float64, in place) against basis rows 0 … j: their coefficients."""
+    h = np.empty(j + 1)
+    for k in range(j + 1):
+        v = basis[k]
+        h[k] = float(np.dot(v, w)) if v.dtype == w.dtype else float(np.dot(v.astype(w.dtype), w))
+        w -= h[k] * v
+    return h
+
+
+if kernels.numba is not None:
+    @kernels.numba.njit(cache=True, fastmath={"reassoc", "contract", "nsz", "arcp"})
+    def _project_kernel(basis, j, w, h):  # per row: its dot with w (double sums), then w −= h_k v_k
+        n = w.size
+        for k in range(j + 1):
+            t = 0.0
+            for i in range(n):
+                t += np.float64(basis[k, i]) * w[i]
+            h[k] = t
+            for i in range(n):
+                w[i] -= t * np.float64(basis[k, i])
+
+    def _project_fused(basis, j, w):
+        h = np.empty(j + 1)
+        _project_kernel(basis, j, w, h)
+        return h
+else:  # pragma: no cover - depends on the environment
+    _project_fused = _project_numpy
