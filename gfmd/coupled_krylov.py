@@ -11,6 +11,7 @@ from scipy.sparse.linalg import LinearOperator, gmres
 
 from contact import laws
 
+from . import gmres as gfmd_gmres
 from .coupled_kernels import coupled_kernels
 from .fft import Fft, spectral_weights
 from .problem import Elastic
@@ -18,6 +19,10 @@ from .problem import Elastic
 #: GMRES: restart length and the most restart cycles of one solve
 GMRES_RESTART = 60
 GMRES_CYCLES = 5
+#: which GMRES solves the spectral step: "gfmd" (`gfmd.gmres`: modified Gram–Schmidt in one fused pass, a float32
+#: basis at the Newton steps' tolerances; measured, benchmarks/results/bench_gmres.md) or "scipy"
+#: (`scipy.sparse.linalg.gmres`, the solver before session 32)
+GMRES = "gfmd"
 #: inexact Newton's forcing rule (`forcing`): GMRES's relative tolerance
 #: min(FORCING, max(η, FORCING_MIN, 0.3 tolerance / residual))
 FORCING = 0.1
@@ -100,8 +105,11 @@ def spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_R
 
     rhs = np.ascontiguousarray(f_hat * scale).view(float).ravel()
     size = rhs.size
-    b_op = LinearOperator((size, size), matvec=b_times, dtype=float)
-    y, info = gmres(b_op, rhs, rtol=rtol, restart=restart, maxiter=cycles)
+    if GMRES == "gfmd":
+        y, info = gfmd_gmres.gmres(b_times, rhs, rtol, restart, cycles)
+    else:
+        y, info = gmres(LinearOperator((size, size), matvec=b_times, dtype=float), rhs, rtol=rtol, restart=restart,
+                        maxiter=cycles)
     du_hat = stiff._apply(inverse, np.ascontiguousarray(y).view(complex).reshape(shape))
     if clamp:
         du_hat[:, 0] = 0.0
