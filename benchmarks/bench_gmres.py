@@ -19,7 +19,6 @@ import argparse
 import cProfile
 import os
 import pstats
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -34,6 +33,7 @@ sys.path.insert(0, str(ROOT))
 
 from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
 from gfmd import coupled_krylov  # noqa: E402
+from benchmarks.report import header, ramp_differences, write  # noqa: E402
 from workbench.study_task import reuse_freed_arrays  # noqa: E402
 
 VARIANTS = ("scipy", "gfmd")
@@ -62,14 +62,10 @@ def main(argv=None):
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "bench_gmres.md"))
     args = ap.parse_args(argv)
     reuse_freed_arrays()  # glibc keeps freed arrays, as in a study worker (else page faults blur the comparison)
-    git = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
-                         text=True).stdout.strip()
-    lines = ["# The coupled Newton's GMRES: fused modified Gram–Schmidt and a float32 basis (`gfmd.gmres`) against scipy's", "",
-             f"`python benchmarks/bench_gmres.py {' '.join(argv if argv is not None else sys.argv[1:])}`; git {git} "
-             f"(+ working tree); load average at start {os.getloadavg()[0]:.2f} (2-core machine; CPU s alternate "
-             "the variants in one process)", "",
-             "| N | GMRES | CPU s per ramp (each repeat) | median | FFT pairs | event steps | max |Δp̄|/max|p̄| | "
-             "max |Δa_rel| | labels differ |", "|---|---|---|---|---|---|---|---|---|"]
+    lines = header("The coupled Newton's GMRES: fused modified Gram–Schmidt and a float32 basis (`gfmd.gmres`) against "
+                   "scipy's", "bench_gmres.py", argv, "2-core machine; CPU s alternate the variants in one process")
+    lines += ["| N | GMRES | CPU s per ramp (each repeat) | median | FFT pairs | event steps | max |Δp̄|/max|p̄| | "
+              "max |Δa_rel| | labels differ |", "|---|---|---|---|---|---|---|---|---|"]
     profiles = []
     for size in args.sizes:
         runs = {v: [] for v in VARIANTS}
@@ -80,14 +76,9 @@ def main(argv=None):
                 rows = ramp(2**size, "coupled", realization=args.realization, a_rel_stop=2.0, max_steps=args.max_steps)
                 runs[variant].append((time.process_time() - t0, rows))
         coupled_krylov.GMRES = "gfmd"
-        ref = runs["scipy"][0][1]
-        p_ref = np.array([r["p"] for r in ref])
         for variant, got in runs.items():
             rows = got[0][1]
-            p = np.array([r["p"] for r in rows])
-            dp = float(np.max(np.abs(p - p_ref)) / np.max(np.abs(p_ref)))
-            da = max(abs(a["a_rel"] - b["a_rel"]) for a, b in zip(rows, ref))
-            labels = sum(a["method"] != b["method"] for a, b in zip(rows, ref))
+            dp, da, labels = ramp_differences(rows, runs["scipy"][0][1])
             cpu = [c for c, _ in got]
             lines.append(f"| 2^{size} | {variant} | {' / '.join(f'{c:.2f}' for c in cpu)} | {np.median(cpu):.2f} | "
                          f"{sum(r['pairs'] for r in rows):.0f} | {sum(r['method'] != 'newton' for r in rows)} | "
@@ -98,10 +89,7 @@ def main(argv=None):
               "| N | scipy gmres (its Gram–Schmidt loop) | FFTs | total |", "|---|---|---|---|"]
     for size, gm, fft, total in profiles:
         lines.append(f"| 2^{size} | {gm:.1f} s ({gm / total:.0%}) | {fft:.1f} s ({fft / total:.0%}) | {total:.1f} s |")
-    lines += ["", f"Load average at end: {os.getloadavg()[0]:.2f}."]
-    text = "\n".join(lines) + "\n"
-    Path(args.out).write_text(text)
-    print(text)
+    write(lines, args.out)
 
 
 if __name__ == "__main__":

@@ -29,6 +29,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
+from benchmarks.report import header, ramp_differences, write  # noqa: E402
 from gfmd import kernels, ncg_nodes  # noqa: E402
 from gfmd.algorithms import ncg  # noqa: E402
 from gfmd.fft import Fft  # noqa: E402
@@ -86,13 +87,9 @@ def ramp_table(size, phis, repeats):
                 r = ramp(2**size, "cohesive", realization=1, scene_keys={"interface.phi_n_star": phi}, a_rel_stop=2.0)
                 runs[backend].append((time.process_time() - t0, r))
         ncg.Eq3Nodes = inner
-        ref = runs["numpy"][0][1]
-        p_ref = np.array([x["p"] for x in ref])
         for backend, got in runs.items():
             r = got[0][1]
-            p = np.array([x["p"] for x in r])
-            dp = float(np.max(np.abs(p - p_ref)) / np.max(np.abs(p_ref)))
-            da = max(abs(x["a_rel"] - y["a_rel"]) for x, y in zip(r, ref))
+            dp, da, _ = ramp_differences(r, runs["numpy"][0][1])
             cpu = " / ".join(f"{c:.2f}" for c, _ in got)
             median = float(np.median([c for c, _ in got]))
             rows.append(f"| {phi:g} | {backend} | {cpu} | {median:.2f} | {sum(x['it'] for x in r)} | {dp:.2g} | "
@@ -110,20 +107,13 @@ def main(argv=None):
     args = ap.parse_args(argv)
     if kernels.numba is None:
         sys.exit("bench_ncg_nodes: numba is not installed (pip install 'gfmd-contact[fast]')")
-    import subprocess
-    git = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
-                         text=True).stdout.strip()
-    lines = [f"# The cohesive NCG's nodal law work: numpy against the fused pass (`gfmd.ncg_nodes`)", "",
-             f"`python benchmarks/bench_ncg_nodes.py {' '.join(argv if argv is not None else sys.argv[1:])}`; "
-             f"git {git} (+ working tree); load average at start {os.getloadavg()[0]:.2f} (2-core machine)", "",
-             "## 1. One line-search trial (wall time per call)", ""]
+    lines = header("The cohesive NCG's nodal law work: numpy against the fused pass (`gfmd.ncg_nodes`)", "bench_ncg_nodes.py",
+                   argv)
+    lines += ["## 1. One line-search trial (wall time per call)", ""]
     lines += trial_table(args.sizes)
     lines += ["", f"## 2. Whole ramps at N = 2^{args.ramp_size} (seed base scene, realization 1, δn = 1 nm)", ""]
     lines += ramp_table(args.ramp_size, args.phi, args.repeats)
-    lines += ["", f"Load average at end: {os.getloadavg()[0]:.2f}."]
-    text = "\n".join(lines) + "\n"
-    Path(args.out).write_text(text)
-    print(text)
+    write(lines, args.out)
 
 
 if __name__ == "__main__":
