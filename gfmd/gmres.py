@@ -63,7 +63,7 @@ def gmres(matvec, b, rtol, restart, maxiter, single=None):
         breakdown = False
         for j in range(restart):
             v_j[:] = basis[j]  # (one reused double copy of the basis vector: no fresh array per product)
-            w = np.array(matvec(v_j), dtype=np.float64, copy=None)  # the caller's fresh product, projected in place
+            w = np.asarray(matvec(v_j), dtype=np.float64)  # the caller's fresh product, projected in place
             w_norm = float(np.linalg.norm(w))
             h = project(basis, j, w)  # w ← w − Σ_k (v_k·w) v_k, modified Gram–Schmidt
             h_next = float(np.linalg.norm(w))

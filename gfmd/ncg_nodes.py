@@ -53,8 +53,9 @@ class Eq3Nodes:
     def trial(self, gap, d, alpha):
         """(Δn − α d, s, e^{−s}, Σ_j T_n,j d_j, Σ_j k_loc,j d_j² or None) at the trial state Δn − α d: the fused
         kernel gives the curvature sum with the rest, numpy leaves it to `curvature_sum` (when needed). The fused
-        trial's arrays are overwritten by the trial after next (`_outputs`): the line search keeps only its
-        last trial, the NCG only the state it accepted."""
+        trial writes into one of two reused sets of arrays, never the one holding `gap` (`_outputs`): its arrays
+        live until the next trial that does not start from them (the line search keeps only its last trial, the
+        NCG only the state it accepted)."""
         if self.fused:
             gap_a, s, e = self._outputs(gap)
             work, curv = _trial_fused(gap, d, float(alpha), 1.0 / self.dn, float(laws.MAX_COMPRESSION), gap_a, s, e)
