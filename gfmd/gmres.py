@@ -106,7 +106,7 @@ def _project_numpy(basis, j, w):
     h = np.empty(j + 1)
     for k in range(j + 1):
         v = basis[k]
-        h[k] = float(np.dot(v, w)) if v.dtype == w.dtype else float(np.dot(v.astype(w.dtype), w))
+        h[k] = float(np.dot(v, w))  # a float32 row is promoted to double
         w -= h[k] * v
     return h
 
