@@ -1,6 +1,7 @@
-"""The coupled law's linearised balance solved by GMRES (scipy's) on the spectrum (seed Eq. 2), shared by the
-algorithms that take Newton-type steps on it: `gfmd.algorithms.coupled_newton` (K + D) and `gfmd.algorithms.coupled_ptc`
-(σM + K + D, σ = 1/Δτ). Not an algorithm itself (no `solve`): each algorithm passes its stiffness operator.
+"""The coupled law's linearised balance (seed Eq. 2) solved by GMRES (`gfmd.gmres`), shared by the algorithms that
+take Newton-type steps on it: `gfmd.algorithms.coupled_newton` (K + D, `newton_step`: the two-level preconditioner of
+`gfmd.coupled_preconditioner` on the nodes) and `gfmd.algorithms.coupled_ptc` (σM + K + D, σ = 1/Δτ, `spectral_step`:
+K⁻¹-type on the spectrum). Not an algorithm itself (no `solve`): each algorithm passes its stiffness operator.
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ from scipy.sparse.linalg import LinearOperator, gmres
 
 from contact import laws
 
+from . import coupled_preconditioner
 from . import gmres as gfmd_gmres
 from .coupled_kernels import coupled_kernels
 from .fft import Fft, spectral_weights
@@ -72,6 +74,28 @@ def balance_residual(model, law, z_ind, u_hat):
     except laws.CompressionOverflowError:
         return np.inf, fft.pairs
     return float(np.max(np.abs(f))) / model.reference_traction, fft.pairs
+
+
+def newton_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_RESTART, cycles=GMRES_CYCLES):
+    """(δû, GMRES's info: 0 where it reached rtol) solving (K + D) δu = f: with the two-level right preconditioner
+    M⁻¹ = Q + K⁻¹(I − A Q) (`gfmd.coupled_preconditioner`, `coupled_preconditioner.CHOICE` "two-level") by GMRES on
+    the nodes, y = M δu, A M⁻¹ y = Π(g + D s), g = y − D Π Z E⁻¹ Zᵀ y, s = K⁻¹ g: one FFT pair per product, GMRES's
+    norm the nodal one; `spectral_step` (K⁻¹ alone) where the choice is "stiffness", the model has one component
+    or no node is stiff. The clamped q = 0 mode of a half-plane stays 0."""
+    coarse = None
+    if coupled_preconditioner.CHOICE == "two-level" and model.components == 2:
+        tangent = law.law.tangent(z_ind - u[-1], -u[0])
+        coarse = coupled_preconditioner.coarse_space(stiff, fft, tangent, law.law.initial_stiffness)
+    elif coupled_preconditioner.CHOICE not in ("two-level", "stiffness"):
+        raise ValueError(f"gfmd.coupled_preconditioner.CHOICE = {coupled_preconditioner.CHOICE!r}: expected "
+                         "'two-level' or 'stiffness'")
+    if coarse is None:
+        return spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart, cycles)
+    inverse, product = coupled_preconditioner.operators(coarse, stiff, fft, tangent)
+    n = model.nodes
+    y, info = gfmd_gmres.gmres(lambda x: product(x.reshape(2, n)).ravel(), fft.irfft(f_hat).ravel(), rtol, restart,
+                               cycles)
+    return inverse(y.reshape(2, n)).copy(), info
 
 
 def spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_RESTART, cycles=GMRES_CYCLES):

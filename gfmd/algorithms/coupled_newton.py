@@ -12,7 +12,7 @@ from scipy.sparse.linalg import gmres
 
 from contact import laws
 
-from ..coupled_krylov import GMRES_CYCLES, GMRES_RESTART, balance, eisenstat_walker, forcing, spectral_step
+from ..coupled_krylov import GMRES_CYCLES, GMRES_RESTART, balance, eisenstat_walker, forcing, newton_step
 from ..fft import Fft
 from ..problem import Elastic, coupled_operators
 from ..stopping import finish
@@ -31,6 +31,11 @@ COUPLED_NEWTON_SHIFTED = False
 COUPLED_NEWTON_EISENSTAT_WALKER = True
 #: GMRES on the spectrum, right-preconditioned by K⁻¹: one FFT pair per product (False: nodal, two)
 COUPLED_NEWTON_SPECTRAL = True
+#: the continuation's jump break-off (`Settings.coupled_continuation_jump`) looks at the iterates from this one on: the
+#: first, an inexact step (GMRES to FORCING = 0.1) from the last state, may overshoot a node by a law length on its
+#: way to a continuation (the two-level preconditioner's, `gfmd.coupled_preconditioner`: Fig. 8's fig8_small step 99
+#: from step 98's state, iterate 1 moved 1.02 law lengths, the converged state 0.75)
+JUMP_FROM_ITERATION = 2
 #: the break-off's words in `Relaxed.stalled` (`Settings.coupled_continuation_jump`; `gfmd.chains` resumes such a
 #: Newton without it where it needs the state Newton stalls at)
 BROKE_OFF = "a snap or slip event, no continuation"
@@ -41,7 +46,9 @@ def solve(problem, start, settings):
 
     Each iteration solves (K + D) δu = f by GMRES, D the nodal 2×2 tangent of Eq. 2
     (`contact.laws.jacobian_coupled`, ∂t/∂u = −D since Δn = z_ind − u_z, Δt = −u_x), K applied
-    by FFT: on the spectrum, right-preconditioned by K⁻¹ (`gfmd.coupled_krylov.spectral_step`, one FFT pair per product; with
+    by FFT: right-preconditioned by K⁻¹ balanced by a coarse space on the stiff nodes (`gfmd.coupled_krylov.newton_step`,
+    `gfmd.coupled_preconditioner`, since session 33: 3× fewer GMRES products; K⁻¹ alone on the spectrum where no node
+    is stiff, `spectral_step`), one FFT pair per product; with
     COUPLED_NEWTON_SPECTRAL = False on the nodes, preconditioned by K⁻¹ or, COUPLED_NEWTON_SHIFTED, the inverse
     FIRE mass M_q = K(q) + ⟨k_loc⟩, two pairs per product), to the relative tolerance
     min(FORCING, max(η, FORCING_MIN, 0.3 tolerance / residual)) (`gfmd.coupled_krylov.forcing`: no accuracy beyond
@@ -57,8 +64,8 @@ def solve(problem, start, settings):
     when the line search finds no decrease; with `Settings.coupled_gmres_give_up` (the Newton-first chain's
     continuation, `gfmd.chains`) also at the first GMRES solve that misses its tolerance in COUPLED_GMRES_CYCLES
     restarts (`stalled`), rather than going on with the inexact direction, and, with
-    `Settings.coupled_continuation_jump` > 0, once an unconverged iterate has moved a node that many law lengths from
-    the start (the continuation's acceptance test would reject such a state); `Settings.coupled_continuation_iterations`
+    `Settings.coupled_continuation_jump` > 0, once an unconverged iterate (from the JUMP_FROM_ITERATION-th) has moved a
+    node that many law lengths from the start (the continuation's acceptance test would reject such a state); `Settings.coupled_continuation_iterations`
     > 0 replaces COUPLED_NEWTON_ITERATIONS (the continuation's cap) and `Settings.coupled_continuation_gmres_cycles` > 0
     COUPLED_GMRES_CYCLES (a miss within fewer cycles is a break-off, BROKE_OFF, resumable with all of them);
     `Settings.coupled_continuation_stagnation` > 0 breaks off (BROKE_OFF) once two iterations in a row each left more
@@ -110,7 +117,7 @@ def solve(problem, start, settings):
         rtol = forcing(settings.tolerance, residual, eta)
         before = fft.pairs
         if COUPLED_NEWTON_SPECTRAL:
-            du_hat, info = spectral_step(model, law, z_ind, u, fh, stiff, fft, rtol, COUPLED_GMRES_RESTART, cycles)
+            du_hat, info = newton_step(model, law, z_ind, u, fh, stiff, fft, rtol, COUPLED_GMRES_RESTART, cycles)
             du = fft.irfft(du_hat)
         else:
             a_op, m_op, _ = coupled_operators(model, law, z_ind, u, fft, COUPLED_NEWTON_SHIFTED)
@@ -154,7 +161,7 @@ def solve(problem, start, settings):
         if not np.isfinite(residual):
             message = "diverged: non-finite force residual"
             break
-        if jump > 0 and residual >= settings.tolerance:
+        if jump > 0 and residual >= settings.tolerance and it >= JUMP_FROM_ITERATION:
             moved = float(np.max(np.abs(u - origin)))
             if moved >= jump:
                 message = (f"a node moved {moved / law.law.length_scale:.3g} law lengths from the start at Newton "
