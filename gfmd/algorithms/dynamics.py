@@ -18,8 +18,8 @@ import numpy as np
 
 from contact import laws
 
-from ..coupled_kernels import coupled_kernels
 from ..fft import Fft, spectral_weights
+from ..fire_kernels import fire_kernels
 from ..integrators import Fire, verlet_coefficients
 from ..problem import Elastic
 from ..settings import not_converged
@@ -40,10 +40,9 @@ def solve(problem, start, settings):
     k_mean = law.mean_stiffness(fft.irfft(u_hat), z_ind)
     elastic = Elastic(model, *k_mean)
 
-    weighted_dot = coupled_kernels()[3]
-
-    def dot(a, b):  # Σ_q w_q Re(conj(a_q) b_q): nodal products (Parseval)
-        return weighted_dot(w, a, b)
+    force_power, accelerate, mix_move = fire_kernels(components=model.components)
+    stiffness = (model.k_xx, model.k_xz, model.k_zz) if model.tangential else (model.k_zz,)
+    acc = np.empty_like(u_hat)
 
     fire = None if settings.method == "verlet" else Fire(settings)
     if fire is None:  # Verlet: per-mode ω² from the diagonal stiffness plus the law's initial slope
@@ -77,7 +76,7 @@ def solve(problem, start, settings):
             message = f"diverged: {exc}"
             u_hat = _last_finite
             break
-        _last_finite = u_hat.copy()
+        _last_finite = u_hat_prev  # (a copy of u_hat, which nothing changes in place until the next one)
         if fire and it % settings.mass_refresh == 0:
             k_now = law.mean_stiffness(u, z_ind)
             if any(b > 2 * a + 1e-300 or a > 2 * b + 1e-300 for a, b in zip(k_mean, k_now)):
@@ -85,9 +84,13 @@ def solve(problem, start, settings):
                 elastic = Elastic(model, *k_mean)
                 v[:] = 0.0
                 fire.reset()
-        f_hat = fft.rfft(t) - elastic.stiffness(u_hat)
-        if elastic.clamp:
-            f_hat[:, 0] = 0.0
+        f_hat = fft.rfft(t)
+        if fire is None:
+            f_hat -= elastic.stiffness(u_hat)
+            if elastic.clamp:
+                f_hat[:, 0] = 0.0
+        else:  # f̂ = t̂ − K û (q = 0 clamped) and FIRE's power f·v in one pass (`gfmd.fire_kernels`)
+            power = force_power(f_hat, stiffness, u_hat, v, w, elastic.clamp)
         if it % settings.check_every == 0 or it == 1:
             residual = float(np.max(np.abs(fft.irfft(f_hat)))) / model.reference_traction
             if residual < settings.tolerance:
@@ -98,21 +101,20 @@ def solve(problem, start, settings):
                 break
         if fire is None:
             v = ((1 - gdt / 2) * v + dt * f_hat / rho) / (1 + gdt / 2)
+            if elastic.clamp:
+                v[:, 0] = 0.0
+            u_hat += dt * v
         else:
-            restart = fire.adapt(dot(f_hat, v))
+            restart = fire.adapt(power)
             dt = fire.dt
             if restart:
                 u_hat -= 0.5 * dt * v
                 v[:] = 0.0
-            acc = elastic.inverse_mass_times(f_hat)
-            v += dt * acc
-            f_norm = dot(f_hat, acc)
+            acc, f_norm, v_norm = accelerate(f_hat, elastic.inv_mass, elastic.mass, v, dt, w, acc)  # v += Δt M⁻¹f
+            keep, beta = 1.0, 0.0
             if f_norm > 0:
-                v_norm = dot(v, elastic.mass_times(v))
-                v = (1 - fire.alpha) * v + fire.alpha * np.sqrt(max(v_norm, 0.0) / f_norm) * acc
-        if elastic.clamp:
-            v[:, 0] = 0.0
-        u_hat += dt * v
+                keep, beta = 1 - fire.alpha, fire.alpha * np.sqrt(max(v_norm, 0.0) / f_norm)
+            mix_move(v, acc, keep, beta, u_hat, dt, elastic.clamp)  # v ← keep v + β M⁻¹f, û += Δt v
     else:
         message = not_converged(settings.max_iterations, residual)
 

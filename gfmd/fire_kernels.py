@@ -1,0 +1,128 @@
+"""FIRE's per-iteration spectral algebra (`gfmd.algorithms.dynamics`) in three passes, numpy or fused (numba).
+
+On mass-weighted modes (M_q, 2×2 blocks (a b; b̄ d) of `gfmd.problem.Elastic` for the coupled law's (x, z)
+unknowns, one block (m,) for a normal-only law), w_q the rfft weights (Σ_j a_j b_j = (1/N) Σ_q w_q Re(conj â_q b̂_q)):
+
+* `force_power`: f̂ = t̂ − K û (the q = 0 mode 0 where clamped) into t̂'s array, and FIRE's power P = f·v;
+* `accelerate`: a = M⁻¹ f̂, v ← v + Δt a, and the norms f·a and v·(M v) of FIRE's mixing;
+* `mix_move`: v ← keep·v + β a (the q = 0 mode 0 where clamped), û ← û + Δt v.
+
+numpy does each as before (a temporary per operation: ≈ 15 passes over the spectra an iteration); the fused kernels
+(1+1-D coupled profiles, c = 2: the coupled event steps' FIRE) one loop each. ``GFMD_JIT`` chooses
+(`gfmd.kernels.jit_backend`). Measured: benchmarks/results/bench_fire_kernels.md.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .kernels import jit_backend, numba
+
+#: the fused kernels where they apply (False: numpy's passes everywhere, the FIRE before session 33; for benchmarks)
+FUSED = True
+
+
+def _weighted(w, a, b):
+    return float(np.sum(w * (np.conj(a) * b).real))
+
+
+def _force_power_numpy(t_hat, k, u_hat, v, w, clamp, apply):
+    t_hat -= apply(k, u_hat)
+    if clamp:
+        t_hat[:, 0] = 0.0
+    return _weighted(w, t_hat, v)
+
+
+def _accelerate_numpy(f_hat, inv_m, m, v, dt, w, apply):
+    acc = apply(inv_m, f_hat)
+    v += dt * acc
+    return acc, _weighted(w, f_hat, acc), _weighted(w, v, apply(m, v))
+
+
+def _mix_move_numpy(v, acc, keep, beta, u_hat, dt, clamp):
+    if beta != 0.0 or keep != 1.0:
+        v *= keep
+        v += beta * acc
+    if clamp:
+        v[:, 0] = 0.0
+    u_hat += dt * v
+
+
+if numba is not None:
+    @numba.njit(cache=True)
+    def _force_power_kernel(t_hat, a, b, d, u_hat, v, w, clamp):
+        power = 0.0
+        for i in range(w.size):
+            u0, u1 = u_hat[0, i], u_hat[1, i]
+            f0 = t_hat[0, i] - (a[i] * u0 + b[i] * u1)
+            f1 = t_hat[1, i] - (b[i].conjugate() * u0 + d[i] * u1)
+            if clamp and i == 0:
+                f0 = 0.0j
+                f1 = 0.0j
+            t_hat[0, i] = f0
+            t_hat[1, i] = f1
+            power += w[i] * (f0.real * v[0, i].real + f0.imag * v[0, i].imag
+                             + f1.real * v[1, i].real + f1.imag * v[1, i].imag)
+        return power
+
+    @numba.njit(cache=True)
+    def _accelerate_kernel(f_hat, ia, ib, id_, a, b, d, v, dt, w, acc):
+        f_norm = 0.0
+        v_norm = 0.0
+        for i in range(w.size):
+            f0, f1 = f_hat[0, i], f_hat[1, i]
+            g0 = ia[i] * f0 + ib[i] * f1
+            g1 = ib[i].conjugate() * f0 + id_[i] * f1
+            acc[0, i] = g0
+            acc[1, i] = g1
+            v0 = v[0, i] + dt * g0
+            v1 = v[1, i] + dt * g1
+            v[0, i] = v0
+            v[1, i] = v1
+            m0 = a[i] * v0 + b[i] * v1
+            m1 = b[i].conjugate() * v0 + d[i] * v1
+            f_norm += w[i] * (f0.real * g0.real + f0.imag * g0.imag + f1.real * g1.real + f1.imag * g1.imag)
+            v_norm += w[i] * (v0.real * m0.real + v0.imag * m0.imag + v1.real * m1.real + v1.imag * m1.imag)
+        return f_norm, v_norm
+
+    @numba.njit(cache=True)
+    def _mix_move_kernel(v, acc, keep, beta, u_hat, dt, clamp):
+        for c in range(v.shape[0]):
+            for i in range(v.shape[1]):
+                x = keep * v[c, i] + beta * acc[c, i]
+                if clamp and i == 0:
+                    x = 0.0j
+                v[c, i] = x
+                u_hat[c, i] += dt * x
+
+
+def fire_kernels(name=None, components=2, profile=True):
+    """(force_power, accelerate, mix_move) of `jit_backend(name)`; the fused ones for a coupled profile
+    (components 2, profile True), numpy otherwise. Signatures: force_power(t_hat, k_blocks, u_hat, v, w, clamp)
+    → P (f̂ into t_hat); accelerate(f_hat, inv_blocks, mass_blocks, v, dt, w, acc) → (acc, f·a, v·M v);
+    mix_move(v, acc, keep, beta, u_hat, dt, clamp). Blocks: `gfmd.problem.Elastic`'s tuples; acc: an array
+    of û's shape the fused accelerate fills (numpy returns its own)."""
+    if FUSED and jit_backend(name) == "numba" and components == 2 and profile:
+        def force_power(t_hat, k, u_hat, v, w, clamp):
+            return _force_power_kernel(t_hat, *k, u_hat, v, w, clamp)
+
+        def accelerate(f_hat, inv_m, m, v, dt, w, acc):
+            f_norm, v_norm = _accelerate_kernel(f_hat, *inv_m, *m, v, dt, w, acc)
+            return acc, f_norm, v_norm
+
+        return force_power, accelerate, _mix_move_kernel
+    from .coupled_kernels import coupled_kernels
+    block_times = coupled_kernels("numpy")[0]
+
+    def apply(blocks, x):
+        if len(blocks) == 1:
+            return blocks[0] * x
+        return block_times(*blocks, x, np.empty(x.shape, np.result_type(x, *blocks)))
+
+    def force_power(t_hat, k, u_hat, v, w, clamp):
+        return _force_power_numpy(t_hat, k, u_hat, v, w, clamp, apply)
+
+    def accelerate(f_hat, inv_m, m, v, dt, w, acc):
+        return _accelerate_numpy(f_hat, inv_m, m, v, dt, w, apply)
+
+    return force_power, accelerate, _mix_move_numpy
