@@ -26,7 +26,7 @@ sys.path.insert(0, str(ROOT))
 import numpy as np  # noqa: E402
 
 from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
-from benchmarks.report import header, ramp_differences, write  # noqa: E402
+from benchmarks.report import header, ramp_row, write  # noqa: E402
 from gfmd import fire_kernels  # noqa: E402
 from workbench.study_task import reuse_freed_arrays  # noqa: E402
 
@@ -58,13 +58,9 @@ def main(argv=None):
                 runs[variant].append((time.process_time() - t0, rows))
         fire_kernels.FUSED = True
         for variant, got in runs.items():
-            rows = got[0][1]
-            dp, da, labels = ramp_differences(rows, runs["numpy"][0][1])
-            cpu = [c for c, _ in got]
             events = np.median([sum(r["cpu"] for r in x if r["method"] != "newton") for _, x in got])
-            lines.append(f"| 2^{size} | {variant} | {' / '.join(f'{c:.2f}' for c in cpu)} | {np.median(cpu):.2f} | "
-                         f"{events:.2f} | {sum(r['pairs'] for r in rows):.0f} | "
-                         f"{sum(r['method'] != 'newton' for r in rows)} | {dp:.2g} | {da:.2g} | {labels} |")
+            lines.append(ramp_row(size, variant, [c for c, _ in got], got[0][1], runs["numpy"][0][1],
+                                  (f"{events:.2f}",)))
             print(lines[-1], flush=True)
     write(lines, args.out)
 

@@ -26,14 +26,13 @@ from pathlib import Path
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):  # before numpy: one thread
     os.environ.setdefault(_var, "1")
 
-import numpy as np  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
 from gfmd import coupled_krylov  # noqa: E402
-from benchmarks.report import header, ramp_differences, write  # noqa: E402
+from benchmarks.report import header, ramp_row, write  # noqa: E402
 from workbench.study_task import reuse_freed_arrays  # noqa: E402
 
 VARIANTS = ("scipy", "gfmd")
@@ -77,12 +76,7 @@ def main(argv=None):
                 runs[variant].append((time.process_time() - t0, rows))
         coupled_krylov.GMRES = "gfmd"
         for variant, got in runs.items():
-            rows = got[0][1]
-            dp, da, labels = ramp_differences(rows, runs["scipy"][0][1])
-            cpu = [c for c, _ in got]
-            lines.append(f"| 2^{size} | {variant} | {' / '.join(f'{c:.2f}' for c in cpu)} | {np.median(cpu):.2f} | "
-                         f"{sum(r['pairs'] for r in rows):.0f} | {sum(r['method'] != 'newton' for r in rows)} | "
-                         f"{dp:.2g} | {da:.2g} | {labels} |")
+            lines.append(ramp_row(size, variant, [c for c, _ in got], got[0][1], runs["scipy"][0][1]))
         print("\n".join(lines[-2:]), flush=True)
         profiles.append((size, *profile_shares(size, args.realization, args.max_steps)))
     lines += ["", "Where a \"scipy\" ramp's time goes (cProfile, own time):", "",

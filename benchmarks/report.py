@@ -37,3 +37,15 @@ def ramp_differences(rows, reference):
     da = max(abs(a["a_rel"] - b["a_rel"]) for a, b in zip(rows, reference))
     labels = sum(a["method"] != b["method"] for a, b in zip(rows, reference))
     return dp, da, labels
+
+
+def ramp_row(size, variant, cpus, rows, reference, middle=()):
+    """A comparison table's row for one variant's ramps: | 2^size | variant | CPU s of each repeat | median | *middle |
+    FFT pairs | event steps | the `ramp_differences` against `reference` (rows, or None: not compared) |."""
+    import numpy as np
+
+    dp, da, labels = ramp_differences(rows, reference) if reference else (np.nan, np.nan, "–")
+    cells = [f"2^{size}", variant, " / ".join(f"{c:.2f}" for c in cpus), f"{np.median(cpus):.2f}", *middle,
+             f"{sum(r['pairs'] for r in rows):.0f}", str(sum(r["method"] != "newton" for r in rows)), f"{dp:.2g}",
+             f"{da:.2g}", str(labels)]
+    return "| " + " | ".join(cells) + " |"
