@@ -96,13 +96,13 @@ if numba is not None:
                 u_hat[c, i] += dt * x
 
 
-def fire_kernels(name=None, components=2, profile=True):
-    """(force_power, accelerate, mix_move) of `jit_backend(name)`; the fused ones for a coupled profile
-    (components 2, profile True), numpy otherwise. Signatures: force_power(t_hat, k_blocks, u_hat, v, w, clamp)
+def fire_kernels(name=None, components=2):
+    """(force_power, accelerate, mix_move) of `jit_backend(name)`; the fused ones for the coupled law's two components
+    (profiles only: 2+1-D surfaces are normal-only), numpy otherwise. Signatures: force_power(t_hat, k_blocks, u_hat, v, w, clamp)
     → P (f̂ into t_hat); accelerate(f_hat, inv_blocks, mass_blocks, v, dt, w, acc) → (acc, f·a, v·M v);
     mix_move(v, acc, keep, beta, u_hat, dt, clamp). Blocks: `gfmd.problem.Elastic`'s tuples; acc: an array
     of û's shape the fused accelerate fills (numpy returns its own)."""
-    if FUSED and jit_backend(name) == "numba" and components == 2 and profile:
+    if FUSED and jit_backend(name) == "numba" and components == 2:
         def force_power(t_hat, k, u_hat, v, w, clamp):
             return _force_power_kernel(t_hat, *k, u_hat, v, w, clamp)
 
