@@ -58,6 +58,21 @@ def blocks(nodes, block):
     return np.flatnonzero(in_run % block == 0)
 
 
+def kernel_sums(kr, n):
+    """The double cumulative sums of a real-space kernel kr (N,), (K u)_i = Σ_j kr(i − j) u_j, that `block_sums`
+    reads: cs1[x] = Σ of kr over offsets −n … x − n − 1, and its own cumulative sum."""
+    cs1 = np.r_[0.0, np.cumsum(kr[np.arange(-n, n) % n])]
+    return np.r_[0.0, np.cumsum(cs1)]
+
+
+def block_sums(cs2, n, a, p):
+    """Zᵀ K Z of one kernel: Σ_{i∈I} Σ_{j∈J} kr(i − j) for the blocks [a_I, a_I + p_I) (`kernel_sums`' cs2)."""
+    ai, pi = a[:, None], p[:, None]
+    b, r = a[None, :], p[None, :]
+    return ((cs2[ai + pi - b + n + 1] - cs2[ai - b + n + 1])
+            - (cs2[ai + pi - b - r + n + 1] - cs2[ai - b - r + n + 1]))
+
+
 def cover(stiff, n, block):
     """(nodes, starts) of a coarse space over every node 0 … n − 1: the runs of consecutive stiff nodes (`stiff`, sorted)
     cut every `block` nodes (`blocks`), and each run of soft nodes between them one block; nodes = 0 … n − 1, starts
@@ -118,8 +133,7 @@ class TwoLevel:
         if clamp:
             kq[0] = 0.0
         kr = fft.irfft(kq.astype(complex))  # (K u)_i = Σ_j kr(i − j) u_j
-        cs1 = np.r_[0.0, np.cumsum(kr[np.arange(-n, n) % n])]  # cs1[x] = Σ of kr over offsets −n … x − n − 1
-        self.cs2 = np.r_[0.0, np.cumsum(cs1)]
+        self.cs2 = kernel_sums(kr, n)
         above = np.flatnonzero(k >= kn_scale)  # the crossover mode: K(q) = φn/δn²
         crossover = int(above[0]) if above.size else k.size
         self.block = max(1, int(round(n / (2.0 * max(crossover, 1)))))
@@ -160,12 +174,8 @@ class TwoLevel:
         return True
 
     def pair_sums(self, a, p):
-        """Zᵀ K Z: Σ_{i∈I} Σ_{j∈J} kr(i − j) for the blocks [a_I, a_I + p_I) (double cumulative sums)."""
-        c2, n = self.cs2, self.n
-        ai, pi = a[:, None], p[:, None]
-        b, r = a[None, :], p[None, :]
-        return ((c2[ai + pi - b + n + 1] - c2[ai - b + n + 1])
-                - (c2[ai + pi - b - r + n + 1] - c2[ai - b - r + n + 1]))
+        """Zᵀ K Z (`block_sums`)."""
+        return block_sums(self.cs2, self.n, a, p)
 
     def _spread(self, c):
         """Π Z c on every node."""

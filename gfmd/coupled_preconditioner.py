@@ -14,8 +14,8 @@ D is; an LU factor), Q = Z E⁻¹ Zᵀ, and the right preconditioner is
 so that A M⁻¹ Z = A Z: the coarse modes are solved exactly. Since K K⁻¹ = Π (the mean removal of a clamped
 half-plane; I on a layer), M⁻¹ y = K⁻¹ (y − D w) with w = Π Z E⁻¹ Zᵀ y, and A M⁻¹ y = Π (g + D s) with
 g = y − D w, s = K⁻¹ g: one FFT pair per product, as K⁻¹ alone. E from K's real-space kernels by double cumulative
-sums (no FFT, `block_sums`). Measured on the Fig. 8 class at 2^13 (Newton systems sampled along a whole ramp, GMRES
-products to 0.1 / 1e-2 / 1e-3): 18.9 / 27.2 / 36.0 with K⁻¹, 5.9 / 8.3 / 10.7 with the coarse space (half-wavelength
+sums (no FFT, `gfmd.cohesive_preconditioner.block_sums`, as the NCG's). Measured on the Fig. 8 class at 2^13 (Newton
+systems sampled along a whole ramp, GMRES products to 0.1 / 1e-2 / 1e-3): 18.9 / 27.2 / 36.0 with K⁻¹, 5.9 / 8.3 / 10.7 with the coarse space (half-wavelength
 blocks), flat as the contact grows where K⁻¹'s grow 2 → 40; whole ramps: benchmarks/results/bench_coupled_preconditioner.md.
 """
 
@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from .cohesive_preconditioner import cover
+from .cohesive_preconditioner import block_sums, cover, kernel_sums
 from .coupled_kernels import coupled_kernels
 
 #: which right preconditioner the coupled Newton's GMRES runs (`gfmd.coupled_krylov.newton_step`): "two-level"
@@ -40,7 +40,7 @@ STIFF_FRACTION = 0.01
 BLOCK_WAVELENGTHS = 1.0
 
 
-def kernel_sums(stiff, fft):
+def stiffness_kernel_sums(stiff, fft):
     """The double cumulative sums of the real-space kernels of `stiff`'s operator blocks (a b; b̄ d) (its `mass`: K
     for the Newton's `Elastic(model, 0, 0)`, whose `inv_mass` is its inverse, as `operators` needs), the q = 0 mode
     dropped where clamped, one per (row, column) of components; cached on `stiff` (one per Newton solve)."""
@@ -54,19 +54,9 @@ def kernel_sums(stiff, fft):
         kq = np.array(block, complex)
         if stiff.clamp:
             kq[0] = 0.0
-        kr = fft.irfft(kq[None])[0]  # (K_key u)_i = Σ_j kr(i − j) u_j
-        once = np.r_[0.0, np.cumsum(kr[np.arange(-n, n) % n])]
-        sums[key] = np.r_[0.0, np.cumsum(once)]
+        sums[key] = kernel_sums(fft.irfft(kq[None])[0], n)  # (K_key u)_i = Σ_j kr(i − j) u_j
     stiff._coarse_kernel_sums = sums
     return sums
-
-
-def block_sums(twice, n, a, p):
-    """Zᵀ K Z of one kernel: Σ_{i∈I} Σ_{j∈J} kr(i − j) for the blocks [a_I, a_I + p_I) (`kernel_sums`' array)."""
-    ai, pi = a[:, None], p[:, None]
-    b, r = a[None, :], p[None, :]
-    return ((twice[ai + pi - b + n + 1] - twice[ai - b + n + 1])
-            - (twice[ai + pi - b - r + n + 1] - twice[ai - b - r + n + 1]))
 
 
 class CoarseSpace:
@@ -138,7 +128,7 @@ def _stiffness_part(stiff, fft, a, p):
     if cached is not None and np.array_equal(cached[0], a) and np.array_equal(cached[1], p):
         return cached[2]
     n, m = fft.n, a.size
-    sums = kernel_sums(stiff, fft)
+    sums = stiffness_kernel_sums(stiff, fft)
     xz = block_sums(sums["xz"], n, a, p)
     part = np.empty((2 * m, 2 * m))
     part[:m, :m] = block_sums(sums["xx"], n, a, p)
