@@ -76,12 +76,14 @@ def balance_residual(model, law, z_ind, u_hat):
     return float(np.max(np.abs(f))) / model.reference_traction, fft.pairs
 
 
-def newton_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_RESTART, cycles=GMRES_CYCLES):
+def newton_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_RESTART, cycles=GMRES_CYCLES,
+                f=None):
     """(δû, GMRES's info: 0 where it reached rtol) solving (K + D) δu = f: with the two-level right preconditioner
     M⁻¹ = Q + K⁻¹(I − A Q) (`gfmd.coupled_preconditioner`, `coupled_preconditioner.CHOICE` "two-level") by GMRES on
     the nodes, y = M δu, A M⁻¹ y = Π(g + D s), g = y − D Π Z E⁻¹ Zᵀ y, s = K⁻¹ g: one FFT pair per product, GMRES's
     norm the nodal one; `spectral_step` (K⁻¹ alone) where the choice is "stiffness", the model has one component
-    or no node is stiff. The clamped q = 0 mode of a half-plane stays 0."""
+    or no node is stiff. The clamped q = 0 mode of a half-plane stays 0. f: the nodal f = irfft f̂ where the caller
+    has it (no FFT for it here)."""
     coarse = None
     if coupled_preconditioner.CHOICE == "two-level" and model.components == 2:
         tangent = law.law.tangent(z_ind - u[-1], -u[0])
@@ -93,8 +95,8 @@ def newton_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_RES
         return spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart, cycles)
     inverse, product = coupled_preconditioner.operators(coarse, stiff, fft, tangent)
     n = model.nodes
-    y, info = gfmd_gmres.gmres(lambda x: product(x.reshape(2, n)).ravel(), fft.irfft(f_hat).ravel(), rtol, restart,
-                               cycles)
+    rhs = fft.irfft(f_hat) if f is None else f
+    y, info = gfmd_gmres.gmres(lambda x: product(x.reshape(2, n)).ravel(), rhs.ravel(), rtol, restart, cycles)
     return inverse(y.reshape(2, n)).copy(), info
 
 

@@ -117,7 +117,7 @@ def solve(problem, start, settings):
         rtol = forcing(settings.tolerance, residual, eta)
         before = fft.pairs
         if COUPLED_NEWTON_SPECTRAL:
-            du_hat, info = newton_step(model, law, z_ind, u, fh, stiff, fft, rtol, COUPLED_GMRES_RESTART, cycles)
+            du_hat, info = newton_step(model, law, z_ind, u, fh, stiff, fft, rtol, COUPLED_GMRES_RESTART, cycles, f)
             du = fft.irfft(du_hat)
         else:
             a_op, m_op, _ = coupled_operators(model, law, z_ind, u, fft, COUPLED_NEWTON_SHIFTED)
