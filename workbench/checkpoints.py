@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import io
 import json
+import zipfile
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -36,11 +38,35 @@ def _atomic_write(path, data, binary=False):
     safe_files.atomic_write(path, data, binary=binary)
 
 
+#: a saved .npz deflates an array only where zlib shrinks its first COMPRESS_PROBE bytes to less than COMPRESS_WORTH of
+#: them (`_worth_deflating`): float fields hardly compress (0.83–0.95 of their size at N = 2^17) and deflating them
+#: cost 1.6 CPU s of a 15 s study task there (benchmarks/results/bench_npz.md); zeros (u_x, t_t of a normal-only
+#: law), constants and masks shrink to almost nothing
+COMPRESS_PROBE = 1 << 16
+COMPRESS_WORTH = 0.5
+#: every member's zip timestamp: the same arrays give the same bytes
+ZIP_DATE = (1980, 1, 1, 0, 0, 0)
+
+
+def _worth_deflating(a):
+    """Whether zlib (level 1) shrinks the first COMPRESS_PROBE bytes of array `a` below COMPRESS_WORTH of them."""
+    flat = a.reshape(-1)
+    head = np.ascontiguousarray(flat[:max(COMPRESS_PROBE // max(a.itemsize, 1), 1)]).tobytes()
+    return bool(head) and len(zlib.compress(head, 1)) < COMPRESS_WORTH * len(head)
+
+
 def _npz_bytes(arrays, compress=True):
-    """The .npz file of `arrays` as bytes. compress=False for the per-step warm-start state:
-    float spectra hardly compress, and zlib cost 24 % of a hard-wall study task at N = 2^17."""
+    """The .npz file of `arrays` as bytes (`np.load` reads it). compress=True deflates the arrays worth it
+    (`_worth_deflating`), the others are stored; compress=False stores every array (the per-step warm-start state:
+    float spectra hardly compress, and zlib cost 24 % of a hard-wall study task at N = 2^17)."""
     buf = io.BytesIO()
-    (np.savez_compressed if compress else np.savez)(buf, **arrays)
+    with zipfile.ZipFile(buf, "w", allowZip64=True) as zf:
+        for name, value in arrays.items():
+            a = np.asanyarray(value)
+            info = zipfile.ZipInfo(f"{name}.npy", date_time=ZIP_DATE)
+            info.compress_type = zipfile.ZIP_DEFLATED if compress and _worth_deflating(a) else zipfile.ZIP_STORED
+            with zf.open(info, "w", force_zip64=True) as fh:
+                np.lib.format.write_array(fh, a, allow_pickle=False)
     return buf.getvalue()
 
 
