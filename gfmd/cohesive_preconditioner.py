@@ -138,6 +138,8 @@ class TwoLevel:
         crossover = int(above[0]) if above.size else k.size
         self.block = max(1, int(round(n / (2.0 * max(crossover, 1)))))
         self.coarse = self.stiff = None
+        self.prefix = False  # the coarse nodes are 0 … m − 1 (`cover`)
+        self.w, self.work = np.empty(n), np.empty(n)  # apply's buffers
 
     def rebuild(self, k_loc):
         """The coarse space of the stiff nodes at k_loc (Pa/m per node, every node); False (kept as it was)
@@ -171,25 +173,32 @@ class TwoLevel:
         except np.linalg.LinAlgError:
             return True
         self.coarse = nodes, starts, p, factor
+        self.prefix = bool(nodes.size) and nodes[0] == 0 and nodes[-1] == nodes.size - 1
         return True
 
     def pair_sums(self, a, p):
         """Zᵀ K Z (`block_sums`)."""
         return block_sums(self.cs2, self.n, a, p)
 
-    def _spread(self, c):
-        """Π Z c on every node."""
+    def _spread(self, c, z):
+        """Π Z c on every node, into z (N,)."""
         nodes, _, p, _ = self.coarse
-        z = np.zeros(self.n)
-        z[nodes] = np.repeat(c, p)
+        if self.prefix:  # the nodes 0 … m − 1 (`cover`): a slice, no scatter
+            m = nodes.size
+            z[:m] = np.repeat(c, p)
+            z[m:] = 0.0
+        else:
+            z[:] = 0.0
+            z[nodes] = np.repeat(c, p)
         if self.clamp:
             z -= z.mean()
         return z
 
     def _restrict(self, x):
-        """Zᵀ x (x mean-free where clamped, so Zᵀ Π x = Zᵀ x)."""
+        """E⁻¹ Zᵀ x (x mean-free where clamped, so Zᵀ Π x = Zᵀ x)."""
         nodes, starts, _, factor = self.coarse
-        return scipy.linalg.cho_solve(factor, np.add.reduceat(x[nodes], starts))
+        gathered = x[:nodes.size] if self.prefix else x[nodes]
+        return scipy.linalg.cho_solve(factor, np.add.reduceat(gathered, starts), check_finite=False)
 
     def apply(self, f_hat):
         """(ŝ, s on the nodes or None): s = P f + (I − P A) K⁻¹ (I − A P) f on the spectrum f̂.
@@ -200,15 +209,18 @@ class TwoLevel:
         """
         if self.coarse is None:
             return self.g * f_hat, None
-        fft = self.fft
-        w = self._spread(self._restrict(fft.irfft(f_hat)))
-        x_hat = self.g * (f_hat - fft.rfft(self.d * w))  # K⁻¹(f − D w)
+        fft, d, work = self.fft, self.d, self.work
+        w = self._spread(self._restrict(fft.irfft(f_hat)), self.w)
+        x_hat = fft.rfft(np.multiply(d, w, out=work))
+        np.subtract(f_hat, x_hat, out=x_hat)
+        x_hat *= self.g  # K⁻¹(f − D w)
         x = fft.irfft(x_hat)
-        dy = self.d * (x - w)  # D y, y = x − w
+        dy = np.multiply(d, np.subtract(x, w, out=work), out=work)  # D y, y = x − w
         if self.clamp:
             dy -= dy.mean()
-        z = self._spread(self._restrict(dy))  # Π Z c₂
-        s_hat = x_hat - fft.rfft(z)
+        z = self._spread(self._restrict(dy), self.w)  # Π Z c₂
+        s_hat = fft.rfft(z)
+        np.subtract(x_hat, s_hat, out=s_hat)
         if self.clamp:
             s_hat[0] = 0.0
-        return s_hat, x - z
+        return s_hat, np.subtract(x, z, out=x)
