@@ -29,9 +29,11 @@ import numpy as np  # noqa: E402
 from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
 from benchmarks.report import header, write  # noqa: E402
 from gfmd import chains, integrators  # noqa: E402
+from gfmd.settings import Settings  # noqa: E402
 from workbench.study_task import reuse_freed_arrays  # noqa: E402
 
 DECADES = (1e-1, 1e-2, 1e-3)
+HANDOVER = Settings().coupled_handover  # the residual the chain's FIRE link runs to
 
 
 def main(argv=None):
@@ -56,7 +58,7 @@ def main(argv=None):
     def handover(problem, start, settings):  # the chain's FIRE, measured where it runs to the handover residual
         restarts[0] = 0
         out = fire(problem, start, settings)
-        if settings.tolerance != settings_default.coupled_handover or not out.converged:
+        if settings.tolerance != HANDOVER or not out.converged:
             return out
         found = restarts[0]
         passed = [fire(problem, start, replace(settings, tolerance=t)).iterations for t in DECADES]
@@ -64,8 +66,6 @@ def main(argv=None):
         events.append((passed, out.iterations, found, move))
         return out
 
-    from gfmd.settings import Settings
-    settings_default = Settings()
     integrators.Fire.adapt = counted
     chains.ALGORITHMS["dynamics"] = handover
     try:

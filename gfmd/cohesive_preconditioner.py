@@ -140,8 +140,7 @@ class TwoLevel:
         above = np.flatnonzero(k >= kn_scale)  # the crossover mode: K(q) = φn/δn²
         crossover = int(above[0]) if above.size else k.size
         self.block = max(1, int(round(n / (2.0 * max(crossover, 1)))))
-        self.coarse = self.stiff = None
-        self.prefix = False  # the coarse nodes are 0 … m − 1 (`cover`)
+        self.coarse = self.stiff = self.index = None  # index: the coarse nodes as a slice or an index array
         self.w, self.work = np.empty(n), np.empty(n)  # apply's buffers
 
     def rebuild(self, k_loc):
@@ -160,8 +159,10 @@ class TwoLevel:
                 if starts.size < 2:
                     return True
                 nodes, starts = nodes[:starts[-1]], starts[:-1]
+            index = slice(0, nodes.size)  # `cover`'s nodes are 0 … m − 1: a view, no gather or scatter
         else:
             nodes, starts = stiff, blocks(stiff, self.block)
+            index = nodes
         ends = np.r_[starts[1:], nodes.size]
         a, p = nodes[starts], ends - starts  # first node and width of each block (consecutive nodes)
         e = self.pair_sums(a, p)
@@ -175,8 +176,7 @@ class TwoLevel:
             factor = scipy.linalg.cho_factor(0.5 * (e + e.T))
         except np.linalg.LinAlgError:
             return True
-        self.coarse = nodes, starts, p, factor
-        self.prefix = bool(nodes.size) and nodes[0] == 0 and nodes[-1] == nodes.size - 1
+        self.coarse, self.index = (nodes, starts, p, factor), index
         return True
 
     def pair_sums(self, a, p):
@@ -185,23 +185,17 @@ class TwoLevel:
 
     def _spread(self, c, z):
         """Π Z c on every node, into z (N,)."""
-        nodes, _, p, _ = self.coarse
-        if self.prefix:  # the nodes 0 … m − 1 (`cover`): a slice, no scatter
-            m = nodes.size
-            z[:m] = np.repeat(c, p)
-            z[m:] = 0.0
-        else:
-            z[:] = 0.0
-            z[nodes] = np.repeat(c, p)
+        p = self.coarse[2]
+        z.fill(0.0)
+        z[self.index] = np.repeat(c, p)
         if self.clamp:
             z -= z.mean()
         return z
 
     def _restrict(self, x):
         """E⁻¹ Zᵀ x (x mean-free where clamped, so Zᵀ Π x = Zᵀ x)."""
-        nodes, starts, _, factor = self.coarse
-        gathered = x[:nodes.size] if self.prefix else x[nodes]
-        return scipy.linalg.cho_solve(factor, np.add.reduceat(gathered, starts), check_finite=False)
+        _, starts, _, factor = self.coarse
+        return scipy.linalg.cho_solve(factor, np.add.reduceat(x[self.index], starts), check_finite=False)
 
     def apply(self, f_hat):
         """(ŝ, s on the nodes or None): s = P f + (I − P A) K⁻¹ (I − A P) f on the spectrum f̂.
