@@ -26,7 +26,7 @@ class Fire:
     n_pos: int = 0
 
     def __post_init__(self):
-        self.dt = self.settings.dt_start
+        self.dt = min(self.settings.dt_start, self.settings.dt_max)
         self.reset()
 
     def reset(self):

@@ -49,6 +49,14 @@ class Settings:
     # the handover chains: FIRE stops at this residual (× p_ref) and Newton–Krylov finishes from there, its state kept
     # only near FIRE's (and, "handover", locally stable), else FIRE goes on (`gfmd.chains`)
     coupled_handover: float = 1e-4
+    # coupled law: FIRE's largest time step Δt (in place of dt_max, 1.0, which the other laws' FIRE keeps). Near Δt ≈ 0.5
+    # a compressed contact patch (local tangent ≈ 0.2 of the half-plane's self-stiffness, far above the cell mean that
+    # the mass M_q = K(q) + ⟨k_loc⟩ holds) oscillates unstably: on the coupled event steps FIRE restarted (P ≤ 0), halved
+    # Δt three times and grew it back every ≈ 30 iterations, so the slow crawl through a fold's ghost lost its speed
+    # at every restart. Measured on whole ramps (benchmarks/results/bench_coupled_dt_max_*.md, the same states): the
+    # event steps' FFT pairs are least at 0.4 of 0.2–1.0 (ν = 0.1, 2^13 and 2^15: −44 %, −40 % against 1.0; ν = 0.45,
+    # 2^15: −27 %, 0.5 within 0.2 %); at 2^17 (seed 2) the event steps' CPU −41 % (ν = 0.1), −28 % (ν = 0.45)
+    coupled_dt_max: float = 0.4
     # cohesive NCG's preconditioner (`gfmd.cohesive_preconditioner`): "auto" ("two-level" on a profile with Eq. 3's
     # law, else "stiffness"), "stiffness" (K⁻¹ on the modes) or "two-level" (K⁻¹ balanced by a coarse space on the
     # stiff patches, engaged on the steps that need it)

@@ -4,7 +4,8 @@
   mass-weighted modes, M_q = K(q) + ⟨k_loc⟩·I, so that every free elastic mode has the same
   frequency and the interface stiffness, averaged over the cell as long waves see it (⟨∂T/∂Δ⟩
   from the law's tangent, refreshed when it changes by 2×), does not slow or destabilise them.
-  A trust region limits every nodal move per iteration to `max_move`·min(δn, δt).
+  A trust region limits every nodal move per iteration to `max_move`·min(δn, δt). On the coupled law Δt is
+  capped at `coupled_dt_max` (a compressed contact patch's stability, `gfmd.settings`).
 * ``verlet``: the seed's damped Störmer–Verlet, uniform mass, every mode damped critically for
   the discrete scheme (γΔt = ωΔt√(4 − (ωΔt)²), `gfmd.integrators.verlet_coefficients`).
 
@@ -13,6 +14,8 @@ iterations.
 """
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 import numpy as np
 
@@ -44,6 +47,10 @@ def solve(problem, start, settings):
     stiffness = (model.k_xx, model.k_xz, model.k_zz) if model.tangential else (model.k_zz,)
     acc = np.empty_like(u_hat)
 
+    if settings.method != "verlet" and problem.kind == "coupled":  # FIRE's Δt capped (`Settings.coupled_dt_max`)
+        if not settings.coupled_dt_max > 0:
+            raise ValueError(f"Settings.coupled_dt_max = {settings.coupled_dt_max!r}: expected a time step > 0")
+        settings = replace(settings, dt_max=min(settings.dt_max, settings.coupled_dt_max))
     fire = None if settings.method == "verlet" else Fire(settings)
     if fire is None:  # Verlet: per-mode ω² from the diagonal stiffness plus the law's initial slope
         k_diag = [model.k_zz] if not model.tangential else [model.k_xx.real, model.k_zz]
