@@ -17,6 +17,7 @@ import time
 import numpy as np
 import pytest
 
+import workbench.checkpoints
 import workbench.io
 from workbench import safe_files
 from workbench.cli import main
@@ -324,9 +325,12 @@ def test_fewer_rows_than_saved_steps_continue_from_the_last_saved_warm_start(tmp
     assert_same_run(ref, out)
 
 
-def test_cut_back_drops_the_messages_of_the_dropped_steps(tmp_path):
-    """A realization cut back to step j keeps exactly the messages, reasons and notes it had after step j."""
+def test_cut_back_drops_the_messages_of_the_dropped_steps(tmp_path, monkeypatch):
+    """A realization cut back to step j keeps exactly the messages, reasons and notes it had after step j
+    (every step checkpointed, CHECKPOINT_SECONDS = 0: the hook below writes without `checkpointing`)."""
     from gfmd.loading import run_realization
+
+    monkeypatch.setattr(workbench.checkpoints, "CHECKPOINT_SECONDS", 0.0)
 
     sc = scene(**{"surface.realizations": 1, "output.field_steps": 4})
     out = tmp_path / "out"

@@ -19,6 +19,7 @@ import time
 import numpy as np
 import pytest
 
+import workbench.checkpoints
 import workbench.io
 from contact import surfaces
 from workbench.cli import main
@@ -67,7 +68,9 @@ def assert_same_run(a, b):
 
 
 def test_run_writes_every_step_as_it_goes(tmp_path, monkeypatch):
-    """While realization 1 runs, realization 0 and the steps of 1 so far are on disk and meta says incomplete."""
+    """While realization 1 runs, realization 0 and the steps of 1 so far are on disk and meta says incomplete
+    (a checkpoint every step: CHECKPOINT_SECONDS = 0; the interval: tests/test_checkpoint_interval.py)."""
+    monkeypatch.setattr(workbench.checkpoints, "CHECKPOINT_SECONDS", 0.0)
     sc = scene()
     out = tmp_path / "out"
     seen = []
@@ -125,7 +128,9 @@ def test_resume_equals_uninterrupted_run(tmp_path, monkeypatch, stop_after):
 
 
 def test_resume_restarts_a_row_cut_short(tmp_path, monkeypatch):
-    """A kill between the row and the state write leaves an untrusted row: resume drops and recomputes it."""
+    """A kill between the row and the state write leaves an untrusted row: resume drops and recomputes it
+    (a checkpoint every step, CHECKPOINT_SECONDS = 0: the kill cuts step 5's)."""
+    monkeypatch.setattr(workbench.checkpoints, "CHECKPOINT_SECONDS", 0.0)
     sc = scene(**{"surface.realizations": 1})
     path = write_scene(tmp_path, sc)
     ref = tmp_path / "ref"

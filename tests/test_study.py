@@ -10,6 +10,7 @@ interface.phi_n_star (hard wall / cohesive), 2 realizations: 4 sets, 8 tasks, ab
 import csv
 import json
 import math
+import os
 import signal
 import subprocess
 import sys
@@ -172,7 +173,8 @@ def test_killed_study_resumes_to_the_uninterrupted_result(tmp_path):
     path = write_study(tmp_path, base=slow)
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "gfmd", "study", "run", str(path), "--out", str(out), "--workers", "2", "--quiet"]
-    proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
+    # a checkpoint every step ($GFMD_CHECKPOINT_SECONDS = 0), so that a mid-ramp task is seen on disk
+    proc = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True, env=dict(os.environ, GFMD_CHECKPOINT_SECONDS="0"))
     deadline = time.monotonic() + 600  # a guard against a hang, not a timing: a loaded machine is slow to get there
     tasks = out / "tasks"
     while time.monotonic() < deadline:

@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 import workbench.study
-from workbench import safe_files
+from workbench import checkpoints, safe_files
 from workbench.cli import main
 
 from test_run_dir import assert_same_run, scene, write_scene
@@ -83,19 +83,26 @@ def error_line(err):
     return lines[0]
 
 
-def test_every_write_of_a_run_fails_cleanly_then_resumes(tmp_path, monkeypatch, capsys):
+@pytest.mark.parametrize("every_step", [True, False])
+def test_every_write_of_a_run_fails_cleanly_then_resumes(tmp_path, monkeypatch, capsys, every_step):
+    """every_step: a checkpoint at every step (CHECKPOINT_SECONDS = 0), else the default interval, where the steps
+    between writes go to disk when the ramp stops (`workbench.checkpoints.checkpointing`)."""
+    seconds = 0.0 if every_step else checkpoints.CHECKPOINT_SECONDS
     sc = scene(**{"surface.realizations": 2, "loading.steps": 4})
     path = write_scene(tmp_path, sc)
     ref = tmp_path / "ref"
     counter = Injector(monkeypatch)
+    monkeypatch.setattr(checkpoints, "CHECKPOINT_SECONDS", seconds)
     assert main(["run", str(path), "--out", str(ref), "--quiet", "--no-plot"]) == 0
     monkeypatch.undo()
     writes = counter.n
-    assert writes >= 2 * 5 * 2 + 7  # rows and states of every step, the start and final files
+    # rows and states of every step (else of the first and the saved ones, and the last), the start and final files
+    assert writes >= (2 * 5 * 2 + 7 if every_step else 2 * 2 * 2 + 7)
     for k in range(1, writes + 1):
         out = tmp_path / f"k{k}"
         code = ERRNOS[k % len(ERRNOS)]
         inject = Injector(monkeypatch, k=k, code=code)
+        monkeypatch.setattr(checkpoints, "CHECKPOINT_SECONDS", seconds)
         capsys.readouterr()
         assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"]) == 2, k
         line = error_line(capsys.readouterr().err)

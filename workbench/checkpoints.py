@@ -1,10 +1,13 @@
 """Checkpoints of a run: partial/, written after every load step and read back to continue a run.
 
-While a run goes, every realization writes into partial/ after each load step
-(`save_step`): realization<i>.csv (its rows, appended), realization<i>_step<k>.npz
-(saved fields, and the warm start after that step) and realization<i>.state.npz (the
-`contact.loading.RampState` warm start, messages, reasons, notes; "done" once the realization
-ends). `load_part` reads them back to continue an interrupted run (`gfmd run --resume`),
+While a run goes, every realization writes into partial/ (`save_step`): realization<i>.csv (its
+rows, appended), realization<i>_step<k>.npz (saved fields, and the warm start after that step) and
+realization<i>.state.npz (the `contact.loading.RampState` warm start, messages, reasons, notes;
+"done" once the realization ends), at the first step, at every saved step, and otherwise once
+CHECKPOINT_SECONDS have passed since the last write; the steps in between are written when the
+ramp stops, however it stops (`checkpointing`: an interrupt, an error, the end), so only a kill
+that gives no chance (SIGKILL, a power cut) loses them, at most CHECKPOINT_SECONDS of work and
+the step under way. `load_part` reads them back to continue an interrupted run (`gfmd run --resume`),
 repairing damage rather than refusing it. Every file is written to a temporary name and
 renamed (a CSV row is appended and flushed), so an interrupt never leaves a half-written
 result; files get the permissions of the process umask. Here too the write primitives every
@@ -15,8 +18,13 @@ from __future__ import annotations
 
 import io
 import json
+import math
+import os
+import threading
+import time
 import zipfile
 import zlib
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -28,6 +36,15 @@ from contact.result import CURVE_COLUMNS, FIELD_NAMES, Result
 from . import safe_files
 
 PARTIAL = "partial"
+#: wall seconds between two checkpoints of a realization (`save_step`) but at its first and its saved steps
+#: ($GFMD_CHECKPOINT_SECONDS where set, `checkpoint_seconds`; 0: every step). One every step cost 16–18 % of a
+#: weak-adhesion or hard-wall study task's CPU at N = 2^17 and wrote 2.2 MB a step per task directory (the warm start's
+#: two spectra; 83 GB in the sensitivity study's 33 min): benchmarks/results/bench_checkpoints.md
+CHECKPOINT_SECONDS = 2.0
+#: per realization's state file: [monotonic time of its last write, rows its CSV holds, the deferred checkpoint]
+_WRITTEN = {}
+_LOCK = threading.Lock()
+_clock = time.monotonic  # the checkpoints' clock (a test's to set)
 
 
 def _file_mode():
@@ -80,11 +97,14 @@ def _part(out, realization, suffix):
     return Path(out) / PARTIAL / f"realization{realization}{suffix}"
 
 
-def _save_state(out, result, state, done):
+def _save_state(out, result, state, done, counts=None):
+    """The state file; `counts` (messages, reasons, notes): how many of each belong to state.step (all if None)."""
+    n_messages, n_reasons, n_notes = counts or (len(result.messages), len(result.reasons), len(result.notes))
     arrays = {"step": np.int64(state.step), "done": np.bool_(done), "slip_warned": np.bool_(state.slip_warned),
               "text": np.array(json.dumps({"method": result.method, "model": result.model,
-                                           "reasons": list(result.reasons), "messages": list(result.messages),
-                                           "notes": list(result.notes),
+                                           "reasons": list(result.reasons)[:n_reasons],
+                                           "messages": list(result.messages)[:n_messages],
+                                           "notes": list(result.notes)[:n_notes],
                                            "fallback_steps": list(result.diagnostics.get("fallback_steps", [])),
                                            "algorithms": list(result.diagnostics.get("algorithms", [])),
                                            "instabilities": list(result.diagnostics.get("instabilities", []))}))}
@@ -109,22 +129,88 @@ def _save_fields(out, result, k, state=None):
     _atomic_write(_part(out, result.realization, f"_step{k}.npz"), _npz_bytes(arrays), binary=True)
 
 
-def save_step(out, result, state):
-    """Checkpoint (gfmd.loading.run_realization): put step state.step of `result` on disk.
+def checkpoint_seconds():
+    """The seconds between checkpoints: $GFMD_CHECKPOINT_SECONDS where set, else CHECKPOINT_SECONDS; a value that
+    is not a number of seconds ≥ 0 is a ValueError naming the variable."""
+    text = os.environ.get("GFMD_CHECKPOINT_SECONDS")
+    if text is None:
+        return CHECKPOINT_SECONDS
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0 <= value < math.inf:
+        raise ValueError(f"GFMD_CHECKPOINT_SECONDS = {text!r}: expected the seconds between two checkpoints of a "
+                         "realization, a number ≥ 0 (0: every load step; unset: "
+                         f"{CHECKPOINT_SECONDS:g})")
+    return value
 
-    Order: the curve row (appended, flushed), the step's fields if saved, then the state;
-    `load_part` trusts a row only up to the state's step, so a kill between any two writes
-    loses at most that one step. A saved step's fields file also keeps the warm start after it,
-    so rows lost before the state's step cost only the steps after the last saved one (a second,
-    rotating state file instead would write the state twice every step: +66 kB a step at
-    N = 4096, against +64 kB per saved step here, measured).
+
+def _key(out, realization):
+    return str(Path(out, PARTIAL, f"realization{realization}.state.npz").absolute())
+
+
+def save_step(out, result, state):
+    """Checkpoint (gfmd.loading.run_realization): put step state.step of `result` on disk, or defer it.
+
+    Written at the realization's first step, at a saved step (its fields) and once CHECKPOINT_SECONDS
+    have passed since the last write; otherwise the step is kept in memory (its warm start, the message
+    counts) for the next write or `checkpointing`'s. A write: the CSV rows since the last write
+    (appended, flushed), the step's fields if saved, then the state; `load_part` trusts a row only up
+    to the state's step, so a kill between any two writes loses at most the rows since the last state.
+    A saved step's fields file also keeps the warm start after it, so rows lost before the state's step
+    cost only the steps after the last saved one (a second, rotating state file instead would write
+    the state twice every step: +66 kB a step at N = 4096, against +64 kB per saved step here, measured).
     """
+    from contact.loading import RampState
+
+    key = _key(out, result.realization)
+    deferred = (out, result, RampState(step=state.step, current=state.current, previous=state.previous,
+                                       slip_warned=state.slip_warned),
+                (len(result.messages), len(result.reasons), len(result.notes)))
+    with _LOCK:
+        entry = _WRITTEN.setdefault(key, [-math.inf, None, None])
+        due = (state.step in result.fields or not _clock() - entry[0] < checkpoint_seconds())
+        entry[2] = None if due else deferred
+    if due:
+        _write_step(key, *deferred)
+
+
+def _write_step(key, out, result, state, counts):
     k = state.step
-    row = [_fmt(result.curve[c][-1]) for c in CURVE_COLUMNS]
-    safe_files.append_line(_part(out, result.realization, ".csv"), ",".join(row), header=",".join(CURVE_COLUMNS))
+    entry = _WRITTEN.setdefault(key, [-math.inf, None, None])
+    path = _part(out, result.realization, ".csv")
+    if entry[1] is None:  # rows on disk not known (no `start_part` in this process): the file's complete lines
+        entry[1] = max(path.read_text().count("\n") - 1, 0) if path.is_file() else 0
+    rows = [",".join(_fmt(result.curve[c][j]) for c in CURVE_COLUMNS) for j in range(entry[1], k + 1)]
+    if rows:
+        safe_files.append_line(path, "\n".join(rows), header=",".join(CURVE_COLUMNS))
     if k in result.fields:
         _save_fields(out, result, k, state)
-    _save_state(out, result, state, done=False)
+    _save_state(out, result, state, done=False, counts=counts)
+    entry[0], entry[1] = _clock(), k + 1
+
+
+def flush_steps(outs):
+    """Write the checkpoints `save_step` deferred in the run directories `outs`."""
+    for out in outs:
+        prefix = str(Path(out, PARTIAL).absolute()) + "/"
+        with _LOCK:
+            deferred = [(key, entry[2]) for key, entry in _WRITTEN.items() if key.startswith(prefix) and entry[2]]
+            for key, _ in deferred:
+                _WRITTEN[key][2] = None
+        for key, step in deferred:
+            _write_step(key, *step)
+
+
+@contextmanager
+def checkpointing(outs):
+    """Around a ramp that checkpoints into the run directories `outs`: on leaving, however (the end, an
+    error, an interrupt), the deferred checkpoints are written, so the last completed step is on disk."""
+    try:
+        yield
+    finally:
+        flush_steps(outs)
 
 
 def start_part(out, realization, result=None):
@@ -133,6 +219,8 @@ def start_part(out, realization, result=None):
     fields of steps after them (dropped by a cut-back) are removed."""
     path = _part(out, realization, ".csv")
     last = len(result.curve["step"]) - 1 if result is not None else -1
+    with _LOCK:
+        _WRITTEN[_key(out, realization)] = [-math.inf, last + 1, None]  # the rows this leaves on disk
     for f in Path(out, PARTIAL).glob(f"realization{realization}_step*.npz"):  # fields of dropped steps
         k = f.name[len(f"realization{realization}_step"):-4]
         if k.isdigit() and int(k) > last:
@@ -155,6 +243,7 @@ def save_realization(out, result):
     without the checkpoint hook) is first put on disk at once."""
     from contact.loading import RampState
 
+    flush_steps([out])
     rows = len(result.curve["step"])
     if not _part(out, result.realization, ".csv").is_file():
         start_part(out, result.realization, result)

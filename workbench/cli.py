@@ -465,6 +465,9 @@ def build_parser():
 def main(argv=None):
     args = build_parser().parse_args(argv)
     try:
+        from .checkpoints import checkpoint_seconds
+
+        checkpoint_seconds()  # a bad $GFMD_CHECKPOINT_SECONDS is refused before any compute
         return args.func(args)
     except (SceneError, ValueError, OSError) as exc:
         print(f"gfmd: error: {exc}", file=sys.stderr)

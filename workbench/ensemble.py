@@ -4,12 +4,13 @@ Units: SI (see `contact.conventions`). Every realization i uses the seed
 `surface.seed + i`; all realizations share the same load steps, so averages are
 taken step by step (at equal δ).
 
-`run_ensemble` returns the results in memory; `run_to_directory` writes every load
-step of every realization to a run directory as it is computed (workbench.io) and
-continues an interrupted run there. Both are interruptible: on KeyboardInterrupt
-(SIGINT; the CLI maps SIGTERM to it) the worker processes are terminated at once
-and the exception propagates; the workers themselves ignore SIGINT, so a Ctrl-C in
-the terminal reaches the main process only.
+`run_ensemble` returns the results in memory; `run_to_directory` checkpoints the load
+steps of every realization into a run directory as it goes (workbench.io, every
+`CHECKPOINT_SECONDS`) and continues an interrupted run there. Both are interruptible: on
+KeyboardInterrupt (SIGINT; the CLI maps SIGTERM to it) the worker processes are terminated
+at once (SIGTERM: each writes its deferred checkpoint and exits) and the exception
+propagates; the workers themselves ignore SIGINT, so a Ctrl-C in the terminal reaches the
+main process only.
 """
 
 from __future__ import annotations
@@ -32,8 +33,12 @@ def _init_worker(queue):
     global _progress_queue
     safe_files.die_with_parent()  # a kill -9 of the main process ends its workers too: no orphan writes on
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the main process decides what an interrupt does
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGTERM, _terminated)  # the pool's terminate: the deferred checkpoints first
     _progress_queue = queue
+
+
+def _terminated(signum, frame):
+    raise SystemExit(128 + signum)  # unwinds through `io.checkpointing`, which writes the deferred steps
 
 
 def _report_step(step, steps):
@@ -113,8 +118,9 @@ def _run_into(job, progress):
     resume = part[:2] if part is not None else None
     io.start_part(out, realization, resume[0] if resume else None)
     reused = resume[1].step + 1 if resume else 0
-    result = run_realization(scene, realization, progress=progress, resume=resume,
-                             checkpoint=partial(io.save_step, out))
+    with io.checkpointing([out]):  # the steps save_step deferred are written however the ramp stops
+        result = run_realization(scene, realization, progress=progress, resume=resume,
+                                 checkpoint=partial(io.save_step, out))
     export = method_of(scene).export
     if export is not None:
         with safe_files.writing(out / "vtu" / f"realization{realization}"):
@@ -126,7 +132,7 @@ def _run_into(job, progress):
 def run_to_directory(scene, out, workers=None, progress=True, note=None):
     """Run every realization into the prepared run directory `out` (workbench.io.prepare_run_dir).
 
-    Every load step is on disk as soon as it is computed; realizations already done
+    Every load step is on disk within CHECKPOINT_SECONDS (workbench.checkpoints); realizations already done
     there are reused and an interrupted one continues from its last saved step (so a
     second call after an interrupt resumes). Returns (results, resume), results read
     back from disk in realization order, resume = {"realizations_reused", "steps_reused"}

@@ -42,8 +42,8 @@ from contact.result import CURVE_COLUMNS, FIELD_NAMES
 from contact.scene import load_scene, scene_to_toml
 
 from .averages import ensemble_average
-from .checkpoints import (PARTIAL, _atomic_write, _file_mode, _fmt, _npz_bytes, consistent_rows,  # noqa: F401
-                          load_part, save_realization, save_step, start_part)
+from .checkpoints import (PARTIAL, _atomic_write, _file_mode, _fmt, _npz_bytes, checkpointing,  # noqa: F401
+                          consistent_rows, load_part, save_realization, save_step, start_part)
 from .cycles import has_path, mean_columns, meta_cycles, realization_cycles, step_loads
 from .run_dir import (RUN_ENTRIES, RunDirError, _meta_base, code_version, prepare_run_dir,  # noqa: F401
                       remove_temporaries, run_complete, stored_scene_differences)

@@ -290,7 +290,8 @@ def finish_study(study, out, outcomes, failures, *, wall, workers, scheduler, co
 
 def _kill_workers(cluster):
     """SIGKILL the worker processes of our LocalCluster (their nannies told not to restart them first);
-    a task loses at most the load step it was computing (workbench.io writes atomically)."""
+    a task loses at most the load steps since its last checkpoint (`workbench.checkpoints.CHECKPOINT_SECONDS`) and
+    the one it was computing (workbench.io writes atomically)."""
     import logging
     import signal
 

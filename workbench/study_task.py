@@ -1,7 +1,7 @@
 """One study task: run, continue or reuse one (set, realization) into its run directory (on a Dask worker).
 
-A task directory is a one-realization `gfmd run` directory (workbench.io): every load step
-is checkpointed; a complete one is reused (its stored scene compared key by key with the
+A task directory is a one-realization `gfmd run` directory (workbench.io): the load steps
+are checkpointed (every `workbench.checkpoints.CHECKPOINT_SECONDS`); a complete one is reused (its stored scene compared key by key with the
 task's), an interrupted one continues from its last saved step. The task directory is
 locked while a task writes it, so a second execution of the same task (Dask may run one
 twice) waits and then finds the result. Each finished load step is reported to the
@@ -69,8 +69,8 @@ def reuse_freed_arrays(mmap_threshold=1 << 26, trim_threshold=1 << 27):
 def run_task(scene, task_dir, command=None, progress=_report_step):
     """Run (or continue, or reuse) one task into its run directory; a small dict of what happened.
 
-    The directory is a one-realization `gfmd run` directory (workbench.io): every load step
-    is checkpointed; a complete one is reused, an interrupted one continues from its last step.
+    The directory is a one-realization `gfmd run` directory (workbench.io): the load steps
+    are checkpointed as it goes; a complete one is reused, an interrupted one continues from its last step.
     """
     reuse_freed_arrays()
     out = Path(task_dir)
@@ -146,8 +146,10 @@ def _run_shared_locked(scenes, outs, command, progress):
         first, rest = ramp[0], ramp[1:]
         variants = [Variant(scenes[i], partial(io.save_step, outs[i]), parts[i][:2] if parts[i] else None)
                     for i in rest]
-        result = run_realization(scenes[first], 0, progress=progress, checkpoint=partial(io.save_step, outs[first]),
-                                 resume=parts[first][:2] if parts[first] else None, variants=variants)
+        with io.checkpointing([outs[i] for i in ramp]):  # deferred steps written however the ramp stops
+            result = run_realization(scenes[first], 0, progress=progress,
+                                     checkpoint=partial(io.save_step, outs[first]),
+                                     resume=parts[first][:2] if parts[first] else None, variants=variants)
         export = method_of(scenes[first]).export
         for i, r in [(first, result)] + [(i, v.result) for i, v in zip(rest, variants)]:
             if export is not None:
