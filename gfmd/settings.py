@@ -55,7 +55,9 @@ class Settings:
     # Δt three times and grew it back every ≈ 30 iterations, so the slow crawl through a fold's ghost lost its speed
     # at every restart. Measured on whole ramps (benchmarks/results/bench_coupled_dt_max_*.md, the same states): the
     # event steps' FFT pairs are least at 0.4 of 0.2–1.0 (ν = 0.1, 2^13 and 2^15: −44 %, −40 % against 1.0; ν = 0.45,
-    # 2^15: −27 %, 0.5 within 0.2 %); at 2^17 (seed 2) the event steps' CPU −41 % (ν = 0.1), −28 % (ν = 0.45)
+    # 2^15: −27 %, 0.5 within 0.2 %); at 2^17 (seed 2) the event steps' CPU −41 % (ν = 0.1), −28 % (ν = 0.45). Fig. 8
+    # whole (studies/results/seed_full/README.md): coupled task medians −22 % and −11 % on a 1.16–1.34× slower machine,
+    # 11 of 804 mean steps on another branch at an event step (≤ 1 % of max p̄), the same verdicts
     coupled_dt_max: float = 0.4
     # cohesive NCG's preconditioner (`gfmd.cohesive_preconditioner`): "auto" ("two-level" on a profile with Eq. 3's
     # law, else "stiffness"), "stiffness" (K⁻¹ on the modes) or "two-level" (K⁻¹ balanced by a coarse space on the
