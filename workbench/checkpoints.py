@@ -1,4 +1,4 @@
-"""Checkpoints of a run: partial/, written after every load step and read back to continue a run.
+"""Checkpoints of a run: partial/, written as the load steps go and read back to continue a run.
 
 While a run goes, every realization writes into partial/ (`save_step`): realization<i>.csv (its
 rows, appended), realization<i>_step<k>.npz (saved fields, and the warm start after that step) and
@@ -25,6 +25,7 @@ import time
 import zipfile
 import zlib
 from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -41,7 +42,19 @@ PARTIAL = "partial"
 #: weak-adhesion or hard-wall study task's CPU at N = 2^17 and wrote 2.2 MB a step per task directory (the warm start's
 #: two spectra; 83 GB in the sensitivity study's 33 min): benchmarks/results/bench_checkpoints.md
 CHECKPOINT_SECONDS = 2.0
-#: per realization's state file: [monotonic time of its last write, rows its CSV holds, the deferred checkpoint]
+
+
+@dataclass
+class _Written:
+    """What this process wrote of one realization's partial files: when, how many CSV rows (None: not known), and
+    the checkpoint `save_step` deferred ((out, result, state, message counts) or None)."""
+
+    time: float = -math.inf
+    rows: int | None = None
+    deferred: tuple | None = None
+
+
+#: per realization's state file path (`_key`): its `_Written`
 _WRITTEN = {}
 _LOCK = threading.Lock()
 _clock = time.monotonic  # the checkpoints' clock (a test's to set)
@@ -169,26 +182,26 @@ def save_step(out, result, state):
                                        slip_warned=state.slip_warned),
                 (len(result.messages), len(result.reasons), len(result.notes)))
     with _LOCK:
-        entry = _WRITTEN.setdefault(key, [-math.inf, None, None])
-        due = (state.step in result.fields or not _clock() - entry[0] < checkpoint_seconds())
-        entry[2] = None if due else deferred
+        entry = _WRITTEN.setdefault(key, _Written())
+        due = state.step in result.fields or not _clock() - entry.time < checkpoint_seconds()
+        entry.deferred = None if due else deferred
     if due:
         _write_step(key, *deferred)
 
 
 def _write_step(key, out, result, state, counts):
     k = state.step
-    entry = _WRITTEN.setdefault(key, [-math.inf, None, None])
+    entry = _WRITTEN.setdefault(key, _Written())
     path = _part(out, result.realization, ".csv")
-    if entry[1] is None:  # rows on disk not known (no `start_part` in this process): the file's complete lines
-        entry[1] = max(path.read_text().count("\n") - 1, 0) if path.is_file() else 0
-    rows = [",".join(_fmt(result.curve[c][j]) for c in CURVE_COLUMNS) for j in range(entry[1], k + 1)]
+    if entry.rows is None:  # rows on disk not known (no `start_part` in this process): the file's complete lines
+        entry.rows = max(path.read_text().count("\n") - 1, 0) if path.is_file() else 0
+    rows = [",".join(_fmt(result.curve[c][j]) for c in CURVE_COLUMNS) for j in range(entry.rows, k + 1)]
     if rows:
         safe_files.append_line(path, "\n".join(rows), header=",".join(CURVE_COLUMNS))
     if k in result.fields:
         _save_fields(out, result, k, state)
     _save_state(out, result, state, done=False, counts=counts)
-    entry[0], entry[1] = _clock(), k + 1
+    entry.time, entry.rows = _clock(), k + 1
 
 
 def flush_steps(outs):
@@ -196,9 +209,9 @@ def flush_steps(outs):
     for out in outs:
         prefix = str(Path(out, PARTIAL).absolute()) + "/"
         with _LOCK:
-            deferred = [(key, entry[2]) for key, entry in _WRITTEN.items() if key.startswith(prefix) and entry[2]]
+            deferred = [(key, e.deferred) for key, e in _WRITTEN.items() if key.startswith(prefix) and e.deferred]
             for key, _ in deferred:
-                _WRITTEN[key][2] = None
+                _WRITTEN[key].deferred = None
         for key, step in deferred:
             _write_step(key, *step)
 
@@ -220,7 +233,7 @@ def start_part(out, realization, result=None):
     path = _part(out, realization, ".csv")
     last = len(result.curve["step"]) - 1 if result is not None else -1
     with _LOCK:
-        _WRITTEN[_key(out, realization)] = [-math.inf, last + 1, None]  # the rows this leaves on disk
+        _WRITTEN[_key(out, realization)] = _Written(rows=last + 1)  # the rows this leaves on disk
     for f in Path(out, PARTIAL).glob(f"realization{realization}_step*.npz"):  # fields of dropped steps
         k = f.name[len(f"realization{realization}_step"):-4]
         if k.isdigit() and int(k) > last:
@@ -251,6 +264,8 @@ def save_realization(out, result):
             _save_fields(out, result, k)
     last = int(result.curve["step"][-1]) if rows else -1
     _save_state(out, result, RampState(step=last, current=None, previous=None), done=True)
+    with _LOCK:  # done: nothing of it is deferred any more (a long-lived worker runs many)
+        _WRITTEN.pop(_key(out, result.realization), None)
 
 
 def consistent_rows(path, last_step):
