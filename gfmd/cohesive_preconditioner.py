@@ -22,9 +22,11 @@ crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.c
   Profiles (1+1-D) only.
 
 (K(q) + ⟨max(k_loc, 0)⟩)⁻¹ on the modes was measured and dropped (more iterations than K⁻¹,
-benchmarks/results/bench_cohesive_preconditioner.md). A step starts with K⁻¹; after ENGAGE_AFTER iterations
-the NCG builds the two-level one (a step that finishes before never pays its setup), switches to it, rebuilds
-it from the state every REBUILD_EVERY iterations and restarts its direction where the stiff set changed.
+benchmarks/results/bench_cohesive_preconditioner.md). A step starts with K⁻¹; after ENGAGE_AFTER iterations,
+or after ENGAGE_EARLY where its convergence rate predicts more than ENGAGE_AFTER (`slow_step`), the NCG builds the
+two-level one (a step that finishes before never pays its setup), switches to it, rebuilds it from the state every
+REBUILD_EVERY iterations and restarts its direction where the stiff set changed. Its nodal passes are
+`gfmd.coarse_kernels`' (fused with numba).
 """
 
 from __future__ import annotations
@@ -32,12 +34,21 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
+from . import coarse_kernels
+
 CHOICES = ("auto", "stiffness", "two-level")
 #: a step runs its first ENGAGE_AFTER iterations with K⁻¹ (the easy steps never pay for the coarse level). Swept in
 #: session 34 (whole 2^15 ramp, seed 2, δn = 1 nm, φn* = 0.15; iterations / FFT pairs): 40: 8 369 / 13 340; 20: 6 360 /
 #: 12 393; 10: 5 315 / 11 986; 0: 5 763 / 15 387; 10 and 20 settle one jump-in step on another branch (5 % of max p),
 #: 0 one by 71 % (the two-level pass costs ≈ 2.5 FFT pairs to K⁻¹'s ≈ 1.1): kept at 40
 ENGAGE_AFTER = 40
+#: ... but a step whose NCG, at its ENGAGE_EARLY-th iteration, converges too slowly to finish within ENGAGE_AFTER (its
+#: rate since iteration ENGAGE_EARLY // 2: `slow_step`) engages it from the next iteration on. Measured (session 36,
+#: whole 201-step ramps at 2^17, seed 2, against 40 alone, pinned simultaneous pairs with the cores swapped,
+#: benchmarks/results/bench_cohesive_engage_*.md): CPU × 0.80 (φn* = 0.15, ν = 0.1), 0.93 (0.15, ν = 0.45, δn = 1 and
+#: 0.25 nm), 0.89 (0.05 and 0.01), 1.01 ± 0.05 (0.001); iterations −28 to −32 % on the strong ramps; one step on another
+#: branch of a jump-in in two of the six ramps. Engaging at 10 on every step costs the weak ramps 31–44 % more FFT pairs
+ENGAGE_EARLY = 10
 #: then the NCG rebuilds the preconditioner every this many iterations, restarting its direction where it changed
 REBUILD_EVERY = 20
 #: "two-level": a node is stiff (in the coarse space) where max(k_loc, 0) ≥ this × φn/δn². Measured (whole 201-step
@@ -51,6 +62,20 @@ STIFF_FRACTION = 0.01
 #: φn* = 0.15, benchmarks/results/bench_cohesive_preconditioner.md §7): −33 % FFT pairs and −28 % CPU (seed 2,
 #: δn = 0.25 nm), −26 % and −23 % (seed 7, δn = 1 nm), the same states
 COARSE_GAPS = True
+
+
+def slow_step(e_before, e_now, span, e_target, remaining):
+    """True where a step's NCG, its energy norm (f·K⁻¹f)^½ gone from e_before to e_now over its last `span` iterations,
+    would need more than `remaining` more iterations to reach e_target at that rate (or made no progress). The
+    recent rate, not the mean from the step's start: an extrapolated guess's first iterations fall fast and erratically
+    (whole 2^15 ramps under K⁻¹, seed 2: the rate over iterations 5–10 told the steps that went past 40 from the
+    others on 296 of 304 steps at φn* = 0.15 (ν = 0.1 and 0.45), the mean rate over 0–10 on 262; at φn* = 0.01 on 93
+    and 92 of 109)."""
+    if not e_now < e_before:
+        return True
+    if e_now <= e_target:
+        return False
+    return np.log(e_target / e_now) / (np.log(e_now / e_before) / span) > remaining
 
 
 def blocks(nodes, block):
@@ -142,6 +167,7 @@ class TwoLevel:
         self.block = max(1, int(round(n / (2.0 * max(crossover, 1)))))
         self.coarse = self.stiff = self.index = None  # index: the coarse nodes as a slice or an index array
         self.w, self.work = np.empty(n), np.empty(n)  # apply's buffers
+        self.kernels = coarse_kernels.coarse_kernels()  # apply's nodal passes where the blocks cover 0 … m − 1
 
     def rebuild(self, k_loc):
         """The coarse space of the stiff nodes at k_loc (Pa/m per node, every node); False (kept as it was)
@@ -206,6 +232,8 @@ class TwoLevel:
         """
         if self.coarse is None:
             return self.g * f_hat, None
+        if isinstance(self.index, slice):
+            return self._apply_fused(f_hat)
         fft, d, work = self.fft, self.d, self.work
         w = self._spread(self._restrict(fft.irfft(f_hat)), self.w)
         x_hat = fft.rfft(np.multiply(d, w, out=work))
@@ -221,3 +249,24 @@ class TwoLevel:
         if self.clamp:
             s_hat[0] = 0.0
         return s_hat, np.subtract(x, z, out=x)
+
+    def _apply_fused(self, f_hat):
+        """`apply` where the blocks cover the nodes 0 … m − 1 in order (`cover`): its nodal passes as
+        `gfmd.coarse_kernels`' three (one pass each with numba)."""
+        spread_scaled, stiff_sums, spread_subtract = self.kernels
+        fft, d, w, work, n, clamp = self.fft, self.d, self.w, self.work, self.n, self.clamp
+        _, starts, p, factor = self.coarse
+        c = scipy.linalg.cho_solve(factor, np.add.reduceat(fft.irfft(f_hat)[:starts[-1] + p[-1]], starts),
+                                   check_finite=False)  # E⁻¹ Zᵀ f (f mean-free where clamped)
+        spread_scaled(c, starts, p, n, clamp, d, w, work)  # w = Π Z c, D w
+        x_hat = fft.rfft(work)
+        np.subtract(f_hat, x_hat, out=x_hat)
+        x_hat *= self.g  # K⁻¹(f − D w)
+        x = fft.irfft(x_hat)
+        c2 = scipy.linalg.cho_solve(factor, stiff_sums(d, x, w, starts, p, n, clamp), check_finite=False)
+        spread_subtract(c2, starts, p, n, clamp, w, x)  # w ← Π Z c₂, x ← x − w = s on the nodes
+        s_hat = fft.rfft(w)
+        np.subtract(x_hat, s_hat, out=s_hat)
+        if clamp:
+            s_hat[0] = 0.0
+        return s_hat, x

@@ -6,6 +6,7 @@
 * a ramp into strong adhesion with the coarse level engaged from the first iteration reaches the states of
   the default K⁻¹ (within the tolerance bound of tests/test_solver_ncg.py) in fewer iterations;
 * it is built only by the steps that reach its engagement point, once each;
+* a slow step engages it early (`slow_step`): the same states, fewer iterations on a strong-adhesion ramp;
 * a bad Settings value is refused naming the key.
 """
 
@@ -93,6 +94,7 @@ def test_two_level_is_built_only_by_steps_that_engage_it(monkeypatch):
     """Its setup (an irfft and cumulative sums over 2N) is paid only by a step that reaches ENGAGE_AFTER
     iterations, once (that the iterates equal the eager build's, the preconditioner being unused before, was
     measured bit for bit on a 2^17 ramp: benchmarks/results/bench_cohesive_preconditioner.md §5)."""
+    monkeypatch.setattr(cp, "ENGAGE_EARLY", cp.ENGAGE_AFTER)  # no early engagement: a step engages past ENGAGE_AFTER
     built = []
     plain = cp.build
     monkeypatch.setattr(cp, "build", lambda *a, **k: built.append(1) or plain(*a, **k))
@@ -156,3 +158,31 @@ def test_the_dropped_gap_block_is_in_the_coarse_space_on_a_half_plane():
     m = proj @ dense(lambda f: pre.apply(f)[0], n, fft) @ proj
     zp = proj @ last
     np.testing.assert_allclose(m @ a_mat @ zp, zp, atol=1e-8 * np.max(np.abs(zp)))
+
+
+def test_slow_step_predicts_from_the_recent_rate():
+    assert cp.slow_step(1.0, 1.0, 5, 1e-6, 30)  # no progress
+    assert cp.slow_step(1.0, 2.0, 5, 1e-6, 30)
+    assert not cp.slow_step(1.0, 1e-7, 5, 1e-6, 30)  # already there
+    assert not cp.slow_step(1.0, 1e-3, 5, 1e-6, 30)  # 5 more at this rate
+    assert cp.slow_step(1.0, 0.5, 5, 1e-6, 30)  # ≈ 100 more
+    assert cp.slow_step(1.0, 0.1, 5, 1e-6, 20) and not cp.slow_step(1.0, 0.1, 5, 1e-6, 30)  # 25 more
+
+
+def test_slow_steps_engage_early_and_reach_the_same_states(monkeypatch):
+    sc, h, model, law, z_of = case(nodes=2048)
+    deltas = 3e-9 * np.arange(1, 8)
+    settings = Settings(tolerance=TOL, cohesive_preconditioner="two-level")
+    monkeypatch.setattr(cp, "ENGAGE_EARLY", cp.ENGAGE_AFTER)
+    late = ramp(model, law, z_of, deltas, settings)
+    monkeypatch.undo()
+    assert cp.ENGAGE_EARLY < cp.ENGAGE_AFTER
+    early = ramp(model, law, z_of, deltas, settings)
+    bound = tolerance_bound(model, TOL)
+    for a, b in zip(late, early):
+        assert b.method == "ncg" and b.residual < TOL
+        assert np.max(np.abs(a.u_z - b.u_z)) < bound
+        np.testing.assert_array_equal(a.t_z < 0, b.t_z < 0)
+    slow = [i for i, r in enumerate(late) if r.iterations > cp.ENGAGE_AFTER]
+    assert slow  # the case has slow steps, and they cost fewer iterations engaged early
+    assert sum(early[i].iterations for i in slow) < sum(late[i].iterations for i in slow)

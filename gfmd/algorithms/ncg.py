@@ -184,25 +184,28 @@ def solve(problem, start, settings):
     residual, converged, message, failed = np.inf, False, "", ""
     eta = settings.line_search_tol
     ratio = None  # last max|f| / rms(f): predicts when the max-norm test can pass
+    engage_at, e_mid = cohesive_preconditioner.ENGAGE_AFTER, None  # earlier on a slow step (`slow_step`)
+    early, mid = cohesive_preconditioner.ENGAGE_EARLY, cohesive_preconditioner.ENGAGE_EARLY // 2
     it = 0
     d_nodes = None  # d on the nodes where the preconditioner gives s there (`gfmd.cohesive_preconditioner`)
     while True:
-        engaged = two_level and it >= cohesive_preconditioner.ENGAGE_AFTER
+        engaged = two_level and it >= engage_at
         if engaged and other is None:
             other = cohesive_preconditioner.build(preconditioner_name, fft, k, clamp, n, float(cz.work_normal)
                                                   / float(cz.length_normal) ** 2)
         if not engaged:
             rz, f_old_s, f_d_old = products(f_hat, f_old, d_hat, g, n)  # f·s, f_old·s, f·d_old; s = K⁻¹ f
         else:  # s = M⁻¹ f (`gfmd.cohesive_preconditioner`), rebuilt from the state (a restart where it changed)
-            if (it - cohesive_preconditioner.ENGAGE_AFTER) % cohesive_preconditioner.REBUILD_EVERY == 0:
+            if (it - engage_at) % cohesive_preconditioner.REBUILD_EVERY == 0:
                 k_loc = np.zeros(n)
                 k_loc[idx] = nodal.stiffness(sv, ev)
-                if other.rebuild(k_loc) or it == cohesive_preconditioner.ENGAGE_AFTER:
+                if other.rebuild(k_loc) or it == engage_at:
                     restart = True
             s_hat, s_nodes = other.apply(f_hat)
             rz, f_old_s = kernels.nodal_dot(f_hat, s_hat, n), kernels.nodal_dot(f_old, s_hat, n)
             f_d_old = kernels.nodal_dot(f_hat, d_hat, n)
         e_norm = np.sqrt(max(rz, 0.0))
+        e_mid = e_norm if it == mid else e_mid
         if ratio is None or it % settings.check_every == 0 or e_norm * ratio < settings.tolerance * p_ref:
             # the test of `gfmd.algorithms.dynamics` (verification.mutations' stop-early-cohesive mutates all three)
             residual = float(np.max(np.abs(fft.irfft(f_hat)))) / model.reference_traction
@@ -223,6 +226,10 @@ def solve(problem, start, settings):
             residual = float(np.max(np.abs(fft.irfft(f_hat)))) / p_ref
             failed = f"not converged after {it} iterations (residual {residual:.3g} p_ref)"
             break
+        if (two_level and it == early < engage_at and e_mid is not None and ratio is not None
+                and cohesive_preconditioner.slow_step(e_mid, e_norm, it - mid, settings.tolerance * p_ref / ratio,
+                                                      engage_at - it)):
+            engage_at = it + 1  # a slow step: the two-level preconditioner from the next iteration on
         it += 1
         # d = s + β d_old, and K s = f (K K⁻¹ = 1 on every mode but a half-plane's q = 0, where s = f = 0):
         # dE/dα(0) = −f·d = −(f·s + β f·d_old), d·Kd = f·s + 2β f·d_old + β² d_old·K d_old, no K d needed

@@ -1,0 +1,132 @@
+"""The nodal passes of the two-level cohesive preconditioner's application (`gfmd.cohesive_preconditioner`), fused.
+
+The coarse space Z holds piecewise constants on consecutive blocks of nodes, block b = [a_b, a_b + p_b),
+covering the nodes 0 … m − 1 in order (`cover`); Π removes the mean on a half-plane (`clamp`). Per
+application `TwoLevel.apply` needs three nodal passes besides its FFTs and two small coarse solves:
+
+* `spread_scaled`: w = Π Z c and D w (D = diag(max(k_loc, 0))), into two arrays;
+* `stiff_sums`: Zᵀ Π D (x − w) (the coarse residual of y = x − w);
+* `spread_subtract`: z = Π Z c and x ← x − z, in place.
+
+numpy needs 4–6 passes and a temporary for each of these; the numba kernels one pass each, with the mean of
+Π Z c from the block sums (Σ_b p_b c_b / N) instead of a pass. Both give the same values up to round-off
+(the fused sums are reassociated). The backend is `gfmd.kernels.jit_backend`'s (``GFMD_JIT``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .kernels import jit_backend, numba
+
+
+def _coarse_mean(c, widths, n, clamp):
+    return float(np.dot(c, widths)) / n if clamp else 0.0
+
+
+def _spread_numpy(c, starts, widths, n, clamp, out):
+    m = int(starts[-1] + widths[-1])
+    out[:m] = np.repeat(c, widths)
+    out[m:] = 0.0
+    if clamp:
+        out -= _coarse_mean(c, widths, n, clamp)
+    return out
+
+
+def _spread_scaled_numpy(c, starts, widths, n, clamp, d, w, work):
+    _spread_numpy(c, starts, widths, n, clamp, w)
+    np.multiply(d, w, out=work)
+
+
+def _stiff_sums_numpy(d, x, w, starts, widths, n, clamp):
+    m = int(starts[-1] + widths[-1])
+    dy = d * (x - w)
+    r = np.add.reduceat(dy[:m], starts)
+    if clamp:
+        r -= widths * (float(np.sum(dy)) / n)
+    return r
+
+
+def _spread_subtract_numpy(c, starts, widths, n, clamp, z, x):
+    _spread_numpy(c, starts, widths, n, clamp, z)
+    np.subtract(x, z, out=x)
+
+
+if numba is not None:
+    @numba.njit(cache=True, fastmath=True)
+    def _mean(c, widths, n, clamp):
+        total = 0.0
+        if clamp:
+            for b in range(c.size):
+                total += c[b] * widths[b]
+        return total / n
+
+    @numba.njit(cache=True, fastmath=True)
+    def _spread_scaled_fused(c, starts, widths, n, clamp, d, w, work):
+        mean = _mean(c, widths, n, clamp)
+        m = 0
+        for b in range(c.size):
+            v = c[b] - mean
+            for i in range(starts[b], starts[b] + widths[b]):
+                w[i] = v
+                work[i] = d[i] * v
+            m = starts[b] + widths[b]
+        for i in range(m, n):
+            w[i] = -mean
+            work[i] = -d[i] * mean
+
+    @numba.njit(cache=True, fastmath=True)
+    def _stiff_sums_fused(d, x, w, starts, widths, n, clamp, r):
+        total = 0.0
+        m = 0
+        for b in range(starts.size):
+            acc = 0.0
+            for i in range(starts[b], starts[b] + widths[b]):
+                acc += d[i] * (x[i] - w[i])
+            r[b] = acc
+            total += acc
+            m = starts[b] + widths[b]
+        for i in range(m, n):
+            total += d[i] * (x[i] - w[i])
+        if clamp:
+            mean = total / n
+            for b in range(starts.size):
+                r[b] -= widths[b] * mean
+
+    @numba.njit(cache=True, fastmath=True)
+    def _spread_subtract_fused(c, starts, widths, n, clamp, z, x):
+        mean = _mean(c, widths, n, clamp)
+        m = 0
+        for b in range(c.size):
+            v = c[b] - mean
+            for i in range(starts[b], starts[b] + widths[b]):
+                z[i] = v
+                x[i] -= v
+            m = starts[b] + widths[b]
+        for i in range(m, n):
+            z[i] = -mean
+            x[i] += mean
+
+
+def _spread_scaled_numba(c, starts, widths, n, clamp, d, w, work):
+    _spread_scaled_fused(np.ascontiguousarray(c, dtype=float), starts, widths, n, bool(clamp), d, w, work)
+
+
+def _stiff_sums_numba(d, x, w, starts, widths, n, clamp):
+    r = np.empty(starts.size)
+    _stiff_sums_fused(d, x, w, starts, widths, n, bool(clamp), r)
+    return r
+
+
+def _spread_subtract_numba(c, starts, widths, n, clamp, z, x):
+    _spread_subtract_fused(np.ascontiguousarray(c, dtype=float), starts, widths, n, bool(clamp), z, x)
+
+
+def coarse_kernels(name=None):
+    """(spread_scaled, stiff_sums, spread_subtract) of the backend `gfmd.kernels.jit_backend(name)`.
+
+    Blocks: `starts` (int64, ascending) and `widths` (int64) of consecutive blocks from node 0; fields (N,) float.
+    """
+    if jit_backend(name) == "numba":
+        return _spread_scaled_numba, _stiff_sums_numba, _spread_subtract_numba
+    return _spread_scaled_numpy, _stiff_sums_numpy, _spread_subtract_numpy
