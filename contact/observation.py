@@ -11,8 +11,11 @@ loading or law may read them: force control (the load search and its instability
 `contact.force`), a user law (its contact set is the user's code). Which *methods* solve without
 reading them is each method's declaration (`workbench.methods.MethodSpec.shares_solve`: GFMD yes; the
 FE reference computes its own observables inside its cell, with per-step side effects);
-`workbench.methods.solve_key` combines the two. Every other key (length_normal included: it sets
-GFMD's wall tolerance) keeps scenes apart.
+`workbench.methods.solve_key` combines the two. Every other key keeps scenes apart, but for the hard wall
+`HARD_WALL_OBSERVATION_KEYS`: its equilibrium has no cohesive length, δn (interface.length_normal) enters only
+the "gap" rule's threshold contact_gap·δn (`contact.laws.HardWall`), and GFMD's wall tolerance reads δn only for
+a law with a cohesive zone (`gfmd.loading.wall_tolerance_of`). So the seed's sensitivity study (hard wall at δn =
+0.25 and 1 nm, three rules each) solves its hard-wall ramps once per realization, not twice.
 """
 
 from __future__ import annotations
@@ -23,13 +26,17 @@ from .scene_sections import Interface
 
 #: the dotted scene keys that enter only the observables of a step (module docstring)
 OBSERVATION_KEYS = ("interface.contact_rule", "interface.contact_tolerance", "interface.contact_gap")
+#: ... and those that enter only the observables of a hard-wall step (module docstring)
+HARD_WALL_OBSERVATION_KEYS = ("interface.length_normal",)
+
 
 def solve_key(scene):
-    """The scene whose solve `scene` runs: its `OBSERVATION_KEYS` at their defaults; None where its
-    loading or law may read them (module docstring), so that the scene shares no solve. The method's
-    part: `workbench.methods.solve_key`."""
+    """The scene whose solve `scene` runs: its `OBSERVATION_KEYS` (and for a hard wall its
+    `HARD_WALL_OBSERVATION_KEYS`) at their defaults; None where its loading or law may read them (module
+    docstring), so that the scene shares no solve. The method's part: `workbench.methods.solve_key`."""
     if scene.loading.control != "displacement" or scene.user_law is not None:
         return None
     default = Interface()
-    values = {key.partition(".")[2]: getattr(default, key.partition(".")[2]) for key in OBSERVATION_KEYS}
+    keys = OBSERVATION_KEYS + (HARD_WALL_OBSERVATION_KEYS if scene.interface.law == "hard-wall" else ())
+    values = {key.partition(".")[2]: getattr(default, key.partition(".")[2]) for key in keys}
     return dataclasses.replace(scene, interface=dataclasses.replace(scene.interface, **values))

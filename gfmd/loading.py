@@ -17,6 +17,7 @@ from contact.laws import CompressionOverflowError
 from contact.loading import indenter_surface
 from contact.model import build_model
 from contact.ramp import StepSolution, run_ramp
+from contact.scene_sections import Interface
 
 from . import kernels
 from .chains import chain_key, describe, relax
@@ -58,7 +59,7 @@ class GfmdCell:
         `algorithm` is the chain's label of what relaxed it (`Relaxed.method`: "ncg", "ncg→fire", ...)."""
         loading = self.scene.loading
         z_ind = indenter_surface(self.h, loading.initial_separation, displacement)
-        wall_tolerance = 1e-12 * max(float(np.ptp(self.h)), self.scene.interface.length_normal)
+        wall_tolerance = wall_tolerance_of(self.scene, self.h)
         try:
             r = relax(self.physics, self.law, z_ind, guess, self.settings, wall_tolerance,
                       previous=None if fallback is guess else fallback)
@@ -74,6 +75,16 @@ class GfmdCell:
                             gap=r.gap, t_n=r.t_z, fields=lambda: fields,
                             u_x=r.u_x if self.physics.tangential else None,
                             messages=() if r.converged else (r.message,), algorithm=r.method)
+
+
+def wall_tolerance_of(scene, h):
+    """The gap (m) within which a node counts as on a wall, a round-off allowance: 1e-12 × the profile's height range,
+    or on a flat profile × δn (interface.length_normal) for a law with a cohesive zone and × 1 nm (the default δn) for
+    the hard wall, whose equilibrium has no length of its own (so δn stays an observation-only key of a hard-wall
+    solve, `contact.observation`)."""
+    floor = Interface().length_normal if scene.interface.law == "hard-wall" else scene.interface.length_normal
+    wall_tolerance = 1e-12 * max(float(np.ptp(h)), floor)  # (verification.mutations' wall-leak mutates this line)
+    return wall_tolerance
 
 
 def backends():

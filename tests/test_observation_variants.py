@@ -14,7 +14,7 @@ import tomllib
 import numpy as np
 import pytest
 
-from contact.observation import OBSERVATION_KEYS
+from contact.observation import HARD_WALL_OBSERVATION_KEYS, OBSERVATION_KEYS
 from contact.scene import scene_from_dict
 from workbench import io
 from workbench.methods import solve_key
@@ -84,12 +84,13 @@ def test_the_shared_solve_writes_each_variant_what_a_separate_run_writes(separat
     assert [o["status"] for o in again] == ["reused"] * len(RULES)
 
 
-@pytest.mark.parametrize("other", [{"interface.phi_n_star": 0.02}, {"interface.length_normal": 2e-9},
+@pytest.mark.parametrize("other", [{"interface.phi_n_star": 0.02}, {"interface.law": "cohesive"},
                                    {"surface.seed": 2}, {"loading.steps": 30}, {"method.name": "fe"}])
 def test_only_observation_keys_share_a_solve(other):
     base = scene(law="hard-wall", phi=0.15)
     assert all(solve_address(scene(law="hard-wall", phi=0.15, **rule)) == solve_address(base) for rule in RULES)
     assert set(OBSERVATION_KEYS) == {"interface.contact_rule", "interface.contact_tolerance", "interface.contact_gap"}
+    assert set(HARD_WALL_OBSERVATION_KEYS) == {"interface.length_normal"}
     changed = base.replace(**({"material.thickness": 640e-9} if "method.name" in other else {}), **other)
     assert solve_address(changed) != solve_address(base)
     if "method.name" in other:  # the FE reference shares no solve, not even between its own rule variants
@@ -98,6 +99,26 @@ def test_only_observation_keys_share_a_solve(other):
         assert solve_address(rule) != solve_address(changed)
     jobs = [("a", base), ("b", base.replace(**{"interface.contact_rule": "compressive"})), ("c", changed)]
     assert [[j[0] for j in g] for g in solve_groups(jobs)] == [["a", "b"], ["c"]]
+
+
+def test_hard_wall_tasks_differing_in_length_normal_share_a_solve(tmp_path):
+    """δn enters a hard-wall step only through the "gap" rule's threshold contact_gap·δn: tasks that differ in δn and
+    the rule share one solve, each directory what a separate run writes; for a cohesive law δn keeps them apart."""
+    variants = [dict(law="hard-wall", phi=0.15, length_normal=dn, **rule) for dn in (0.25e-9, 1e-9)
+                for rule in ({"contact_rule": "traction-tolerance"}, {"contact_rule": "gap", "contact_gap": 2.0})]
+    scenes = [scene(**v) for v in variants]
+    assert len({solve_address(s) for s in scenes}) == 1
+    cohesive = [scene(phi=0.15, length_normal=dn) for dn in (0.25e-9, 1e-9)]
+    assert solve_address(cohesive[0]) != solve_address(cohesive[1])
+    members = [(s, tmp_path / "shared" / f"t{i}") for i, s in enumerate(scenes)]
+    outcomes = run_shared(members)
+    assert [o["status"] for o in outcomes] == ["run"] * len(scenes)
+    assert {o.get("solved_with") for o in outcomes[1:]} == {"t0"}
+    for i, s in enumerate(scenes):
+        assert run_task(s, tmp_path / "alone" / f"t{i}")["status"] == "run"
+        assert_same_task(tmp_path / "alone" / f"t{i}", tmp_path / "shared" / f"t{i}")
+    a_rel = [tuple(float(r["a_rel"]) for r in curve(tmp_path / "alone" / f"t{i}")) for i in range(len(scenes))]
+    assert a_rel[1] != a_rel[3], "the gap rule's threshold scales with δn"
 
 
 def test_an_interrupted_group_resumes_to_the_separate_runs(separate, tmp_path, monkeypatch):
