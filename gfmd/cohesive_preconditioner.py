@@ -47,7 +47,7 @@ ENGAGE_AFTER = 40
 #: whole 201-step ramps at 2^17, seed 2, against 40 alone, pinned simultaneous pairs with the cores swapped,
 #: benchmarks/results/bench_cohesive_engage_*.md): CPU × 0.80 (φn* = 0.15, ν = 0.1), 0.93 (0.15, ν = 0.45, δn = 1 and
 #: 0.25 nm), 0.89 (0.05 and 0.01), 1.01 ± 0.05 (0.001); iterations −28 to −32 % on the strong ramps; one step on another
-#: branch of a jump-in in two of the six ramps. Engaging at 10 on every step costs the weak ramps 31–44 % more FFT pairs
+#: branch of a jump-in in two of the six ramps. Engaging at 10 on every step costs the weak ramps 31–44 % more FFT pairs.
 ENGAGE_EARLY = 10
 #: then the NCG rebuilds the preconditioner every this many iterations, restarting its direction where it changed
 REBUILD_EVERY = 20

@@ -59,6 +59,13 @@ class Settings:
     # whole (studies/results/seed_full/README.md): coupled task medians −22 % and −11 % on a 1.16–1.34× slower machine,
     # 11 of 804 mean steps on another branch at an event step (≤ 1 % of max p̄), the same verdicts
     coupled_dt_max: float = 0.4
+    # coupled law: FIRE's f_dec and n_min, here the other laws' (Bitzek et al.). Milder restarts with Δt capped (f_dec
+    # 0.7–0.9, n_min 1–2) cut the event steps' FFT pairs by 7–9 % on whole ramps at 2^13 and 2^15 (seed 2, ν = 0.1 and
+    # 0.45, the same states; benchmarks/results/bench_coupled_fire_restarts_*.md), but on fig8_small (2^12) one event
+    # step then runs FIRE's whole budget (476 → 4 030 iterations, the ramp 3 266 → 6 620–6 750): not the default
+    # (tests/test_coupled_fire_restarts.py)
+    coupled_f_dec: float = 0.5
+    coupled_n_min: int = 5
     # cohesive NCG's preconditioner (`gfmd.cohesive_preconditioner`): "auto" ("two-level" on a profile with Eq. 3's
     # law, else "stiffness"), "stiffness" (K⁻¹ on the modes) or "two-level" (K⁻¹ balanced by a coarse space on the
     # stiff patches, engaged on the steps that need it)
@@ -93,6 +100,17 @@ class Settings:
     # (`gfmd.algorithms.hard_wall_two_level_cg`); 0: the band preconditioner alone (`hard_wall_dual_cg`,
     # the default before issue 24)
     dual_coarse_block: int = 16
+
+
+def check_coupled_fire(settings):
+    """Raise ValueError naming the Settings key for a coupled FIRE parameter out of range."""
+    if not settings.coupled_dt_max > 0:
+        raise ValueError(f"Settings.coupled_dt_max = {settings.coupled_dt_max!r}: expected a time step > 0")
+    if not 0 < settings.coupled_f_dec < 1:
+        raise ValueError(f"Settings.coupled_f_dec = {settings.coupled_f_dec!r}: expected a factor in (0, 1)")
+    if isinstance(settings.coupled_n_min, bool) or not isinstance(settings.coupled_n_min, (int, np.integer)) \
+            or settings.coupled_n_min < 0:
+        raise ValueError(f"Settings.coupled_n_min = {settings.coupled_n_min!r}: expected a step count ≥ 0")
 
 
 @dataclass

@@ -5,7 +5,8 @@
   frequency and the interface stiffness, averaged over the cell as long waves see it (⟨∂T/∂Δ⟩
   from the law's tangent, refreshed when it changes by 2×), does not slow or destabilise them.
   A trust region limits every nodal move per iteration to `max_move`·min(δn, δt). On the coupled law Δt is
-  capped at `coupled_dt_max` (a compressed contact patch's stability, `gfmd.settings`).
+  capped at `coupled_dt_max` (a compressed contact patch's stability) and a restart cuts Δt by `coupled_f_dec`, its
+  regrowth waiting `coupled_n_min` steps (`gfmd.settings`).
 * ``verlet``: the seed's damped Störmer–Verlet, uniform mass, every mode damped critically for
   the discrete scheme (γΔt = ωΔt√(4 − (ωΔt)²), `gfmd.integrators.verlet_coefficients`).
 
@@ -25,7 +26,7 @@ from ..fft import Fft, spectral_weights
 from ..fire_kernels import fire_kernels
 from ..integrators import Fire, verlet_coefficients
 from ..problem import Elastic
-from ..settings import not_converged
+from ..settings import check_coupled_fire, not_converged
 from ..stopping import finish
 
 
@@ -47,10 +48,10 @@ def solve(problem, start, settings):
     stiffness = (model.k_xx, model.k_xz, model.k_zz) if model.tangential else (model.k_zz,)
     acc = np.empty_like(u_hat)
 
-    if settings.method != "verlet" and problem.kind == "coupled":  # FIRE's Δt capped (`Settings.coupled_dt_max`)
-        if not settings.coupled_dt_max > 0:
-            raise ValueError(f"Settings.coupled_dt_max = {settings.coupled_dt_max!r}: expected a time step > 0")
-        settings = replace(settings, dt_max=min(settings.dt_max, settings.coupled_dt_max))
+    if settings.method != "verlet" and problem.kind == "coupled":  # FIRE's Δt capped, its restarts milder (`Settings`)
+        check_coupled_fire(settings)
+        settings = replace(settings, dt_max=min(settings.dt_max, settings.coupled_dt_max),
+                           f_dec=settings.coupled_f_dec, n_min=settings.coupled_n_min)
     fire = None if settings.method == "verlet" else Fire(settings)
     if fire is None:  # Verlet: per-mode ω² from the diagonal stiffness plus the law's initial slope
         k_diag = [model.k_zz] if not model.tangential else [model.k_xx.real, model.k_zz]

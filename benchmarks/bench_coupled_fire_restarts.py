@@ -1,0 +1,101 @@
+"""The coupled law's FIRE restarts, `Settings.coupled_f_dec` and `coupled_n_min`, swept on whole ramps (issue 24).
+
+Usage: python benchmarks/bench_coupled_fire_restarts.py [--size 15] [--realization 2] [--nu 0.1]
+       [--values 0.5/5 0.7/5 0.7/2 0.5/2 0.8/2 0.6/2] [--out FILE] [--data FILE]
+
+Writes benchmarks/results/bench_coupled_fire_restarts_e<size>_nu<ν>_r<realization>.md (or --out).
+
+The coupled class of benchmarks/bench_adhesion_scaling.py (seed base scene, φn* = 0.15, c = 0.5, δt = 1 nm, the
+default chain; `--nu` sets material.poisson_ratio), one whole ramp per value f_dec/n_min (FIRE's factor on Δt at a
+restart, P ≤ 0, and the steps it waits before growing Δt again; the coupled FIRE's Δt cap at its default), one after
+the other in one process. Per value:
+CPU s, FFT pairs and iterations of the ramp and of its event steps (those the continuation Newton gave up, where FIRE
+ran), and the states against the first value's (0.5/5: FIRE's f_dec and n_min, the coupled FIRE's default):
+max |Δp̄| / max |p̄|, max |Δa_rel|, steps whose chain label differs. The rows also go to a JSON file (--data, default
+benchmarks/results/bench_coupled_fire_restarts.json, keyed by size, ν and realization) that
+tests/test_coupled_fire_restarts.py reads (a sweep of the same scene adds its values to the earlier rows; run the
+first value, 0.5/5, first in each). FFT pairs are deterministic; CPU s are one process's, as the machine gave.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from pathlib import Path
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
+from benchmarks.report import header, ramp_differences, write  # noqa: E402
+from workbench.study_task import reuse_freed_arrays  # noqa: E402
+
+RESULTS = ROOT / "benchmarks" / "results"
+
+
+def parameters(value):
+    """(f_dec, n_min) of a value "f_dec/n_min"."""
+    f_dec, _, n_min = value.partition("/")
+    return float(f_dec), int(n_min)
+
+
+def sweep(size, realization, nu, values):
+    """One row per value: the ramp's and its event steps' cost, and its states against the first value's."""
+    rows, reference = [], None
+    for value in values:
+        f_dec, n_min = parameters(value)
+        steps = ramp(2**size, "coupled", {"coupled_f_dec": f_dec, "coupled_n_min": n_min}, realization=realization,
+                     a_rel_stop=2.0,
+                     scene_keys={"material.poisson_ratio": nu})
+        events = [s for s in steps if s["method"] != "newton"]
+        reference = reference or steps
+        dp, da, labels = ramp_differences(steps, reference)
+        rows.append({"f_dec": f_dec, "n_min": n_min, "steps": len(steps), "cpu_s": sum(s["cpu"] for s in steps),
+                     "fft_pairs": sum(s["pairs"] for s in steps), "iterations": sum(s["it"] for s in steps),
+                     "event_steps": len(events), "event_cpu_s": sum(s["cpu"] for s in events),
+                     "event_fft_pairs": sum(s["pairs"] for s in events), "converged": sum(s["converged"] for s in steps),
+                     "dp_rel": dp, "da_rel": da, "labels_differ": labels})
+    return rows
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--size", type=int, default=15)
+    ap.add_argument("--realization", type=int, default=2)
+    ap.add_argument("--nu", type=float, default=0.1)
+    ap.add_argument("--values", nargs="+", default=["0.5/5", "0.7/5", "0.7/2", "0.5/2", "0.8/2", "0.6/2"])
+    ap.add_argument("--out")
+    ap.add_argument("--data", default=str(RESULTS / "bench_coupled_fire_restarts.json"))
+    args = ap.parse_args(argv)
+    out = args.out or RESULTS / f"bench_coupled_fire_restarts_e{args.size}_nu{args.nu:g}_r{args.realization}.md"
+    reuse_freed_arrays()
+    ramp(2**12, "coupled", max_steps=3)  # numba's compilation and the caches outside the measured ramps
+    rows = sweep(args.size, args.realization, args.nu, args.values)
+    data = json.loads(Path(args.data).read_text()) if Path(args.data).exists() else {}
+    key = f"size {args.size}, nu {args.nu:g}, realization {args.realization}"
+    kept = {(r["f_dec"], r["n_min"]): r for r in data.get(key, [])}  # a later sweep adds its values to the earlier's
+    kept.update({(r["f_dec"], r["n_min"]): r for r in rows})
+    data[key] = list(kept.values())
+    Path(args.data).write_text(json.dumps(data, indent=1) + "\n")
+    lines = header(f"The coupled FIRE's restarts (f_dec / n_min), N = 2^{args.size}, ν = {args.nu:g}, realization "
+                   f"{args.realization}", "bench_coupled_fire_restarts.py", argv)
+    lines += ["| f_dec / n_min | ramp CPU s | FFT pairs | iterations | event steps | event CPU s | event FFT pairs "
+              "| converged | max Δp̄ / max p̄ | max Δa_rel | labels differ |", "|" + "---|" * 11]
+    for r in rows:
+        lines.append(f"| {r['f_dec']:g} / {r['n_min']} | {r['cpu_s']:.1f} | {r['fft_pairs']:.0f} | {r['iterations']} | "
+                     f"{r['event_steps']} | {r['event_cpu_s']:.1f} | {r['event_fft_pairs']:.0f} | "
+                     f"{r['converged']}/{r['steps']} | {r['dp_rel']:.1e} | {r['da_rel']:.1e} | {r['labels_differ']} |")
+    best = min(rows, key=lambda r: r["event_fft_pairs"])
+    lines += ["", f"Fewest FFT pairs on the event steps at {best['f_dec']:g} / {best['n_min']}: "
+              f"{best['event_fft_pairs']:.0f} against {rows[0]['event_fft_pairs']:.0f} at {rows[0]['f_dec']:g} / "
+              f"{rows[0]['n_min']} "
+              f"({best['event_fft_pairs'] / rows[0]['event_fft_pairs'] - 1:+.0%}); the whole ramp "
+              f"{best['cpu_s']:.1f} against {rows[0]['cpu_s']:.1f} CPU s."]
+    write(lines, out)
+
+
+if __name__ == "__main__":
+    main()
