@@ -16,7 +16,6 @@ benchmarks/results/bench_coupled_dt_max.json, keyed by size, ν and realization)
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import sys
 from pathlib import Path
@@ -26,7 +25,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
-from benchmarks.report import header, ramp_differences, write  # noqa: E402
+from benchmarks.report import event_sweep_row, write_event_sweep  # noqa: E402
 from workbench.study_task import reuse_freed_arrays  # noqa: E402
 
 RESULTS = ROOT / "benchmarks" / "results"
@@ -38,14 +37,8 @@ def sweep(size, realization, nu, values):
     for cap in values:
         steps = ramp(2**size, "coupled", {"coupled_dt_max": cap}, realization=realization, a_rel_stop=2.0,
                      scene_keys={"material.poisson_ratio": nu})
-        events = [s for s in steps if s["method"] != "newton"]
         reference = reference or steps
-        dp, da, labels = ramp_differences(steps, reference)
-        rows.append({"dt_max": cap, "steps": len(steps), "cpu_s": sum(s["cpu"] for s in steps),
-                     "fft_pairs": sum(s["pairs"] for s in steps), "iterations": sum(s["it"] for s in steps),
-                     "event_steps": len(events), "event_cpu_s": sum(s["cpu"] for s in events),
-                     "event_fft_pairs": sum(s["pairs"] for s in events), "converged": sum(s["converged"] for s in steps),
-                     "dp_rel": dp, "da_rel": da, "labels_differ": labels})
+        rows.append(event_sweep_row(steps, reference, dt_max=cap))
     return rows
 
 
@@ -62,23 +55,9 @@ def main(argv=None):
     reuse_freed_arrays()
     ramp(2**12, "coupled", max_steps=3)  # numba's compilation and the caches outside the measured ramps
     rows = sweep(args.size, args.realization, args.nu, args.values)
-    data = json.loads(Path(args.data).read_text()) if Path(args.data).exists() else {}
-    data[f"size {args.size}, nu {args.nu:g}, realization {args.realization}"] = rows
-    Path(args.data).write_text(json.dumps(data, indent=1) + "\n")
-    lines = header(f"The coupled FIRE's time-step cap, N = 2^{args.size}, ν = {args.nu:g}, realization "
-                   f"{args.realization}", "bench_coupled_dt_max.py", argv)
-    lines += ["| coupled_dt_max | ramp CPU s | FFT pairs | iterations | event steps | event CPU s | event FFT pairs "
-              "| converged | max Δp̄ / max p̄ | max Δa_rel | labels differ |", "|" + "---|" * 11]
-    for r in rows:
-        lines.append(f"| {r['dt_max']:g} | {r['cpu_s']:.1f} | {r['fft_pairs']:.0f} | {r['iterations']} | "
-                     f"{r['event_steps']} | {r['event_cpu_s']:.1f} | {r['event_fft_pairs']:.0f} | "
-                     f"{r['converged']}/{r['steps']} | {r['dp_rel']:.1e} | {r['da_rel']:.1e} | {r['labels_differ']} |")
-    best = min(rows, key=lambda r: r["event_fft_pairs"])
-    lines += ["", f"Fewest FFT pairs on the event steps at coupled_dt_max = {best['dt_max']:g}: "
-              f"{best['event_fft_pairs']:.0f} against {rows[0]['event_fft_pairs']:.0f} at {rows[0]['dt_max']:g} "
-              f"({best['event_fft_pairs'] / rows[0]['event_fft_pairs'] - 1:+.0%}); the whole ramp "
-              f"{best['cpu_s']:.1f} against {rows[0]['cpu_s']:.1f} CPU s."]
-    write(lines, out)
+    write_event_sweep(rows, args.data, f"size {args.size}, nu {args.nu:g}, realization {args.realization}", out,
+                      f"The coupled FIRE's time-step cap, N = 2^{args.size}, ν = {args.nu:g}, realization "
+                      f"{args.realization}", "bench_coupled_dt_max.py", argv, "coupled_dt_max", lambda r: f"{r['dt_max']:g}")
 
 
 if __name__ == "__main__":

@@ -20,7 +20,6 @@ first value, 0.5/5, first in each). FFT pairs are deterministic; CPU s are one p
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import sys
 from pathlib import Path
@@ -30,7 +29,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
-from benchmarks.report import header, ramp_differences, write  # noqa: E402
+from benchmarks.report import event_sweep_row, write_event_sweep  # noqa: E402
 from workbench.study_task import reuse_freed_arrays  # noqa: E402
 
 RESULTS = ROOT / "benchmarks" / "results"
@@ -50,14 +49,8 @@ def sweep(size, realization, nu, values):
         steps = ramp(2**size, "coupled", {"coupled_f_dec": f_dec, "coupled_n_min": n_min}, realization=realization,
                      a_rel_stop=2.0,
                      scene_keys={"material.poisson_ratio": nu})
-        events = [s for s in steps if s["method"] != "newton"]
         reference = reference or steps
-        dp, da, labels = ramp_differences(steps, reference)
-        rows.append({"f_dec": f_dec, "n_min": n_min, "steps": len(steps), "cpu_s": sum(s["cpu"] for s in steps),
-                     "fft_pairs": sum(s["pairs"] for s in steps), "iterations": sum(s["it"] for s in steps),
-                     "event_steps": len(events), "event_cpu_s": sum(s["cpu"] for s in events),
-                     "event_fft_pairs": sum(s["pairs"] for s in events), "converged": sum(s["converged"] for s in steps),
-                     "dp_rel": dp, "da_rel": da, "labels_differ": labels})
+        rows.append(event_sweep_row(steps, reference, f_dec=f_dec, n_min=n_min))
     return rows
 
 
@@ -74,27 +67,10 @@ def main(argv=None):
     reuse_freed_arrays()
     ramp(2**12, "coupled", max_steps=3)  # numba's compilation and the caches outside the measured ramps
     rows = sweep(args.size, args.realization, args.nu, args.values)
-    data = json.loads(Path(args.data).read_text()) if Path(args.data).exists() else {}
-    key = f"size {args.size}, nu {args.nu:g}, realization {args.realization}"
-    kept = {(r["f_dec"], r["n_min"]): r for r in data.get(key, [])}  # a later sweep adds its values to the earlier's
-    kept.update({(r["f_dec"], r["n_min"]): r for r in rows})
-    data[key] = list(kept.values())
-    Path(args.data).write_text(json.dumps(data, indent=1) + "\n")
-    lines = header(f"The coupled FIRE's restarts (f_dec / n_min), N = 2^{args.size}, ν = {args.nu:g}, realization "
-                   f"{args.realization}", "bench_coupled_fire_restarts.py", argv)
-    lines += ["| f_dec / n_min | ramp CPU s | FFT pairs | iterations | event steps | event CPU s | event FFT pairs "
-              "| converged | max Δp̄ / max p̄ | max Δa_rel | labels differ |", "|" + "---|" * 11]
-    for r in rows:
-        lines.append(f"| {r['f_dec']:g} / {r['n_min']} | {r['cpu_s']:.1f} | {r['fft_pairs']:.0f} | {r['iterations']} | "
-                     f"{r['event_steps']} | {r['event_cpu_s']:.1f} | {r['event_fft_pairs']:.0f} | "
-                     f"{r['converged']}/{r['steps']} | {r['dp_rel']:.1e} | {r['da_rel']:.1e} | {r['labels_differ']} |")
-    best = min(rows, key=lambda r: r["event_fft_pairs"])
-    lines += ["", f"Fewest FFT pairs on the event steps at {best['f_dec']:g} / {best['n_min']}: "
-              f"{best['event_fft_pairs']:.0f} against {rows[0]['event_fft_pairs']:.0f} at {rows[0]['f_dec']:g} / "
-              f"{rows[0]['n_min']} "
-              f"({best['event_fft_pairs'] / rows[0]['event_fft_pairs'] - 1:+.0%}); the whole ramp "
-              f"{best['cpu_s']:.1f} against {rows[0]['cpu_s']:.1f} CPU s."]
-    write(lines, out)
+    write_event_sweep(rows, args.data, f"size {args.size}, nu {args.nu:g}, realization {args.realization}", out,
+                      f"The coupled FIRE's restarts (f_dec / n_min), N = 2^{args.size}, ν = {args.nu:g}, realization "
+                      f"{args.realization}", "bench_coupled_fire_restarts.py", argv, "f_dec / n_min",
+                      lambda r: f"{r['f_dec']:g} / {r['n_min']}", same=lambda r: (r["f_dec"], r["n_min"]))
 
 
 if __name__ == "__main__":

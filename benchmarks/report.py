@@ -49,3 +49,49 @@ def ramp_row(size, variant, cpus, rows, reference, middle=()):
              f"{sum(r['pairs'] for r in rows):.0f}", str(sum(r["method"] != "newton" for r in rows)), f"{dp:.2g}",
              f"{da:.2g}", str(labels)]
     return "| " + " | ".join(cells) + " |"
+
+
+def event_sweep_row(steps, reference, **label):
+    """One row of a coupled sweep (`benchmarks.bench_adhesion_scaling.ramp` rows `steps`): the swept value (`label`),
+    the ramp's and its event steps' cost (the steps the continuation Newton gave up, where FIRE ran) and its states
+    against `reference` (`ramp_differences`)."""
+    events = [s for s in steps if s["method"] != "newton"]
+    dp, da, labels = ramp_differences(steps, reference)
+    return {**label, "steps": len(steps), "cpu_s": sum(s["cpu"] for s in steps),
+            "fft_pairs": sum(s["pairs"] for s in steps), "iterations": sum(s["it"] for s in steps),
+            "event_steps": len(events), "event_cpu_s": sum(s["cpu"] for s in events),
+            "event_fft_pairs": sum(s["pairs"] for s in events), "converged": sum(s["converged"] for s in steps),
+            "dp_rel": dp, "da_rel": da, "labels_differ": labels}
+
+
+def event_sweep_table(rows, name, value_of):
+    """A coupled sweep's table (`event_sweep_row` rows; the first the reference) and its line on the fewest event FFT
+    pairs; `name` heads the value column, `value_of(row)` writes a row's value."""
+    lines = [f"| {name} | ramp CPU s | FFT pairs | iterations | event steps | event CPU s | event FFT pairs "
+             "| converged | max Δp̄ / max p̄ | max Δa_rel | labels differ |", "|" + "---|" * 11]
+    for r in rows:
+        lines.append(f"| {value_of(r)} | {r['cpu_s']:.1f} | {r['fft_pairs']:.0f} | {r['iterations']} | "
+                     f"{r['event_steps']} | {r['event_cpu_s']:.1f} | {r['event_fft_pairs']:.0f} | "
+                     f"{r['converged']}/{r['steps']} | {r['dp_rel']:.1e} | {r['da_rel']:.1e} | {r['labels_differ']} |")
+    best = min(rows, key=lambda r: r["event_fft_pairs"])
+    return lines + ["", f"Fewest FFT pairs on the event steps at {name} = {value_of(best)}: "
+                        f"{best['event_fft_pairs']:.0f} against {rows[0]['event_fft_pairs']:.0f} at {value_of(rows[0])} "
+                        f"({best['event_fft_pairs'] / rows[0]['event_fft_pairs'] - 1:+.0%}); the whole ramp "
+                        f"{best['cpu_s']:.1f} against {rows[0]['cpu_s']:.1f} CPU s."]
+
+
+def write_event_sweep(rows, data_path, key, out, title, script, argv, name, value_of, same=None):
+    """Store a coupled sweep's rows in the JSON file `data_path` under `key` (where `same(row)` is given, added to the
+    rows a sweep of the same key stored before, a row of the same value replaced), and write its report to `out`."""
+    import json
+
+    data = json.loads(Path(data_path).read_text()) if Path(data_path).exists() else {}
+    if same is not None:
+        kept = {same(r): r for r in data.get(key, [])}
+        kept.update({same(r): r for r in rows})
+        rows_stored = list(kept.values())
+    else:
+        rows_stored = rows
+    data[key] = rows_stored
+    Path(data_path).write_text(json.dumps(data, indent=1) + "\n")
+    write(header(title, script, argv) + event_sweep_table(rows, name, value_of), out)
