@@ -8,7 +8,7 @@ realization i = profile seed 1 + i, each chain its own ramp in the same run (war
 the "newton" chain (Settings.coupled = "newton", the default before session 26) and the handover chains
 ("handover": Newton from FIRE's state at Settings.coupled_handover kept where near and locally stable;
 "handover-near", the default since: near only). FFT pairs include the
-stability test's (`gfmd.problem.coupled_stability`, not in `Relaxed.fft_pairs`: counted here, column "stab").
+stability test's (`gfmd.coupled_stability`, not in `Relaxed.fft_pairs`: counted here, column "stab").
 Event steps: those the continuation Newton does not finish (label ≠ "newton"). Per step the variant's p and a_rel
 are compared with the "newton" chain's, and (N ≤ 2^14) the largest nodal |Δu| / δn between the accepted states.
 Writes benchmarks/results/bench_coupled_handover_<tag>.md.

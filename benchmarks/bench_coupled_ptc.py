@@ -9,7 +9,7 @@ Two chains run whole ramps of the fig8_small coupled tasks (studies/seed/fig8_sm
           stable), then the default chain's FIRE, ...
 --nodes N: the same scene at N nodes (surface.nodes only; rollon resolution and the rest unchanged).
 Per step: the label, iterations, FFT pairs (deterministic, meaningful under load) and those of the stability test
-(`gfmd.problem.coupled_stability`, not in `Relaxed.fft_pairs`: counted here), p; per step the largest nodal difference
+(`gfmd.coupled_stability`, not in `Relaxed.fft_pairs`: counted here), p; per step the largest nodal difference
 between the two chains' states in units of δn. No wall times: the machine is shared.
 """
 
@@ -33,7 +33,7 @@ from contact import surfaces  # noqa: E402
 from contact.loading import extrapolation_allowed, indenter_surface, realization_steps  # noqa: E402
 from contact.observables import step_observables  # noqa: E402
 from contact.scene import load_scene  # noqa: E402
-from gfmd import chains, problem as gproblem  # noqa: E402
+from gfmd import chains, coupled_stability as gstability  # noqa: E402
 from gfmd.algorithms import coupled_ptc  # noqa: E402
 from gfmd.loading import prepare  # noqa: E402
 from workbench.study import task_scene  # noqa: E402
@@ -45,20 +45,20 @@ CHAINS = ("newton", "ptc")
 _stability_pairs = [0.0]
 
 
-def _counted_stability(model, law, z_ind, u_hat, _inner=gproblem.coupled_stability):
+def _counted_stability(model, law, z_ind, u_hat, _inner=gstability.coupled_stability):
     """`coupled_stability`, its FFT pairs added to _stability_pairs."""
-    made, plain = [], gproblem.Fft
+    made, plain = [], gstability.Fft
 
     class Counting(plain):
         def __init__(self, *a, **k):
             super().__init__(*a, **k)
             made.append(self)
 
-    gproblem.Fft = Counting
+    gstability.Fft = Counting
     try:
         return _inner(model, law, z_ind, u_hat)
     finally:
-        gproblem.Fft = plain
+        gstability.Fft = plain
         _stability_pairs[0] += sum(f.pairs for f in made)
 
 

@@ -1,13 +1,17 @@
-"""The cohesive NCG's nodal law work, numpy against the fused numba pass (`gfmd.ncg_nodes`, issue 24).
+"""The cohesive NCG's nodal law work, numpy against the fused numba passes (`gfmd.ncg_nodes`, issue 24).
 
 Usage: python benchmarks/bench_ncg_nodes.py [--sizes 12 14 17 20] [--ramp-size 17] [--phi 0.001 0.15]
                                             [--repeats 2] [--out FILE]
 
 1. One line-search trial (`Eq3Nodes.trial`: Δn − α d, s, e^{−s}, Σ T_n d, and Σ k_loc d², which numpy computes
-   only where the line search needs it: both counted) per N, against one FFT pair (rfft + irfft, `gfmd.fft.Fft`).
+   only where the line search needs it: both counted) per N, against one FFT pair (rfft + irfft, `gfmd.fft.Fft`),
+   and against "numba, libm exp": the fused trial as it was before session 37, one pass calling libm's exp per node
+   (defined here, `_trial_libm`), which LLVM cannot vectorize; today's is two passes, the state with
+   `gfmd.vector_exp.exp` (vectorized) and the sums.
 2. Whole ramps: the seed base scene (realization 1, 201 steps, δn = 1 nm, the Fig. 3 task) at N = 2^ramp-size per
-   φn*, relaxed with the nodal work on numpy and fused in the same process, alternating `--repeats` times (the same
-   load on both): CPU s per ramp (time.process_time), NCG iterations, and the largest difference of p̄ and a_rel.
+   φn*, relaxed with the nodal work on numpy, fused, and fused with libm's exp, in the same process, alternating
+   `--repeats` times (the same load on each): CPU s per ramp (time.process_time), NCG iterations, and the largest
+   difference of p̄ and a_rel from the numpy ramp.
 The spectral algebra is the fused one in both (GFMD_JIT's default); only the nodal backend differs.
 Writes benchmarks/results/bench_ncg_nodes.md (or --out).
 """
@@ -35,6 +39,46 @@ from gfmd.algorithms import ncg  # noqa: E402
 from gfmd.fft import Fft  # noqa: E402
 
 
+if kernels.numba is not None:
+    @kernels.numba.njit(cache=True, fastmath={"reassoc", "contract", "nsz", "arcp"})
+    def _trial_libm(gap, d, alpha, inv_dn, max_compression, gap_a, s, e):
+        """The fused trial before session 37: one pass, libm's exp per node (a scalar call: not vectorized)."""
+        work = curv = 0.0
+        for i in range(gap.size):
+            g = gap[i] - alpha * d[i]
+            si = g * inv_dn
+            if si < -max_compression:
+                si = -max_compression
+            ei = np.exp(-si)
+            gap_a[i], s[i], e[i] = g, si, ei
+            x = ei * d[i]
+            work += si * x
+            curv += (1.0 - si) * x * d[i]
+        return work, curv
+
+
+class _LibmExp:
+    """ncg_nodes' fused trial replaced by `_trial_libm` inside the block."""
+
+    def __enter__(self):
+        self.kept, ncg_nodes._trial_fused = ncg_nodes._trial_fused, _trial_libm
+
+    def __exit__(self, *exc):
+        ncg_nodes._trial_fused = self.kept
+
+
+class _Nothing:
+    def __enter__(self):
+        pass
+
+    def __exit__(self, *exc):
+        pass
+
+
+#: the nodal variants: (label, Eq3Nodes backend, context that swaps the fused trial)
+VARIANTS = (("numpy", "numpy", _Nothing), ("numba", "numba", _Nothing), ("numba, libm exp", "numba", _LibmExp))
+
+
 def per_call(fn, seconds=0.3):
     """Mean wall time of fn() (s) over as many calls as fit in about `seconds`, after one warm-up call."""
     fn()
@@ -48,8 +92,8 @@ def per_call(fn, seconds=0.3):
 
 
 def trial_table(sizes):
-    rows = ["| N | numpy trial (ms) | fused trial (ms) | numpy / fused | FFT pair (ms) | fused / FFT pair |",
-            "|---|---|---|---|---|---|"]
+    rows = ["| N | numpy trial (ms) | fused trial (ms) | fused, libm exp (ms) | numpy / fused | libm exp / fused | "
+            "FFT pair (ms) | fused / FFT pair |", "|---|---|---|---|---|---|---|---|"]
     dn = 1e-9
     for e in sizes:
         n = 2**e
@@ -57,7 +101,7 @@ def trial_table(sizes):
         gap = dn * rng.uniform(-2.0, 40.0, n)
         d = dn * rng.standard_normal(n)
         times = {}
-        for backend in ("numpy", "numba"):
+        for label, backend, swap in VARIANTS:
             nodes = ncg_nodes.Eq3Nodes(dn, 0.01 / dn, 0.01 / dn**2, backend)
 
             def trial():
@@ -65,12 +109,15 @@ def trial_table(sizes):
                 if curv is None:
                     nodes.curvature_sum(s, e_, d)
 
-            times[backend] = per_call(trial)
+            with swap():
+                times[label] = per_call(trial)
         fft = Fft(n)
         x = rng.standard_normal(n)
         pair = per_call(lambda: fft.irfft(fft.rfft(x)))
-        rows.append(f"| 2^{e} | {times['numpy'] * 1e3:.3f} | {times['numba'] * 1e3:.3f} | "
-                    f"{times['numpy'] / times['numba']:.2f} | {pair * 1e3:.3f} | {times['numba'] / pair:.2f} |")
+        fused = times["numba"]
+        rows.append(f"| 2^{e} | {times['numpy'] * 1e3:.3f} | {fused * 1e3:.3f} | {times['numba, libm exp'] * 1e3:.3f} | "
+                    f"{times['numpy'] / fused:.2f} | {times['numba, libm exp'] / fused:.2f} | {pair * 1e3:.3f} | "
+                    f"{fused / pair:.2f} |")
     return rows
 
 
@@ -79,20 +126,22 @@ def ramp_table(size, phis, repeats):
             "max |Δa_rel| |", "|---|---|---|---|---|---|---|"]
     inner = ncg.Eq3Nodes
     for phi in phis:
-        runs = {"numpy": [], "numba": []}
+        runs = {label: [] for label, _, _ in VARIANTS}
         for _ in range(repeats):
-            for backend in ("numpy", "numba"):
+            for label, backend, swap in VARIANTS:
                 ncg.Eq3Nodes = lambda *a, b=backend: inner(*a, backend=b)
-                t0 = time.process_time()
-                r = ramp(2**size, "cohesive", realization=1, scene_keys={"interface.phi_n_star": phi}, a_rel_stop=2.0)
-                runs[backend].append((time.process_time() - t0, r))
+                with swap():
+                    t0 = time.process_time()
+                    r = ramp(2**size, "cohesive", realization=1, scene_keys={"interface.phi_n_star": phi},
+                             a_rel_stop=2.0)
+                    runs[label].append((time.process_time() - t0, r))
         ncg.Eq3Nodes = inner
-        for backend, got in runs.items():
+        for label, got in runs.items():
             r = got[0][1]
             dp, da, _ = ramp_differences(r, runs["numpy"][0][1])
             cpu = " / ".join(f"{c:.2f}" for c, _ in got)
             median = float(np.median([c for c, _ in got]))
-            rows.append(f"| {phi:g} | {backend} | {cpu} | {median:.2f} | {sum(x['it'] for x in r)} | {dp:.2g} | "
+            rows.append(f"| {phi:g} | {label} | {cpu} | {median:.2f} | {sum(x['it'] for x in r)} | {dp:.2g} | "
                         f"{da:.2g} |")
     return rows
 
@@ -107,7 +156,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     if kernels.numba is None:
         sys.exit("bench_ncg_nodes: numba is not installed (pip install 'gfmd-contact[fast]')")
-    lines = header("The cohesive NCG's nodal law work: numpy against the fused pass (`gfmd.ncg_nodes`)", "bench_ncg_nodes.py",
+    lines = header("The cohesive NCG's nodal law work: numpy against the fused passes (`gfmd.ncg_nodes`)", "bench_ncg_nodes.py",
                    argv)
     lines += ["## 1. One line-search trial (wall time per call)", ""]
     lines += trial_table(args.sizes)

@@ -17,51 +17,35 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   from the better of the step's guess and the last state (`relax`'s `previous`, `COUPLED_BETTER_START`):
   the continuation Newton–Krylov first, its converged state kept only as a continuation of the ramp's branch (no
   node moved `COUPLED_JUMP` law lengths from the step's start); it gives up at the first GMRES solve that misses
-  its tolerance (``coupled_gmres_give_up``: a near-singular or indefinite tangent along the step) and once an
-  iterate has moved a node `COUPLED_JUMP` law lengths (``coupled_continuation_jump``: a state the acceptance
-  test would reject), once two iterations in a row each left more than `COUPLED_CONTINUATION_STAGNATION` of the
-  residual (``coupled_continuation_stagnation``; Fig. 8 at 2^17, steps 121–160 of seed 7: −13 % CPU at ν = 0.45,
-  −23 % at ν = 0.1, the states bit for bit, benchmarks/results/bench_coupled_stagnation_*.md) or after
-  `COUPLED_CONTINUATION_ITERATIONS` (``coupled_continuation_iterations``); measured,
-  benchmarks/results/bench_coupled_continuation_*.md: −7 to −27 % FFT pairs per whole ramp at 2^13–2^14, the
-  states unchanged. Its GMRES solves get `COUPLED_CONTINUATION_GMRES_CYCLES` restart cycles of the fallback
-  Newton's five (``coupled_continuation_gmres_cycles``; a miss is a break-off): Fig. 8 at 2^17, seed 7, steps
-  161–198, 22 194 → 18 977 FFT pairs, the states bit for bit (kept continuations never needed a third cycle).
-  Otherwise FIRE from the guess to the looser residual `Settings.coupled_handover` (link tolerance "handover"),
-  Newton–Krylov from the state it hands over, kept where no node moved `COUPLED_HANDOVER_MOVE` law lengths from it
-  (the equilibrium FIRE's damped dynamics was approaching), else FIRE goes on from its handover state for up to
-  `COUPLED_FIRE_CRAWL` iterations in all (through a fold's ghost); FIRE from where the continuation Newton
-  stalled (start "stalled end", resumed without the break-off where it broke off: a jump-in fold, Fig. 8 at 2^17,
-  seed 2, step 176: Newton stops at a minimum of |f| beside the fold, FIRE from the guess does not settle in its
-  budget, FIRE from Newton's stall carries the snap in 1 530 iterations); then the stability-tested Newton of
-  ``coupled = "fire"``, Ψtc (kept where locally stable, `_LAST_RESORT`) and Verlet. Measured against the default
-  before (the "newton" chain without the break-off; benchmarks/results/bench_coupled_continuation_*.md): −22 to −41 %
-  FFT pairs per whole ramp at 2^13–2^14 (the handover alone −14 to −17 %), −50 % on the event steps 167–174 of Fig.
-  8's seed-3 task at 2^17, the states within 5e-6 δn.
+  its tolerance within `COUPLED_CONTINUATION_GMRES_CYCLES` (``coupled_gmres_give_up``: a near-singular or
+  indefinite tangent), once an iterate moved a node `COUPLED_JUMP` law lengths (``coupled_continuation_jump``),
+  once two iterations in a row each left more than `COUPLED_CONTINUATION_STAGNATION` of the residual and after
+  `COUPLED_CONTINUATION_ITERATIONS`. Otherwise FIRE from the guess to the looser residual
+  `Settings.coupled_handover` (link tolerance "handover"), Newton–Krylov from the state it hands over, kept where
+  no node moved `COUPLED_HANDOVER_MOVE` law lengths from it (the equilibrium FIRE was approaching), else FIRE goes
+  on from its handover state for up to `COUPLED_FIRE_CRAWL` iterations in all (through a fold's ghost); FIRE from
+  where the continuation Newton stalled (start "stalled end", resumed without the break-off where it broke off: a
+  jump-in fold, Fig. 8 at 2^17, seed 2, step 176); then the stability-tested Newton of ``coupled = "fire"``, Ψtc
+  (kept where locally stable, `_LAST_RESORT`) and Verlet. Each rule's measurements (FFT pairs per whole ramp at
+  2^13–2^14 and on Fig. 8's full-scale event steps, the states unchanged): README, issue 24, and
+  benchmarks/results/bench_coupled_{continuation,stagnation,fallback,handover}*.md.
   ``coupled = "newton"`` (the default of issue 24 until session 26): the continuation Newton, then FIRE from the
   guess and, where it stalls there, from the continuation's stall ("stalled end"), then as ``coupled = "fire"``:
-  FIRE; after a stall (`COUPLED_FIRE_BUDGET`) Newton–Krylov from the guess, then from
-  FIRE's end state, a converged state kept only where locally stable (`gfmd.problem.coupled_stability`, the FE
-  reference's criterion); then Ψtc and Verlet from the guess. Method "verlet": Verlet. Measured
-  (benchmarks/results/bench_adhesion_scaling_full.md): the Newton-first chain needs 2.8–3.1× fewer FFT pairs per
-  step than FIRE first on the Fig. 8 ramp; the GMRES give-up (benchmarks/results/bench_coupled_fallback.md) cuts
-  the full-scale fallback steps whose continuation Newton used to run 23–60 inexact iterations (5 400–13 300 FFT
-  pairs, 81–186 s in the Fig. 8 study) to one GMRES solve before FIRE, the accepted states unchanged.
-  ``coupled = "ptc"`` (issue 24, measured, not the default: benchmarks/results/bench_coupled_ptc.md): the Newton
-  chain with pseudo-transient continuation (`coupled_ptc`, from the guess, kept only where locally stable)
-  between the continuation Newton and FIRE. ``coupled = "handover"`` (measured, not the default:
-  benchmarks/results/bench_coupled_handover.md): "handover-near" whose handed-over Newton state is also
-  stability-tested (≈ 5× the event steps' cost).
+  FIRE; after a stall (`COUPLED_FIRE_BUDGET`) Newton–Krylov from the guess, then from FIRE's end state where FIRE
+  lowered the residual (`_progressed`), a converged state kept only where locally stable
+  (`gfmd.coupled_stability`, the FE reference's criterion); then Ψtc and Verlet from the guess. Method "verlet":
+  Verlet. Measured, not the default: ``coupled = "ptc"``, Ψtc (`coupled_ptc`, kept where locally stable) between
+  the continuation Newton and FIRE; ``coupled = "handover"``, "handover-near" whose handed-over Newton state is
+  also stability-tested (benchmarks/results/bench_coupled_ptc.md, bench_coupled_handover.md).
 * cohesive wall: projected FIRE, or Verlet (method "verlet").
 * user law (`contact.user_law`, normal-only, a potential): as the normal-only cohesive law, the NCG (its
   generic nodal path: the user's traction and tangent on every node) and FIRE after a stall; the labels are
   the same ("ncg", "ncg→fire"), the law's name is in the model description and meta.json.
 
-Why the coupled chain: FIRE's restarts test the power f·v, a descent test only for forces f = −∇E;
-the coupled law has no potential, and at strongly non-symmetric states (large slip under
-compression) FIRE's weakly damped inertia circulates: started at the FE equilibrium of such a state
-it drifts away (residual 8e-3 → 0.19 p_ref in 3e4 iterations) while per-mode critically damped
-Verlet converges in 410. Deeper in the slip regime Verlet fails the same way: fig8_small (ν = 0.1,
+Why the coupled chain: FIRE's restarts test the power f·v, a descent test only for forces f = −∇E; the coupled law
+has no potential, and at strongly non-symmetric states (large slip under compression) FIRE's weakly damped inertia
+circulates: started at the FE equilibrium of such a state it drifts away (residual 8e-3 → 0.19 p_ref in 3e4
+iterations) while per-mode critically damped Verlet converges in 410. Deeper in the slip regime Verlet fails the same way: fig8_small (ν = 0.1,
 c = 0.5, φn* = 0.15, seed 2, N = 4096) at δ = 20 nm has a static equilibrium (Newton: 8
 iterations) whose eigenvalues of J nearest 0 all have Re λ > 0, but damped inertial dynamics
 started on it drift off: the tangent's antisymmetric part (circulatory forces at the slipping,
@@ -81,7 +65,8 @@ from contact import laws
 from .algorithms import (cohesive_wall, coupled_newton, coupled_ptc, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
                          hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
 from .coupled_krylov import balance_residual
-from .problem import Problem, coupled_stability, flat_problem
+from .coupled_stability import coupled_stability
+from .problem import Problem, flat_problem
 from .stopping import finish
 
 #: the algorithms by name (gfmd.algorithms: one module each, `solve(problem, start, settings) -> Relaxed`)
@@ -343,6 +328,17 @@ def _stall_point(problem, link, before, settings):
     return stop, resumed
 
 
+def _progressed(problem, end, origin, count_pairs):
+    """Whether a run's end state is a start (``"finite end"``): its residual finite and below that of the state it
+    started from (a FIRE run that blew up, Fig. 8 at 2^17, seed 7, step 199: 0.21 → 2.3e7 p_ref, is none; Newton
+    from there ran 47 iterations, 131 s, to 2.1e3 p_ref). The start's residual costs one FFT pair, counted."""
+    if not np.isfinite(end.residual):
+        return False
+    start, pairs = balance_residual(problem.model, problem.law, problem.z_ind, origin)
+    count_pairs(pairs)
+    return end.residual < start
+
+
 def _rejected(problem, link, r, origin):
     """Why a converged state fails the link's acceptance test ("" if it passes)."""
     if link.accept == "continuation":  # kept only where no node moved COUPLED_JUMP law lengths from the start
@@ -431,6 +427,10 @@ def _relax(problem, chain, u_hat, settings):
         if r.method and (not names or names[-1] != r.method):
             names.append(r.method)
 
+    def count_pairs(more):
+        nonlocal pairs
+        pairs += more
+
     before = None  # the last link's final result: "end" starts from it
     first, stall = None, None  # the first link's final result; (where it stalled,) for "stalled end", found once
     handed, handover_used = None, 0  # the state a "handover" link reached (start "handover") and its iterations
@@ -465,7 +465,7 @@ def _relax(problem, chain, u_hat, settings):
                 if stall[0] is None:
                     continue
                 origin = stall[0].u_hat
-            elif start == "end" or np.isfinite(before.residual):
+            elif start == "end" or _progressed(problem, before, before_origin, count_pairs):
                 origin = before.u_hat
             else:
                 continue
@@ -485,7 +485,7 @@ def _relax(problem, chain, u_hat, settings):
             result = None
         if result is not None:
             break
-        before = r
+        before, before_origin = r, origin
         first = r if i == 0 else first
     else:  # every link stalled or was rejected: the last state is the answer, not converged
         result = r

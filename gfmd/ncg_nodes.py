@@ -5,11 +5,12 @@ gap s = Δn/δn, e^{−s}, dE/dα's law term Σ_j T_n,j d_j and d²E/dα²'s Σ_
 
     T_n = (φn/δn) s e^{−s},   k_loc = dT_n/dΔn = (φn/δn²)(1 − s) e^{−s}.
 
-numpy needs 7 passes over the nodes per trial (a temporary each); the numba kernel (the ``fast`` extra) one,
-with the exp, into reused arrays. Measured (benchmarks/results/bench_ncg_nodes.md, N = 2^17): a trial 0.86 ms
-against 3.8 ms; whole Fig. 3 ramps (realization 1, the same iterations, p̄ within 2e-12) CPU −18 % at φn* = 0.15 and
-−5 % at 0.001 (medians of 4). Both give the same sums up to round-off (the fused sums are reassociated);
-``GFMD_JIT`` chooses, as for the spectral algebra (`gfmd.kernels.jit_backend`).
+numpy needs 7 passes over the nodes per trial (a temporary each); numba two, into reused arrays: the state
+(Δn − α d, s, e^{−s}) with `gfmd.vector_exp.exp`, which LLVM vectorizes (libm's exp, a scalar call, kept the one
+fused pass before session 37 from it), then the two sums (reassociated). Measured
+(benchmarks/results/bench_ncg_nodes.md, N = 2^17): a trial 0.53 ms against 0.97 ms with libm's exp in one pass and
+5.4 ms in numpy. Both backends give the same sums up to round-off; ``GFMD_JIT`` chooses, as for the spectral algebra
+(`gfmd.kernels.jit_backend`).
 A user law (`contact.user_law`) evaluates its own callables (`UserNodes`).
 """
 
@@ -19,7 +20,7 @@ import numpy as np
 
 from contact import laws
 
-from . import kernels
+from . import kernels, vector_exp
 from .fft import dot
 
 numba = kernels.numba
@@ -129,20 +130,27 @@ if numba is not None:
     # must reach the line search (its bracket treats a non-finite dE/dα as the upper end)
     _FLAGS = {"reassoc", "contract", "nsz", "arcp"}
 
-    @numba.njit(cache=True, fastmath=_FLAGS)
-    def _trial_fused(gap, d, alpha, inv_dn, max_compression, gap_a, s, e):  # one pass: Eq3Nodes.trial's sums
-        work = curv = 0.0
+    @numba.njit(cache=True, fastmath=vector_exp.STRICT_FLAGS)
+    def _trial_state(gap, d, alpha, inv_dn, max_compression, gap_a, s, e):  # Δn − α d, s, e^{−s}: a vectorized pass
         for i in range(gap.size):
             g = gap[i] - alpha * d[i]
             si = g * inv_dn
-            if si < -max_compression:
-                si = -max_compression
-            ei = np.exp(-si)
-            gap_a[i], s[i], e[i] = g, si, ei
-            x = ei * d[i]
-            work += si * x
-            curv += (1.0 - si) * x * d[i]
+            si = si if si >= -max_compression else -max_compression
+            gap_a[i], s[i], e[i] = g, si, vector_exp.exp(-si)
+
+    @numba.njit(cache=True, fastmath=_FLAGS)
+    def _trial_sums(s, e, d):  # Σ s e d and Σ (1 − s) e d²
+        work = curv = 0.0
+        for i in range(s.size):
+            x = e[i] * d[i]
+            work += s[i] * x
+            curv += (1.0 - s[i]) * x * d[i]
         return work, curv
+
+    def _trial_fused(gap, d, alpha, inv_dn, max_compression, gap_a, s, e):
+        """Eq3Nodes.trial's state and sums: two passes (the exp's loop may not reassociate, the sums' must)."""
+        _trial_state(gap, d, alpha, inv_dn, max_compression, gap_a, s, e)
+        return _trial_sums(s, e, d)
 
     @numba.njit(cache=True, fastmath=_FLAGS)
     def _curvature_fused(s, e, d):  # Σ (1 − s) e d²

@@ -377,38 +377,3 @@ def coupled_operators(model, law, z_ind, u, fft, shifted=True):
     size = c * n
     return (LinearOperator((size, size), matvec=a_times, dtype=float),
             LinearOperator((size, size), matvec=m_inv, dtype=float), project)
-
-
-#: eigenvalues of the tangent nearest 0 that `coupled_stability` computes (shift-invert Arnoldi)
-COUPLED_STABILITY_EIGENVALUES = 6
-#: GMRES inside `coupled_stability`: restart and cycles
-STABILITY_GMRES_RESTART = 120
-STABILITY_GMRES_CYCLES = 20
-
-
-def coupled_stability(model, law, z_ind, u_hat):
-    """Smallest Re λ (Pa/m) among the COUPLED_STABILITY_EIGENVALUES eigenvalues nearest 0 of the
-    tangent J = K + D at u_hat (None if Arnoldi found none). The FE reference's test of a coupled
-    equilibrium (`reference.fem.solver.locally_stable`: every eigenvalue of W⁻¹J has Re λ > 0,
-    W the nodal weights, uniform here) restricted to the eigenvalues a fold or a slip instability
-    sends through 0: shift-invert ARPACK on J⁻¹, each solve by GMRES (M⁻¹-preconditioned)."""
-    from scipy.sparse.linalg import ArpackNoConvergence, LinearOperator, eigs, gmres
-
-    fft = Fft(model.nodes, grid=model.grid)
-    a_op, m_op, project = coupled_operators(model, law, z_ind, fft.irfft(u_hat), fft)
-    shape = (model.components, model.nodes)
-
-    def solve(b):
-        x, _ = gmres(a_op, project(b.reshape(shape)).ravel(), M=m_op, rtol=1e-8,
-                     restart=STABILITY_GMRES_RESTART, maxiter=STABILITY_GMRES_CYCLES)
-        return x
-
-    inverse = LinearOperator(a_op.shape, matvec=solve, dtype=float)
-    k = COUPLED_STABILITY_EIGENVALUES
-    try:
-        mu = eigs(inverse, k=k, which="LM", return_eigenvectors=False, tol=1e-4, maxiter=100 * k)
-    except ArpackNoConvergence as exc:
-        mu = exc.eigenvalues
-    mu = np.asarray(mu)
-    mu = mu[np.isfinite(mu) & (np.abs(mu) > 0)]
-    return float(np.min((1.0 / mu).real)) if mu.size else None

@@ -306,7 +306,41 @@ def test_a_continuation_stalled_at_the_guess_does_not_start_fire_twice(monkeypat
     r = chains.relax(p.model, p.law, p.z_ind, guess, settings, p.wall_tolerance)
     assert calls == [("newton", "continuation"), ("fire", "fire"),  # then the fallback Newton from both its starts
                      ("newton", "other"), ("newton", "other"), ("ptc", True), ("fire", "verlet")]
-    assert r.converged and "stalled at the guess" in r.message and r.fft_pairs == 6 * 5.0
+    # + 1.5 pairs: the residual of the state FIRE started from, which `chains._progressed` compares with its end's
+    assert r.converged and "stalled at the guess" in r.message and r.fft_pairs == 6 * 5.0 + 1.5
+
+
+@pytest.mark.parametrize("coupled", ["newton", "handover-near"])
+@pytest.mark.parametrize("blew_up", [True, False])
+def test_a_fire_run_that_blew_up_is_no_start(monkeypatch, coupled, blew_up):
+    """The fallback Newton starts from the guess, then from FIRE's end ("finite end") only where FIRE lowered the
+    residual of the state it started from (Fig. 8 at 2^17, seed 7, step 199: FIRE from 0.21 to 2.3e7 p_ref, Newton
+    from there 47 iterations and 131 s to 2.1e3 p_ref)."""
+    from gfmd.coupled_krylov import balance_residual
+
+    p = problem("cohesive", **{"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3})
+    settings = Settings(tolerance=1e-8, coupled=coupled)
+    shape = (p.model.components, p.model.nodes // 2 + 1)
+    guess = np.zeros(shape, complex)
+    at_guess, _ = balance_residual(p.model, p.law, p.z_ind, guess)
+    calls = []
+
+    def newton(problem, start, run):
+        calls.append(("newton", "guess" if start is guess else "other"))
+        return fake_result(p, start.copy(), False, "newton", 3, fft_pairs=5.0, residual=2.0 * at_guess)
+
+    def fire(problem, start, run):
+        calls.append(("fire", run.method))
+        end = (1e7 if blew_up else 0.5) * at_guess
+        return fake_result(p, start.copy(), run.method == "verlet", "fire", 3, fft_pairs=5.0, residual=end)
+
+    monkeypatch.setitem(chains.ALGORITHMS, "coupled_newton", newton)
+    monkeypatch.setitem(chains.ALGORITHMS, "dynamics", fire)
+    monkeypatch.setitem(chains.ALGORITHMS, "coupled_ptc", lambda problem, start, run: fake_result(
+        p, start, False, "ptc", 3, fft_pairs=5.0, residual=2.0))
+    chains.relax(p.model, p.law, p.z_ind, guess, settings, p.wall_tolerance)
+    fallback = [c for c in calls[calls.index(("fire", "fire")):] if c[0] == "newton"]
+    assert fallback == ([("newton", "guess")] if blew_up else [("newton", "guess"), ("newton", "other")])
 
 
 @pytest.mark.parametrize("stable", [True, False])

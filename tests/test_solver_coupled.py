@@ -29,7 +29,8 @@ from gfmd import chains, coupled_preconditioner, solver as gs
 from gfmd.algorithms import coupled_newton, dynamics
 from gfmd.coupled_krylov import FORCING, FORCING_MIN, eisenstat_walker, forcing
 from gfmd.loading import prepare, run_realization
-from gfmd.problem import Problem, coupled_stability
+from gfmd.coupled_stability import coupled_stability
+from gfmd.problem import Problem
 from gfmd.stopping import finish
 
 BASE = Path(__file__).resolve().parents[1] / "studies" / "seed" / "fig3_small_base.toml"
@@ -117,6 +118,24 @@ def test_newton_equilibrium_is_locally_stable(fig8_step):
     eq = coupled_newton.solve(Problem(cell.physics, cell.law, z100), 2 * current - previous, cell.settings)
     lowest = coupled_stability(cell.physics, cell.law, z100, eq.u_hat)
     assert lowest is not None and 0.01 < lowest / cell.law.k_int_z < 0.1
+
+
+def test_stability_solvers_agree(fig8_step, monkeypatch):
+    """The stability test's solves by the Newton's two-level GMRES (the default) and by scipy's GMRES under M⁻¹ (the
+    test before session 37) give the same lowest Re λ, within ARPACK's requested relative tolerance (1e-4); an
+    unknown solver is refused by name."""
+    from gfmd import coupled_stability as stability
+
+    cell, previous, current, (_, z100) = fig8_step
+    eq = coupled_newton.solve(Problem(cell.physics, cell.law, z100), 2 * current - previous, cell.settings)
+    got = {}
+    for solver in ("newton", "scipy"):
+        monkeypatch.setattr(stability, "SOLVER", solver)
+        got[solver] = coupled_stability(cell.physics, cell.law, z100, eq.u_hat)
+    assert abs(got["newton"] - got["scipy"]) <= 1e-4 * abs(got["scipy"])
+    monkeypatch.setattr(stability, "SOLVER", "lanczos")
+    with pytest.raises(ValueError, match="SOLVER = 'lanczos'"):
+        coupled_stability(cell.physics, cell.law, z100, eq.u_hat)
 
 
 def test_unstable_newton_equilibrium_is_rejected(fig8_step, monkeypatch):
