@@ -47,7 +47,7 @@ from contact.loading import extrapolation_allowed, indenter_surface, realization
 from contact.observables import step_observables  # noqa: E402
 from contact.scene import load_scene  # noqa: E402
 from gfmd.chains import relax  # noqa: E402
-from gfmd.loading import prepare  # noqa: E402
+from gfmd.loading import prepare, wall_tolerance_of  # noqa: E402
 from workbench.study import task_scene  # noqa: E402
 
 SEED = ROOT / "studies" / "seed"
@@ -82,7 +82,7 @@ def ramp(n, cls, options=None, max_steps=None, realization=1, scene_keys=None, a
     settings = replace(cell.settings, **(options or {}))
     steps, _ = realization_steps(scene, h, 0)
     d0 = scene.loading.initial_separation
-    wall_tolerance = 1e-12 * max(float(np.ptp(h)), scene.interface.length_normal)
+    wall_tolerance = wall_tolerance_of(scene, h)  # the study's (`gfmd.loading`)
     current = previous = cell.initial_state()
     rows = []
     for k, displacement in enumerate(steps):

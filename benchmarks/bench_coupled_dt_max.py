@@ -15,7 +15,6 @@ benchmarks/results/bench_coupled_dt_max.json, keyed by size, ν and realization)
 
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 from pathlib import Path
@@ -25,10 +24,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
-from benchmarks.report import event_sweep_row, write_event_sweep  # noqa: E402
+from benchmarks.report import event_sweep_arguments, event_sweep_row, write_event_sweep  # noqa: E402
 from workbench.study_task import reuse_freed_arrays  # noqa: E402
 
-RESULTS = ROOT / "benchmarks" / "results"
 
 
 def sweep(size, realization, nu, values):
@@ -43,19 +41,11 @@ def sweep(size, realization, nu, values):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--size", type=int, default=15)
-    ap.add_argument("--realization", type=int, default=2)
-    ap.add_argument("--nu", type=float, default=0.1)
-    ap.add_argument("--values", type=float, nargs="+", default=[1.0, 0.6, 0.5, 0.4, 0.3, 0.2])
-    ap.add_argument("--out")
-    ap.add_argument("--data", default=str(RESULTS / "bench_coupled_dt_max.json"))
-    args = ap.parse_args(argv)
-    out = args.out or RESULTS / f"bench_coupled_dt_max_e{args.size}_nu{args.nu:g}_r{args.realization}.md"
+    args = event_sweep_arguments(__doc__, "bench_coupled_dt_max", [1.0, 0.6, 0.5, 0.4, 0.3, 0.2], float, argv=argv)
     reuse_freed_arrays()
     ramp(2**12, "coupled", max_steps=3)  # numba's compilation and the caches outside the measured ramps
     rows = sweep(args.size, args.realization, args.nu, args.values)
-    write_event_sweep(rows, args.data, f"size {args.size}, nu {args.nu:g}, realization {args.realization}", out,
+    write_event_sweep(rows, args.data, f"size {args.size}, nu {args.nu:g}, realization {args.realization}", args.out,
                       f"The coupled FIRE's time-step cap, N = 2^{args.size}, ν = {args.nu:g}, realization "
                       f"{args.realization}", "bench_coupled_dt_max.py", argv, "coupled_dt_max", lambda r: f"{r['dt_max']:g}")
 

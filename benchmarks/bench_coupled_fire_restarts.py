@@ -19,7 +19,6 @@ first value, 0.5/5, first in each). FFT pairs are deterministic; CPU s are one p
 
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 from pathlib import Path
@@ -29,10 +28,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
-from benchmarks.report import event_sweep_row, write_event_sweep  # noqa: E402
+from benchmarks.report import event_sweep_arguments, event_sweep_row, write_event_sweep  # noqa: E402
 from workbench.study_task import reuse_freed_arrays  # noqa: E402
 
-RESULTS = ROOT / "benchmarks" / "results"
 
 
 def parameters(value):
@@ -55,19 +53,11 @@ def sweep(size, realization, nu, values):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--size", type=int, default=15)
-    ap.add_argument("--realization", type=int, default=2)
-    ap.add_argument("--nu", type=float, default=0.1)
-    ap.add_argument("--values", nargs="+", default=["0.5/5", "0.7/5", "0.7/2", "0.5/2", "0.8/2", "0.6/2"])
-    ap.add_argument("--out")
-    ap.add_argument("--data", default=str(RESULTS / "bench_coupled_fire_restarts.json"))
-    args = ap.parse_args(argv)
-    out = args.out or RESULTS / f"bench_coupled_fire_restarts_e{args.size}_nu{args.nu:g}_r{args.realization}.md"
+    args = event_sweep_arguments(__doc__, "bench_coupled_fire_restarts", ["0.5/5", "0.7/5", "0.7/2", "0.5/2", "0.8/2", "0.6/2"], argv=argv)
     reuse_freed_arrays()
     ramp(2**12, "coupled", max_steps=3)  # numba's compilation and the caches outside the measured ramps
     rows = sweep(args.size, args.realization, args.nu, args.values)
-    write_event_sweep(rows, args.data, f"size {args.size}, nu {args.nu:g}, realization {args.realization}", out,
+    write_event_sweep(rows, args.data, f"size {args.size}, nu {args.nu:g}, realization {args.realization}", args.out,
                       f"The coupled FIRE's restarts (f_dec / n_min), N = 2^{args.size}, ν = {args.nu:g}, realization "
                       f"{args.realization}", "bench_coupled_fire_restarts.py", argv, "f_dec / n_min",
                       lambda r: f"{r['f_dec']:g} / {r['n_min']}", same=lambda r: (r["f_dec"], r["n_min"]))

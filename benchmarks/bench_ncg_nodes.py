@@ -19,10 +19,12 @@ Writes benchmarks/results/bench_ncg_nodes.md (or --out).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import sys
 import time
 from pathlib import Path
+from unittest import mock
 
 for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):  # before numpy: one thread
     os.environ.setdefault(_var, "1")
@@ -57,26 +59,9 @@ if kernels.numba is not None:
         return work, curv
 
 
-class _LibmExp:
-    """ncg_nodes' fused trial replaced by `_trial_libm` inside the block."""
-
-    def __enter__(self):
-        self.kept, ncg_nodes._trial_fused = ncg_nodes._trial_fused, _trial_libm
-
-    def __exit__(self, *exc):
-        ncg_nodes._trial_fused = self.kept
-
-
-class _Nothing:
-    def __enter__(self):
-        pass
-
-    def __exit__(self, *exc):
-        pass
-
-
-#: the nodal variants: (label, Eq3Nodes backend, context that swaps the fused trial)
-VARIANTS = (("numpy", "numpy", _Nothing), ("numba", "numba", _Nothing), ("numba, libm exp", "numba", _LibmExp))
+#: the nodal variants: (label, Eq3Nodes backend, context: ncg_nodes' fused trial as it is or as `_trial_libm`)
+VARIANTS = (("numpy", "numpy", contextlib.nullcontext), ("numba", "numba", contextlib.nullcontext),
+            ("numba, libm exp", "numba", lambda: mock.patch.object(ncg_nodes, "_trial_fused", _trial_libm)))
 
 
 def per_call(fn, seconds=0.3):

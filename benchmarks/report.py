@@ -95,3 +95,21 @@ def write_event_sweep(rows, data_path, key, out, title, script, argv, name, valu
     data[key] = rows_stored
     Path(data_path).write_text(json.dumps(data, indent=1) + "\n")
     write(header(title, script, argv) + event_sweep_table(rows, name, value_of), out)
+
+
+def event_sweep_arguments(doc, name, values, value_type=str, argv=None):
+    """The options the coupled sweeps share (--size, --realization, --nu, --values, --out, --data) parsed, --out
+    defaulting to benchmarks/results/<name>_e<size>_nu<ν>_r<realization>.md and --data to <name>.json there."""
+    import argparse
+
+    results = ROOT / "benchmarks" / "results"
+    ap = argparse.ArgumentParser(description=doc.splitlines()[0])
+    ap.add_argument("--size", type=int, default=15)
+    ap.add_argument("--realization", type=int, default=2)
+    ap.add_argument("--nu", type=float, default=0.1)
+    ap.add_argument("--values", type=value_type, nargs="+", default=values)
+    ap.add_argument("--out")
+    ap.add_argument("--data", default=str(results / f"{name}.json"))
+    args = ap.parse_args(argv)
+    args.out = args.out or results / f"{name}_e{args.size}_nu{args.nu:g}_r{args.realization}.md"
+    return args

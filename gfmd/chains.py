@@ -431,7 +431,7 @@ def _relax(problem, chain, u_hat, settings):
         nonlocal pairs
         pairs += more
 
-    before = None  # the last link's final result: "end" starts from it
+    before, before_origin = None, None  # the last link's final result ("end" starts from it) and its start
     first, stall = None, None  # the first link's final result; (where it stalled,) for "stalled end", found once
     handed, handover_used = None, 0  # the state a "handover" link reached (start "handover") and its iterations
     for i, link in enumerate(chain):

@@ -10,8 +10,9 @@ STABILITY_RTOL.
 
 `SOLVER` = "scipy" runs each solve as before session 37: scipy's GMRES (restart STABILITY_GMRES_RESTART, its
 Gram–Schmidt a Python loop over 2N-vectors) preconditioned by the FIRE mass M⁻¹ alone. Measured at 2^17 on Fig. 8's
-seed-7 task (ν = 0.1, c = 0.5, step 199, a state deep in the slip regime that Ψtc reached): 330 s for 21 solves
-(benchmarks/results/bench_coupled_stability.md).
+seed-7 task (ν = 0.1, c = 0.5, steps 199 and 200, states deep in the slip regime that Ψtc and Newton reached):
+302 and 356 s for 21 solves each against 39 and 45 s (benchmarks/results/bench_coupled_stability.md). Each solve
+builds the Newton's coarse space anew (≈ 0.02 s at 2^17, 1 % of the test: not worth a second entry point).
 """
 
 from __future__ import annotations
