@@ -1,7 +1,9 @@
 """The real FFT the GFMD algorithms use, counting pairs, and the nodal dot products.
 
-Backend: scipy.fft, or ducc0 where installed (the ``fast`` extra; 1.4–2× faster rfft/irfft pairs
-measured here); ``GFMD_FFT=scipy|ducc0|auto`` (default auto) chooses (`fft_backend`). The hard-wall
+Backend: FFTW (pyfftw, a default dependency), else ducc0, else scipy.fft; ``GFMD_FFT=scipy|ducc0|fftw|auto``
+(default auto: the fastest installed) chooses (`fft_backend`). Measured per rfft/irfft pair at 2^17
+(benchmarks/bench_fft.py). FFTW runs plans made once per process, shape and thread (`_fftw_plans`; measured plans
+kept as wisdom, `FFTW_MEASURE_FROM`) on their own aligned buffers. The hard-wall
 CGs, the cohesive NCG, FIRE on a law with a traction function and Newton–Krylov go through `Fft`;
 the projected dynamics of the hard wall and of the cohesive wall, and `gfmd.stopping.finish`, call
 scipy.fft directly (through `rfft_nodes` / `irfft_nodes`, which are exactly those calls in 1+1-D).
@@ -15,20 +17,174 @@ copies). One rfft2/irfft2 pair counts as one pair, as in 1+1-D.
 
 from __future__ import annotations
 
+import contextlib
+import hashlib
+import os
+import platform
+import threading
+from pathlib import Path
+
 import numpy as np
 import scipy.fft
 
-try:  # optional, the `fast` extra: a faster real FFT (measured 1.4–2× per rfft/irfft pair here)
+from . import kernels
+
+try:  # a default dependency: a faster real FFT than scipy's (measured 1.4–2× per rfft/irfft pair here)
     import ducc0.fft as _ducc_fft
 except ImportError:  # pragma: no cover - depends on the environment
     _ducc_fft = None
+try:  # POSIX: the FFTW wisdom file's lock
+    import fcntl
+except ImportError:  # pragma: no cover - Windows
+    fcntl = None
+try:  # a default dependency: FFTW's plans, faster again than ducc0 (benchmarks/bench_fft.py)
+    import pyfftw as _pyfftw
+except ImportError:  # pragma: no cover - depends on the environment
+    _pyfftw = None
 
-from . import kernels
+#: FFTW transforms of at least this many points are planned with FFTW_MEASURE (candidates timed; whole 2^17 ramps
+#: took 0.84× ducc0's CPU time with the NCG, 0.79× with the hard wall, benchmarks/bench_fft.py), their plans kept as
+#: FFTW wisdom in `wisdom_path` under a file lock, so every later process on this machine makes the same plan (the
+#: same results bit for bit) at once; smaller ones (and all where no wisdom file can be made) FFTW_ESTIMATE: a plan
+#: by heuristics, the same in every process
+FFTW_MEASURE_FROM = 1 << 14
+_FFTW_LOCAL = threading.local()  # {(real shape, axes): _FftwPair}, per thread: a plan's buffers are its own
 
 
 def fft_backend(name=None):
-    """The FFT backend in use: "ducc0" or "scipy" (from `name`, else $GFMD_FFT, default "auto")."""
-    return kernels.choose_backend("GFMD_FFT", name, "ducc0", "scipy", _ducc_fft is not None)
+    """The FFT backend in use: "fftw", "ducc0" or "scipy" (from `name`, else $GFMD_FFT, default "auto": FFTW,
+    else ducc0, else scipy, as installed)."""
+    chosen = (name or os.environ.get("GFMD_FFT", "auto")).lower()
+    if chosen in ("auto", "fftw") and _pyfftw is not None:
+        return "fftw"
+    if chosen == "fftw":
+        raise ImportError("GFMD_FFT = fftw but pyfftw is not installed (pip install pyfftw)")
+    return kernels.choose_backend("GFMD_FFT", name, "ducc0", "scipy", _ducc_fft is not None, also=("fftw",))
+
+
+def backend_words(name=None):
+    """`fft_backend` in words for a model description, naming its variable (and how FFTW's plans are made)."""
+    backend = fft_backend(name)
+    if backend != "fftw":
+        return f"{backend} (GFMD_FFT)"
+    if wisdom_path() is None:
+        return "fftw (GFMD_FFT; every plan FFTW_ESTIMATE, GFMD_FFTW_WISDOM off)"
+    return f"fftw (GFMD_FFT; FFTW_MEASURE plans from {FFTW_MEASURE_FROM} points, kept as wisdom: GFMD_FFTW_WISDOM)"
+
+
+class _FftwPair:
+    """FFTW's r2c and c2r plans over `shape` (..., n) along `axes`, sharing one spectrum buffer:
+    real_in → spectrum (forward), spectrum → real_out (backward, unnormalised; it overwrites the spectrum)."""
+
+    def __init__(self, shape, axes):
+        self.axes = axes
+        spectrum_shape = shape[:-1] + (shape[-1] // 2 + 1,)
+        self.real_in = _pyfftw.empty_aligned(shape, dtype=float)
+        self.spectrum = _pyfftw.empty_aligned(spectrum_shape, dtype=complex)
+        self.real_out = _pyfftw.empty_aligned(shape, dtype=float)
+        points = int(np.prod([shape[a] for a in axes]))
+        self.scale = 1.0 / points
+        with _PLANNING:  # FFTW's planner is not thread-safe
+            self.planner = "FFTW_MEASURE" if points >= FFTW_MEASURE_FROM and _with_wisdom(self._plan) else None
+            if self.planner is None:
+                _pyfftw.forget_wisdom()  # FFTW's heuristics alone, as in a process that never read wisdom
+                self._plan("FFTW_ESTIMATE")
+                self.planner = "FFTW_ESTIMATE"
+
+    def _plan(self, planner):
+        flags = (planner, "FFTW_DESTROY_INPUT")
+        self.forward = _pyfftw.FFTW(self.real_in, self.spectrum, axes=self.axes, direction="FFTW_FORWARD",
+                                    flags=flags, threads=1)
+        self.backward = _pyfftw.FFTW(self.spectrum, self.real_out, axes=self.axes, direction="FFTW_BACKWARD",
+                                     flags=flags, threads=1)
+
+
+_PLANNING = threading.Lock()
+
+
+def _machine_tag():
+    """This machine's CPU and FFTW in 12 hex digits: wisdom is valid for one CPU model and FFTW build only."""
+    cpu = ""
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = "".join(sorted({line for line in f if line.startswith(("model name", "flags"))}))
+    except OSError:
+        pass
+    text = "|".join((platform.machine(), platform.processor(), cpu, getattr(_pyfftw, "__version__", "")))
+    return hashlib.sha256(text.encode()).hexdigest()[:12]
+
+
+def wisdom_path():
+    """Where FFTW wisdom is kept: $GFMD_FFTW_WISDOM (a directory; "off": none, every plan FFTW_ESTIMATE), else
+    $XDG_CACHE_HOME/gfmd-contact, else ~/.cache/gfmd-contact; one file per machine (`_machine_tag`)."""
+    where = os.environ.get("GFMD_FFTW_WISDOM")
+    if where is not None and where.strip().lower() in ("", "off", "0", "no", "false"):
+        return None
+    base = Path(where) if where else Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "gfmd-contact"
+    return base / f"fftw-wisdom-{_machine_tag()}.txt"
+
+
+def _with_wisdom(plan):
+    """plan("FFTW_MEASURE") under the wisdom file's lock: the file's wisdom read first (a plan FFTW has timed
+    before is made again at once, the same plan), written back after (atomically), then forgotten in this process.
+    False where no wisdom file can be kept (an unmakeable directory, $GFMD_FFTW_WISDOM = "off"): the caller plans
+    FFTW_ESTIMATE instead. Where the file cannot be written (a full disk) the plan holds in this process alone."""
+    path = wisdom_path()
+    if path is None:
+        return False
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        lock = open(path.with_suffix(".lock"), "a")
+    except OSError:
+        return False
+    with lock:
+        if fcntl is not None:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            known = path.read_bytes()
+        except OSError:
+            known = b""
+        if known:
+            current = _pyfftw.export_wisdom()
+            _pyfftw.import_wisdom((known, current[1], current[2]))  # a corrupt file is ignored (False)
+        plan("FFTW_MEASURE")
+        wisdom = _pyfftw.export_wisdom()[0]
+        _pyfftw.forget_wisdom()  # in memory only while planning: a later FFTW_ESTIMATE plan never sees it
+        if wisdom != known:
+            tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+            try:
+                tmp.write_bytes(wisdom)
+                os.replace(tmp, path)
+            except OSError:  # a full or read-only disk: this plan holds in this process alone
+                with contextlib.suppress(OSError):
+                    tmp.unlink()
+    return True
+
+
+def _fftw_plans(shape, axes):
+    """This thread's `_FftwPair` for real arrays of `shape` transformed along `axes` (made on first use)."""
+    plans = getattr(_FFTW_LOCAL, "plans", None)
+    if plans is None:
+        plans = _FFTW_LOCAL.plans = {}
+    key = (tuple(shape), tuple(axes))
+    pair = plans.get(key)
+    if pair is None:
+        pair = plans[key] = _FftwPair(key[0], key[1])
+    return pair
+
+
+def _fftw_r2c(x, axes):
+    pair = _fftw_plans(x.shape, axes)
+    pair.real_in[...] = x
+    pair.forward.execute()
+    return pair.spectrum.copy()
+
+
+def _fftw_c2r(x_hat, shape, axes):
+    pair = _fftw_plans(shape, axes)
+    pair.spectrum[...] = x_hat
+    pair.backward.execute()
+    return np.multiply(pair.real_out, pair.scale)
 
 
 def _grid(grid):
@@ -82,6 +238,8 @@ class Fft:
         self.calls += 1
         if self.grid is not None:
             return self._rfft2(x)
+        if self.backend == "fftw":
+            return _fftw_r2c(x, (-1,))
         if self.backend == "ducc0":
             return _ducc_fft.r2c(np.ascontiguousarray(x), axes=(-1,), forward=True)
         return scipy.fft.rfft(x, axis=-1)
@@ -90,6 +248,8 @@ class Fft:
         self.calls += 1
         if self.grid is not None:
             return self._irfft2(x_hat)
+        if self.backend == "fftw":
+            return _fftw_c2r(x_hat, x_hat.shape[:-1] + (self.n,), (-1,))
         if self.backend == "ducc0":
             return _ducc_fft.c2r(np.ascontiguousarray(x_hat), axes=(-1,), forward=False, lastsize=self.n, inorm=2)
         return scipy.fft.irfft(x_hat, n=self.n, axis=-1)
@@ -98,6 +258,8 @@ class Fft:
         x = np.ascontiguousarray(x)
         lead = x.shape[:-1]
         x = x.reshape(lead + self.grid)
+        if self.backend == "fftw":
+            return _fftw_r2c(x, self.axes).reshape(lead + (-1,))
         if self.backend == "ducc0":
             out = _ducc_fft.r2c(x, axes=self.axes, forward=True)
         else:
@@ -108,6 +270,8 @@ class Fft:
         x_hat = np.ascontiguousarray(x_hat)
         lead = x_hat.shape[:-1]
         x_hat = x_hat.reshape(lead + self.spectrum_grid)
+        if self.backend == "fftw":
+            return _fftw_c2r(x_hat, lead + self.grid, self.axes).reshape(lead + (-1,))
         if self.backend == "ducc0":
             out = _ducc_fft.c2r(x_hat, axes=self.axes, forward=False, lastsize=self.grid[-1], inorm=2)
         else:
@@ -126,6 +290,8 @@ class Fft:
         self.calls += 2
         if self.grid is not None:
             return self._apply_to2(kernel, x, out)
+        if self.backend == "fftw":
+            return _fftw_apply_to(kernel, x, out, x.shape, (-1,))
         if self.backend == "ducc0":
             if self._spectrum is None:
                 self._spectrum = np.empty(self.n // 2 + 1, complex)
@@ -138,6 +304,10 @@ class Fft:
 
     def _apply_to2(self, kernel, x, out):
         """`apply_to` on a 2-D grid (flat x, out of n nodes; kernel flat over the half-spectrum)."""
+        if self.backend == "fftw":
+            _fftw_apply_to(np.reshape(kernel, self.spectrum_grid), np.reshape(x, self.grid), out.reshape(self.grid),
+                           self.grid, self.axes)
+            return out
         if self.backend == "ducc0":
             if self._spectrum is None:
                 self._spectrum = np.empty(self.spectrum_grid, complex)
@@ -155,6 +325,17 @@ class Fft:
     @property
     def pairs(self):
         return self.calls / 2
+
+
+def _fftw_apply_to(kernel, x, out, shape, axes):
+    """out ← irfft(kernel · rfft(x)) on one `_FftwPair`: the spectrum never leaves its buffer."""
+    pair = _fftw_plans(shape, axes)
+    pair.real_in[...] = x
+    pair.forward.execute()
+    pair.spectrum *= kernel
+    pair.backward.execute()
+    np.multiply(pair.real_out, pair.scale, out=out)
+    return out
 
 
 def dot(a, b):

@@ -30,16 +30,17 @@ except ImportError:  # pragma: no cover - depends on the environment
     numba = None
 
 
-def choose_backend(variable, name, compiled, pure, present):
+def choose_backend(variable, name, compiled, pure, present, also=()):
     """The backend named by `name`, else by $`variable` (default "auto"): `compiled` where asked for or
     "auto" and `present` (the optional package installed), else `pure` (numpy/scipy).
 
+    `also`: further names the caller resolves itself (accepted here, in the ValueError's list).
     Raises ValueError naming `variable` for an unknown name, ImportError when `compiled` is asked
     for by name but its package (the ``fast`` extra) is missing.
     """
     name = (name or os.environ.get(variable, "auto")).lower()
-    if name not in ("auto", pure, compiled):
-        raise ValueError(f"{variable} = {name!r}: expected auto, {pure} or {compiled}")
+    if name not in ("auto", pure, compiled, *also):
+        raise ValueError(f"{variable} = {name!r}: expected auto, {', '.join((pure, compiled, *also))}")
     if name == compiled and not present:
         raise ImportError(f"{variable} = {compiled} but {compiled} is not installed "
                           "(pip install 'gfmd-contact[fast]')")

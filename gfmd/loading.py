@@ -22,7 +22,7 @@ from contact.scene_sections import Interface
 from . import kernels
 from .chains import chain_key, describe, relax
 from .cohesive_preconditioner import resolve as resolve_preconditioner
-from .fft import fft_backend
+from .fft import backend_words
 from .problem import InterfaceLaw, Problem
 from .settings import Settings
 
@@ -89,7 +89,7 @@ def wall_tolerance_of(scene, h):
 
 def backends():
     """The FFT and the NCG's spectral kernels this process uses, in words (they change round-off only)."""
-    return (f"backends: FFT {fft_backend()} (GFMD_FFT), cohesive NCG spectral algebra {kernels.jit_backend()} "
+    return (f"backends: FFT {backend_words()}, cohesive NCG spectral algebra {kernels.jit_backend()} "
             "(GFMD_JIT)")
 
 

@@ -213,7 +213,7 @@ def test_band_stiffness_is_symmetric_positive_definite(n, picks, half_width):
     assert np.min(np.linalg.eigvalsh(band)) > 0
 
 
-@pytest.mark.skipif(gfft._ducc_fft is None, reason="ducc0 not installed (the `fast` extra)")
+@pytest.mark.skipif(gfft._ducc_fft is None or gfft._pyfftw is None, reason="ducc0 or pyfftw not installed")
 @pytest.mark.parametrize("law_name", ["hard-wall", "cohesive"])
 def test_fft_backends_agree(monkeypatch, law_name):
     sc, h, _, _, wall_tol = case()
@@ -223,18 +223,23 @@ def test_fft_backends_agree(monkeypatch, law_name):
     d0 = sc.loading.initial_separation
     z = indenter_surface(h, d0, d0 + 6e-9)
     out = {}
-    for backend in ("scipy", "ducc0"):
+    for backend in ("scipy", "ducc0", "fftw"):
         monkeypatch.setenv("GFMD_FFT", backend)
         out[backend] = relax(model, law, z, np.zeros((1, model.nodes // 2 + 1), complex), Settings(tolerance=TOL),
                              wall_tol)
         assert out[backend].converged
-    assert np.max(np.abs(out["scipy"].u_z - out["ducc0"].u_z)) < 1e-9 * float(np.std(h))
+    for backend in ("ducc0", "fftw"):
+        assert np.max(np.abs(out["scipy"].u_z - out[backend].u_z)) < 1e-9 * float(np.std(h))
 
 
 def test_fft_backend_choice(monkeypatch):
     assert gfft.fft_backend("scipy") == "scipy"
     with pytest.raises(ValueError, match="GFMD_FFT"):
+        gfft.fft_backend("mkl")
+    monkeypatch.setattr(gfft, "_pyfftw", None)
+    with pytest.raises(ImportError, match="pyfftw"):
         gfft.fft_backend("fftw")
+    assert gfft.fft_backend("auto") == ("ducc0" if gfft._ducc_fft is not None else "scipy")
     monkeypatch.setattr(gfft, "_ducc_fft", None)
     assert gfft.fft_backend("auto") == "scipy"
     with pytest.raises(ImportError, match="ducc0"):

@@ -81,17 +81,18 @@ def test_ncg_equals_fire(length_normal, thickness):
     assert bound < 1e-3 * length_normal
 
 
-@pytest.mark.skipif(gfft._ducc_fft is None, reason="ducc0 not installed (the `fast` extra)")
+@pytest.mark.skipif(gfft._ducc_fft is None or gfft._pyfftw is None, reason="ducc0 or pyfftw not installed")
 def test_ncg_fft_backends_agree(monkeypatch):
     sc, h, model, law, z_of = case()
     out = {}
-    for backend in ("scipy", "ducc0"):
+    for backend in ("scipy", "ducc0", "fftw"):
         monkeypatch.setenv("GFMD_FFT", backend)
         assert gfft.fft_backend() == backend
         out[backend] = ramp(model, law, z_of, 1.5e-9 * np.arange(1, 4), Settings(tolerance=TOL))
-    for a, b in zip(out["scipy"], out["ducc0"]):
-        assert a.method == b.method == "ncg"
-        assert np.max(np.abs(a.u_z - b.u_z)) < tolerance_bound(model, TOL)
+    for fast in ("ducc0", "fftw"):
+        for a, b in zip(out["scipy"], out[fast]):
+            assert a.method == b.method == "ncg"
+            assert np.max(np.abs(a.u_z - b.u_z)) < tolerance_bound(model, TOL)
 
 
 def test_selector_runs_what_it_says():
