@@ -127,8 +127,9 @@ def wisdom_path():
 def _with_wisdom(plan):
     """plan("FFTW_MEASURE") under the wisdom file's lock: the file's wisdom read first (a plan FFTW has timed
     before is made again at once, the same plan), written back after (atomically), then forgotten in this process.
-    False where no wisdom file can be kept (an unmakeable directory, $GFMD_FFTW_WISDOM = "off"): the caller plans
-    FFTW_ESTIMATE instead. Where the file cannot be written (a full disk) the plan holds in this process alone."""
+    False where no wisdom file can be kept (an unmakeable directory, no file locks, $GFMD_FFTW_WISDOM = "off"): the
+    caller plans FFTW_ESTIMATE instead. Where the file cannot be written (a full disk) the plan holds in this process
+    alone."""
     path = wisdom_path()
     if path is None:
         return False
@@ -139,7 +140,10 @@ def _with_wisdom(plan):
         return False
     with lock:
         if fcntl is not None:
-            fcntl.flock(lock, fcntl.LOCK_EX)
+            try:
+                fcntl.flock(lock, fcntl.LOCK_EX)
+            except OSError:  # a file system without locks (some network mounts): no shared plans
+                return False
         try:
             known = path.read_bytes()
         except OSError:

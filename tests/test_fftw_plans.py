@@ -123,3 +123,16 @@ def test_the_default_fft_is_the_one_measured_fastest():
     assert len(at_seed) == 2
     for row in at_seed:
         assert row["pair_ms"]["fftw measure"] < row["pair_ms"]["ducc0"], row["shape"]
+
+
+@pytest.mark.skipif(gfft.fcntl is None, reason="no fcntl (not POSIX)")
+def test_no_file_locks_means_estimated_plans(fresh_plans, monkeypatch):
+    """A file system without locks (flock raises, as on some network mounts): FFTW_ESTIMATE, not a crash."""
+    def no_locks(*args):
+        raise OSError(37, "No locks available")
+
+    monkeypatch.setattr(gfft.fcntl, "flock", no_locks)
+    x = np.random.default_rng(4).standard_normal(1024)
+    y = gfft.Fft(1024, "fftw").rfft(x)
+    assert gfft._fftw_plans((1024,), (-1,)).planner == "FFTW_ESTIMATE"
+    np.testing.assert_allclose(y, np.fft.rfft(x), rtol=0, atol=1e-12 * np.max(np.abs(y)))
