@@ -43,10 +43,10 @@ except ImportError:  # pragma: no cover - depends on the environment
     _pyfftw = None
 
 #: FFTW transforms of at least this many points are planned with FFTW_MEASURE (candidates timed; whole 2^17 ramps
-#: took 0.84× ducc0's CPU time with the NCG, 0.79× with the hard wall, benchmarks/bench_fft.py), their plans kept as
-#: FFTW wisdom in `wisdom_path` under a file lock, so every later process on this machine makes the same plan (the
-#: same results bit for bit) at once; smaller ones (and all where no wisdom file can be made) FFTW_ESTIMATE: a plan
-#: by heuristics, the same in every process
+#: took 0.84× ducc0's CPU time with the NCG, 0.79× with the hard wall, 0.88× coupled, benchmarks/bench_fft.py), their
+#: plans kept as FFTW wisdom in `wisdom_path` under a file lock, so every later process on this machine makes the same
+#: plan (the same results bit for bit) at once; smaller ones (and all where no wisdom file can be made) FFTW_ESTIMATE:
+#: a plan by heuristics, the same in every process
 FFTW_MEASURE_FROM = 1 << 14
 _FFTW_LOCAL = threading.local()  # {(real shape, axes): _FftwPair}, per thread: a plan's buffers are its own
 
