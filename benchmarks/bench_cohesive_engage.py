@@ -24,9 +24,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import subprocess
 import sys
-import tempfile
 from pathlib import Path
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # before numpy: one thread
@@ -36,6 +34,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
+from benchmarks import report  # noqa: E402
 from benchmarks.report import header, ramp_differences, write  # noqa: E402
 from gfmd import cohesive_preconditioner  # noqa: E402
 from workbench.study_task import reuse_freed_arrays  # noqa: E402
@@ -65,17 +64,10 @@ def run_one(size, realization, keys, value, dump, cpu):
 
 def simultaneous(args, values):
     """The ramps of two values run as two simultaneous processes, the first on core 0, the second on core 1: rows."""
-    with tempfile.TemporaryDirectory() as tmp:
-        procs, dumps = [], []
-        for i, value in enumerate(values):
-            dumps.append(Path(tmp) / f"{i}.json")
-            cmd = [sys.executable, __file__, "--size", str(args.size), "--realization", str(args.realization),
-                   "--phi", repr(args.phi), "--length-normal", repr(args.length_normal), "--nu", repr(args.nu),
-                   "--worker", value, "--dump", str(dumps[-1]), "--cpu", str(i)]
-            procs.append(subprocess.Popen(cmd))
-        if any(p.wait() != 0 for p in procs):
-            raise SystemExit("a worker failed")
-        return [json.loads(d.read_text()) for d in dumps]
+    return report.simultaneous([[sys.executable, __file__, "--size", str(args.size), "--realization",
+                                 str(args.realization), "--phi", repr(args.phi), "--length-normal",
+                                 repr(args.length_normal), "--nu", repr(args.nu), "--worker", value]
+                                for value in values])
 
 
 def row(label, value, steps, reference):

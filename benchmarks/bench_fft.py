@@ -24,7 +24,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -37,6 +36,7 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from benchmarks import report  # noqa: E402
 from benchmarks.report import header, ramp_differences, write  # noqa: E402
 from gfmd import fft as gfft  # noqa: E402
 
@@ -57,7 +57,7 @@ def _pair_seconds(fft, x, reps):
 
 def pair_table(sizes, rounds):
     """Section 1's rows: per (N, shape) the median seconds per pair of every variant and the plan times."""
-    rows = []
+    rows, measure_from = [], gfft.FFTW_MEASURE_FROM
     for size in sizes:
         n = 2**size
         for lead in ((), (2,)):
@@ -93,7 +93,7 @@ def pair_table(sizes, rounds):
             rows.append({"size": size, "shape": "(2, N)" if lead else "(N,)",
                          "pair_ms": {v: 1e3 * float(np.median(t)) for v, t in times.items()},
                          "plan_s": plan_s})
-    gfft._FFTW_LOCAL.plans = {}
+    gfft._FFTW_LOCAL.plans, gfft.FFTW_MEASURE_FROM = {}, measure_from
     return rows
 
 
@@ -116,16 +116,8 @@ def _ramp_worker(args):
 
 
 def _simultaneous(args, cls, backends):
-    with tempfile.TemporaryDirectory() as tmp:
-        procs, dumps = [], []
-        for i, backend in enumerate(backends):
-            dumps.append(Path(tmp) / f"{i}.json")
-            cmd = [sys.executable, __file__, "--ramp-size", str(args.ramp_size), "--worker", backend,
-                   "--cls", cls, "--dump", str(dumps[-1]), "--cpu", str(i)]
-            procs.append(subprocess.Popen(cmd))
-        if any(p.wait() != 0 for p in procs):
-            raise SystemExit("a ramp worker failed")
-        return [json.loads(d.read_text()) for d in dumps]
+    return report.simultaneous([[sys.executable, __file__, "--ramp-size", str(args.ramp_size), "--worker", backend,
+                                 "--cls", cls] for backend in backends])
 
 
 def ramp_rows(args):

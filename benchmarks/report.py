@@ -20,6 +20,22 @@ def header(title, script, argv=None, note="2-core machine"):
             f"start {os.getloadavg()[0]:.2f} ({note})", ""]
 
 
+def simultaneous(commands):
+    """Run the worker commands (argv lists) as simultaneous processes, the i-th with ``--dump FILE --cpu i`` added
+    (it pins itself to core i and writes its rows there as JSON): their rows, in order. SystemExit if one fails."""
+    import json
+    import subprocess
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        dumps = [Path(tmp) / f"{i}.json" for i in range(len(commands))]
+        procs = [subprocess.Popen([*cmd, "--dump", str(d), "--cpu", str(i)])
+                 for i, (cmd, d) in enumerate(zip(commands, dumps))]
+        if any(p.wait() != 0 for p in procs):
+            raise SystemExit("a worker failed")
+        return [json.loads(d.read_text()) for d in dumps]
+
+
 def write(lines, out):
     """Add the load average at the end, write the report to `out` and print it."""
     text = "\n".join([*lines, "", f"Load average at end: {os.getloadavg()[0]:.2f}."]) + "\n"

@@ -18,6 +18,7 @@ copies). One rfft2/irfft2 pair counts as one pair, as in 1+1-D.
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
 import os
 import platform
@@ -54,12 +55,8 @@ _FFTW_LOCAL = threading.local()  # {(real shape, axes): _FftwPair}, per thread: 
 def fft_backend(name=None):
     """The FFT backend in use: "fftw", "ducc0" or "scipy" (from `name`, else $GFMD_FFT, default "auto": FFTW,
     else ducc0, else scipy, as installed)."""
-    chosen = (name or os.environ.get("GFMD_FFT", "auto")).lower()
-    if chosen in ("auto", "fftw") and _pyfftw is not None:
-        return "fftw"
-    if chosen == "fftw":
-        raise ImportError("GFMD_FFT = fftw but pyfftw is not installed (pip install pyfftw)")
-    return kernels.choose_backend("GFMD_FFT", name, "ducc0", "scipy", _ducc_fft is not None, also=("fftw",))
+    return kernels.choose_backend("GFMD_FFT", name, {"fftw": ("pyfftw", _pyfftw is not None),
+                                                     "ducc0": ("ducc0", _ducc_fft is not None)}, "scipy")
 
 
 def backend_words(name=None):
@@ -102,6 +99,7 @@ class _FftwPair:
 _PLANNING = threading.Lock()
 
 
+@functools.cache
 def _machine_tag():
     """This machine's CPU and FFTW in 12 hex digits: wisdom is valid for one CPU model and FFTW build only."""
     cpu = ""

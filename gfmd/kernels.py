@@ -30,26 +30,31 @@ except ImportError:  # pragma: no cover - depends on the environment
     numba = None
 
 
-def choose_backend(variable, name, compiled, pure, present, also=()):
-    """The backend named by `name`, else by $`variable` (default "auto"): `compiled` where asked for or
-    "auto" and `present` (the optional package installed), else `pure` (numpy/scipy).
+def choose_backend(variable, name, compiled, pure):
+    """The backend named by `name`, else by $`variable` (default "auto"): of `compiled`, {backend: (its package,
+    installed)} in order of preference, the one asked for, or on "auto" the first installed; else `pure`
+    (numpy/scipy).
 
-    `also`: further names the caller resolves itself (accepted here, in the ValueError's list).
-    Raises ValueError naming `variable` for an unknown name, ImportError when `compiled` is asked
-    for by name but its package (the ``fast`` extra) is missing.
+    Raises ValueError naming `variable` for an unknown name, ImportError naming the package when a compiled
+    backend is asked for by name but its package (a default dependency, the ``fast`` extra) is missing.
     """
     name = (name or os.environ.get(variable, "auto")).lower()
-    if name not in ("auto", pure, compiled, *also):
-        raise ValueError(f"{variable} = {name!r}: expected auto, {', '.join((pure, compiled, *also))}")
-    if name == compiled and not present:
-        raise ImportError(f"{variable} = {compiled} but {compiled} is not installed "
-                          "(pip install 'gfmd-contact[fast]')")
-    return compiled if name in ("auto", compiled) and present else pure
+    if name not in ("auto", pure, *compiled):
+        raise ValueError(f"{variable} = {name!r}: expected auto, {', '.join((pure, *compiled))}")
+    if name in compiled:
+        package, present = compiled[name]
+        if not present:
+            raise ImportError(f"{variable} = {name} but {package} is not installed "
+                              f"(pip install {package}, or 'gfmd-contact[fast]')")
+        return name
+    if name == "auto":
+        return next((b for b, (_, present) in compiled.items() if present), pure)
+    return pure
 
 
 def jit_backend(name=None):
     """The kernels in use: "numba" or "numpy" (from `name`, else $GFMD_JIT, default "auto")."""
-    return choose_backend("GFMD_JIT", name, "numba", "numpy", numba is not None)
+    return choose_backend("GFMD_JIT", name, {"numba": ("numba", numba is not None)}, "numpy")
 
 
 def _counted_once(a, b, nodes):
