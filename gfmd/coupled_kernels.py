@@ -5,8 +5,8 @@
 * `tangent_times`: the nodal 2×2 law tangent D·v (rows and columns (x, z)) of `gfmd.coupled_krylov`'s products;
 * `coupled_tractions`: Eq. 2's tractions on the body, t_x = T_t(Δt), t_z = T_n(Δn), Δn = z_ind − u_z, Δt = −u_x,
   one exponential per node; the law's formula is `contact.law_equations.traction_coupled` (the same to round-off,
-  tests/test_coupled_kernels.py), which also raises its CompressionOverflowError (the fused pass only finds
-  the smallest gap);
+  tests/test_coupled_kernels.py; e^x by `gfmd.vector_exp`, within 1 ulp of libm's), which also raises its
+  CompressionOverflowError (the fused pass only counts the nodes out of the law's range);
 * `weighted_dot`: Σ_q w_q Re(conj(a_q) b_q) over spectra (FIRE's mass-weighted products);
 * `coarse_passes`: the nodal passes of the coupled Newton's two-level preconditioner (`gfmd.coupled_preconditioner`),
   one pass each where numpy takes 4–7 and a temporary per pass (the mean of Π Z c from the block sums, as
@@ -113,7 +113,6 @@ if numba is not None:
             for i in range(w.size):
                 total += w[i] * (a[k, i].real * b[k, i].real + a[k, i].imag * b[k, i].imag)
         return total
-
 
     # the sums reassociated (vectorized); no finite-math assumptions
     _SUM_FLAGS = {"reassoc", "contract", "nsz"}
