@@ -7,7 +7,7 @@ The coupled class of benchmarks/bench_adhesion_scaling.py (seed base scene, φn*
 default chain "handover-near"; `--nu` sets material.poisson_ratio), one ramp per N and
 `gfmd.coupled_preconditioner.CHOICE` ("stiffness", then "two-level"), alternating `--repeats` times in one process
 (the same load on both): CPU s per ramp (time.process_time), FFT pairs, GMRES products per solve (mean over the
-ramp's Newton solves), event steps (not "newton"), the coarse space's own cost (its builds and corrections,
+ramp's Newton solves), event steps (not "newton"), the coarse space's own cost (its builds and coarse solves,
 time.process_time inside them) and the largest differences of p̄ and a_rel and the steps whose chain label differs,
 against "stiffness". The process reuses freed arrays as a study worker does (`workbench.study_task.reuse_freed_arrays`).
 At 2^17 run each variant in its own process at once (`--variants stiffness` beside `--variants two-level`, both with
@@ -44,7 +44,7 @@ class Meter:
         self.solves = self.products = 0
         self.coarse_s = 0.0
         self._gmres, self._space = coupled_krylov.gfmd_gmres.gmres, coupled_preconditioner.coarse_space
-        self._correction = coupled_preconditioner.CoarseSpace.correction
+        self._coefficients = coupled_preconditioner.CoarseSpace.coefficients
 
     def __enter__(self):
         meter = self
@@ -67,13 +67,13 @@ class Meter:
 
         coupled_krylov.gfmd_gmres.gmres = gmres
         coupled_preconditioner.coarse_space = timed(self._space)
-        coupled_preconditioner.CoarseSpace.correction = timed(self._correction)
+        coupled_preconditioner.CoarseSpace.coefficients = timed(self._coefficients)
         return self
 
     def __exit__(self, *exc):
         coupled_krylov.gfmd_gmres.gmres = self._gmres
         coupled_preconditioner.coarse_space = self._space
-        coupled_preconditioner.CoarseSpace.correction = self._correction
+        coupled_preconditioner.CoarseSpace.coefficients = self._coefficients
 
 
 def run(size, variant, args):

@@ -25,7 +25,7 @@ import numpy as np
 import scipy.linalg
 
 from .cohesive_preconditioner import block_sums, cover, kernel_sums
-from .coupled_kernels import coupled_kernels
+from .coupled_kernels import coarse_passes
 
 #: which right preconditioner the coupled Newton's GMRES runs (`gfmd.coupled_krylov.newton_step`): "two-level"
 #: (this module) or "stiffness" (K⁻¹ on the spectrum, the solver before session 33)
@@ -61,21 +61,16 @@ def stiffness_kernel_sums(stiff, fft):
 
 class CoarseSpace:
     """Z (blocks over the first `size` nodes: `starts`, `widths`), the LU factor of E = Zᵀ A Z (A = K + D on
-    zero-mean fields where clamped) and the coarse correction."""
+    zero-mean fields where clamped) and the coarse solve."""
 
     def __init__(self, size, starts, widths, factor, clamp, n):
         self.size, self.starts, self.widths, self.factor, self.clamp, self.n = size, starts, widths, factor, clamp, n
         self.m = starts.size
 
-    def correction(self, y):
-        """w = Π Z E⁻¹ Zᵀ y for nodal y (2, N) (zero-mean rows where clamped, so Zᵀ Π y = Zᵀ y)."""
-        c = scipy.linalg.lu_solve(self.factor, np.add.reduceat(y[:, :self.size], self.starts, axis=1).ravel(),
-                                  check_finite=False)
-        w = np.zeros((2, self.n))
-        w[:, :self.size] = np.repeat(c.reshape(2, self.m), self.widths, axis=1)
-        if self.clamp:
-            w -= w.mean(axis=1, keepdims=True)
-        return w
+    def coefficients(self, sums):
+        """c = E⁻¹ Zᵀ y (2, m) from the block sums Zᵀ y (2, m) of a nodal y (zero-mean rows where clamped, so
+        Zᵀ Π y = Zᵀ y); w = Π Z c is the coarse correction."""
+        return scipy.linalg.lu_solve(self.factor, sums.ravel(), check_finite=False).reshape(2, self.m)
 
 
 def coarse_space(stiff, fft, tangent, scales):
@@ -139,19 +134,21 @@ def _stiffness_part(stiff, fft, a, p):
     return part
 
 
-def operators(coarse, stiff, fft, tangent):
+def operators(coarse, stiff, fft, tangent, backend=None):
     """(inverse, product) of the nodal right-preconditioned system (module docstring), for y (2, N) nodal:
-    inverse(y) = ŝ, the spectrum of M⁻¹ y = K⁻¹ (y − D w) (the q = 0 mode 0 where clamped), w = `coarse.correction(y)`;
-    product(y) = A M⁻¹ y = Π (g + D s), g = y − D w, s = irfft ŝ: one FFT pair, a new array. ŝ lives in one
-    array that each call rewrites; K⁻¹ is `stiff.inv_mass`, so A = (its inverse) + D."""
+    inverse(y) = ŝ, the spectrum of M⁻¹ y = K⁻¹ (y − D w) (the q = 0 mode 0 where clamped), w = Π Z c,
+    c = `coarse.coefficients`(Zᵀ y); product(y) = A M⁻¹ y = Π (g + D s), g = y − D w, s = irfft ŝ: one FFT pair, a new
+    array. ŝ lives in one array that each call rewrites; K⁻¹ is `stiff.inv_mass`, so A = (its inverse) + D. The
+    nodal passes are `gfmd.coupled_kernels.coarse_passes`' (`backend`: `gfmd.kernels.jit_backend`'s name)."""
     n, clamp = fft.n, coarse.clamp
-    d = tuple(np.broadcast_to(np.asarray(x, float), (n,)) for x in tangent)
-    tangent_times = coupled_kernels()[1]
-    g, dw, s_hat = np.empty((2, n)), np.empty((2, n)), np.empty((2, n // 2 + 1), complex)
+    d = tuple(np.ascontiguousarray(np.broadcast_to(np.asarray(x, float), (n,))) for x in tangent)
+    row_block_sums, coarse_residual, tangent_plus = coarse_passes(backend)
+    starts, widths = coarse.starts.astype(np.int64), coarse.widths.astype(np.int64)
+    g, s_hat = np.empty((2, n)), np.empty((2, n // 2 + 1), complex)
 
     def inverse(y):
-        tangent_times(*d, coarse.correction(y), dw)
-        np.subtract(y, dw, out=g)
+        c = coarse.coefficients(row_block_sums(y, starts, widths))
+        coarse_residual(*d, y, c, starts, widths, clamp, g)  # g = y − D Π Z c
         stiff._apply(stiff.inv_mass, fft.rfft(g), s_hat)
         if clamp:
             s_hat[:, 0] = 0.0
@@ -159,10 +156,6 @@ def operators(coarse, stiff, fft, tangent):
 
     def product(y):
         s = fft.irfft(inverse(y))
-        out = tangent_times(*d, s, np.empty((2, n)))
-        out += g
-        if clamp:
-            out -= out.mean(axis=1, keepdims=True)
-        return out
+        return tangent_plus(*d, s, g, clamp, np.empty((2, n)))
 
     return inverse, product

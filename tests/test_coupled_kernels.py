@@ -1,12 +1,13 @@
 """gfmd.coupled_kernels equal to the formulas they fuse: Eq. 2's tractions (`contact.law_equations`), the 2×2
-block products of K(q), the law tangent's nodal product and the weighted spectral dot, numpy and numba."""
+block products of K(q), the law tangent's nodal product, the weighted spectral dot and the two-level
+preconditioner's nodal passes (against a dense block matrix Z built here), numpy and numba."""
 
 import numpy as np
 import pytest
 
 from contact.law_equations import CompressionOverflowError, traction_coupled
 from gfmd import kernels
-from gfmd.coupled_kernels import coupled_kernels
+from gfmd.coupled_kernels import coarse_passes, coupled_kernels
 
 BACKENDS = ["numpy"] + (["numba"] if kernels.numba is not None else [])
 PARAMS = (0.3, 2e-9, 0.15, 1e-9)  # φn (J/m²), δn (m), φt (J/m²), δt (m)
@@ -57,3 +58,63 @@ def test_block_and_tangent_products_equal_the_stacked_formulas(backend):
     w = rng.uniform(1, 2, nq)
     y = rng.normal(size=(2, nq)) + 1j * rng.normal(size=(2, nq))
     assert weighted_dot(w, x, y) == pytest.approx(float(np.sum(w * (np.conj(x) * y).real)), rel=1e-13)
+
+
+@pytest.mark.filterwarnings("ignore:invalid value encountered")
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_fused_tractions_of_an_infinite_gap_are_the_laws(backend, fields):
+    """A node at Δn = +inf (no error in the law, its T = NaN there): the law's values, not a silent 0."""
+    u, z_ind = fields
+    z_ind = z_ind.copy()
+    z_ind[7] = np.inf
+    t = coupled_kernels(backend)[2](u, z_ind, PARAMS, np.empty_like(u))
+    t_n, t_t = traction_coupled(z_ind - u[1], -u[0], *PARAMS)
+    np.testing.assert_array_equal(np.isnan(t[1]), np.isnan(t_n))
+    np.testing.assert_allclose(t[1], t_n, rtol=1e-14, atol=0)
+    np.testing.assert_allclose(t[0], t_t, rtol=1e-14, atol=0)
+
+
+@pytest.mark.skipif(kernels.numba is None, reason="numba not installed")
+def test_fused_tractions_call_no_libm_exp():
+    """The tractions loop inlines `gfmd.vector_exp.exp` (LLVM vectorizes it; libm's exp is a scalar call): its source
+    compiled afresh with the kernel's flags (numba does not show a cached kernel's assembly)."""
+    from gfmd.coupled_kernels import _tractions_kernel
+    from gfmd.vector_exp import STRICT_FLAGS
+
+    kernel = kernels.numba.njit(fastmath=STRICT_FLAGS)(_tractions_kernel.py_func)
+    u, z_ind = np.zeros((2, 8)), np.ones(8) * 1e-9
+    kernel(u, z_ind, *PARAMS, -1.0, np.empty_like(u))
+    asm = kernel.inspect_asm(kernel.signatures[0])
+    assert "pd" in asm
+    assert not [line for line in asm.splitlines() if "$exp" in line or "exp@" in line]
+
+
+def _blocks(n, rng):
+    """Random consecutive blocks from node 0 (int64 starts, widths) ending before or at n, and Z (n × m)."""
+    widths = rng.integers(1, 40, size=60)
+    widths = widths[np.cumsum(widths) <= n - 5]
+    starts = np.r_[0, np.cumsum(widths)[:-1]].astype(np.int64)
+    z = np.zeros((n, widths.size))
+    for j, (a, p) in enumerate(zip(starts, widths)):
+        z[a:a + p, j] = 1.0
+    return starts, widths.astype(np.int64), z
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("clamp", [True, False])
+def test_coarse_passes_equal_the_dense_formulas(backend, clamp):
+    rng = np.random.default_rng(11)
+    starts, widths, z = _blocks(N, rng)
+    pi = np.eye(N) - 1.0 / N if clamp else np.eye(N)
+    d_nn, d_nt, d_tn, d_tt = rng.normal(size=(4, N))
+    y, s = rng.normal(size=(2, N)), rng.normal(size=(2, N))
+    c = rng.normal(size=(2, widths.size))
+    row_block_sums, coarse_residual, tangent_plus = coarse_passes(backend)
+    np.testing.assert_allclose(row_block_sums(y, starts, widths), y @ z, rtol=1e-12, atol=1e-12)
+    w = (pi @ z @ c.T).T  # Π Z c per component
+    dw = np.stack([d_tt * w[0] + d_tn * w[1], d_nt * w[0] + d_nn * w[1]])
+    g = coarse_residual(d_nn, d_nt, d_tn, d_tt, y, c, starts, widths, clamp, np.empty((2, N)))
+    np.testing.assert_allclose(g, y - dw, rtol=1e-12, atol=1e-12)
+    out = tangent_plus(d_nn, d_nt, d_tn, d_tt, s, g, clamp, np.empty((2, N)))
+    ds = np.stack([d_tt * s[0] + d_tn * s[1], d_nt * s[0] + d_nn * s[1]])
+    np.testing.assert_allclose(out, (pi @ (ds + g).T).T, rtol=1e-12, atol=1e-12)

@@ -18,7 +18,7 @@ import pytest
 
 from contact import surfaces
 from contact.scene import load_scene
-from gfmd import coupled_krylov, coupled_preconditioner
+from gfmd import coupled_krylov, coupled_preconditioner, kernels
 from gfmd.coupled_preconditioner import coarse_space, operators
 from gfmd.fft import Fft
 from gfmd.loading import prepare
@@ -26,6 +26,7 @@ from gfmd.problem import Elastic
 
 BASE = Path(__file__).resolve().parents[1] / "studies" / "seed" / "seed_base.toml"
 N = 256
+BACKENDS = ["numpy"] + (["numba"] if kernels.numba is not None else [])  # the nodal passes (`coarse_passes`)
 
 
 def coupled_cell(thickness="inf", nodes=N):
@@ -81,8 +82,9 @@ def blocks_matrix(coarse, n):
     return np.kron(np.eye(2), z)
 
 
+@pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("thickness", ["inf", 2e-7])
-def test_coarse_modes_are_solved_exactly(thickness):
+def test_coarse_modes_are_solved_exactly(thickness, backend):
     cell, _, _ = coupled_cell(thickness)
     model, law = cell.physics, cell.law
     clamp = model.half_plane
@@ -92,7 +94,7 @@ def test_coarse_modes_are_solved_exactly(thickness):
     coarse = coarse_space(stiff, fft, d, law.law.initial_stiffness)
     assert coarse is not None and coarse.m >= 8
     a = dense_operator(model, d, clamp)
-    inverse, _ = operators(coarse, stiff, fft, d)
+    inverse, _ = operators(coarse, stiff, fft, d, backend)
     z = blocks_matrix(coarse, N)
     rng = np.random.default_rng(2)
     for _ in range(3):
@@ -107,15 +109,16 @@ def test_coarse_modes_are_solved_exactly(thickness):
     assert np.max(np.abs(back - y)) > 1e-3 * np.max(np.abs(y))
 
 
+@pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("thickness", ["inf", 2e-7])
-def test_product_is_the_operator_times_the_preconditioner(thickness):
+def test_product_is_the_operator_times_the_preconditioner(thickness, backend):
     cell, _, _ = coupled_cell(thickness)
     model, law = cell.physics, cell.law
     fft, stiff = Fft(N), Elastic(model, 0.0, 0.0)
     d = made_up_tangent(model, law, 3)
     coarse = coarse_space(stiff, fft, d, law.law.initial_stiffness)
     a = dense_operator(model, d, model.half_plane)
-    inverse, product = operators(coarse, stiff, fft, d)
+    inverse, product = operators(coarse, stiff, fft, d, backend)
     y = np.random.default_rng(4).standard_normal((2, N))
     if model.half_plane:
         y -= y.mean(axis=1, keepdims=True)
