@@ -65,6 +65,16 @@ CLASSES = {
 OTHER = {"coupled": ("fire (before issue 24)", {"coupled": "fire"})}
 
 
+def task_of(n, cls, realization=1, scene_keys=None):
+    """(task scene, profile heights) of class `cls` at N = n: the seed base scene with the class's keys, λs,H raised to
+    ROLLON_NODES node spacings where needed, surface seed `realization` (seed_base.toml's seed 1 is realization 1)."""
+    base = load_scene(SEED / "seed_base.toml")
+    rollon = max(base.surface.rollon_wavelength, ROLLON_NODES * base.surface.length / n)
+    keys = {"surface.nodes": n, "surface.rollon_wavelength": rollon, **CLASSES[cls], **(scene_keys or {})}
+    scene = task_scene(base.replace(**keys), realization - base.surface.seed)
+    return scene, surfaces.profile(scene.surface, 0)
+
+
 def ramp(n, cls, options=None, max_steps=None, realization=1, scene_keys=None, a_rel_stop=A_REL_STOP, states=None,
          keep_u_hat=False):
     """One task's ramp at N = n: list of per-step dicts (it, pairs, cpu, a_rel, method, converged).
@@ -73,11 +83,7 @@ def ramp(n, cls, options=None, max_steps=None, realization=1, scene_keys=None, a
     overrides (e.g. {"interface.length_normal": 0.25e-9}); states: a list that receives each step's
     (p̄, gap) when given; keep_u_hat: each row also holds the accepted spectra u_hat.
     """
-    base = load_scene(SEED / "seed_base.toml")
-    rollon = max(base.surface.rollon_wavelength, ROLLON_NODES * base.surface.length / n)
-    keys = {"surface.nodes": n, "surface.rollon_wavelength": rollon, **CLASSES[cls], **(scene_keys or {})}
-    scene = task_scene(base.replace(**keys), realization - base.surface.seed)
-    h = surfaces.profile(scene.surface, 0)
+    scene, h = task_of(n, cls, realization, scene_keys)
     cell = prepare(scene, h)
     settings = replace(cell.settings, **(options or {}))
     steps, _ = realization_steps(scene, h, 0)

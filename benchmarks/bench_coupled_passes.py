@@ -28,18 +28,15 @@ sys.path.insert(0, str(ROOT))
 
 import numpy as np  # noqa: E402
 
-from benchmarks.bench_adhesion_scaling import CLASSES, SEED  # noqa: E402
+from benchmarks.bench_adhesion_scaling import task_of  # noqa: E402
 from benchmarks.report import header, write  # noqa: E402
-from contact import surfaces  # noqa: E402
 from contact.law_equations import traction_coupled  # noqa: E402
-from contact.scene import load_scene  # noqa: E402
 from gfmd import kernels  # noqa: E402
 from gfmd.coupled_kernels import coupled_kernels  # noqa: E402
 from gfmd.coupled_preconditioner import coarse_space, operators  # noqa: E402
 from gfmd.fft import Fft  # noqa: E402
 from gfmd.loading import prepare  # noqa: E402
 from gfmd.problem import Elastic  # noqa: E402
-from workbench.study import task_scene  # noqa: E402
 
 
 def best(call, seconds=0.3):
@@ -59,11 +56,7 @@ def best(call, seconds=0.3):
 
 def cell_and_tangent(n, contact):
     """(model, law, coupled tangent made up on the contact patches, profile) at N = n."""
-    base = load_scene(SEED / "seed_base.toml")
-    rollon = max(base.surface.rollon_wavelength, 4 * base.surface.length / n)
-    scene = task_scene(base.replace(**{"surface.nodes": n, "surface.rollon_wavelength": rollon,
-                                       **CLASSES["coupled"]}), 2 - base.surface.seed)
-    h = surfaces.profile(scene.surface, 0)
+    scene, h = task_of(n, "coupled", realization=2)
     cell = prepare(scene, h)
     k_t, k_n = cell.law.law.initial_stiffness
     rng = np.random.default_rng(1)
