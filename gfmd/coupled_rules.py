@@ -46,13 +46,16 @@ COUPLED_START_MARGIN = 2.0
 COUPLED_HANDOVER_MOVE = 0.1
 #: "frictionless-first": Newton's state from the frictionless prediction is kept only where no node moved
 #: COUPLED_PREDICTION_MOVE · min(δn, δt) or more from it (Newton polished the prediction, it did not leave it for another
-#: equilibrium). Measured (2^13–2^17, ν = 0.45): the kept states moved 0.06–0.37 law lengths, each the chain's
-#: "handover-near" state within 6e-7 law lengths or another locally stable one (table of the benchmark)
+#: equilibrium). Measured at 2^13 and 2^15 (ν = 0.45, seed 2, every event step): the kept states had moved 0.06–0.37
+#: law lengths from the prediction; all but one were "handover-near"'s state (within 6e-7 law lengths), that one
+#: another equilibrium, locally stable as FIRE's (benchmarks/results/bench_coupled_frictionless.md)
 COUPLED_PREDICTION_MOVE = 1.0
 #: ``coupled = "auto"`` runs "frictionless-first" where `gfmd.problem.elastic_coupling` (a half-plane's β =
-#: (1 − 2ν)/(2(1 − ν))) is at most this, else "handover-near". Measured on whole coupled ramps (φn* = 0.15, c = 0.5,
-#: δt = 1 nm, 201 steps; benchmarks/results/bench_coupled_frictionless.md): ν = 0.45 (β = 0.091) CPU −27 % at 2^17
-#: (events −53 %), every prediction kept; ν = 0.4 (β = 0.167) PENDING; ν = 0.3 (β = 0.286) and 0.1 (β = 0.444) +35 %
-#: and +27 % at 2^15 (the Newton from the prediction rejected on most events: the tangential law moves the state
-#: more than a law length from the frictionless one)
+#: (1 − 2ν)/(2(1 − ν))) is at most this, else "handover-near". Measured on whole coupled ramps at 2^15 (φn* = 0.15,
+#: c = 0.5, δt = 1 nm, 201 steps, seeds 2 and 3; benchmarks/results/bench_coupled_frictionless.md), FFT pairs and CPU
+#: against "handover-near": β = 0.091 (ν = 0.45) −21 %, −23 % pairs, CPU −1 %, −34 %; β = 0.167 (ν = 0.4) −19 %, −13 %
+#: pairs, CPU −26 %, −16 % (most predictions kept); β = 0.286 (ν = 0.3) +23 %, +53 % pairs, CPU +17 %, +37 %; β = 0.444
+#: (ν = 0.1) +55 %, +69 % pairs, CPU +46 %, +83 % (the Newton from the prediction rejected on most events: the
+#: tangential law moves the state more than a law length from the frictionless one). Between the last win and the
+#: first loss:
 COUPLED_FRICTIONLESS_COUPLING = 0.2
