@@ -18,7 +18,7 @@ from the last converged state as `contact.ramp.run_ramp` does); per step: iterat
 (rfft+irfft pairs, `Relaxed.fft_pairs`: deterministic, meaningful under load), a_rel, the chain's
 label, and CPU seconds (time.process_time; the machine is shared: MEASURED UNDER LOAD, the
 load average is printed). --compare runs the other solver on the same task in the same run: coupled with
-Settings.coupled = "fire" (the chain before issue 24; the default, "handover-near", starts with Newton–Krylov). (The
+Settings.coupled = "fire" (the chain before issue 24; the default, "auto", starts with Newton–Krylov). (The
 trust-region Newton–CG measured for the cohesive class in results/bench_adhesion_scaling_full.md was dropped.)
 Output: a markdown table per class plus a summary (mean / max pairs per step, coupled / normal ratios).
 """

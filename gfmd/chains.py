@@ -13,30 +13,29 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
 * normal-only cohesive law (a potential), method "fire": the NCG, FIRE after a stall
   (``cohesive = "fire"``: FIRE alone); "verlet": Verlet. (A trust-region Newton–CG was measured against the
   NCG for issue 24 and dropped: 49.7 vs 44.2 FFT pairs per step at 2^17, benchmarks/results/bench_adhesion_scaling_full.md.)
-* coupled law (seed Eq. 2, no potential), method "fire", ``coupled = "handover-near"`` (default since session 26),
-  from the better of the step's guess and the last state (`relax`'s `previous`, `COUPLED_BETTER_START`):
-  the continuation Newton–Krylov first, its converged state kept only as a continuation of the ramp's branch (no
-  node moved `COUPLED_JUMP` law lengths from the step's start); it gives up at the first GMRES solve that misses
-  its tolerance within `COUPLED_CONTINUATION_GMRES_CYCLES` (``coupled_gmres_give_up``: a near-singular or
-  indefinite tangent), once an iterate moved a node `COUPLED_JUMP` law lengths (``coupled_continuation_jump``),
-  once two iterations in a row each left more than `COUPLED_CONTINUATION_STAGNATION` of the residual and after
-  `COUPLED_CONTINUATION_ITERATIONS`. Otherwise FIRE from the guess to the looser residual
-  `Settings.coupled_handover` (link tolerance "handover"), Newton–Krylov from the state it hands over, kept where
-  no node moved `COUPLED_HANDOVER_MOVE` law lengths from it (the equilibrium FIRE was approaching), else FIRE goes
-  on from its handover state for up to `COUPLED_FIRE_CRAWL` iterations in all (through a fold's ghost); FIRE from
-  where the continuation Newton stalled (start "stalled end", resumed without the break-off where it broke off: a
-  jump-in fold, Fig. 8 at 2^17, seed 2, step 176); then the stability-tested Newton of ``coupled = "fire"``, Ψtc
-  (kept where locally stable, `_LAST_RESORT`) and Verlet. Each rule's measurements (FFT pairs per whole ramp at
-  2^13–2^14 and on Fig. 8's full-scale event steps, the states unchanged): README, issue 24, and
-  benchmarks/results/bench_coupled_{continuation,stagnation,fallback,handover}*.md.
-  ``coupled = "newton"`` (the default of issue 24 until session 26): the continuation Newton, then FIRE from the
-  guess and, where it stalls there, from the continuation's stall ("stalled end"), then as ``coupled = "fire"``:
-  FIRE; after a stall (`COUPLED_FIRE_BUDGET`) Newton–Krylov from the guess, then from FIRE's end state where FIRE
-  lowered the residual (`_progressed`), a converged state kept only where locally stable
-  (`gfmd.coupled_stability`, the FE reference's criterion); then Ψtc and Verlet from the guess. Method "verlet":
-  Verlet. Measured, not the default: ``coupled = "ptc"``, Ψtc (`coupled_ptc`, kept where locally stable) between
-  the continuation Newton and FIRE; ``coupled = "handover"``, "handover-near" whose handed-over Newton state is
-  also stability-tested (benchmarks/results/bench_coupled_ptc.md, bench_coupled_handover.md).
+* coupled law (seed Eq. 2, no potential), method "fire", ``coupled = "auto"`` (the default): "frictionless-first" on a
+  body that barely couples u_x and u_z (`gfmd.problem.elastic_coupling` ≤ `COUPLED_FRICTIONLESS_COUPLING`), else
+  "handover-near" (the default of sessions 26–39). Both start from the better of the step's guess and the last state
+  (`relax`'s `previous`, `COUPLED_BETTER_START`) with the continuation Newton–Krylov, its converged state kept only as
+  a continuation of the ramp's branch (no node moved `COUPLED_JUMP` law lengths from the step's start); it gives up
+  at the first GMRES solve that misses its tolerance within `COUPLED_CONTINUATION_GMRES_CYCLES`, once an iterate
+  moved a node `COUPLED_JUMP` law lengths, once two iterations in a row each left more than
+  `COUPLED_CONTINUATION_STAGNATION` of the residual and after `COUPLED_CONTINUATION_ITERATIONS`. On such an event
+  step "frictionless-first" runs the NCG on the frictionless reduction (`gfmd.problem.frictionless`: a potential,
+  whose line searches cross the snap) from the start's u_z to `Settings.coupled_handover`, then Newton–Krylov from
+  its u_z and the start's u_x, kept where no node moved `COUPLED_PREDICTION_MOVE` law lengths from it (link
+  reduced "frictionless", accept "predicted"); otherwise, and in "handover-near" at once, FIRE from the guess to
+  `Settings.coupled_handover` (link tolerance "handover"), Newton–Krylov from the state it hands over, kept where no
+  node moved `COUPLED_HANDOVER_MOVE` law lengths from it (the equilibrium FIRE was approaching), else FIRE goes on
+  from its handover state for up to `COUPLED_FIRE_CRAWL` iterations in all (through a fold's ghost); FIRE from where
+  the continuation Newton stalled (start "stalled end", resumed without the break-off: a jump-in fold, Fig. 8 at
+  2^17, seed 2, step 176); then the stability-tested Newton of ``coupled = "fire"``, Ψtc (kept where locally stable,
+  `_LAST_RESORT`) and Verlet. Measurements: README, issue 24, benchmarks/results/bench_coupled_*.md.
+  ``coupled = "newton"`` (the default of issue 24 until session 26): the continuation, then FIRE from the guess (and
+  from the continuation's stall), then as ``coupled = "fire"``: FIRE; after a stall (`COUPLED_FIRE_BUDGET`) Newton from
+  the guess, then from FIRE's end where it lowered the residual (`_progressed`), kept only where locally stable
+  (`gfmd.coupled_stability`, the FE reference's criterion); then Ψtc and Verlet. Measured, not the default:
+  ``coupled = "ptc"`` (Ψtc before FIRE), "handover" (the handed-over Newton state also stability-tested).
 * cohesive wall: projected FIRE, or Verlet (method "verlet").
 * user law (`contact.user_law`, normal-only, a potential): as the normal-only cohesive law, the NCG (its
   generic nodal path: the user's traction and tangent on every node) and FIRE after a stall; the labels are
@@ -65,8 +64,12 @@ from contact import laws
 from .algorithms import (cohesive_wall, coupled_newton, coupled_ptc, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
                          hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
 from .coupled_krylov import balance_residual
+from .coupled_rules import (COUPLED_BETTER_START, COUPLED_CONTINUATION_GMRES_CYCLES,  # noqa: F401 (tests patch
+                            COUPLED_CONTINUATION_ITERATIONS, COUPLED_CONTINUATION_STAGNATION,  # them here)
+                            COUPLED_FIRE_BUDGET, COUPLED_FIRE_CRAWL, COUPLED_FRICTIONLESS_COUPLING, COUPLED_HANDOVER_MOVE,
+                            COUPLED_JUMP, COUPLED_PREDICTION_MOVE, COUPLED_START_MARGIN)
 from .coupled_stability import coupled_stability
-from .problem import Problem, flat_problem
+from .problem import Problem, elastic_coupling, flat_problem, frictionless
 from .stopping import finish
 
 #: the algorithms by name (gfmd.algorithms: one module each, `solve(problem, start, settings) -> Relaxed`)
@@ -75,51 +78,6 @@ ALGORITHMS = {"hard_wall_two_level_cg": hard_wall_two_level_cg.solve, "hard_wall
               "hard_wall_dynamics": hard_wall_dynamics.solve, "ncg": ncg.solve, "dynamics": dynamics.solve,
               "coupled_newton": coupled_newton.solve, "coupled_ptc": coupled_ptc.solve,
               "cohesive_wall": cohesive_wall.solve}
-
-#: FIRE iterations a coupled-law step gets before the Newton–Krylov / damped-Verlet fallback. Measured (layer
-#: D = L, sinusoid a = 50 nm, φn* = 0.01, c = 0.5, ν = 0.3): FIRE needs ≤ 790 iterations per step
-#: up to δ = 32 nm (N = 64; ≤ 350 at N = 128), then 950, 7 580, 33 060 and fails (residual 1e-2 to
-#: 1e2 p_ref) from δ ≈ 39 nm (N = 128), where Verlet converges in 500–1 140. Budget ≈ 2.5 × 790.
-COUPLED_FIRE_BUDGET = 2000
-#: FIRE from a handover state (residual ≤ Settings.coupled_handover, Newton's state there rejected or not converged)
-#: gets COUPLED_FIRE_CRAWL iterations with the handover link's: near a fold the equilibrium FIRE was approaching is
-#: gone, and it crawls through the fold's ghost at residuals 1e-6 to 1e-5 p_ref, moving slowly, before the snap.
-#: Measured (Fig. 8 at 2^17, ν = 0.45, c = 0.5, seed 8, step 156): 6 220 iterations after the handover, moves
-#: 0.10 → 0.16 δn over the first 5 000, then a 2.38 δn snap, converged (60 CPU s); with COUPLED_FIRE_BUDGET's
-#: 1 720 left, every other link stalled at 2e-6 p_ref beside it and damped Verlet ran over an hour. ≈ 3 × 6 220.
-COUPLED_FIRE_CRAWL = 20000
-#: Newton-first coupled chain: its converged state is kept only where no node moved COUPLED_JUMP · (the law's
-#: length, min(δn, δt)) or more from the step's start: the continuation of the stable branch the ramp is on.
-#: A larger move (a snap or slip event) hands the step to the FIRE chain, whose Newton is tested for stability
-COUPLED_JUMP = 1.0
-#: the continuation Newton gives up after COUPLED_CONTINUATION_ITERATIONS iterations: a continuation converges in a
-#: few from the ramp's extrapolated guess (Fig. 8 study at 2^17, 772 kept continuation steps of five tasks: at most 11
-#: iterations, 98 % ≤ 4), while a step whose Newton wanders ran its 60 (seed 8, step 104: 3 721 FFT pairs, then
-#: FIRE and Newton finished it in 443)
-COUPLED_CONTINUATION_ITERATIONS = 20
-#: and each of its GMRES solves gets COUPLED_CONTINUATION_GMRES_CYCLES restart cycles (of 60 products): the solves of
-#: kept continuations took ≤ 104 products (Fig. 8 at 2^17, seed 7, steps 161–198), while on event steps they grew to
-#: 150–300 or missed after all 5 cycles (305 FFT pairs) before the continuation was given up anyway
-COUPLED_CONTINUATION_GMRES_CYCLES = 2
-#: and it gives up once two iterations in a row each left more than COUPLED_CONTINUATION_STAGNATION of the residual
-#: before them (a Newton crawling along a near-singular tangent, which went on to the iteration cap or a line search
-#: stall: Fig. 8 at 2^17, ν = 0.45, seed 7, step 122: 1.4e-2 p_ref for 17 iterations, 14 of the step's 17 CPU s);
-#: kept continuations converge superlinearly (benchmarks/results/bench_coupled_stagnation_*.md)
-COUPLED_CONTINUATION_STAGNATION = 0.5
-#: coupled chains: where the ramp extrapolated the step's guess from its last two states (`relax`'s `previous`, the
-#: last one), the chain starts from the last state where the guess's nodal force residual is more than
-#: COUPLED_START_MARGIN times the last state's: through a snap the extrapolation carries the snapped nodes on into the
-#: indenter (Fig. 8 at 2^17, the steps after an event: 7.5 to 2e4 p_ref against 0.3–0.5 from the last state), where
-#: the continuation Newton moves a node a law length and hands the step to FIRE; from the last state it is a
-#: continuation, the same state within 3e-7 δn. A guess 1.5–1.7× worse was no overshoot: from it the continuation did
-#: as well or better (moves from the last state reach a law length sooner), hence the margin
-#: (benchmarks/results/bench_coupled_start_*.md)
-COUPLED_BETTER_START = True
-COUPLED_START_MARGIN = 2.0
-#: handover chains (``coupled = "handover"``): Newton's state from FIRE's handover state is kept only where no node
-#: moved COUPLED_HANDOVER_MOVE · min(δn, δt) or more from it (the equilibrium FIRE was approaching, not another)
-COUPLED_HANDOVER_MOVE = 0.1
-
 
 @dataclass(frozen=True)
 class Link:
@@ -135,9 +93,11 @@ class Link:
     (min(COUPLED_FIRE_BUDGET, max_iterations // 2)), "coupled crawl" (min(COUPLED_FIRE_CRAWL, max_iterations // 2)
     less the handover link's iterations, at least 1); accept: "locally stable" keeps a converged state only where
     the tangent's eigenvalues nearest 0 have Re λ > 0, "near" only where no node moved COUPLED_HANDOVER_MOVE law
-    lengths from its start, "near, locally stable" both; tolerance: "handover" runs the link to the looser residual
-    `Settings.coupled_handover` and hands the state it reaches to the links after it (start "handover": that
-    state; the link is skipped where the handover residual was not reached).
+    lengths from its start, "near, locally stable" both, "predicted" only where none moved COUPLED_PREDICTION_MOVE;
+    tolerance: "handover" runs the link to the looser residual `Settings.coupled_handover` and hands the state it
+    reaches to the links after it (start "handover": the last such link's state; the link is skipped where that link
+    did not reach the handover residual); reduced: "frictionless" runs the algorithm on the frictionless reduction
+    (`_run`).
     """
 
     algorithm: str
@@ -146,6 +106,7 @@ class Link:
     budget: str = "all"
     accept: str = ""
     tolerance: str = ""
+    reduced: str = ""
 
 
 _VERLET = (("method", "verlet"),)
@@ -201,6 +162,18 @@ CHAINS = {
                                    Link("dynamics", starts=("stalled end",), budget="coupled fire"),
                                    Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
                                    *_LAST_RESORT),
+    # the frictionless reduction's NCG through the event (its energy minimum, u_x of the guess), Newton from there kept
+    # near it; else on as "handover-near"
+    ("coupled", "frictionless-first"): (Link("coupled_newton", options=_CONTINUATION, accept="continuation"),
+                                        Link("ncg", reduced="frictionless", tolerance="handover"),
+                                        Link("coupled_newton", options=_GIVE_UP, starts=("handover",),
+                                             accept="predicted"),
+                                        Link("dynamics", budget="coupled fire", tolerance="handover"),
+                                        Link("coupled_newton", options=_GIVE_UP, starts=("handover",), accept="near"),
+                                        Link("dynamics", starts=("handover",), budget="coupled crawl"),
+                                        Link("dynamics", starts=("stalled end",), budget="coupled fire"),
+                                        Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
+                                        *_LAST_RESORT),
     ("coupled", "verlet"): (Link("dynamics"),),
     ("user", "ncg"): (Link("ncg"), Link("dynamics", budget="rest")),
     ("user", "fire"): (Link("dynamics"),),
@@ -213,12 +186,12 @@ CHAINS = {
 WORDS = {"hard_wall_two_level_cg": "the two-level dual CG", "cg-dual2": "the two-level dual CG",
          "hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG",
          "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov",
-         "ptc": "pseudo-transient continuation"}
+         "ptc": "pseudo-transient continuation", "ncg-frictionless": "NCG on the frictionless reduction"}
 STARTS = {"guess": "the step's guess", "end": "the end state of the one before",
           "finite end": "the end state of the one before", "handover": "FIRE's handover state",
           "stalled end": "where the continuation Newton stalled"}
 #: Settings.coupled's chains (`chain_key`)
-COUPLED_KEYS = ("newton", "ptc", "fire", "handover", "handover-near")
+COUPLED_KEYS = ("auto", "newton", "ptc", "fire", "handover", "handover-near", "frictionless-first")
 
 
 #: why a 2+1-D surface is normal-only (`refuse_tangential_surface`)
@@ -261,12 +234,18 @@ def chain_key(problem, settings):
     if kind == "coupled":
         if settings.method == "fire" and settings.coupled not in COUPLED_KEYS:
             raise ValueError(f"Settings.coupled = {settings.coupled!r}: expected one of {', '.join(COUPLED_KEYS)}")
-        if settings.method == "fire" and settings.coupled.startswith("handover"):
+        if settings.method != "fire":
+            return kind, "verlet"
+        key = settings.coupled
+        if key == "auto":  # the frictionless predictor where the body barely couples u_x and u_z
+            weak = elastic_coupling(problem.model) <= COUPLED_FRICTIONLESS_COUPLING
+            key = "frictionless-first" if weak else "handover-near"
+        if key in ("handover", "handover-near", "frictionless-first"):
             h = settings.coupled_handover
             if not (isinstance(h, (float, int)) and settings.tolerance < h < 1.0):
                 raise ValueError(f"Settings.coupled_handover = {h!r}: expected a residual (× p_ref) between "
                                  f"Settings.tolerance = {settings.tolerance:g} and 1")
-        return kind, (settings.coupled if settings.method == "fire" else "verlet")
+        return kind, key
     if settings.method == "fire" and settings.cohesive not in ("ncg", "fire"):
         raise ValueError(f"Settings.cohesive = {settings.cohesive!r}: expected 'ncg' or 'fire'")
     if settings.method == "fire" and settings.cohesive == "ncg" and (kind == "user" or
@@ -279,8 +258,9 @@ def labels(key, settings):
     """The `Relaxed.method` labels of the chain `CHAINS[key]`'s algorithms in order, e.g. ("ncg", "fire")."""
     fixed = {"hard_wall_two_level_cg": "cg-dual2", "hard_wall_dual_cg": "cg-dual", "hard_wall_primal_cg": "cg", "ncg": "ncg",
              "coupled_newton": "newton", "coupled_ptc": "ptc"}
-    return tuple(fixed.get(link.algorithm) or ("verlet" if dict(link.options).get("method", settings.method) == "verlet"
-                                               else "fire") for link in CHAINS[key])
+    return tuple((fixed.get(link.algorithm) or ("verlet" if dict(link.options).get("method", settings.method) == "verlet"
+                                                else "fire")) + (f"-{link.reduced}" if link.reduced else "")
+                 for link in CHAINS[key])
 
 
 def describe(key, settings):
@@ -345,6 +325,10 @@ def _rejected(problem, link, r, origin):
         move = _move(problem, r, origin)
         return (f"a node moved {move:.3g} law lengths from the step's start (a snap or slip event: left to the "
                 "chain that tests stability)") if move >= COUPLED_JUMP else ""
+    if link.accept == "predicted":  # Newton polished the predicted state, it did not leave it for another
+        move = _move(problem, r, origin)
+        return (f"a node moved {move:.3g} law lengths from the frictionless prediction (another equilibrium), "
+                "rejected") if move >= COUPLED_PREDICTION_MOVE else ""
     if link.accept.startswith("near"):  # the equilibrium the handover state was approaching, not another one
         move = _move(problem, r, origin)
         if move >= COUPLED_HANDOVER_MOVE:
@@ -416,6 +400,17 @@ def _on_grid(result, model):
     return result
 
 
+def _run(problem, link, origin, settings):
+    """The link's algorithm from `origin`; for reduced = "frictionless" on `gfmd.problem.frictionless`'s reduction,
+    its u_z with origin's u_x returned as the coupled state."""
+    if not link.reduced:
+        return ALGORITHMS[link.algorithm](problem, origin, settings)
+    r = ALGORITHMS[link.algorithm](frictionless(problem), origin[-1:], settings)
+    r.u_hat = np.concatenate([origin[:-1], r.u_hat[-1:]])
+    r.method += "-frictionless"
+    return r
+
+
 def _relax(problem, chain, u_hat, settings):
     """`relax` along `chain` on a 1+1-D problem or a surface's flat view."""
     used, pairs, names, notes = 0, 0.0, [], []
@@ -443,6 +438,8 @@ def _relax(problem, chain, u_hat, settings):
             options["tolerance"] = settings.coupled_handover
         run = replace(settings, **options) if options else settings
         last_link = i == len(chain) - 1
+        if link.tolerance == "handover":  # a later Newton from "handover" starts from this link's state or none
+            handed = None
         result = None
         for start in link.starts:
             if start == "guess":
@@ -469,7 +466,7 @@ def _relax(problem, chain, u_hat, settings):
                 origin = before.u_hat
             else:
                 continue
-            r = ALGORITHMS[link.algorithm](problem, origin, run)
+            r = _run(problem, link, origin, run)
             count(r)
             label = WORDS.get(r.method) or WORDS.get(link.algorithm, link.algorithm)
             if link.tolerance == "handover" and r.converged:  # the looser residual: handed on, not the answer

@@ -236,6 +236,33 @@ def flat_problem(problem):
     return Problem(flat_model(problem.model), problem.law, z, problem.wall_tolerance)
 
 
+def frictionless(problem):
+    """The coupled problem's frictionless reduction, a potential problem (`gfmd.algorithms.ncg`): seed Eq. 3 (Eq. 2 at
+    Δt = 0, T_t ≡ 0) on u_z alone, with the normal stiffness of a surface free of shear traction, the Schur complement
+    k_zz − |k_xz|²/k_xx of K(q) (a half-plane's E*|q|/2, §1.1; a layer's 1/G_zz)."""
+    model, cz = problem.model, problem.law.law
+    k_xx, k_zz = np.real(model.k_xx), np.real(model.k_zz)
+    sheared = k_xx > 0  # a half-plane's q = 0: no stiffness, nothing to condense
+    k_free = k_zz.copy()
+    k_free[sheared] -= np.abs(model.k_xz[sheared]) ** 2 / k_xx[sheared]
+    normal = laws.NormalCohesive(work_normal=cz.work_normal, length_normal=cz.length_normal,
+                                 contact_tolerance=cz.contact_tolerance, contact_rule=cz.contact_rule,
+                                 rule_gap=cz.rule_gap)
+    reduced = dataclasses.replace(model, law=normal, tangential=False, k_xx=None, k_xz=None, k_zz=k_free,
+                                  description=f"{normal.name}, frictionless reduction of {model.description}")
+    return Problem(reduced, InterfaceLaw(reduced), problem.z_ind, problem.wall_tolerance)
+
+
+def elastic_coupling(model):
+    """max over q of |k_xz| / √(k_xx k_zz): how strongly the body couples normal and tangential motion (0 without
+    tangential unknowns; a half-plane's β = (1 − 2ν)/(2(1 − ν)) at every q, §1.2)."""
+    if not model.tangential:
+        return 0.0
+    k_xx, k_zz = np.real(model.k_xx), np.real(model.k_zz)
+    both = (k_xx > 0) & (k_zz > 0)
+    return float(np.max(np.abs(model.k_xz[both]) / np.sqrt(k_xx[both] * k_zz[both]), initial=0.0))
+
+
 def band_stiffness(k_kernel, act, n, half_width):
     """K_AA truncated to |i − j| ≤ half_width (CSR, Pa/m): the dual hard-wall CGs' preconditioner.
 

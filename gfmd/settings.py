@@ -39,13 +39,16 @@ class Settings:
     # cohesive normal-only law (a potential) with method "fire": "ncg" (nonlinear preconditioned CG with
     # a Newton line search, FIRE as fallback) or "fire" (FIRE alone, the integrator before issue 13)
     cohesive: str = "ncg"
-    # coupled law (seed Eq. 2) with method "fire": "handover-near" (default since session 26: Newton–Krylov first,
+    # coupled law (seed Eq. 2) with method "fire": "auto" (default since session 40: "frictionless-first" on a body
+    # that barely couples u_x and u_z, `gfmd.chains.COUPLED_FRICTIONLESS_COUPLING`, else "handover-near"),
+    # "frictionless-first" (Newton–Krylov first, else the frictionless reduction's NCG through the event and Newton from
+    # there, kept near it, else as "handover-near"), "handover-near" (the default of sessions 26–39: Newton–Krylov first,
     # its state kept as a continuation of the ramp's branch, else FIRE to `coupled_handover` and Newton–Krylov from
     # there, kept near FIRE's state, else the "fire" chain), "newton" (the default of issue 24: the continuation,
     # else the "fire" chain), "handover" (as "handover-near", the handed-over state also stability-tested), "ptc"
     # (as "newton", pseudo-transient continuation before FIRE) or "fire" (FIRE; Newton–Krylov, then Verlet after a
     # stall); measured in `gfmd.chains`
-    coupled: str = "handover-near"
+    coupled: str = "auto"
     # the handover chains: FIRE stops at this residual (× p_ref) and Newton–Krylov finishes from there, its state kept
     # only near FIRE's (and, "handover", locally stable), else FIRE goes on (`gfmd.chains`)
     coupled_handover: float = 1e-4

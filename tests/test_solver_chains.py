@@ -123,7 +123,8 @@ def test_energy_is_infinite_through_the_wall_and_undefined_for_the_coupled_law()
 SETTINGS_OF_KEY = {"cg": Settings(), "cg-band": Settings(dual_coarse_block=0), "cg-primal": Settings(dual_contact_limit=0.0),
                    "fire": Settings(hard_wall="fire", cohesive="fire", coupled="fire"), "verlet": Settings(method="verlet"),
                    "ncg": Settings(), "newton": Settings(coupled="newton"), "ptc": Settings(coupled="ptc"),
-                   "handover": Settings(coupled="handover"), "handover-near": Settings()}
+                   "handover": Settings(coupled="handover"), "handover-near": Settings(),  # "auto" at ν = 0.3
+                   "frictionless-first": Settings(coupled="frictionless-first")}
 LAW_OF_KIND = {"hard-wall": ("hard-wall", {}), "cohesive": ("cohesive", {}), "cohesive-wall": ("cohesive-wall", {}),
                "coupled": ("cohesive", {"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3}),
                "user": ("user", {})}
