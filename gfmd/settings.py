@@ -40,9 +40,9 @@ class Settings:
     # a Newton line search, FIRE as fallback) or "fire" (FIRE alone, the integrator before issue 13)
     cohesive: str = "ncg"
     # coupled law (seed Eq. 2) with method "fire": "auto" (default since session 40: "frictionless-first" on a body
-    # that barely couples u_x and u_z, `gfmd.chains.COUPLED_FRICTIONLESS_COUPLING`, else "handover-near"),
+    # that barely couples u_x and u_z, `gfmd.coupled_rules.COUPLED_FRICTIONLESS_COUPLING`, else "handover-near"),
     # "frictionless-first" (Newton–Krylov first, else the frictionless reduction's NCG through the event and Newton from
-    # there, kept near it, else as "handover-near"), "handover-near" (the default of sessions 26–39: Newton–Krylov first,
+    # there, kept where no node moved a law length from it, else as "handover-near"), "handover-near" (the default of sessions 26–39: Newton–Krylov first,
     # its state kept as a continuation of the ramp's branch, else FIRE to `coupled_handover` and Newton–Krylov from
     # there, kept near FIRE's state, else the "fire" chain), "newton" (the default of issue 24: the continuation,
     # else the "fire" chain), "handover" (as "handover-near", the handed-over state also stability-tested), "ptc"

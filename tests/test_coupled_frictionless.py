@@ -34,11 +34,12 @@ def test_reduced_stiffness_is_the_frictionless_kernel(nu, thickness):
     assert model.tangential
     problem = _problem(model)
     reduced = frictionless(problem)
-    e = model.law, reduced.model.law
-    assert (e[1].work_normal, e[1].length_normal, e[1].contact_rule) == (e[0].work_normal, e[0].length_normal,
-                                                                          e[0].contact_rule)
+    coupled_law, normal_law = model.law, reduced.model.law
+    assert type(normal_law).__name__ == "NormalCohesive"
+    assert ((normal_law.work_normal, normal_law.length_normal, normal_law.contact_rule)
+            == (coupled_law.work_normal, coupled_law.length_normal, coupled_law.contact_rule))
     assert not reduced.model.tangential and reduced.kind == "cohesive"
-    youngs = problem.model.contact_modulus * (1 - nu**2)
+    youngs = problem.model.contact_modulus * (1 - nu**2)  # E from E* = E/(1 − ν²)
     expected = (kernels.halfplane_normal(model.q, youngs, nu) if thickness == "inf"
                 else kernels.layer_normal(model.q, youngs, nu, thickness))
     # the coupled kernels zero K_xz at the Nyquist mode (`contact.kernels`): the model's own frictionless
