@@ -429,6 +429,7 @@ def _relax(problem, chain, u_hat, settings):
     before, before_origin = None, None  # the last link's final result ("end" starts from it) and its start
     first, stall = None, None  # the first link's final result; (where it stalled,) for "stalled end", found once
     handed, handover_used = None, 0  # the state a "handover" link reached (start "handover") and its iterations
+    handed_words = STARTS["handover"]  # that state in words
     for i, link in enumerate(chain):
         options = dict(link.options)
         budget = _budget(link, settings, used, handover_used)
@@ -471,10 +472,12 @@ def _relax(problem, chain, u_hat, settings):
             label = WORDS.get(r.method) or WORDS.get(link.algorithm, link.algorithm)
             if link.tolerance == "handover" and r.converged:  # the looser residual: handed on, not the answer
                 handed, handover_used = r, r.iterations
+                handed_words = "the frictionless prediction" if link.reduced else STARTS["handover"]
                 notes.append(f"{label} handed over at residual {r.residual:.3g} p_ref")
                 break
             why = _rejected(problem, link, r, origin) if r.converged else ""
-            where = "" if start == "guess" or i == 0 else f" from {STARTS[start]}"
+            words = handed_words if start == "handover" else STARTS[start]
+            where = "" if start == "guess" or i == 0 else f" from {words}"
             if r.converged and not why or not r.converged and (last_link or not r.stalled):
                 result = r
                 break

@@ -98,3 +98,16 @@ def test_a_rejected_or_missing_prediction_goes_on_as_handover_near(ramps, monkey
     none = chains.relax(cell.physics, cell.law, z, guess, replace(cell.settings, coupled="frictionless-first"))
     assert none.method == "newton→ncg-frictionless→fire→newton", none.method
     assert none.converged and np.max(np.abs(none.u_z - near.u_z)) < bound(cell)
+
+
+def test_a_handover_link_that_hands_nothing_over_leaves_no_stale_state(ramps, monkeypatch):
+    """The prediction rejected and FIRE's handover link short of its residual (budget 30 of 60 iterations): the Newton
+    that starts from FIRE's handover state is skipped, not run again from the prediction the chain already rejected."""
+    cell, default, _ = ramps
+    z, guess = _event_step(cell, default)
+    monkeypatch.setattr(chains, "COUPLED_PREDICTION_MOVE", 0.0)
+    r = chains.relax(cell.physics, cell.law, z, guess,
+                     replace(cell.settings, coupled="frictionless-first", max_iterations=60))
+    assert "NCG on the frictionless reduction handed over" in r.message
+    assert r.message.count("Newton–Krylov from the frictionless prediction stopped") == 1, r.message
+    assert "FIRE's handover state" not in r.message and "FIRE handed over" not in r.message, r.message
