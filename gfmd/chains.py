@@ -64,8 +64,8 @@ from contact import laws
 from .algorithms import (cohesive_wall, coupled_newton, coupled_ptc, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
                          hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
 from .coupled_krylov import balance_residual
-from .coupled_rules import (COUPLED_BETTER_START, COUPLED_CONTINUATION_GMRES_CYCLES,  # noqa: F401 (tests patch
-                            COUPLED_CONTINUATION_ITERATIONS, COUPLED_CONTINUATION_STAGNATION,  # them here)
+from .coupled_rules import (COUPLED_BETTER_START, COUPLED_CONTINUATION_GMRES_CYCLES,  # read (and patched by the
+                            COUPLED_CONTINUATION_ITERATIONS, COUPLED_CONTINUATION_STAGNATION,  # tests) as gfmd.chains
                             COUPLED_FIRE_BUDGET, COUPLED_FIRE_CRAWL, COUPLED_FRICTIONLESS_COUPLING, COUPLED_HANDOVER_MOVE,
                             COUPLED_JUMP, COUPLED_PREDICTION_MOVE, COUPLED_START_MARGIN)
 from .coupled_stability import coupled_stability
