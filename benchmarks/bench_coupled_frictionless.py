@@ -32,12 +32,11 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import bench_adhesion_scaling as bas  # noqa: E402
-from bench_coupled_handover import code_version  # noqa: E402  (its import also wraps bas.relax and the chains' stability
-# test with its FFT-pair counters: counting only, the states and this report's numbers unchanged)
 from contact.loading import indenter_surface, realization_steps  # noqa: E402
 from gfmd.coupled_stability import coupled_stability  # noqa: E402
 from gfmd.loading import prepare  # noqa: E402
 from gfmd.problem import elastic_coupling  # noqa: E402
+from workbench.io import code_version  # noqa: E402
 
 CHAINS = ("handover-near", "frictionless-first")
 KEPT = "newton→ncg-frictionless→newton"

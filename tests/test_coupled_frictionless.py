@@ -39,7 +39,7 @@ def test_reduced_stiffness_is_the_frictionless_kernel(nu, thickness):
     assert ((normal_law.work_normal, normal_law.length_normal, normal_law.contact_rule)
             == (coupled_law.work_normal, coupled_law.length_normal, coupled_law.contact_rule))
     assert not reduced.model.tangential and reduced.kind == "cohesive"
-    youngs = problem.model.contact_modulus * (1 - nu**2)  # E from E* = E/(1 − ν²)
+    youngs = _scene().material.youngs_modulus
     expected = (kernels.halfplane_normal(model.q, youngs, nu) if thickness == "inf"
                 else kernels.layer_normal(model.q, youngs, nu, thickness))
     # the coupled kernels zero K_xz at the Nyquist mode (`contact.kernels`): the model's own frictionless
