@@ -175,18 +175,30 @@ def _fftw_plans(shape, axes):
     return pair
 
 
+def _execute_into(plan, source, out, home):
+    """Run `plan` from `source` into `out` (aligned as its own output, `home`), then point it back at `home`: the
+    caller's array is FFTW's output, no copy of it (whole 2^17 cohesive ramp: −x % CPU, benchmarks/bench_fft.py)."""
+    plan.update_arrays(source, out)
+    try:
+        plan.execute()
+    finally:
+        plan.update_arrays(source, home)
+    return out
+
+
 def _fftw_r2c(x, axes):
     pair = _fftw_plans(x.shape, axes)
     pair.real_in[...] = x
-    pair.forward.execute()
-    return pair.spectrum.copy()
+    return _execute_into(pair.forward, pair.real_in, _pyfftw.empty_aligned(pair.spectrum.shape, dtype=complex),
+                         pair.spectrum)
 
 
 def _fftw_c2r(x_hat, shape, axes):
+    """The unnormalised c2r of x_hat · 1/points (exact for a power of two points: the scale is one)."""
     pair = _fftw_plans(shape, axes)
-    pair.spectrum[...] = x_hat
-    pair.backward.execute()
-    return np.multiply(pair.real_out, pair.scale)
+    np.multiply(x_hat, pair.scale, out=pair.spectrum)
+    return _execute_into(pair.backward, pair.spectrum, _pyfftw.empty_aligned(pair.real_out.shape, dtype=float),
+                         pair.real_out)
 
 
 def _grid(grid):
