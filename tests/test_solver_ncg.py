@@ -18,7 +18,7 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import given, settings, strategies as st
 
 from contact import surfaces
 from contact.loading import indenter_surface
@@ -220,6 +220,29 @@ def test_ncg_kernels_are_the_nodal_algebra(backend, n, seed, beta, alpha):
     np.testing.assert_allclose(np.fft.irfft(u_hat, n), u_new, atol=1e-12 * n)
     np.testing.assert_allclose(np.fft.irfft(f_hat, n), np.fft.irfft(np.fft.rfft(t) - k * np.fft.rfft(u_new), n),
                                atol=1e-12 * n)
+
+
+@pytest.mark.parametrize("backend", JIT_BACKENDS)
+@settings(deadline=None)  # the first example compiles the numba kernels
+@given(n=st.integers(2, 64), seed=st.integers(0, 2**32 - 1), beta=st.sampled_from([0.0, 0.3, 1.7]))
+def test_preconditioned_kernels_are_the_nodal_algebra(backend, n, seed, beta):
+    """products, direction_energy and combine of the two-level preconditioner's NCG (gfmd.kernels.preconditioned_kernels)
+    against the algebra on the nodes, for even and odd N and any s (not K⁻¹ f): f·s, f_old·s, f·d; d ← s + β d and
+    d·Kd = Σ_j d_j (K d)_j; s + β d on the nodes."""
+    rng = np.random.default_rng(seed)
+    f, f_old, d, s = rng.standard_normal((4, n))
+    k = rng.random(n // 2 + 1) + 0.1
+    k[0] = 0.0 if seed % 2 else k[0]
+    products, direction_energy, combine = kernels.preconditioned_kernels(backend)
+    rf = np.fft.rfft
+    got = products(rf(f), rf(f_old), rf(d), rf(s), n)
+    np.testing.assert_allclose(got, [f @ s, f_old @ s, f @ d], rtol=1e-10, atol=1e-10 * n)
+    d_hat = rf(d)
+    energy = direction_energy(rf(s), beta, d_hat, k, n)
+    d_new = s + beta * d
+    np.testing.assert_allclose(np.fft.irfft(d_hat, n), d_new, atol=1e-12 * n)
+    np.testing.assert_allclose(energy, d_new @ np.fft.irfft(k * rf(d_new), n), rtol=1e-10, atol=1e-10 * n)
+    np.testing.assert_allclose(combine(s.copy(), beta, d.copy()), d_new, atol=1e-14 * n)
 
 
 @pytest.mark.parametrize("backend", JIT_BACKENDS)

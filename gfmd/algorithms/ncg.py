@@ -122,6 +122,7 @@ def solve(problem, start, settings):
 
     g = preconditioner()
     products, direction, advance = kernels.ncg_kernels(grid=model.grid)  # the spectral algebra (numpy or fused)
+    products_m, direction_m, combine_m = kernels.preconditioned_kernels()  # the same under the two-level one
     cohesive_preconditioner.check(settings, model.grid)
     if user and settings.cohesive_preconditioner == "two-level":
         raise ValueError("Settings.cohesive_preconditioner = 'two-level' needs seed Eq. 3's law, not a user law")
@@ -130,7 +131,6 @@ def solve(problem, start, settings):
     # (an irfft and two cumulative sums over 2N: ≈ 6 ms at 2^17; a φn* = 0.001 task −6 to −11 % CPU)
     two_level = preconditioner_name != "stiffness"
     other = None
-    ones = np.ones(k.size)
     far = NCG_FAR_FRACTION * settings.tolerance * p_ref  # a far node's |T_n| is below this (Pa)
     cut = cz.far_gap(far) / dn if user else _attraction_cut(far / tn_scale)  # s_c
     scaled_gap = nodal.state  # Eq. 3: (s, e^{−s}); a user law: (T_n, dT_n/dΔn)
@@ -202,8 +202,7 @@ def solve(problem, start, settings):
                 if other.rebuild(k_loc) or it == engage_at:
                     restart = True
             s_hat, s_nodes = other.apply(f_hat)
-            rz, f_old_s = kernels.nodal_dot(f_hat, s_hat, n), kernels.nodal_dot(f_old, s_hat, n)
-            f_d_old = kernels.nodal_dot(f_hat, d_hat, n)
+            rz, f_old_s, f_d_old = products_m(f_hat, f_old, d_hat, s_hat, n)
         e_norm = np.sqrt(max(rz, 0.0))
         e_mid = e_norm if it == mid else e_mid
         if ratio is None or it % settings.check_every == 0 or e_norm * ratio < settings.tolerance * p_ref:
@@ -243,10 +242,9 @@ def solve(problem, start, settings):
         if not engaged:
             direction(f_hat, g, beta, d_hat)  # d̂ ← ŝ + β d̂
         else:  # K s ≠ f: d·Kd as a sum over the modes
-            direction(s_hat, ones, beta, d_hat)
-            c2 = kernels.nodal_dot(d_hat, k * d_hat, n)
+            c2 = direction_m(s_hat, beta, d_hat, k, n)  # d̂ ← ŝ + β d̂, d·Kd
             if s_nodes is not None and (beta == 0.0 or d_nodes is not None):  # d on the nodes without an irfft
-                d_nodes = s_nodes if beta == 0.0 else s_nodes + beta * d_nodes
+                d_nodes = s_nodes if beta == 0.0 else combine_m(s_nodes, beta, d_nodes)
             else:
                 d_nodes = None
         restart = False
