@@ -179,7 +179,7 @@ def _execute_into(plan, source, out, home):
     """Run `plan` from `source` into `out` (aligned as its own output, `home`), then point it back at `home`: the
     caller's array is FFTW's output, no copy of it. Whole 201-step ramps at 2^17 against copying out
     (benchmarks/results/bench_versions_fft-outputs.md, the same states bit for bit): φn* = 0.15 CPU × 0.92 ± 0.14,
-    the hard wall × 0.99 ± 0.12 (this machine's noise; ≈ 0.1 ms of a 1.7 ms pair saved in a loop)."""
+    the hard wall × 0.99 ± 0.12 (± this machine's noise between the two core placements)."""
     plan.update_arrays(source, out)
     try:
         plan.execute()
