@@ -84,6 +84,14 @@ class Eq3Nodes:
         """k_loc = (φn/δn²)(1 − s) e^{−s} (Pa/m)."""
         return self.kn_scale * (1.0 - s) * e
 
+    def direction_sums(self, s, e, d):
+        """(Σ_j T_n,j d_j, Σ_j k_loc,j d_j²) at the state along a new direction d: the line search's dE/dα(0) law
+        term and curvature; fused, the trial's two sums in one pass."""
+        if self.fused:
+            work, curv = _trial_sums(s, e, d)
+            return self.tn_scale * work, self.kn_scale * curv
+        return self.work(s, e, d), self.curvature_sum(s, e, d)
+
     def curvature_sum(self, s, e, d):
         """Σ_j k_loc,j d_j², k_loc = (φn/δn²)(1 − s) e^{−s}."""
         if self.fused:
@@ -120,6 +128,9 @@ class UserNodes:
 
     def stiffness(self, t, k):
         return k
+
+    def direction_sums(self, t, k, d):
+        return self.work(t, k, d), self.curvature_sum(t, k, d)
 
     def curvature_sum(self, t, k, d):
         return float(np.einsum("i,i,i->", k, d, d))

@@ -16,7 +16,7 @@ from contact import laws
 
 from .. import cohesive_preconditioner, kernels
 from ..ncg_nodes import Eq3Nodes, UserNodes
-from ..fft import Fft, dot
+from ..fft import Fft
 from ..settings import stall
 from ..stopping import finish
 
@@ -254,10 +254,11 @@ def solve(problem, start, settings):
         for _ in range(2):  # a second pass only when the step left the near set stale: rebuilt, searched again
             d = d_all[idx]
             # d·Ku = Σ_j d_j T_n,j − d·f: f = T_n − K u − ⟨T_n⟩ and Σ_j d_j = 0 on a half-plane
-            c1 = dot(d, t) + slope0
+            law_slope, law_curvature = nodal.direction_sums(sv, ev, d)  # Σ_j T_n,j d_j, Σ_j k_loc,j d_j²: one pass
+            c1 = law_slope + slope0
 
-            alpha, found, gap_a, s_a, e_a = _ncg_line_search(nodal, c1, c2, slope0, gap, sv, ev, d, dn, eta,
-                                                             settings.max_move)
+            alpha, found, gap_a, s_a, e_a = _ncg_line_search(nodal, c1, c2, law_curvature, slope0, gap, sv, ev, d,
+                                                             dn, eta, settings.max_move)
             if alpha * approach <= slack:
                 break
             margin = NCG_NEAR_MARGIN + 2.0 * alpha * approach / dn
@@ -286,14 +287,15 @@ def solve(problem, start, settings):
     return out
 
 
-def _ncg_line_search(nodal, c1, c2, slope0, gap, sv, ev, d, dn, eta, max_move):
+def _ncg_line_search(nodal, c1, c2, law_curvature, slope0, gap, sv, ev, d, dn, eta, max_move):
     """Safeguarded Newton on dE/dα along d (`solve`): (α, found, Δn, s, e^{−s} at α; a user law's T_n, k_loc).
 
     dE/dα = c1 + α c2 − Σ_j T_n(Δn_j − α d_j) d_j, d²E/dα² = c2 + Σ_j k_loc,j d_j² (`gfmd.ncg_nodes`: `nodal.trial`
     evaluates a trial state, Eq. 3 in one fused pass where numba is installed); stops at |dE/dα| ≤ eta |dE/dα(0)|.
-    found = False with α = 0: no step lowers E.
+    law_curvature: Σ_j k_loc,j d_j² at α = 0 (`nodal.direction_sums`, with c1's law term). found = False with α = 0:
+    no step lowers E.
     """
-    curv0 = c2 + nodal.curvature_sum(sv, ev, d)
+    curv0 = c2 + law_curvature
     reach = float(np.max(np.abs(d))) if d.size else 0.0
     alpha = -slope0 / curv0 if curv0 > 0 else (max_move * dn / reach if reach > 0 else 1.0)
     lo, hi = 0.0, np.inf
