@@ -278,6 +278,7 @@ def test_eq3_nodes_are_the_law(backend, n, seed, alpha, dn):
         curv = nodes.curvature_sum(s, e, d)
     assert abs(curv - k_ref @ d**2) <= 1e-12 * scale_k
     assert abs(nodes.curvature_sum(s, e, d) - k_ref @ d**2) <= 1e-12 * scale_k
+    np.testing.assert_allclose(nodes.traction_new(s, e), t_ref, rtol=1e-12, atol=1e-12 * phi / dn)
     work0, curv0 = nodes.direction_sums(s, e, d)  # the line search's start: both sums at the state along d
     assert abs(work0 - t_ref @ d) <= 1e-12 * scale_t and abs(curv0 - k_ref @ d**2) <= 1e-12 * scale_k
 

@@ -150,12 +150,12 @@ def solve(problem, start, settings):
     t_nodes = np.zeros(n)  # T_n on every node: zero off the near set
 
     def traction_hat():
-        """(rfft(T_n), T_n on the near set), T_n = (φn/δn) s e^{−s} (seed Eq. 3) on the near set, 0 off it."""
+        """rfft(T_n), T_n = (φn/δn) s e^{−s} (seed Eq. 3) on the near set, 0 off it."""
         t = nodal.traction_new(sv, ev)
         if isinstance(idx, slice):
-            return fft.rfft(t), t
+            return fft.rfft(t)
         t_nodes[idx] = t
-        return fft.rfft(t_nodes), t
+        return fft.rfft(t_nodes)
 
     def full_residual():
         """max_j |f_j| / p_ref with every node's attraction (the converged state's check)."""
@@ -173,7 +173,7 @@ def solve(problem, start, settings):
         uh[0] = 0.0
     idx, gap, sv, ev = near(NCG_NEAR_MARGIN, first=True)
     slack = NCG_NEAR_MARGIN * dn  # how far a far node may still approach before the near set is stale
-    f_hat, t = traction_hat()  # f̂ = rfft(T_n) − K û, q = 0 clamped on a half-plane
+    f_hat = traction_hat()  # f̂ = rfft(T_n) − K û, q = 0 clamped on a half-plane
     f_hat -= k * uh
     if clamp:
         f_hat[0] = 0.0
@@ -213,7 +213,6 @@ def solve(problem, start, settings):
                     residual, gap, sv, ev, f_hat = full_residual()
                     if not residual < settings.tolerance:  # it counts after all: every node is near from here
                         idx, restart, ratio = slice(None), True, None
-                        t = nodal.traction(sv, ev)
                         continue
                 converged = True
                 break
@@ -264,8 +263,7 @@ def solve(problem, start, settings):
             margin = NCG_NEAR_MARGIN + 2.0 * alpha * approach / dn
             idx, gap, sv, ev = near(margin)
             slack = margin * dn
-            t = nodal.traction(sv, ev)
-            t_nodes[:] = 0.0
+            t_nodes[:] = 0.0  # T_n off the new near set: 0
         if not found and beta > 0.0:  # a conjugate direction failed: retry once along s = K⁻¹ f
             restart = True
             continue
@@ -274,7 +272,7 @@ def solve(problem, start, settings):
             break
         gap, sv, ev = gap_a, s_a, e_a
         slack -= alpha * approach
-        f_hat, t = traction_hat()
+        f_hat = traction_hat()
         advance(uh, d_hat, alpha, k, f_hat)  # û ← û + α d̂, f̂ ← rfft(T_n) − K û
         if clamp:
             f_hat[0] = 0.0
