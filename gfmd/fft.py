@@ -3,7 +3,8 @@
 Backend: FFTW (pyfftw, a default dependency), else ducc0, else scipy.fft; ``GFMD_FFT=scipy|ducc0|fftw|auto``
 (default auto: the fastest installed) chooses (`fft_backend`). Measured per rfft/irfft pair at 2^17
 (benchmarks/bench_fft.py). FFTW runs plans made once per process, shape and thread (`_fftw_plans`; measured plans
-kept as wisdom, `FFTW_MEASURE_FROM`) on their own aligned buffers. The hard-wall
+kept as wisdom, `FFTW_MEASURE_FROM`): the input is copied into the plan's aligned buffer, the output written straight
+into the aligned array returned (`_execute_into`). The hard-wall
 CGs, the cohesive NCG, FIRE on a law with a traction function and Newton–Krylov go through `Fft`;
 the projected dynamics of the hard wall and of the cohesive wall, and `gfmd.stopping.finish`, call
 scipy.fft directly (through `rfft_nodes` / `irfft_nodes`, which are exactly those calls in 1+1-D).
