@@ -1,15 +1,16 @@
 """When a load step of the cohesive NCG switches to the two-level preconditioner, compared on whole ramps (issue 24).
 
 Usage: python benchmarks/bench_cohesive_engage.py [--size 17] [--realization 2] [--phi 0.15] [--length-normal 1e-9]
-       [--nu 0.45] [--reference 40/40] [--values 40/10] [--out FILE] [--data FILE]
+       [--nu 0.45] [--reference 40/40] [--values 40/10 40/10/10] [--out FILE] [--data FILE]
 
 Writes benchmarks/results/bench_cohesive_engage_e<size>_phi<φn*>_dn<δn nm>_nu<ν>_r<realization>.md (or --out).
 
 The cohesive class of benchmarks/bench_adhesion_scaling.py (seed base scene, c = 0; --phi, --length-normal and --nu set
 interface.phi_n_star, interface.length_normal and material.poisson_ratio) on the given realization (surface seed),
-one whole 201-step ramp per value A/E of `gfmd.cohesive_preconditioner`'s ENGAGE_AFTER / ENGAGE_EARLY (a step's first
-A iterations run with K⁻¹, the two-level preconditioner after them, or after E where the NCG's rate predicts more than
-A: `slow_step`; E = A: never early). CPU time on this 2-core machine moves by up to 25 % with what runs on the other
+one whole 201-step ramp per value A/E[/R] of `gfmd.cohesive_preconditioner`'s ENGAGE_AFTER / ENGAGE_EARLY (a step's
+first A iterations run with K⁻¹, the two-level preconditioner after them, or after E where the NCG's rate predicts more
+than A: `slow_step`; E = A: never early) and REBUILD_EVERY (R: the preconditioner rebuilt from the state every R
+iterations once engaged; without R the module's). CPU time on this 2-core machine moves by up to 25 % with what runs on the other
 core (memory bandwidth: the same FFT took 1.24 ms in one ramp and 1.54 ms in another), and the two cores differ (the
 same ramp on both at once: 9 % apart), so each value runs beside the reference as two simultaneous processes pinned
 to one core each, twice, the cores swapped: its CPU ratio to the reference is the geometric mean of the two runs'
@@ -46,9 +47,16 @@ BRANCH = 1e-6
 
 
 def engagement(value):
-    """(ENGAGE_AFTER, ENGAGE_EARLY) of a value "A/E" (or "A": never early)."""
-    after, _, early = value.partition("/")
+    """(ENGAGE_AFTER, ENGAGE_EARLY) of a value "A/E[/R]" (or "A": never early)."""
+    after, _, rest = value.partition("/")
+    early = rest.partition("/")[0]
     return int(after), int(early or after)
+
+
+def rebuild_every(value):
+    """REBUILD_EVERY of a value "A/E/R" (the module's where R is not given)."""
+    parts = value.split("/")
+    return int(parts[2]) if len(parts) > 2 else cohesive_preconditioner.REBUILD_EVERY
 
 
 def run_one(size, realization, keys, value, dump, cpu):
@@ -57,6 +65,7 @@ def run_one(size, realization, keys, value, dump, cpu):
     reuse_freed_arrays()
     ramp(2**12, "cohesive", max_steps=3)  # numba's compilation and the caches outside the measured ramp
     cohesive_preconditioner.ENGAGE_AFTER, cohesive_preconditioner.ENGAGE_EARLY = engagement(value)
+    cohesive_preconditioner.REBUILD_EVERY = rebuild_every(value)
     steps = ramp(2**size, "cohesive", realization=realization, a_rel_stop=2.0, scene_keys=keys)
     Path(dump).write_text(json.dumps([{k: s[k] for k in ("it", "pairs", "cpu", "a_rel", "p", "converged", "method")}
                                       for s in steps]))
@@ -75,7 +84,8 @@ def row(label, value, steps, reference):
     dp, da, _ = ramp_differences(steps, reference)
     p, p_ref = (np.array([r["p"] for r in x]) for x in (steps, reference))
     other = np.flatnonzero(np.abs(p - p_ref) > BRANCH * np.max(np.abs(p_ref)))  # steps on another branch
-    return {"run": label, "engage_after": after, "engage_early": early, "steps": len(steps),
+    return {"run": label, "engage_after": after, "engage_early": early, "rebuild_every": rebuild_every(value),
+            "steps": len(steps),
             "cpu_s": sum(s["cpu"] for s in steps), "fft_pairs": sum(s["pairs"] for s in steps),
             "iterations": sum(s["it"] for s in steps), "converged": sum(s["converged"] for s in steps),
             "final_a_rel": steps[-1]["a_rel"], "dp_rel": dp, "da_rel": da, "other_branch_steps": other.tolist()}
@@ -113,6 +123,7 @@ def main(argv=None):
                  row(f"reference, core 1, beside {value}", args.reference, ref1, reference)]
         r1, r2 = rows[-3]["cpu_s"] / rows[-4]["cpu_s"], rows[-2]["cpu_s"] / rows[-1]["cpu_s"]
         ratios[value] = {"engage_after": engagement(value)[0], "engage_early": engagement(value)[1],
+                         "rebuild_every": rebuild_every(value),
                          "cpu_ratio": float(np.sqrt(r1 * r2)), "noise": abs(r1 - r2) / 2.0,
                          "other_branch_steps": sorted(set(rows[-3]["other_branch_steps"]) |
                                                       set(rows[-2]["other_branch_steps"])),
@@ -123,10 +134,10 @@ def main(argv=None):
     lines = header(f"When the cohesive NCG engages the two-level preconditioner: N = 2^{args.size}, φn* = {args.phi:g}, "
                    f"δn = {args.length_normal * 1e9:g} nm, ν = {args.nu:g}, realization {args.realization}",
                    "bench_cohesive_engage.py", argv, note="2-core machine, two simultaneous processes per pair")
-    lines += ["| run | ENGAGE_AFTER / EARLY | ramp CPU s | iterations | FFT pairs | converged | final a_rel "
+    lines += ["| run | ENGAGE_AFTER / EARLY / REBUILD_EVERY | ramp CPU s | iterations | FFT pairs | converged | final a_rel "
               "| max Δp̄ / max p̄ | max Δa_rel | steps on another branch |", "|" + "---|" * 10]
     for r in rows:
-        lines.append(f"| {r['run']} | {r['engage_after']} / {r['engage_early']} | {r['cpu_s']:.1f} | {r['iterations']} "
+        lines.append(f"| {r['run']} | {r['engage_after']} / {r['engage_early']} / {r['rebuild_every']} | {r['cpu_s']:.1f} | {r['iterations']} "
                      f"| {r['fft_pairs']:.0f} | {r['converged']}/{r['steps']} | {r['final_a_rel']:.3f} | "
                      f"{r['dp_rel']:.1e} | {r['da_rel']:.1e} | {', '.join(map(str, r['other_branch_steps'])) or 'none'} |")
     lines.append("")

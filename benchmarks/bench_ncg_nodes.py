@@ -7,7 +7,9 @@ Usage: python benchmarks/bench_ncg_nodes.py [--sizes 12 14 17 20] [--ramp-size 1
    only where the line search needs it: both counted) per N, against one FFT pair (rfft + irfft, `gfmd.fft.Fft`),
    and against "numba, libm exp": the fused trial as it was before session 37, one pass calling libm's exp per node
    (defined here, `_trial_libm`), which LLVM cannot vectorize; today's is two passes, the state with
-   `gfmd.vector_exp.exp` (vectorized) and the sums.
+   `gfmd.vector_exp.exp` (vectorized) and the sums. And the line search's start along a new direction (fused):
+   Σ T_n d and Σ k_loc d² in one pass (`Eq3Nodes.direction_sums`, since session 41) against a dot with T_n and
+   `curvature_sum` (before).
 2. Whole ramps: the seed base scene (realization 1, 201 steps, δn = 1 nm, the Fig. 3 task) at N = 2^ramp-size per
    φn*, relaxed with the nodal work on numpy, fused, and fused with libm's exp, in the same process, alternating
    `--repeats` times (the same load on each): CPU s per ramp (time.process_time), NCG iterations, and the largest
@@ -38,7 +40,7 @@ from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
 from benchmarks.report import header, ramp_differences, write  # noqa: E402
 from gfmd import kernels, ncg_nodes  # noqa: E402
 from gfmd.algorithms import ncg  # noqa: E402
-from gfmd.fft import Fft  # noqa: E402
+from gfmd.fft import Fft, dot  # noqa: E402
 
 
 if kernels.numba is not None:
@@ -78,7 +80,8 @@ def per_call(fn, seconds=0.3):
 
 def trial_table(sizes):
     rows = ["| N | numpy trial (ms) | fused trial (ms) | fused, libm exp (ms) | numpy / fused | libm exp / fused | "
-            "FFT pair (ms) | fused / FFT pair |", "|---|---|---|---|---|---|---|---|"]
+            "FFT pair (ms) | fused / FFT pair | start: one pass (ms) | start: dot + curvature (ms) |",
+            "|---|---|---|---|---|---|---|---|---|---|"]
     dn = 1e-9
     for e in sizes:
         n = 2**e
@@ -100,9 +103,14 @@ def trial_table(sizes):
         x = rng.standard_normal(n)
         pair = per_call(lambda: fft.irfft(fft.rfft(x)))
         fused = times["numba"]
+        nodes = ncg_nodes.Eq3Nodes(dn, 0.01 / dn, 0.01 / dn**2, "numba")
+        s0, e0 = nodes.state(gap)
+        t0 = nodes.traction(s0, e0)
+        start_one = per_call(lambda: nodes.direction_sums(s0, e0, d))
+        start_two = per_call(lambda: (dot(d, t0), nodes.curvature_sum(s0, e0, d)))
         rows.append(f"| 2^{e} | {times['numpy'] * 1e3:.3f} | {fused * 1e3:.3f} | {times['numba, libm exp'] * 1e3:.3f} | "
                     f"{times['numpy'] / fused:.2f} | {times['numba, libm exp'] / fused:.2f} | {pair * 1e3:.3f} | "
-                    f"{fused / pair:.2f} |")
+                    f"{fused / pair:.2f} | {start_one * 1e3:.3f} | {start_two * 1e3:.3f} |")
     return rows
 
 

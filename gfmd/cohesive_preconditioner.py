@@ -49,7 +49,10 @@ ENGAGE_AFTER = 40
 #: 0.25 nm), 0.89 (0.05 and 0.01), 1.01 ± 0.05 (0.001); iterations −28 to −32 % on the strong ramps; one step on another
 #: branch of a jump-in in two of the six ramps. Engaging at 10 on every step costs the weak ramps 31–44 % more FFT pairs.
 ENGAGE_EARLY = 10
-#: then the NCG rebuilds the preconditioner every this many iterations, restarting its direction where it changed
+#: then the NCG rebuilds the preconditioner every this many iterations, restarting its direction where it changed.
+#: Measured (session 41, whole 201-step ramp at 2^17, seed 2, φn* = 0.15, ν = 0.45, pinned simultaneous pairs with the
+#: cores swapped, benchmarks/results/bench_cohesive_rebuild_e17.md): 10 −1.0 % iterations, −1.2 % FFT pairs but CPU
+#: × 1.09 ± 0.03 (a rebuild's setup), 40 +1.9 %, +2.3 %, CPU × 1.00 ± 0.02; the same states
 REBUILD_EVERY = 20
 #: "two-level": a node is stiff (in the coarse space) where max(k_loc, 0) ≥ this × φn/δn². Measured (whole 201-step
 #: ramps at N = 2^17, φn* = 0.15, benchmarks/results/bench_cohesive_preconditioner.md §6): 0.01 against 0.25 −17 % FFT

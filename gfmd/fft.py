@@ -3,7 +3,8 @@
 Backend: FFTW (pyfftw, a default dependency), else ducc0, else scipy.fft; ``GFMD_FFT=scipy|ducc0|fftw|auto``
 (default auto: the fastest installed) chooses (`fft_backend`). Measured per rfft/irfft pair at 2^17
 (benchmarks/bench_fft.py). FFTW runs plans made once per process, shape and thread (`_fftw_plans`; measured plans
-kept as wisdom, `FFTW_MEASURE_FROM`) on their own aligned buffers. The hard-wall
+kept as wisdom, `FFTW_MEASURE_FROM`): the input is copied into the plan's aligned buffer, the output written straight
+into the aligned array returned (`_execute_into`). The hard-wall
 CGs, the cohesive NCG, FIRE on a law with a traction function and Newton–Krylov go through `Fft`;
 the projected dynamics of the hard wall and of the cohesive wall, and `gfmd.stopping.finish`, call
 scipy.fft directly (through `rfft_nodes` / `irfft_nodes`, which are exactly those calls in 1+1-D).
@@ -175,18 +176,32 @@ def _fftw_plans(shape, axes):
     return pair
 
 
+def _execute_into(plan, source, out, home):
+    """Run `plan` from `source` into `out` (aligned as its own output, `home`), then point it back at `home`: the
+    caller's array is FFTW's output, no copy of it. Whole 201-step ramps at 2^17 against copying out
+    (benchmarks/results/bench_versions_fft-outputs.md, the same states bit for bit): φn* = 0.15 CPU × 0.92 ± 0.14,
+    the hard wall × 0.99 ± 0.12 (± this machine's noise between the two core placements)."""
+    plan.update_arrays(source, out)
+    try:
+        plan.execute()
+    finally:
+        plan.update_arrays(source, home)
+    return out
+
+
 def _fftw_r2c(x, axes):
     pair = _fftw_plans(x.shape, axes)
     pair.real_in[...] = x
-    pair.forward.execute()
-    return pair.spectrum.copy()
+    return _execute_into(pair.forward, pair.real_in, _pyfftw.empty_aligned(pair.spectrum.shape, dtype=complex),
+                         pair.spectrum)
 
 
 def _fftw_c2r(x_hat, shape, axes):
+    """The unnormalised c2r of x_hat · 1/points (exact for a power of two points: the scale is one)."""
     pair = _fftw_plans(shape, axes)
-    pair.spectrum[...] = x_hat
-    pair.backward.execute()
-    return np.multiply(pair.real_out, pair.scale)
+    np.multiply(x_hat, pair.scale, out=pair.spectrum)
+    return _execute_into(pair.backward, pair.spectrum, _pyfftw.empty_aligned(pair.real_out.shape, dtype=float),
+                         pair.real_out)
 
 
 def _grid(grid):

@@ -142,6 +142,80 @@ def _advance_numba(uh, d, alpha, k, f):
     _advance_fused(uh.view(np.float64), d.view(np.float64), float(alpha), k, f.view(np.float64))
 
 
+def _preconditioned_products_numpy(f, f_old, d, s, nodes):
+    return nodal_dot(f, s, nodes), nodal_dot(f_old, s, nodes), nodal_dot(f, d, nodes)
+
+
+def _direction_energy_numpy(s, beta, d, k, nodes):
+    if beta == 0.0:
+        d[...] = s
+    else:
+        d *= beta
+        d += s
+    return nodal_dot(d, k * d, nodes)
+
+
+def _combine_numpy(s, beta, d):
+    np.multiply(d, beta, out=d)
+    return np.add(s, d, out=s)
+
+
+if numba is not None:
+    @numba.njit(cache=True, fastmath=True)
+    def _preconditioned_raw(f, f_old, d, s):  # float views: Σ Re(conj(a) b) is the sum over the floats
+        rz = fos = fd = 0.0
+        for i in range(s.size):
+            rz += f[i] * s[i]
+            fos += f_old[i] * s[i]
+            fd += f[i] * d[i]
+        return rz, fos, fd
+
+    @numba.njit(cache=True, fastmath=True)
+    def _direction_energy_raw(s, beta, d, k):  # d ← s + β d; Σ_n k_n |d_n|²
+        energy = 0.0
+        for i in range(k.size):
+            dr = s[2 * i] + beta * d[2 * i]
+            di = s[2 * i + 1] + beta * d[2 * i + 1]
+            d[2 * i], d[2 * i + 1] = dr, di
+            energy += k[i] * (dr * dr + di * di)
+        return energy
+
+    @numba.njit(cache=True, fastmath=True)
+    def _combine_fused(s, beta, d):  # s ← s + β d
+        for i in range(s.size):
+            s[i] += beta * d[i]
+
+
+def _preconditioned_products_numba(f, f_old, d, s, nodes):
+    rz, fos, fd = _preconditioned_raw(f.view(np.float64), f_old.view(np.float64), d.view(np.float64),
+                                      s.view(np.float64))
+    ends = [0, -1]
+    return (_nodal(rz, f[ends], s[ends], nodes), _nodal(fos, f_old[ends], s[ends], nodes),
+            _nodal(fd, f[ends], d[ends], nodes))
+
+
+def _direction_energy_numba(s, beta, d, k, nodes):
+    energy = _direction_energy_raw(s.view(np.float64), float(beta), d.view(np.float64), k)
+    return _nodal(energy, d[[0, -1]], k[[0, -1]] * d[[0, -1]], nodes)
+
+
+def _combine_numba(s, beta, d):
+    _combine_fused(s, float(beta), d)
+    return s
+
+
+def preconditioned_kernels(name=None):
+    """The NCG's algebra under a preconditioner other than K⁻¹ (`gfmd.cohesive_preconditioner`; profiles), of the
+    backend `jit_backend(name)`: (products(f, f_old, d, s, nodes): f·s, f_old·s, f·d as nodal sums (s = M⁻¹ f given);
+    direction_energy(s, β, d, k, nodes): d ← s + β d in place, returning d·Kd; combine(s, β, d): s ← s + β d on the
+    nodes, returning s (d's values may be overwritten)). numba: one pass each, as `ncg_kernels` (in place of three
+    nodal_dot passes, a direction pass, K d and its dot, and s + β d into a new array: a whole 201-step ramp at 2^17,
+    φn* = 0.15, CPU × 0.969 ± 0.019, the same iterations; benchmarks/results/bench_versions_fused-two-level.md)."""
+    if jit_backend(name) == "numba":
+        return _preconditioned_products_numba, _direction_energy_numba, _combine_numba
+    return _preconditioned_products_numpy, _direction_energy_numpy, _combine_numpy
+
+
 def once_counted_modes(grid):
     """Flat indices of the rfft2 half-spectrum modes (grid (Nx, Ny)) that hold their own conjugate:
     the q_y = 0 column and, for even Ny, the Nyquist column."""

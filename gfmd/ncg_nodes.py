@@ -33,6 +33,7 @@ class Eq3Nodes:
         self.dn, self.tn_scale, self.kn_scale = dn, tn_scale, kn_scale
         self.fused = kernels.jit_backend(backend) == "numba"
         self._sets = []  # the fused trial's output arrays: two sets, written in turn
+        self._traction = None  # traction_new's output array (fused)
 
     def _outputs(self, gap):
         """(Δn, s, e^{−s}) arrays for a fused trial: of the two sets of gap's size, the one that does not hold
@@ -67,7 +68,13 @@ class Eq3Nodes:
         return gap_a, s, e, self.work(s, e, d), None
 
     def traction_new(self, s, e):
-        """T_n = (φn/δn) s e^{−s} (Pa), as (s e^{−s}) φn/δn."""
+        """T_n = (φn/δn) s e^{−s} (Pa), as (s e^{−s}) φn/δn; fused, one pass into an array kept for the next call
+        (the NCG copies it into the FFT's input at once)."""
+        if self.fused:
+            if self._traction is None or self._traction.size != s.size:
+                self._traction = np.empty(s.size)
+            _traction_fused(s, e, self.tn_scale, self._traction)
+            return self._traction
         t = s * e
         t *= self.tn_scale
         return t
@@ -83,6 +90,14 @@ class Eq3Nodes:
     def stiffness(self, s, e):
         """k_loc = (φn/δn²)(1 − s) e^{−s} (Pa/m)."""
         return self.kn_scale * (1.0 - s) * e
+
+    def direction_sums(self, s, e, d):
+        """(Σ_j T_n,j d_j, Σ_j k_loc,j d_j²) at the state along a new direction d: the line search's dE/dα(0) law
+        term and curvature; fused, the trial's two sums in one pass."""
+        if self.fused:
+            work, curv = _trial_sums(s, e, d)
+            return self.tn_scale * work, self.kn_scale * curv
+        return self.work(s, e, d), self.curvature_sum(s, e, d)
 
     def curvature_sum(self, s, e, d):
         """Σ_j k_loc,j d_j², k_loc = (φn/δn²)(1 − s) e^{−s}."""
@@ -121,6 +136,9 @@ class UserNodes:
     def stiffness(self, t, k):
         return k
 
+    def direction_sums(self, t, k, d):
+        return self.work(t, k, d), self.curvature_sum(t, k, d)
+
     def curvature_sum(self, t, k, d):
         return float(np.einsum("i,i,i->", k, d, d))
 
@@ -151,6 +169,11 @@ if numba is not None:
         """Eq3Nodes.trial's state and sums: two passes (the exp's loop may not reassociate, the sums' must)."""
         _trial_state(gap, d, alpha, inv_dn, max_compression, gap_a, s, e)
         return _trial_sums(s, e, d)
+
+    @numba.njit(cache=True, fastmath=_FLAGS)
+    def _traction_fused(s, e, scale, out):  # (s e) scale, as numpy's (s e) *= scale
+        for i in range(s.size):
+            out[i] = (s[i] * e[i]) * scale
 
     @numba.njit(cache=True, fastmath=_FLAGS)
     def _curvature_fused(s, e, d):  # Σ (1 − s) e d²

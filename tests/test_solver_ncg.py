@@ -18,7 +18,7 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import given, settings, strategies as st
 
 from contact import surfaces
 from contact.loading import indenter_surface
@@ -197,6 +197,7 @@ JIT_BACKENDS = ["numpy"] + (["numba"] if kernels.numba is not None else [])
 
 
 @pytest.mark.parametrize("backend", JIT_BACKENDS)
+@settings(deadline=None)  # the first example may compile the fused kernels (over 200 ms on a loaded machine)
 @given(n=st.integers(2, 64), seed=st.integers(0, 2**32 - 1), beta=st.floats(0, 2), alpha=st.floats(-1, 1))
 def test_ncg_kernels_are_the_nodal_algebra(backend, n, seed, beta, alpha):
     """products, direction and advance (gfmd.kernels) against the same algebra on the nodes (numpy.fft),
@@ -223,6 +224,30 @@ def test_ncg_kernels_are_the_nodal_algebra(backend, n, seed, beta, alpha):
 
 
 @pytest.mark.parametrize("backend", JIT_BACKENDS)
+@settings(deadline=None)  # the first example compiles the numba kernels
+@given(n=st.integers(2, 64), seed=st.integers(0, 2**32 - 1), beta=st.sampled_from([0.0, 0.3, 1.7]))
+def test_preconditioned_kernels_are_the_nodal_algebra(backend, n, seed, beta):
+    """products, direction_energy and combine of the two-level preconditioner's NCG (gfmd.kernels.preconditioned_kernels)
+    against the algebra on the nodes, for even and odd N and any s (not K⁻¹ f): f·s, f_old·s, f·d; d ← s + β d and
+    d·Kd = Σ_j d_j (K d)_j; s + β d on the nodes."""
+    rng = np.random.default_rng(seed)
+    f, f_old, d, s = rng.standard_normal((4, n))
+    k = rng.random(n // 2 + 1) + 0.1
+    k[0] = 0.0 if seed % 2 else k[0]
+    products, direction_energy, combine = kernels.preconditioned_kernels(backend)
+    rf = np.fft.rfft
+    got = products(rf(f), rf(f_old), rf(d), rf(s), n)
+    np.testing.assert_allclose(got, [f @ s, f_old @ s, f @ d], rtol=1e-10, atol=1e-10 * n)
+    d_hat = rf(d)
+    energy = direction_energy(rf(s), beta, d_hat, k, n)
+    d_new = s + beta * d
+    np.testing.assert_allclose(np.fft.irfft(d_hat, n), d_new, atol=1e-12 * n)
+    np.testing.assert_allclose(energy, d_new @ np.fft.irfft(k * rf(d_new), n), rtol=1e-10, atol=1e-10 * n)
+    np.testing.assert_allclose(combine(s.copy(), beta, d.copy()), d_new, atol=1e-14 * n)
+
+
+@pytest.mark.parametrize("backend", JIT_BACKENDS)
+@settings(deadline=None)  # the first example may compile the fused kernels
 @given(n=st.integers(1, 300), seed=st.integers(0, 2**32 - 1), alpha=st.floats(-2, 2),
        dn=st.sampled_from([0.25e-9, 1e-9]))
 def test_eq3_nodes_are_the_law(backend, n, seed, alpha, dn):
@@ -255,6 +280,9 @@ def test_eq3_nodes_are_the_law(backend, n, seed, alpha, dn):
         curv = nodes.curvature_sum(s, e, d)
     assert abs(curv - k_ref @ d**2) <= 1e-12 * scale_k
     assert abs(nodes.curvature_sum(s, e, d) - k_ref @ d**2) <= 1e-12 * scale_k
+    np.testing.assert_allclose(nodes.traction_new(s, e), t_ref, rtol=1e-12, atol=1e-12 * phi / dn)
+    work0, curv0 = nodes.direction_sums(s, e, d)  # the line search's start: both sums at the state along d
+    assert abs(work0 - t_ref @ d) <= 1e-12 * scale_t and abs(curv0 - k_ref @ d**2) <= 1e-12 * scale_k
 
 
 def test_jit_backend_choice(monkeypatch):

@@ -16,7 +16,7 @@ from contact import laws
 
 from .. import cohesive_preconditioner, kernels
 from ..ncg_nodes import Eq3Nodes, UserNodes
-from ..fft import Fft, dot
+from ..fft import Fft
 from ..settings import stall
 from ..stopping import finish
 
@@ -122,6 +122,7 @@ def solve(problem, start, settings):
 
     g = preconditioner()
     products, direction, advance = kernels.ncg_kernels(grid=model.grid)  # the spectral algebra (numpy or fused)
+    products_m, direction_m, combine_m = kernels.preconditioned_kernels()  # the same under the two-level one
     cohesive_preconditioner.check(settings, model.grid)
     if user and settings.cohesive_preconditioner == "two-level":
         raise ValueError("Settings.cohesive_preconditioner = 'two-level' needs seed Eq. 3's law, not a user law")
@@ -130,7 +131,6 @@ def solve(problem, start, settings):
     # (an irfft and two cumulative sums over 2N: ≈ 6 ms at 2^17; a φn* = 0.001 task −6 to −11 % CPU)
     two_level = preconditioner_name != "stiffness"
     other = None
-    ones = np.ones(k.size)
     far = NCG_FAR_FRACTION * settings.tolerance * p_ref  # a far node's |T_n| is below this (Pa)
     cut = cz.far_gap(far) / dn if user else _attraction_cut(far / tn_scale)  # s_c
     scaled_gap = nodal.state  # Eq. 3: (s, e^{−s}); a user law: (T_n, dT_n/dΔn)
@@ -150,12 +150,12 @@ def solve(problem, start, settings):
     t_nodes = np.zeros(n)  # T_n on every node: zero off the near set
 
     def traction_hat():
-        """(rfft(T_n), T_n on the near set), T_n = (φn/δn) s e^{−s} (seed Eq. 3) on the near set, 0 off it."""
+        """rfft(T_n), T_n = (φn/δn) s e^{−s} (seed Eq. 3) on the near set, 0 off it."""
         t = nodal.traction_new(sv, ev)
         if isinstance(idx, slice):
-            return fft.rfft(t), t
+            return fft.rfft(t)
         t_nodes[idx] = t
-        return fft.rfft(t_nodes), t
+        return fft.rfft(t_nodes)
 
     def full_residual():
         """max_j |f_j| / p_ref with every node's attraction (the converged state's check)."""
@@ -173,7 +173,7 @@ def solve(problem, start, settings):
         uh[0] = 0.0
     idx, gap, sv, ev = near(NCG_NEAR_MARGIN, first=True)
     slack = NCG_NEAR_MARGIN * dn  # how far a far node may still approach before the near set is stale
-    f_hat, t = traction_hat()  # f̂ = rfft(T_n) − K û, q = 0 clamped on a half-plane
+    f_hat = traction_hat()  # f̂ = rfft(T_n) − K û, q = 0 clamped on a half-plane
     f_hat -= k * uh
     if clamp:
         f_hat[0] = 0.0
@@ -202,8 +202,7 @@ def solve(problem, start, settings):
                 if other.rebuild(k_loc) or it == engage_at:
                     restart = True
             s_hat, s_nodes = other.apply(f_hat)
-            rz, f_old_s = kernels.nodal_dot(f_hat, s_hat, n), kernels.nodal_dot(f_old, s_hat, n)
-            f_d_old = kernels.nodal_dot(f_hat, d_hat, n)
+            rz, f_old_s, f_d_old = products_m(f_hat, f_old, d_hat, s_hat, n)
         e_norm = np.sqrt(max(rz, 0.0))
         e_mid = e_norm if it == mid else e_mid
         if ratio is None or it % settings.check_every == 0 or e_norm * ratio < settings.tolerance * p_ref:
@@ -214,7 +213,6 @@ def solve(problem, start, settings):
                     residual, gap, sv, ev, f_hat = full_residual()
                     if not residual < settings.tolerance:  # it counts after all: every node is near from here
                         idx, restart, ratio = slice(None), True, None
-                        t = nodal.traction(sv, ev)
                         continue
                 converged = True
                 break
@@ -243,10 +241,9 @@ def solve(problem, start, settings):
         if not engaged:
             direction(f_hat, g, beta, d_hat)  # d̂ ← ŝ + β d̂
         else:  # K s ≠ f: d·Kd as a sum over the modes
-            direction(s_hat, ones, beta, d_hat)
-            c2 = kernels.nodal_dot(d_hat, k * d_hat, n)
+            c2 = direction_m(s_hat, beta, d_hat, k, n)  # d̂ ← ŝ + β d̂, d·Kd
             if s_nodes is not None and (beta == 0.0 or d_nodes is not None):  # d on the nodes without an irfft
-                d_nodes = s_nodes if beta == 0.0 else s_nodes + beta * d_nodes
+                d_nodes = s_nodes if beta == 0.0 else combine_m(s_nodes, beta, d_nodes)
             else:
                 d_nodes = None
         restart = False
@@ -256,17 +253,17 @@ def solve(problem, start, settings):
         for _ in range(2):  # a second pass only when the step left the near set stale: rebuilt, searched again
             d = d_all[idx]
             # d·Ku = Σ_j d_j T_n,j − d·f: f = T_n − K u − ⟨T_n⟩ and Σ_j d_j = 0 on a half-plane
-            c1 = dot(d, t) + slope0
+            law_slope, law_curvature = nodal.direction_sums(sv, ev, d)  # Σ_j T_n,j d_j, Σ_j k_loc,j d_j²: one pass
+            c1 = law_slope + slope0
 
-            alpha, found, gap_a, s_a, e_a = _ncg_line_search(nodal, c1, c2, slope0, gap, sv, ev, d, dn, eta,
-                                                             settings.max_move)
+            alpha, found, gap_a, s_a, e_a = _ncg_line_search(nodal, c1, c2, law_curvature, slope0, gap, sv, ev, d,
+                                                             dn, eta, settings.max_move)
             if alpha * approach <= slack:
                 break
             margin = NCG_NEAR_MARGIN + 2.0 * alpha * approach / dn
             idx, gap, sv, ev = near(margin)
             slack = margin * dn
-            t = nodal.traction(sv, ev)
-            t_nodes[:] = 0.0
+            t_nodes[:] = 0.0  # T_n off the new near set: 0
         if not found and beta > 0.0:  # a conjugate direction failed: retry once along s = K⁻¹ f
             restart = True
             continue
@@ -275,7 +272,7 @@ def solve(problem, start, settings):
             break
         gap, sv, ev = gap_a, s_a, e_a
         slack -= alpha * approach
-        f_hat, t = traction_hat()
+        f_hat = traction_hat()
         advance(uh, d_hat, alpha, k, f_hat)  # û ← û + α d̂, f̂ ← rfft(T_n) − K û
         if clamp:
             f_hat[0] = 0.0
@@ -288,14 +285,15 @@ def solve(problem, start, settings):
     return out
 
 
-def _ncg_line_search(nodal, c1, c2, slope0, gap, sv, ev, d, dn, eta, max_move):
+def _ncg_line_search(nodal, c1, c2, law_curvature, slope0, gap, sv, ev, d, dn, eta, max_move):
     """Safeguarded Newton on dE/dα along d (`solve`): (α, found, Δn, s, e^{−s} at α; a user law's T_n, k_loc).
 
     dE/dα = c1 + α c2 − Σ_j T_n(Δn_j − α d_j) d_j, d²E/dα² = c2 + Σ_j k_loc,j d_j² (`gfmd.ncg_nodes`: `nodal.trial`
     evaluates a trial state, Eq. 3 in one fused pass where numba is installed); stops at |dE/dα| ≤ eta |dE/dα(0)|.
-    found = False with α = 0: no step lowers E.
+    law_curvature: Σ_j k_loc,j d_j² at α = 0 (`nodal.direction_sums`, with c1's law term). found = False with α = 0:
+    no step lowers E.
     """
-    curv0 = c2 + nodal.curvature_sum(sv, ev, d)
+    curv0 = c2 + law_curvature
     reach = float(np.max(np.abs(d))) if d.size else 0.0
     alpha = -slope0 / curv0 if curv0 > 0 else (max_move * dn / reach if reach > 0 else 1.0)
     lo, hi = 0.0, np.inf
