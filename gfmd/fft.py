@@ -197,7 +197,8 @@ def _fftw_r2c(x, axes):
 
 
 def _fftw_c2r(x_hat, shape, axes):
-    """The unnormalised c2r of x_hat · 1/points (exact for a power of two points: the scale is one)."""
+    """The unnormalised c2r of x_hat · 1/points (the scale taken in the copy in; without round-off where points is a
+    power of two, as were the nodal values scaled after)."""
     pair = _fftw_plans(shape, axes)
     np.multiply(x_hat, pair.scale, out=pair.spectrum)
     return _execute_into(pair.backward, pair.spectrum, _pyfftw.empty_aligned(pair.real_out.shape, dtype=float),

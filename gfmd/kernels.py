@@ -13,6 +13,10 @@ numpy needs 10 passes over the spectra for these (a temporary per product); the 
 (benchmarks/bench_vs_tamaas.py). Both give the same sums up to round-off (the fused sums are
 reassociated). ``GFMD_JIT=auto|numba|numpy`` (default auto: numba where installed) chooses.
 
+Under the two-level preconditioner (`gfmd.cohesive_preconditioner`, profiles) s = M⁻¹ f comes from the preconditioner
+and d·Kd is a sum over the modes: `preconditioned_kernels` (products with s given, the direction with d·Kd, d on the
+nodes), one pass each with numba.
+
 2+1-D surfaces: the spectra are the flat rfft2 half-spectrum (`gfmd.fft`); `direction` and `advance` are
 elementwise and unchanged; `products` counts the q_y = 0 column and, for even Ny, the Nyquist column once
 (`surface_products`), the other modes twice.
