@@ -21,7 +21,6 @@ import json
 import os
 import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 
@@ -40,6 +39,10 @@ def run_one(args):
     root = str(Path(args.root).resolve())
     sys.path[:0] = [root, str(Path(root) / "benchmarks")]
     from benchmarks.bench_adhesion_scaling import ramp  # noqa: PLC0415  (the tree's own)
+    import gfmd  # noqa: PLC0415
+
+    if not Path(gfmd.__file__).resolve().is_relative_to(root):  # an installed copy or the driver's tree would hide it
+        raise SystemExit(f"bench_versions: the worker for {root} imported gfmd from {gfmd.__file__}")
     from workbench.study_task import reuse_freed_arrays  # noqa: PLC0415
 
     reuse_freed_arrays()
@@ -54,14 +57,13 @@ def run_one(args):
 
 def pair(args, cls, trees):
     """The ramps of `trees` (two source roots) as simultaneous processes, the i-th pinned to core i: their dumps."""
-    with tempfile.TemporaryDirectory() as tmp:
-        dumps = [Path(tmp) / f"{i}.json" for i in range(len(trees))]
-        procs = [subprocess.Popen([sys.executable, __file__, "--worker", "--root", tree, "--cls", cls, "--size",
-                                   str(args.size), "--realization", str(args.realization), "--nu", repr(args.nu),
-                                   "--cpu", str(i), "--dump", str(d)]) for i, (tree, d) in enumerate(zip(trees, dumps))]
-        if any(p.wait() != 0 for p in procs):
-            raise SystemExit("a worker failed")
-        return [json.loads(d.read_text()) for d in dumps]
+    # imported here, in the driver only: a worker must import the `benchmarks` package from its own tree (run_one)
+    sys.path.insert(0, str(ROOT))
+    from benchmarks import report  # noqa: PLC0415
+
+    return report.simultaneous([[sys.executable, __file__, "--worker", "--root", tree, "--cls", cls, "--size",
+                                 str(args.size), "--realization", str(args.realization), "--nu", repr(args.nu)]
+                                for tree in trees])
 
 
 def totals(run, reference):
