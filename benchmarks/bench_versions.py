@@ -38,12 +38,12 @@ def run_one(args):
     os.sched_setaffinity(0, {args.cpu})
     root = str(Path(args.root).resolve())
     sys.path[:0] = [root, str(Path(root) / "benchmarks")]
-    from benchmarks.bench_adhesion_scaling import ramp  # noqa: PLC0415  (the tree's own)
-    import gfmd  # noqa: PLC0415
+    from benchmarks.bench_adhesion_scaling import ramp  # noqa: PLC0415  (the tree's own, once it is on sys.path)
+    import gfmd  # noqa: PLC0415  (to check where it came from)
 
     if not Path(gfmd.__file__).resolve().is_relative_to(root):  # an installed copy or the driver's tree would hide it
         raise SystemExit(f"bench_versions: the worker for {root} imported gfmd from {gfmd.__file__}")
-    from workbench.study_task import reuse_freed_arrays  # noqa: PLC0415
+    from workbench.study_task import reuse_freed_arrays  # noqa: PLC0415  (the tree's own, as above)
 
     reuse_freed_arrays()
     keys = {**CLASSES[args.cls], "material.poisson_ratio": args.nu}
