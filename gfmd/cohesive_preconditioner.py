@@ -73,11 +73,14 @@ COARSE_GAPS = True
 BLOCK_WAVELENGTHS = 0.5
 #: "two-level": D = diag(k_loc) with its sign, the softening tail's negative curvature (Δn > δn, most of the nodes out of
 #: contact) included, in the coarse matrix and the balancing; max(k_loc, 0) where False, or where E is not definite
-#: with it. Measured (session 42, as BLOCK_WAVELENGTHS): −6.4 % iterations, −7.5 % FFT pairs, CPU × 0.90; one of 201
-#: steps (a jump-in) settles on another equilibrium. On the Hessian at a converged state (2^15, linear PCG to 1e-6):
-#: 19–28 iterations against 21–35. Cutting the gaps into blocks as well (GAP_BLOCKS, every 2 or 1 block lengths,
-#: coarse matrix ≈ 800 at any N) −16 % FFT pairs on top but CPU × 1.05 at 2^17 (its Cholesky and solves): not kept.
-#: The whole ramps: benchmarks/results/bench_versions_signed-curvature.md
+#: with it. On the Hessian at converged states (2^15, linear PCG to 1e-6): 19–28 iterations against 21–35. Whole
+#: 201-step ramps at 2^17 (seed 2, against max(k_loc, 0), with E's numba assembly; pinned simultaneous pairs with the
+#: cores swapped, benchmarks/results/bench_versions_signed-curvature*.md): φn* = 0.15, ν = 0.1 −7.3 % iterations,
+#: −8.5 % FFT pairs, CPU × 0.85 ± 0.03, the same states; ν = 0.45 −6.3 %, −7.4 %, CPU × 0.98 ± 0.12 (the NCG steps
+#: alone, replayed from their guesses: × 0.90), one jump-in (step 161) settles on its other equilibrium, the ramp on
+#: that branch for 5 steps; φn* = 0.01 −0.4 %, −0.7 %, × 1.01 ± 0.05. Cutting the gaps into blocks as well (every 1–2
+#: block lengths, a coarse matrix of ≈ 800 at any N) −16 % FFT pairs on top but CPU × 1.05 at 2^17 (its Cholesky and
+#: solves): not kept
 SIGNED_CURVATURE = True
 
 
