@@ -1,16 +1,17 @@
 """Two versions of the code on the same whole ramp, side by side (issue 24): what a change did to CPU time.
 
 Usage: python benchmarks/bench_versions.py --old DIR --new DIR [--label-old A] [--label-new B]
-       [--classes normal hard-wall] [--size 17] [--realization 2] [--nu 0.45] [--rounds 1] [--out FILE]
+       [--classes normal hard-wall] [--size 17] [--realization 2] [--nu 0.45] [--phi 0.15] [--rounds 1] [--out FILE]
 
 DIR: a source tree of the project (a git worktree of the version, e.g. ``git worktree add /tmp/old <commit>``); each
 ramp runs in a process that imports the code (and `benchmarks.bench_adhesion_scaling.ramp`) from its tree alone.
 Per class (bench_adhesion_scaling's seed base scene, φn* = 0.15: "cohesive" (c = 0), "hard-wall" (the hard wall on it),
-"coupled" (c = 0.5, δt = 1 nm); --nu sets material.poisson_ratio) one whole 201-step ramp per version, as two simultaneous
-processes pinned to one core each, then again with the cores swapped (CPU time on this 2-core machine moves by up to
-25 % with what runs on the other core, and the cores differ): the CPU ratio new / old is the geometric mean of the two
-placements' ratios (the core's factor cancels), half their difference the noise left; --rounds repeats the pair of
-placements. Per ramp: CPU s, iterations, FFT pairs, and the states against the old version's (max |Δp̄| / max |p̄|).
+"coupled" (c = 0.5, δt = 1 nm); --nu sets material.poisson_ratio, --phi interface.phi_n_star) one whole 201-step ramp
+per version, as two simultaneous processes pinned to one core each, then again with the cores swapped (CPU time on
+this 2-core machine moves by up to 25 % with what runs on the other core, and the cores differ): the CPU ratio new /
+old is the geometric mean of the two placements' ratios (the core's factor cancels), half their difference the noise
+left; --rounds repeats the pair of placements. Per ramp: CPU s, iterations, FFT pairs, and the states against the old
+version's (max |Δp̄| / max |p̄|).
 Writes benchmarks/results/bench_versions_<label-new>.md (or --out).
 """
 
@@ -46,7 +47,7 @@ def run_one(args):
     from workbench.study_task import reuse_freed_arrays  # noqa: PLC0415  (the tree's own, as above)
 
     reuse_freed_arrays()
-    keys = {**CLASSES[args.cls], "material.poisson_ratio": args.nu}
+    keys = {**CLASSES[args.cls], "material.poisson_ratio": args.nu, "interface.phi_n_star": args.phi}
     ramp(2**12, "cohesive", max_steps=3, scene_keys=keys)  # numba's compilation and the plans outside the timed ramp
     t0 = time.process_time()
     rows = ramp(2**args.size, "cohesive", realization=args.realization, a_rel_stop=2.0, scene_keys=keys)
@@ -62,7 +63,8 @@ def pair(args, cls, trees):
     from benchmarks import report  # noqa: PLC0415
 
     return report.simultaneous([[sys.executable, __file__, "--worker", "--root", tree, "--cls", cls, "--size",
-                                 str(args.size), "--realization", str(args.realization), "--nu", repr(args.nu)]
+                                 str(args.size), "--realization", str(args.realization), "--nu", repr(args.nu),
+                                 "--phi", repr(args.phi)]
                                 for tree in trees])
 
 
@@ -84,6 +86,7 @@ def main(argv=None):
     ap.add_argument("--size", type=int, default=17)
     ap.add_argument("--realization", type=int, default=2)
     ap.add_argument("--nu", type=float, default=0.45, help="material.poisson_ratio")
+    ap.add_argument("--phi", type=float, default=0.15, help="interface.phi_n_star")
     ap.add_argument("--rounds", type=int, default=1)
     ap.add_argument("--out")
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
@@ -106,7 +109,7 @@ def main(argv=None):
                                capture_output=True, text=True).stdout.strip()
         versions[name] = (head.stdout.strip() or "not a git tree") + (" (+ working tree)" if dirty else "")
     lines = [f"# Two versions on whole ramps: {args.label_new} against {args.label_old}, N = 2^{args.size}, "
-             f"realization {args.realization}, ν = {args.nu:g}", "",
+             f"realization {args.realization}, ν = {args.nu:g}, φn* = {args.phi:g}", "",
              f"`python benchmarks/bench_versions.py {' '.join(argv if argv is not None else sys.argv[1:])}`; "
              f"old ({args.label_old}): {versions['old']}; new ({args.label_new}): {versions['new']}; load average at "
              f"start {os.getloadavg()[0]:.2f} (2-core machine, two simultaneous processes per pair)", "",

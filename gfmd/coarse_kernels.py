@@ -4,13 +4,16 @@ The coarse space Z holds piecewise constants on consecutive blocks of nodes, blo
 covering the nodes 0 … m − 1 in order (`cover`); Π removes the mean on a half-plane (`clamp`). Per
 application `TwoLevel.apply` needs three nodal passes besides its FFTs and two small coarse solves:
 
-* `spread_scaled`: w = Π Z c and D w (D = diag(max(k_loc, 0))), into two arrays;
+* `spread_scaled`: w = Π Z c and D w (D = diag(k_loc), `gfmd.cohesive_preconditioner.SIGNED_CURVATURE`), into two
+  arrays;
 * `stiff_sums`: Zᵀ Π D (x − w) (the coarse residual of y = x − w);
 * `spread_subtract`: z = Π Z c and x ← x − z, in place.
 
 numpy needs 4–6 passes and a temporary for each of these; the numba kernels one pass each, with the mean of
 Π Z c from the block sums (Σ_b p_b c_b / N) instead of a pass. Both give the same values up to round-off
-(the fused sums are reassociated). The backend is `gfmd.kernels.jit_backend`'s (``GFMD_JIT``).
+(the fused sums are reassociated). A rebuild assembles the coarse matrix E = Zᵀ Π (K + D) Π Z (`coarse_matrix`:
+numpy's four m × m gathers and three outer products, 28 ms at m = 800, or one numba pass over its upper triangle,
+4 ms). The backend is `gfmd.kernels.jit_backend`'s (``GFMD_JIT``).
 """
 
 from __future__ import annotations
@@ -106,6 +109,52 @@ if numba is not None:
         for i in range(m, n):
             z[i] = -mean
             x[i] += mean
+
+
+    @numba.njit(cache=True)
+    def _coarse_matrix_fused(cs2, n, a, p, mass, clamp, dsum, e):
+        inv = 1.0 / n
+        shift = dsum * inv * inv
+        for i in range(a.size):
+            ai, pi = a[i], p[i]
+            for j in range(i, a.size):
+                b, r = a[j], p[j]
+                v = ((cs2[ai + pi - b + n + 1] - cs2[ai - b + n + 1])
+                     - (cs2[ai + pi - b - r + n + 1] - cs2[ai - b - r + n + 1]))
+                if i == j:
+                    v += mass[i]
+                if clamp:
+                    v += shift * pi * r - (pi * mass[j] + mass[i] * r) * inv
+                e[i, j] = v
+                e[j, i] = v
+
+
+def _coarse_matrix_numpy(cs2, n, a, p, mass, clamp, dsum):
+    ai, pi = a[:, None], p[:, None]
+    b, r = a[None, :], p[None, :]
+    e = ((cs2[ai + pi - b + n + 1] - cs2[ai - b + n + 1])
+         - (cs2[ai + pi - b - r + n + 1] - cs2[ai - b - r + n + 1]))
+    e[np.diag_indices_from(e)] += mass
+    if clamp:
+        w = p.astype(float)
+        e -= (np.outer(w, mass) + np.outer(mass, w)) / n
+        e += dsum / n**2 * np.outer(w, w)
+    return 0.5 * (e + e.T)
+
+
+def _coarse_matrix_numba(cs2, n, a, p, mass, clamp, dsum):
+    e = np.empty((a.size, a.size))
+    _coarse_matrix_fused(cs2, n, np.ascontiguousarray(a, dtype=np.int64), np.ascontiguousarray(p, dtype=np.int64),
+                         np.ascontiguousarray(mass, dtype=float), bool(clamp), float(dsum), e)
+    return e
+
+
+def coarse_matrix(name=None):
+    """E = Zᵀ Π (K + D) Π Z of blocks [a_b, a_b + p_b) (symmetric, (m, m)) from K's kernel sums `cs2`
+    (`gfmd.cohesive_preconditioner.kernel_sums`), the blocks' D sums `mass` = Zᵀ D 1 and dsum = Σ D, Π the mean
+    removal where `clamp`; of the backend `gfmd.kernels.jit_backend(name)` (numba: one pass over the upper triangle,
+    mirrored)."""
+    return _coarse_matrix_numba if jit_backend(name) == "numba" else _coarse_matrix_numpy
 
 
 def _spread_scaled_numba(c, starts, widths, n, clamp, d, w, work):

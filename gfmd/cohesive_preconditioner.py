@@ -16,9 +16,11 @@ crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.c
   stiff nodes (max(k_loc, 0) ≥ STIFF_FRACTION φn/δn²) of about half the crossover wavelength, so that
   the modes inside a block are held by K again, and on each gap between them as one block (`COARSE_GAPS`,
   `cover`; on a half-plane the last block is dropped: the blocks sum to a constant, which Π removes, so the
-  span of Π Z is the same and E stays definite). SPD for D ≥ 0 (max(k_loc, 0) is used); E from K's
-  real-space kernel (no FFT); 2 FFT pairs per application where a coarse space exists, one of which
-  the NCG saves (the direction on the nodes comes with it).
+  span of Π Z is the same and E stays definite). D = diag(k_loc) with its sign (`SIGNED_CURVATURE`: the
+  softening tail's negative curvature softens the long modes of the gaps, which the coarse space then holds);
+  SPD wherever E is (max(k_loc, 0), SPD for D ≥ 0, where E is not definite with the signed D); E from K's
+  real-space kernel (no FFT; `gfmd.coarse_kernels.coarse_matrix`); 2 FFT pairs per application where a coarse
+  space exists, one of which the NCG saves (the direction on the nodes comes with it).
   Profiles (1+1-D) only.
 
 (K(q) + ⟨max(k_loc, 0)⟩)⁻¹ on the modes was measured and dropped (more iterations than K⁻¹,
@@ -65,6 +67,21 @@ STIFF_FRACTION = 0.01
 #: φn* = 0.15, benchmarks/results/bench_cohesive_preconditioner.md §7): −33 % FFT pairs and −28 % CPU (seed 2,
 #: δn = 0.25 nm), −26 % and −23 % (seed 7, δn = 1 nm), the same states
 COARSE_GAPS = True
+#: "two-level": a stiff block spans this fraction of the crossover wavelength. Measured (session 42, the NCG steps of a
+#: whole 201-step ramp at 2^17, seed 2, φn* = 0.15, replayed from their captured guesses, pinned simultaneous pairs with
+#: the cores swapped): 0.25 −7 % iterations, −8 % FFT pairs, CPU × 0.97 (its coarse matrix twice as large): kept 0.5
+BLOCK_WAVELENGTHS = 0.5
+#: "two-level": D = diag(k_loc) with its sign, the softening tail's negative curvature (Δn > δn, most of the nodes out of
+#: contact) included, in the coarse matrix and the balancing; max(k_loc, 0) where False, or where E is not definite
+#: with it. On the Hessian at converged states (2^15, linear PCG to 1e-6): 19–28 iterations against 21–35. Whole
+#: 201-step ramps at 2^17 (seed 2, against max(k_loc, 0), with E's numba assembly; pinned simultaneous pairs with the
+#: cores swapped, benchmarks/results/bench_versions_signed-curvature*.md): φn* = 0.15, ν = 0.1 −7.3 % iterations,
+#: −8.5 % FFT pairs, CPU × 0.85 ± 0.03, the same states; ν = 0.45 −6.3 %, −7.4 %, CPU × 0.98 ± 0.12 (the NCG steps
+#: alone, replayed from their guesses: × 0.90), one jump-in (step 161) settles on its other equilibrium, the ramp on
+#: that branch for 5 steps; φn* = 0.01 −0.4 %, −0.7 %, × 1.01 ± 0.05. Cutting the gaps into blocks as well (every 1–2
+#: block lengths, a coarse matrix of ≈ 800 at any N) −16 % FFT pairs on top but CPU × 1.05 at 2^17 (its Cholesky and
+#: solves): not kept
+SIGNED_CURVATURE = True
 
 
 def slow_step(e_before, e_now, span, e_target, remaining):
@@ -167,18 +184,26 @@ class TwoLevel:
         self.cs2 = kernel_sums(kr, n)
         above = np.flatnonzero(k >= kn_scale)  # the crossover mode: K(q) = φn/δn²
         crossover = int(above[0]) if above.size else k.size
-        self.block = max(1, int(round(n / (2.0 * max(crossover, 1)))))
+        self.block = max(1, int(round(BLOCK_WAVELENGTHS * n / max(crossover, 1))))
         self.coarse = self.stiff = self.index = None  # index: the coarse nodes as a slice or an index array
         self.w, self.work = np.empty(n), np.empty(n)  # apply's buffers
         self.kernels = coarse_kernels.coarse_kernels()  # apply's nodal passes where the blocks cover 0 … m − 1
+        self.matrix = coarse_kernels.coarse_matrix()  # E, the coarse matrix
 
     def rebuild(self, k_loc):
-        """The coarse space of the stiff nodes at k_loc (Pa/m per node, every node); False (kept as it was)
-        where the stiff set has not changed."""
-        d = np.maximum(k_loc, 0.0)
-        stiff = np.flatnonzero(d >= STIFF_FRACTION * self.kn_scale)
+        """The coarse space of the stiff nodes at k_loc (Pa/m per node, every node) with D = diag(k_loc)
+        (SIGNED_CURVATURE; max(k_loc, 0) where E is not definite with it); False (kept as it was) where the stiff set
+        has not changed."""
+        stiff = np.flatnonzero(k_loc >= STIFF_FRACTION * self.kn_scale)
         if self.stiff is not None and np.array_equal(stiff, self.stiff):
             return False
+        for signed in ((True, False) if SIGNED_CURVATURE else (False,)):
+            if self._build(np.array(k_loc, dtype=float) if signed else np.maximum(k_loc, 0.0), stiff):
+                break
+        return True
+
+    def _build(self, d, stiff):
+        """The coarse space and E's Cholesky factor for D = d on the stiff set `stiff`; False where E is not definite."""
         self.d, self.stiff, self.coarse = d, stiff, None
         if stiff.size == 0:
             return True
@@ -194,17 +219,13 @@ class TwoLevel:
             index = nodes
         ends = np.r_[starts[1:], nodes.size]
         a, p = nodes[starts], ends - starts  # first node and width of each block (consecutive nodes)
-        e = self.pair_sums(a, p)
         mass = np.add.reduceat(self.d[nodes], starts)  # Zᵀ D 1 (and Zᵀ D Z = diag of it)
-        e[np.diag_indices_from(e)] += mass
-        if self.clamp:  # Zᵀ Π D Π Z with Π the mean removal (K kills constants: k(0) = 0)
-            w = p.astype(float)
-            e -= (np.outer(w, mass) + np.outer(mass, w)) / self.n
-            e += float(np.sum(self.d)) / self.n**2 * np.outer(w, w)
+        # Zᵀ K Z + Zᵀ Π D Π Z with Π the mean removal (K kills constants: k(0) = 0)
+        e = self.matrix(self.cs2, self.n, a, p, mass, self.clamp, float(np.sum(self.d)))
         try:
-            factor = scipy.linalg.cho_factor(0.5 * (e + e.T))
+            factor = scipy.linalg.cho_factor(e)
         except np.linalg.LinAlgError:
-            return True
+            return False
         self.coarse, self.index = (nodes, starts, p, factor), index
         return True
 

@@ -57,7 +57,9 @@ def test_two_level_is_spd_and_exact_on_its_coarse_space(thickness):
     np.testing.assert_allclose(pre.pair_sums(stiff[starts], p), z.T @ kz, rtol=1e-9, atol=1e-9 * np.max(np.abs(kz)))
     # the balancing operator on the (mean-free where clamped) nodal space
     proj = np.eye(n) - (1.0 / n if clamp else 0.0)
-    a_mat = proj @ (np.array([fft.irfft(k * fft.rfft(e)) for e in np.eye(n)]).T + np.diag(np.maximum(k_loc, 0))) @ proj
+    # D with its sign (the softening tails too) where E is definite with it (`SIGNED_CURVATURE`)
+    np.testing.assert_array_equal(pre.d, k_loc if cp.SIGNED_CURVATURE else np.maximum(k_loc, 0))
+    a_mat = proj @ (np.array([fft.irfft(k * fft.rfft(e)) for e in np.eye(n)]).T + np.diag(pre.d)) @ proj
     m = proj @ dense(lambda f: pre.apply(f)[0], n, fft) @ proj  # the NCG's forces are mean-free where clamped
     f = proj @ np.random.default_rng(2).standard_normal(n)
     s_hat, s_nodes = pre.apply(fft.rfft(f))
@@ -154,10 +156,31 @@ def test_the_dropped_gap_block_is_in_the_coarse_space_on_a_half_plane():
     last[nodes.size:] = 1.0  # the dropped block: the nodes after the kept ones
     assert 0 < nodes.size < n and np.all(k_loc[nodes.size:] < cp.STIFF_FRACTION * kn)  # a gap
     proj = np.eye(n) - 1.0 / n
-    a_mat = proj @ (np.array([fft.irfft(k * fft.rfft(e)) for e in np.eye(n)]).T + np.diag(np.maximum(k_loc, 0))) @ proj
+    a_mat = proj @ (np.array([fft.irfft(k * fft.rfft(e)) for e in np.eye(n)]).T + np.diag(pre.d)) @ proj
     m = proj @ dense(lambda f: pre.apply(f)[0], n, fft) @ proj
     zp = proj @ last
     np.testing.assert_allclose(m @ a_mat @ zp, zp, atol=1e-8 * np.max(np.abs(zp)))
+
+
+def test_signed_curvature_falls_back_to_its_positive_part_where_e_is_not_definite(monkeypatch):
+    """A softening tail strong enough to make Zᵀ(K + D)Z indefinite: D = max(k_loc, 0) instead, still SPD; with
+    SIGNED_CURVATURE off, max(k_loc, 0) always."""
+    sc, h, model, law, z_of = case(nodes=256)
+    n = model.nodes
+    k = np.ascontiguousarray(np.real(model.k_zz), dtype=float)
+    kn = 20.0 * float(k[1])
+    k_loc = stiff_patches(n, kn, np.random.default_rng(1))
+    k_loc[105:145] = -kn  # a gap whose constant mode (K's smallest) the tail overwhelms
+    pre = cp.TwoLevel(Fft(n), k, True, n, kn)
+    stiff = np.flatnonzero(k_loc >= cp.STIFF_FRACTION * kn)
+    assert not pre._build(k_loc.copy(), stiff)  # the signed coarse matrix is not definite
+    pre = cp.TwoLevel(Fft(n), k, True, n, kn)
+    assert pre.rebuild(k_loc) and pre.coarse is not None
+    np.testing.assert_array_equal(pre.d, np.maximum(k_loc, 0))
+    monkeypatch.setattr(cp, "SIGNED_CURVATURE", False)
+    pre = cp.TwoLevel(Fft(n), k, True, n, kn)
+    assert pre.rebuild(stiff_patches(n, kn, np.random.default_rng(1)))
+    assert np.all(pre.d >= 0)
 
 
 def test_slow_step_predicts_from_the_recent_rate():
