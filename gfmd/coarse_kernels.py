@@ -129,11 +129,17 @@ if numba is not None:
                 e[j, i] = v
 
 
-def _coarse_matrix_numpy(cs2, n, a, p, mass, clamp, dsum):
+def block_sums(cs2, n, a, p):
+    """Zᵀ K Z of one kernel: Σ_{i∈I} Σ_{j∈J} kr(i − j) for the blocks [a_I, a_I + p_I) (cs2: the kernel's double
+    cumulative sums, `gfmd.cohesive_preconditioner.kernel_sums`)."""
     ai, pi = a[:, None], p[:, None]
     b, r = a[None, :], p[None, :]
-    e = ((cs2[ai + pi - b + n + 1] - cs2[ai - b + n + 1])
-         - (cs2[ai + pi - b - r + n + 1] - cs2[ai - b - r + n + 1]))
+    return ((cs2[ai + pi - b + n + 1] - cs2[ai - b + n + 1])
+            - (cs2[ai + pi - b - r + n + 1] - cs2[ai - b - r + n + 1]))
+
+
+def _coarse_matrix_numpy(cs2, n, a, p, mass, clamp, dsum):
+    e = block_sums(cs2, n, a, p)
     e[np.diag_indices_from(e)] += mass
     if clamp:
         w = p.astype(float)

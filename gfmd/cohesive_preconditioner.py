@@ -37,6 +37,7 @@ import numpy as np
 import scipy.linalg
 
 from . import coarse_kernels
+from .coarse_kernels import block_sums
 
 CHOICES = ("auto", "stiffness", "two-level")
 #: a step runs its first ENGAGE_AFTER iterations with K⁻¹ (the easy steps never pay for the coarse level). Swept in
@@ -111,14 +112,6 @@ def kernel_sums(kr, n):
     reads: cs1[x] = Σ of kr over offsets −n … x − n − 1, and its own cumulative sum."""
     cs1 = np.r_[0.0, np.cumsum(kr[np.arange(-n, n) % n])]
     return np.r_[0.0, np.cumsum(cs1)]
-
-
-def block_sums(cs2, n, a, p):
-    """Zᵀ K Z of one kernel: Σ_{i∈I} Σ_{j∈J} kr(i − j) for the blocks [a_I, a_I + p_I) (`kernel_sums`' cs2)."""
-    ai, pi = a[:, None], p[:, None]
-    b, r = a[None, :], p[None, :]
-    return ((cs2[ai + pi - b + n + 1] - cs2[ai - b + n + 1])
-            - (cs2[ai + pi - b - r + n + 1] - cs2[ai - b - r + n + 1]))
 
 
 def cover(stiff, n, block):

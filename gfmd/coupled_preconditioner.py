@@ -14,7 +14,7 @@ D is; an LU factor), Q = Z E⁻¹ Zᵀ, and the right preconditioner is
 so that A M⁻¹ Z = A Z: the coarse modes are solved exactly. Since K K⁻¹ = Π (the mean removal of a clamped
 half-plane; I on a layer), M⁻¹ y = K⁻¹ (y − D w) with w = Π Z E⁻¹ Zᵀ y, and A M⁻¹ y = Π (g + D s) with
 g = y − D w, s = K⁻¹ g: one FFT pair per product, as K⁻¹ alone. E from K's real-space kernels by double cumulative
-sums (no FFT, `gfmd.cohesive_preconditioner.block_sums`, as the NCG's). Measured on the Fig. 8 class at 2^13 (Newton
+sums (no FFT, `gfmd.coarse_kernels.block_sums`, as the NCG's). Measured on the Fig. 8 class at 2^13 (Newton
 systems sampled along a whole ramp, GMRES products to 0.1 / 1e-2 / 1e-3): 18.9 / 27.2 / 36.0 with K⁻¹, 5.9 / 8.3 / 10.7 with the coarse space (half-wavelength
 blocks), flat as the contact grows where K⁻¹'s grow 2 → 40; whole ramps: benchmarks/results/bench_coupled_preconditioner.md.
 """
@@ -24,7 +24,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from .cohesive_preconditioner import block_sums, cover, kernel_sums
+from .coarse_kernels import block_sums
+from .cohesive_preconditioner import cover, kernel_sums
 from .coupled_kernels import coarse_passes
 
 #: which right preconditioner the coupled Newton's GMRES runs (`gfmd.coupled_krylov.newton_step`): "two-level"
