@@ -37,7 +37,6 @@ import numpy as np
 import scipy.linalg
 
 from . import coarse_kernels
-from .coarse_kernels import block_sums
 
 CHOICES = ("auto", "stiffness", "two-level")
 #: a step runs its first ENGAGE_AFTER iterations with K⁻¹ (the easy steps never pay for the coarse level). Swept in
@@ -72,8 +71,8 @@ COARSE_GAPS = True
 #: whole 201-step ramp at 2^17, seed 2, φn* = 0.15, replayed from their captured guesses, pinned simultaneous pairs with
 #: the cores swapped): 0.25 −7 % iterations, −8 % FFT pairs, CPU × 0.97 (its coarse matrix twice as large): kept 0.5
 BLOCK_WAVELENGTHS = 0.5
-#: "two-level": D = diag(k_loc) with its sign, the softening tail's negative curvature (Δn > δn, most of the nodes out of
-#: contact) included, in the coarse matrix and the balancing; max(k_loc, 0) where False, or where E is not definite
+#: "two-level": D = diag(k_loc) with its sign, the softening tail's negative curvature (Δn > δn, most of the nodes out
+#: of contact) included, in the coarse matrix and the balancing; max(k_loc, 0) where False, or where E is not definite
 #: with it. On the Hessian at converged states (2^15, linear PCG to 1e-6): 19–28 iterations against 21–35. Whole
 #: 201-step ramps at 2^17 (seed 2, against max(k_loc, 0), with E's numba assembly; pinned simultaneous pairs with the
 #: cores swapped, benchmarks/results/bench_versions_signed-curvature*.md): φn* = 0.15, ν = 0.1 −7.3 % iterations,
@@ -108,8 +107,8 @@ def blocks(nodes, block):
 
 
 def kernel_sums(kr, n):
-    """The double cumulative sums of a real-space kernel kr (N,), (K u)_i = Σ_j kr(i − j) u_j, that `block_sums`
-    reads: cs1[x] = Σ of kr over offsets −n … x − n − 1, and its own cumulative sum."""
+    """The double cumulative sums of a real-space kernel kr (N,), (K u)_i = Σ_j kr(i − j) u_j, that
+    `gfmd.coarse_kernels.block_sums` reads: cs1[x] = Σ of kr over offsets −n … x − n − 1, and its own cumulative sum."""
     cs1 = np.r_[0.0, np.cumsum(kr[np.arange(-n, n) % n])]
     return np.r_[0.0, np.cumsum(cs1)]
 
@@ -196,7 +195,8 @@ class TwoLevel:
         return True
 
     def _build(self, d, stiff):
-        """The coarse space and E's Cholesky factor for D = d on the stiff set `stiff`; False where E is not definite."""
+        """The coarse space and E's Cholesky factor for D = d on the stiff set `stiff`; False where E is not
+        definite."""
         self.d, self.stiff, self.coarse = d, stiff, None
         if stiff.size == 0:
             return True
@@ -221,10 +221,6 @@ class TwoLevel:
             return False
         self.coarse, self.index = (nodes, starts, p, factor), index
         return True
-
-    def pair_sums(self, a, p):
-        """Zᵀ K Z (`block_sums`)."""
-        return block_sums(self.cs2, self.n, a, p)
 
     def _spread(self, c, z):
         """Π Z c on every node, into z (N,)."""
