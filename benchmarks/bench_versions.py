@@ -9,10 +9,10 @@ ramp runs in a process that imports the code (and `benchmarks.bench_adhesion_sca
 Per class (bench_adhesion_scaling's seed base scene, φn* = 0.15: "cohesive" (c = 0), "hard-wall" (the hard wall on it),
 "coupled" (c = 0.5, δt = 1 nm); --nu sets material.poisson_ratio, --phi interface.phi_n_star, --set any scene key) one
 whole 201-step ramp per version (--task: the whole study task, `workbench.study_task.run_task`, with its per-step
-observables, checkpoints and files), as two simultaneous processes pinned to one core each, then again with the cores swapped (CPU time on
-this 2-core machine moves by up to 25 % with what runs on the other core, and the cores differ): the CPU ratio new /
-old is the geometric mean of the two placements' ratios (the core's factor cancels), half their difference the noise
-left; --rounds repeats the pair of placements. Per ramp: CPU s, iterations, FFT pairs, and the states against the old
+observables, checkpoints and files), as two simultaneous processes pinned to one core each, then again with the cores
+swapped (CPU time on this 2-core machine moves by up to 25 % with what runs on the other core, and the cores
+differ): the CPU ratio new / old is the geometric mean of the two placements' ratios (the core's factor cancels), half
+their difference the noise left; --rounds repeats the pair of placements. Per ramp: CPU s, iterations, FFT pairs, and the states against the old
 version's (max |Δp̄| / max |p̄|).
 Writes benchmarks/results/bench_versions_<label-new>.md (or --out).
 """
@@ -151,14 +151,16 @@ def main(argv=None):
         dirty = subprocess.run(["git", "-C", tree, "status", "--porcelain", "--untracked-files=no"],
                                capture_output=True, text=True).stdout.strip()
         versions[name] = (head.stdout.strip() or "not a git tree") + (" (+ working tree)" if dirty else "")
-    extra = "".join(f", {k} = {v:g}" if isinstance(v, float) else f", {k} = {v}" for k, v in scene_keys(args.set).items())
+    extra = "".join(f", {k} = {v:g}" if isinstance(v, float) else f", {k} = {v}"
+                    for k, v in scene_keys(args.set).items())
     lines = [f"# Two versions on whole {'study tasks' if args.task else 'ramps'}: {args.label_new} against "
              f"{args.label_old}, N = 2^{args.size}, realization {args.realization}, ν = {args.nu:g}, φn* = {args.phi:g}"
              f"{extra}", "",
              f"`python benchmarks/bench_versions.py {' '.join(argv if argv is not None else sys.argv[1:])}`; "
              f"old ({args.label_old}): {versions['old']}; new ({args.label_new}): {versions['new']}; load average at "
              f"start {os.getloadavg()[0]:.2f} (2-core machine, two simultaneous processes per pair)", "",
-             f"| class | run | {'task' if args.task else 'ramp'} CPU s | iterations | FFT pairs | converged | max Δp̄ / max p̄ |", "|---|---|---|---|---|---|---|"]
+             f"| class | run | {'task' if args.task else 'ramp'} CPU s | iterations | FFT pairs | converged | "
+             "max Δp̄ / max p̄ |", "|---|---|---|---|---|---|---|"]
     summary = []
     for cls in args.classes:
         ratios = []
