@@ -1,16 +1,18 @@
 """Two versions of the code on the same whole ramp, side by side (issue 24): what a change did to CPU time.
 
 Usage: python benchmarks/bench_versions.py --old DIR --new DIR [--label-old A] [--label-new B]
-       [--classes normal hard-wall] [--size 17] [--realization 2] [--nu 0.45] [--phi 0.15] [--rounds 1] [--out FILE]
+       [--classes normal hard-wall] [--size 17] [--realization 2] [--nu 0.45] [--phi 0.15] [--set KEY=VALUE ...]
+       [--task] [--rounds 1] [--out FILE]
 
 DIR: a source tree of the project (a git worktree of the version, e.g. ``git worktree add /tmp/old <commit>``); each
 ramp runs in a process that imports the code (and `benchmarks.bench_adhesion_scaling.ramp`) from its tree alone.
 Per class (bench_adhesion_scaling's seed base scene, φn* = 0.15: "cohesive" (c = 0), "hard-wall" (the hard wall on it),
-"coupled" (c = 0.5, δt = 1 nm); --nu sets material.poisson_ratio, --phi interface.phi_n_star) one whole 201-step ramp
-per version, as two simultaneous processes pinned to one core each, then again with the cores swapped (CPU time on
-this 2-core machine moves by up to 25 % with what runs on the other core, and the cores differ): the CPU ratio new /
-old is the geometric mean of the two placements' ratios (the core's factor cancels), half their difference the noise
-left; --rounds repeats the pair of placements. Per ramp: CPU s, iterations, FFT pairs, and the states against the old
+"coupled" (c = 0.5, δt = 1 nm); --nu sets material.poisson_ratio, --phi interface.phi_n_star, --set any scene key) one
+whole 201-step ramp per version (--task: the whole study task, `workbench.study_task.run_task`, with its per-step
+observables, checkpoints and files), as two simultaneous processes pinned to one core each, then again with the cores
+swapped (CPU time on this 2-core machine moves by up to 25 % with what runs on the other core, and the cores
+differ): the CPU ratio new / old is the geometric mean of the two placements' ratios (the core's factor cancels), half
+their difference the noise left; --rounds repeats the pair of placements. Per ramp: CPU s, iterations, FFT pairs, and the states against the old
 version's (max |Δp̄| / max |p̄|).
 Writes benchmarks/results/bench_versions_<label-new>.md (or --out).
 """
@@ -47,13 +49,50 @@ def run_one(args):
     from workbench.study_task import reuse_freed_arrays  # noqa: PLC0415  (the tree's own, as above)
 
     reuse_freed_arrays()
-    keys = {**CLASSES[args.cls], "material.poisson_ratio": args.nu, "interface.phi_n_star": args.phi}
+    keys = {**CLASSES[args.cls], "material.poisson_ratio": args.nu, "interface.phi_n_star": args.phi,
+            **scene_keys(args.set)}
     ramp(2**12, "cohesive", max_steps=3, scene_keys=keys)  # numba's compilation and the plans outside the timed ramp
-    t0 = time.process_time()
-    rows = ramp(2**args.size, "cohesive", realization=args.realization, a_rel_stop=2.0, scene_keys=keys)
-    cpu = time.process_time() - t0
+    if args.task:
+        rows, cpu = whole_task(args, keys)
+    else:
+        t0 = time.process_time()
+        rows = ramp(2**args.size, "cohesive", realization=args.realization, a_rel_stop=2.0, scene_keys=keys)
+        cpu = time.process_time() - t0
     Path(args.dump).write_text(json.dumps({"cpu": cpu, "rows": [{k: r[k] for k in ("it", "pairs", "p", "converged")}
                                                                  for r in rows]}))
+
+
+def scene_keys(pairs):
+    """--set KEY=VALUE pairs as scene keys (a number where the value reads as one)."""
+    keys = {}
+    for item in pairs or ():
+        key, _, value = item.partition("=")
+        try:
+            keys[key] = float(value)
+        except ValueError:
+            keys[key] = value
+    return keys
+
+
+def whole_task(args, keys):
+    """--task: the class's scene run as one study task (`workbench.study_task.run_task`: the ramp with its observables,
+    checkpoints and files) into a temporary directory: (rows of its curve.csv, CPU s). FFT pairs are not in a task's
+    files (0 here)."""
+    import csv  # noqa: PLC0415
+    import tempfile  # noqa: PLC0415
+
+    from benchmarks.bench_adhesion_scaling import task_of  # noqa: PLC0415  (the tree's own, as in run_one)
+    from workbench.study_task import run_task  # noqa: PLC0415
+
+    scene, _ = task_of(2**args.size, "cohesive", args.realization, keys)
+    with tempfile.TemporaryDirectory() as tmp:
+        t0 = time.process_time()
+        run_task(scene, Path(tmp) / "task", progress=lambda *a: None)
+        cpu = time.process_time() - t0
+        with open(Path(tmp) / "task" / "curve.csv") as f:
+            rows = [{"it": int(r["iterations"]), "pairs": 0, "p": float(r["p"]), "converged": int(r["converged"])}
+                    for r in csv.DictReader(f)]
+    return rows, cpu
 
 
 def pair(args, cls, trees):
@@ -64,7 +103,8 @@ def pair(args, cls, trees):
 
     return report.simultaneous([[sys.executable, __file__, "--worker", "--root", tree, "--cls", cls, "--size",
                                  str(args.size), "--realization", str(args.realization), "--nu", repr(args.nu),
-                                 "--phi", repr(args.phi)]
+                                 "--phi", repr(args.phi), *(["--task"] if args.task else []),
+                                 *(["--set", *args.set] if args.set else [])]
                                 for tree in trees])
 
 
@@ -87,6 +127,9 @@ def main(argv=None):
     ap.add_argument("--realization", type=int, default=2)
     ap.add_argument("--nu", type=float, default=0.45, help="material.poisson_ratio")
     ap.add_argument("--phi", type=float, default=0.15, help="interface.phi_n_star")
+    ap.add_argument("--set", nargs="+", metavar="KEY=VALUE", help="more scene keys, e.g. surface.hurst=0.2")
+    ap.add_argument("--task", action="store_true",
+                    help="time the whole study task (observables, checkpoints, files), not the ramp alone")
     ap.add_argument("--rounds", type=int, default=1)
     ap.add_argument("--out")
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
@@ -108,12 +151,16 @@ def main(argv=None):
         dirty = subprocess.run(["git", "-C", tree, "status", "--porcelain", "--untracked-files=no"],
                                capture_output=True, text=True).stdout.strip()
         versions[name] = (head.stdout.strip() or "not a git tree") + (" (+ working tree)" if dirty else "")
-    lines = [f"# Two versions on whole ramps: {args.label_new} against {args.label_old}, N = 2^{args.size}, "
-             f"realization {args.realization}, ν = {args.nu:g}, φn* = {args.phi:g}", "",
+    extra = "".join(f", {k} = {v:g}" if isinstance(v, float) else f", {k} = {v}"
+                    for k, v in scene_keys(args.set).items())
+    lines = [f"# Two versions on whole {'study tasks' if args.task else 'ramps'}: {args.label_new} against "
+             f"{args.label_old}, N = 2^{args.size}, realization {args.realization}, ν = {args.nu:g}, φn* = {args.phi:g}"
+             f"{extra}", "",
              f"`python benchmarks/bench_versions.py {' '.join(argv if argv is not None else sys.argv[1:])}`; "
              f"old ({args.label_old}): {versions['old']}; new ({args.label_new}): {versions['new']}; load average at "
              f"start {os.getloadavg()[0]:.2f} (2-core machine, two simultaneous processes per pair)", "",
-             "| class | run | ramp CPU s | iterations | FFT pairs | converged | max Δp̄ / max p̄ |", "|---|---|---|---|---|---|---|"]
+             f"| class | run | {'task' if args.task else 'ramp'} CPU s | iterations | FFT pairs | converged | "
+             "max Δp̄ / max p̄ |", "|---|---|---|---|---|---|---|"]
     summary = []
     for cls in args.classes:
         ratios = []

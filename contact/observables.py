@@ -75,17 +75,25 @@ def mean_pressure(traction_z):
     return float(-np.mean(traction_z))
 
 
-def step_observables(scene, h, gap, traction_z):
-    """Per-step observables dict: p (Pa), a_rel (1), g_r (1), g (1)."""
+def step_observables(scene, h, gap, traction_z, gradients=None):
+    """Per-step observables dict: p (Pa), a_rel (1), g_r (1), g (1).
+
+    gradients: `profile_gradients(scene, h)` where the caller keeps it over a ramp (the profile's g_i², the same
+    numbers every step); computed here otherwise."""
     contact = contact_mask(law_from_scene(scene), gap, traction_z)
-    s = scene.surface
-    spacing = s.spacings if s.two_d else s.spacing
+    g2 = profile_gradients(scene, h) if gradients is None else gradients
     return {
         "p": mean_pressure(traction_z),
         "a_rel": float(np.mean(contact)),
-        "g_r": rms_gradient_contact(h, spacing, contact),
-        "g": rms_gradient(h, spacing),
+        "g_r": float(np.sqrt(np.mean(g2[contact]))) if contact.any() else float("nan"),  # Eq. 5 (rms_gradient_contact)
+        "g": float(np.sqrt(np.mean(g2))),  # rms_gradient
     }
+
+
+def profile_gradients(scene, h):
+    """The local gradients squared g_i² of the profile h (seed Eq. 6, `local_gradient_squared`) on the scene's grid."""
+    s = scene.surface
+    return local_gradient_squared(h, s.spacings if s.two_d else s.spacing)
 
 
 def contact_patches(contact, periodic=True):

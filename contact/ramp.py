@@ -29,6 +29,7 @@ uses `contact.observables.step_observables`.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import time
 from dataclasses import dataclass, field
 from typing import Any, Callable
@@ -41,7 +42,7 @@ from .force import tolerance as load_tolerance
 from .loading import (FULL_CONTACT_MARGIN, RampState, extrapolation_allowed, field_step_indices, realization_label, realization_steps, slip_warning,
                       start_warning)
 from .model import WARNING
-from .observables import step_observables
+from .observables import profile_gradients, step_observables
 from .result import FIELD_NAMES, Result
 
 
@@ -166,7 +167,9 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
     d0 = scene.loading.initial_separation
     current, previous = state.current, state.previous
     force = scene.loading.control == "force"  # steps are loads p̄_k (Pa): contact.force finds U for each
-    observe = getattr(cell, "observe", None) or step_observables  # the cell's own observables if it has them
+    observe = getattr(cell, "observe", None)  # the cell's own observables if it has them
+    if observe is None:  # the profile's gradients (ḡ, and ḡ_r's g_i²) once per ramp, not per step
+        observe = functools.partial(step_observables, gradients=profile_gradients(scene, h))
     for k in range(state.step + 1, steps.size):
         t0 = time.perf_counter()
         event = None

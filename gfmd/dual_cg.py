@@ -81,8 +81,8 @@ def solve_dual(problem, start, settings, *, label, band_stiffness, preconditione
     if float(np.max(u - z)) <= wall_tolerance:  # feasible up to round-off: already converged?
         residual = wall_residual(model, u, ku, z, wall_tolerance)
         if residual < settings.tolerance:
-            out = finish(problem, fft.rfft(np.minimum(u, z))[None, :], 0, residual, True, "")
-            out.fft_pairs, out.method = fft.pairs + 1.5, label  # finish: 1.5 pairs
+            out = finish(problem, fft.rfft(np.minimum(u, z))[None, :], 0, residual, True, "", (u, ku))
+            out.fft_pairs, out.method = fft.pairs, label  # the fields from the arrays the residual was taken on
             return out
     # the guess's pressures: P = p_far − K u where positive; p_far = K u on the nodes the guess leaves free
     free = z - u > 0

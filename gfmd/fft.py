@@ -5,8 +5,8 @@ Backend: FFTW (pyfftw, a default dependency), else ducc0, else scipy.fft; ``GFMD
 (benchmarks/bench_fft.py). FFTW runs plans made once per process, shape and thread (`_fftw_plans`; measured plans
 kept as wisdom, `FFTW_MEASURE_FROM`): the input is copied into the plan's aligned buffer, the output written straight
 into the aligned array returned (`_execute_into`). The hard-wall
-CGs, the cohesive NCG, FIRE on a law with a traction function and Newton–Krylov go through `Fft`;
-the projected dynamics of the hard wall and of the cohesive wall, and `gfmd.stopping.finish`, call
+CGs, the cohesive NCG, FIRE on a law with a traction function, Newton–Krylov and the final fields of every step
+(`gfmd.stopping.finish`) go through `Fft`; the projected dynamics of the hard wall and of the cohesive wall call
 scipy.fft directly (through `rfft_nodes` / `irfft_nodes`, which are exactly those calls in 1+1-D).
 
 2+1-D surfaces (a `contact.model.Model` with shape (Nx, Ny)): the algorithms see nodal fields as flat

@@ -96,6 +96,31 @@ if numba is not None:
                 u_hat[c, i] += dt * x
 
 
+def _largest_change_numpy(u, u_prev):
+    return float(np.max(np.abs(u - u_prev)))
+
+
+if numba is not None:
+    @numba.njit(cache=True)
+    def _largest_change_kernel(u, u_prev):
+        largest = 0.0
+        for i in range(u.size):
+            d = abs(u[i] - u_prev[i])
+            if d > largest or d != d:  # a NaN wins, as in numpy's max
+                largest = d
+                if d != d:
+                    break
+        return largest
+
+
+def largest_change(name=None):
+    """max_j |u_j − u_prev,j| of two nodal arrays (FIRE's trust region): numpy's passes or one fused loop
+    (`jit_backend(name)`); the same number either way (a max is exact), NaN where a difference is NaN."""
+    if FUSED and jit_backend(name) == "numba":
+        return lambda u, u_prev: float(_largest_change_kernel(u.reshape(-1), u_prev.reshape(-1)))
+    return _largest_change_numpy
+
+
 def fire_kernels(name=None, components=2):
     """(force_power, accelerate, mix_move) of `jit_backend(name)`; the fused ones for the coupled law's two components
     (profiles only: 2+1-D surfaces are normal-only), numpy otherwise. Signatures: force_power(t_hat, k_blocks, u_hat, v, w, clamp)

@@ -16,7 +16,7 @@ import numpy as np
 
 from contact import laws
 
-from .fft import irfft_nodes
+from .fft import Fft
 from .problem import wall_balance, wall_net_force_from
 from .settings import Relaxed
 
@@ -41,20 +41,21 @@ def wall_residual(model, u, ku, z_ind, wall_tolerance):
 
 def finish(problem, u_hat, iterations, residual, converged, message, wall_state=None):
     """The `Relaxed` of the state u_hat. wall_state = (u_z, K u_z) of a hard-wall state whose residual was
-    just taken from exactly these arrays (u_hat its rfft): the tractions then come from them, not from
-    two more inverse FFTs."""
+    just taken from exactly these arrays: the tractions then come from them, not from two more inverse FFTs.
+    The fields come from the solvers' FFT (`gfmd.fft.Fft`, not counted in their FFT pairs)."""
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
     n = model.nodes
+    fft = Fft(n, grid=model.grid)
     if wall_state is not None:
         u = wall_state[0][None, :].copy()
     else:
-        u = irfft_nodes(u_hat, model.grid)
+        u = fft.irfft(u_hat)
     if law.constraint:
         gap = z_ind - u[-1]
         on_wall = gap <= wall_tolerance
         gap = np.maximum(gap, 0.0)
         u[-1] = z_ind - gap
-        ku = wall_state[1] if wall_state is not None else irfft_nodes(model.k_zz * u_hat[-1], model.grid)
+        ku = wall_state[1] if wall_state is not None else fft.irfft(model.k_zz * u_hat[-1])
         force = wall_balance(model, ku, on_wall)
         t = np.zeros_like(u)
         t[-1] = np.where(on_wall, -np.maximum(force, 0.0), 0.0)

@@ -1,11 +1,12 @@
 """gfmd.fire_kernels: FIRE's per-iteration spectral algebra, numpy and fused, against the formulas written out here
 (f̂ = t̂ − K û, P = Σ_q w_q Re(conj f̂_q · v_q), a = M⁻¹ f̂, v ← v + Δt a, f·a, v·M v, v ← keep v + β a, û ← û + Δt v;
-the q = 0 mode zeroed where clamped), on random 2×2 blocks (a b; b̄ d) and a one-block (normal-only) case."""
+the q = 0 mode zeroed where clamped), on random 2×2 blocks (a b; b̄ d) and a one-block (normal-only) case; the trust
+region's largest nodal change, max_j |u_j − u_prev,j|."""
 
 import numpy as np
 import pytest
 
-from gfmd.fire_kernels import fire_kernels
+from gfmd.fire_kernels import fire_kernels, largest_change
 from gfmd.kernels import numba
 
 BACKENDS = ["numpy"] + (["numba"] if numba is not None else [])
@@ -65,3 +66,15 @@ def test_fire_kernels_are_the_formulas(backend, components, clamp):
     mix_move(v, acc, keep, beta, u_hat, dt, clamp)
     np.testing.assert_allclose(v, v_mixed, rtol=1e-13, atol=1e-13)
     np.testing.assert_allclose(u_hat, u_before + dt * v_mixed, rtol=1e-13, atol=1e-13)
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("shape", [(7,), (1, 64), (2, 33)])
+def test_largest_change_is_the_max_of_the_differences(backend, shape):
+    rng = np.random.default_rng(sum(shape))
+    u, u_prev = rng.standard_normal(shape), rng.standard_normal(shape)
+    change = largest_change(backend)
+    assert change(u, u_prev) == float(np.max(np.abs(u - u_prev)))  # a max is exact: the same number
+    assert change(u, u) == 0.0
+    u[..., -1] = np.nan  # a NaN wins, as numpy's max lets it
+    assert np.isnan(change(u, u_prev))

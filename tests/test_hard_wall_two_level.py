@@ -121,3 +121,25 @@ def test_too_many_patches_leave_the_band_alone():
     assert two.coarse_space(g_sum, many, n, 16) is None
     assert two.coarse_space(g_sum, few, n, 16) is not None
     assert two.two_level(np.ones(many.size), lambda r: 2 * r, None).tolist() == [2.0] * many.size
+
+
+def test_a_converged_guess_keeps_the_arrays_its_residual_was_taken_on():
+    """The dual CG returns a guess that already passes the test with the fields of that test's arrays (u, K u):
+    the same fields finish recomputes from the spectra (round-off), at the FFT pairs actually spent (two irfft, one
+    rfft)."""
+    from gfmd.problem import Problem
+    from gfmd.stopping import finish
+
+    sc, h, model, law, wall_tol = case()
+    d0 = sc.loading.initial_separation
+    for d in (-2e-9, 3e-9):  # out of contact, and in contact from its own converged state
+        z = indenter_surface(h, d0, d0 + d)
+        first = relax(model, law, z, np.zeros((1, model.nodes // 2 + 1), complex), Settings(tolerance=TOL), wall_tol)
+        again = relax(model, law, z, first.u_hat, Settings(tolerance=TOL), wall_tol)
+        assert first.converged and again.converged and again.iterations == 0 and again.fft_pairs == 1.5
+        ref = finish(Problem(model, law, z, wall_tol), again.u_hat, 0, again.residual, True, "")
+        scale = float(np.max(np.abs(ref.t_z))) or model.reference_traction
+        np.testing.assert_allclose(again.u_z, ref.u_z, rtol=0, atol=1e-12 * float(np.ptp(h)))
+        np.testing.assert_allclose(again.gap, ref.gap, rtol=0, atol=1e-12 * float(np.ptp(h)))
+        np.testing.assert_allclose(again.t_z, ref.t_z, rtol=0, atol=1e-9 * scale)
+        assert (d < 0) == (not np.any(again.t_z))

@@ -173,3 +173,20 @@ def test_reduced_pressure():
     assert observables.reduced_pressure(1e6, 0.1, e_star) == pytest.approx(1e6 / (0.1 * e_star), rel=1e-15)
     out = observables.reduced_pressure(np.array([1e6, 2e6]), np.array([0.2, np.nan]), e_star)
     assert out[0] == pytest.approx(1e6 / (0.2 * e_star), rel=1e-15) and math.isnan(out[1])
+
+
+@settings(max_examples=40, derandomize=True, deadline=None)
+@given(st.integers(8, 64).flatmap(lambda n: st.tuples(
+    arrays(float, n, elements=st.floats(-1e-8, 1e-8)), arrays(float, n, elements=st.floats(-1e-9, 2e-8)),
+    arrays(float, n, elements=st.floats(-1e7, 1e7)))), st.sampled_from(["hard-wall", "cohesive"]))
+def test_step_observables_from_the_ramps_gradients_are_the_same_numbers(fields, law):
+    # contact.ramp computes the profile's g_i² once (`profile_gradients`) and hands it to every step: the
+    # observables must be those computed from the heights at every step, bit for bit
+    h, gap, t_z = fields
+    scene = scene_from_dict({"surface": {"kind": "flat", "nodes": h.size, "length": h.size * 1e-9},
+                             "interface": {"law": law}})
+    alone = observables.step_observables(scene, h, gap, t_z)
+    kept = observables.step_observables(scene, h, gap, t_z, gradients=observables.profile_gradients(scene, h))
+    assert alone.keys() == kept.keys()
+    for key in alone:
+        assert alone[key] == kept[key] or (math.isnan(alone[key]) and math.isnan(kept[key])), key

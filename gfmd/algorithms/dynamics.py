@@ -23,7 +23,7 @@ import numpy as np
 from contact import laws
 
 from ..fft import Fft, spectral_weights
-from ..fire_kernels import fire_kernels
+from ..fire_kernels import fire_kernels, largest_change
 from ..integrators import Fire, verlet_coefficients
 from ..problem import Elastic
 from ..settings import check_coupled_fire, not_converged
@@ -64,12 +64,13 @@ def solve(problem, start, settings):
     converged = False
     it = 0
     max_move = settings.max_move * law.law.length_scale  # min(δn, δt) where u_x is solved, else δn
-    u_hat_prev = u_hat.copy()
-    _last_finite = u_hat.copy()
+    change = largest_change()
+    kept = [u_hat.copy(), u_hat.copy()]  # û at the last two iterations' starts, alternately (no copy allocated)
+    u_hat_prev = _last_finite = kept[0]
     u_prev = fft.irfft(u_hat)
     for it in range(1, settings.max_iterations + 1):
         u = fft.irfft(u_hat)
-        move = float(np.max(np.abs(u - u_prev)))
+        move = change(u, u_prev)
         if move > max_move:  # trust region: no node moves more than max_move per iteration
             scale = max_move / move
             u_hat = u_hat_prev + scale * (u_hat - u_hat_prev)
@@ -77,14 +78,16 @@ def solve(problem, start, settings):
             v *= scale
             if fire:
                 fire.dt *= settings.f_dec
-        u_hat_prev, u_prev = u_hat.copy(), u
+        u_hat_prev = kept[it % 2]  # the buffer not holding _last_finite
+        np.copyto(u_hat_prev, u_hat)
+        u_prev = u
         try:
             t, _ = law.traction(u, z_ind)
         except laws.CompressionOverflowError as exc:
             message = f"diverged: {exc}"
             u_hat = _last_finite
             break
-        _last_finite = u_hat_prev  # (a copy of u_hat, which nothing changes in place until the next one)
+        _last_finite = u_hat_prev  # (a copy of û, rewritten only two iterations on)
         if fire and it % settings.mass_refresh == 0:
             k_now = law.mean_stiffness(u, z_ind)
             if any(b > 2 * a + 1e-300 or a > 2 * b + 1e-300 for a, b in zip(k_mean, k_now)):
