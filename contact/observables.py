@@ -53,10 +53,15 @@ def rms_gradient(h, spacing):
 
 def rms_gradient_contact(h, spacing, contact):
     """ḡ_r: rms gradient over the contact nodes only (seed Eq. 5); NaN if no node is in contact."""
+    return _rms_over_contact(local_gradient_squared(h, spacing), contact)
+
+
+def _rms_over_contact(g2, contact):
+    """√⟨g_i²⟩ over the contact nodes (seed Eq. 5) of the local gradients squared g2; NaN without contact."""
     contact = np.asarray(contact, bool)
     if not contact.any():
         return float("nan")
-    return float(np.sqrt(np.mean(local_gradient_squared(h, spacing)[contact])))
+    return float(np.sqrt(np.mean(g2[contact])))
 
 
 def contact_mask(law, gap, traction_z):
@@ -78,22 +83,23 @@ def mean_pressure(traction_z):
 def step_observables(scene, h, gap, traction_z, gradients=None):
     """Per-step observables dict: p (Pa), a_rel (1), g_r (1), g (1).
 
-    gradients: `profile_gradients(scene, h)` where the caller keeps it over a ramp (the profile's g_i², the same
+    gradients: `profile_gradients(scene, h)` where the caller keeps it over a ramp (the profile's g_i² and ḡ, the same
     numbers every step); computed here otherwise."""
     contact = contact_mask(law_from_scene(scene), gap, traction_z)
-    g2 = profile_gradients(scene, h) if gradients is None else gradients
+    g2, g = profile_gradients(scene, h) if gradients is None else gradients
     return {
         "p": mean_pressure(traction_z),
         "a_rel": float(np.mean(contact)),
-        "g_r": float(np.sqrt(np.mean(g2[contact]))) if contact.any() else float("nan"),  # Eq. 5 (rms_gradient_contact)
-        "g": float(np.sqrt(np.mean(g2))),  # rms_gradient
+        "g_r": _rms_over_contact(g2, contact),  # `rms_gradient_contact` on the kept g_i²
+        "g": g,
     }
 
 
 def profile_gradients(scene, h):
-    """The local gradients squared g_i² of the profile h (seed Eq. 6, `local_gradient_squared`) on the scene's grid."""
+    """(g_i², ḡ) of the profile h on the scene's grid: `local_gradient_squared` (seed Eq. 6) and `rms_gradient`."""
     s = scene.surface
-    return local_gradient_squared(h, s.spacings if s.two_d else s.spacing)
+    spacing = s.spacings if s.two_d else s.spacing
+    return local_gradient_squared(h, spacing), rms_gradient(h, spacing)
 
 
 def contact_patches(contact, periodic=True):
