@@ -12,18 +12,20 @@ whole 201-step ramp per version (--task: the whole study task, `workbench.study_
 observables, checkpoints and files), as two simultaneous processes pinned to one core each, then again with the cores
 swapped (CPU time on this 2-core machine moves by up to 25 % with what runs on the other core, and the cores
 differ): the CPU ratio new / old is the geometric mean of the two placements' ratios (the core's factor cancels), half
-their difference the noise left; --rounds repeats the pair of placements. Per ramp: CPU s, iterations, FFT pairs, and the states against the old
-version's (max |Δp̄| / max |p̄|).
+their difference the noise left; --rounds repeats the pair of placements. Per ramp: CPU s, iterations, FFT pairs, and
+the states against the old version's (max |Δp̄| / max |p̄|).
 Writes benchmarks/results/bench_versions_<label-new>.md (or --out).
 """
 
 from __future__ import annotations
 
 import argparse
+import csv
 import json
 import os
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -63,14 +65,17 @@ def run_one(args):
 
 
 def scene_keys(pairs):
-    """--set KEY=VALUE pairs as scene keys (a number where the value reads as one)."""
+    """--set KEY=VALUE pairs as scene keys: a whole number, else a number, where the value reads as one (surface.nodes
+    must stay an integer), else the text."""
     keys = {}
     for item in pairs or ():
         key, _, value = item.partition("=")
-        try:
-            keys[key] = float(value)
-        except ValueError:
-            keys[key] = value
+        for kind in (int, float, str):
+            try:
+                keys[key] = kind(value)
+                break
+            except ValueError:
+                continue
     return keys
 
 
@@ -78,9 +83,6 @@ def whole_task(args, keys):
     """--task: the class's scene run as one study task (`workbench.study_task.run_task`: the ramp with its observables,
     checkpoints and files) into a temporary directory: (rows of its curve.csv, CPU s). FFT pairs are not in a task's
     files (0 here)."""
-    import csv  # noqa: PLC0415
-    import tempfile  # noqa: PLC0415
-
     from benchmarks.bench_adhesion_scaling import task_of  # noqa: PLC0415  (the tree's own, as in run_one)
     from workbench.study_task import run_task  # noqa: PLC0415
 
@@ -151,7 +153,7 @@ def main(argv=None):
         dirty = subprocess.run(["git", "-C", tree, "status", "--porcelain", "--untracked-files=no"],
                                capture_output=True, text=True).stdout.strip()
         versions[name] = (head.stdout.strip() or "not a git tree") + (" (+ working tree)" if dirty else "")
-    extra = "".join(f", {k} = {v:g}" if isinstance(v, float) else f", {k} = {v}"
+    extra = "".join(f", {k} = {v:g}" if isinstance(v, (int, float)) else f", {k} = {v}"
                     for k, v in scene_keys(args.set).items())
     lines = [f"# Two versions on whole {'study tasks' if args.task else 'ramps'}: {args.label_new} against "
              f"{args.label_old}, N = 2^{args.size}, realization {args.realization}, ν = {args.nu:g}, φn* = {args.phi:g}"

@@ -18,8 +18,9 @@ from hypothesis import given, settings as hyp_settings, strategies as st
 
 from contact.loading import indenter_surface
 from gfmd.algorithms import hard_wall_two_level_cg as two
-from gfmd.problem import Elastic, band_stiffness
+from gfmd.problem import Elastic, Problem, band_stiffness
 from gfmd.solver import Settings, relax
+from gfmd.stopping import finish
 from test_gfmd_fast import TOL, assert_same_kkt_equilibria, case, kkt_violation, ramp, two_ramps
 
 
@@ -127,9 +128,6 @@ def test_a_converged_guess_keeps_the_arrays_its_residual_was_taken_on():
     """The dual CG returns a guess that already passes the test with the fields of that test's arrays (u, K u):
     the same fields finish recomputes from the spectra (round-off), at the FFT pairs actually spent (two irfft, one
     rfft)."""
-    from gfmd.problem import Problem
-    from gfmd.stopping import finish
-
     sc, h, model, law, wall_tol = case()
     d0 = sc.loading.initial_separation
     for d in (-2e-9, 3e-9):  # out of contact, and in contact from its own converged state
