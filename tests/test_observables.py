@@ -181,12 +181,17 @@ def test_reduced_pressure():
     arrays(float, n, elements=st.floats(-1e7, 1e7)))), st.sampled_from(["hard-wall", "cohesive"]))
 def test_step_observables_from_the_ramps_gradients_are_the_same_numbers(fields, law):
     # contact.ramp computes the profile's g_i² once (`profile_gradients`) and hands it to every step: the
-    # observables must be those computed from the heights at every step, bit for bit
+    # observables must be those computed from the heights at every step (rms_gradient, rms_gradient_contact on the
+    # contact mask, as step_observables did before), bit for bit, with or without the kept gradients
     h, gap, t_z = fields
     scene = scene_from_dict({"surface": {"kind": "flat", "nodes": h.size, "length": h.size * 1e-9},
                              "interface": {"law": law}})
-    alone = observables.step_observables(scene, h, gap, t_z)
-    kept = observables.step_observables(scene, h, gap, t_z, gradients=observables.profile_gradients(scene, h))
-    assert alone.keys() == kept.keys()
-    for key in alone:
-        assert alone[key] == kept[key] or (math.isnan(alone[key]) and math.isnan(kept[key])), key
+    spacing = scene.surface.spacing
+    contact = observables.contact_mask(laws.law_from_scene(scene), gap, t_z)
+    alone = {"p": observables.mean_pressure(t_z), "a_rel": float(np.mean(contact)),
+             "g_r": observables.rms_gradient_contact(h, spacing, contact), "g": observables.rms_gradient(h, spacing)}
+    for kept in (observables.step_observables(scene, h, gap, t_z),
+                 observables.step_observables(scene, h, gap, t_z, gradients=observables.profile_gradients(scene, h))):
+        assert alone.keys() == kept.keys()
+        for key in alone:
+            assert alone[key] == kept[key] or (math.isnan(alone[key]) and math.isnan(kept[key])), key
