@@ -24,6 +24,7 @@ attraction off the wall to the same constraint.
 from __future__ import annotations
 
 import dataclasses
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -136,6 +137,22 @@ class Elastic:
         return self._apply(self.inv_mass, x)
 
 
+#: id(model) → its `Elastic(model, 0, 0)` (`stiffness_operator`), dropped with the model
+_STIFFNESS = {}
+
+
+def stiffness_operator(model):
+    """Elastic(model, 0, 0): K(q) alone, one per model (kept while the model lives), so that what the algorithms cache
+    on it (the coarse spaces' kernel sums, `gfmd.coupled_preconditioner`) is computed once per task, not per step."""
+    key = id(model)
+    op = _STIFFNESS.get(key)
+    if op is None or op.model is not model:
+        op = Elastic(model, 0.0, 0.0)
+        _STIFFNESS[key] = op
+        weakref.finalize(model, _STIFFNESS.pop, key, None)
+    return op
+
+
 @dataclass
 class Problem:
     """One load step: the model (`contact.model.Model`: K(q), unknowns, p_ref), the law on its
@@ -179,7 +196,7 @@ class Problem:
             return self._on_flat("force", u_hat, self.model.grid)
         u = self.displacements(u_hat)
         t, _ = self.law.traction(u, self.z_ind)
-        f_hat = rfft_nodes(t, self.model.grid) - Elastic(self.model, 0.0, 0.0).stiffness(u_hat)
+        f_hat = rfft_nodes(t, self.model.grid) - stiffness_operator(self.model).stiffness(u_hat)
         if self.model.half_plane:
             f_hat[:, 0] = 0.0
         return self.displacements(f_hat)
@@ -192,7 +209,7 @@ class Problem:
         if self.surface:
             return self._on_flat("energy", u_hat, self.model.grid)
         u = self.displacements(u_hat)
-        ku = self.displacements(Elastic(self.model, 0.0, 0.0).stiffness(u_hat))
+        ku = self.displacements(stiffness_operator(self.model).stiffness(u_hat))
         gap = self.z_ind - u[-1]
         if self.law.constraint and float(np.min(gap)) < -self.wall_tolerance:
             return np.inf
@@ -214,7 +231,7 @@ class Problem:
         """The dual's gradient, the gap Δ = z_ind + G P (m) for nodal wall pressures P ≥ 0 (Pa), normal only."""
         if self.surface:
             return flat_problem(self).dual_gap(np.reshape(pressure, -1)).reshape(self.model.grid)
-        g = Elastic(self.model, 0.0, 0.0).inv_mass[0]
+        g = stiffness_operator(self.model).inv_mass[0]
         return self.z_ind + irfft_nodes(np.real(g) * rfft_nodes(pressure, self.model.grid), self.model.grid)
 
 
@@ -373,7 +390,7 @@ def coupled_operators(model, law, z_ind, u, fft, shifted=True):
 
     n, c = model.nodes, model.components
     clamp = model.half_plane
-    stiff = Elastic(model, 0.0, 0.0)
+    stiff = stiffness_operator(model)
     mass = Elastic(model, *law.mean_stiffness(u, z_ind)) if shifted else stiff
     if law.constraint:
         d_nn = d_nt = d_tn = d_tt = 0.0

@@ -16,6 +16,7 @@ from contact import laws
 
 from .. import cohesive_preconditioner, kernels
 from ..ncg_nodes import Eq3Nodes, UserNodes
+from ..problem import stiffness_operator
 from ..fft import Fft
 from ..settings import stall
 from ..stopping import finish
@@ -192,7 +193,7 @@ def solve(problem, start, settings):
         engaged = two_level and it >= engage_at
         if engaged and other is None:
             other = cohesive_preconditioner.build(preconditioner_name, fft, k, clamp, n, float(cz.work_normal)
-                                                  / float(cz.length_normal) ** 2)
+                                                  / float(cz.length_normal) ** 2, stiffness_operator(model))
         if not engaged:
             rz, f_old_s, f_d_old = products(f_hat, f_old, d_hat, g, n)  # f·s, f_old·s, f·d_old; s = K⁻¹ f
         else:  # s = M⁻¹ f (`gfmd.cohesive_preconditioner`), rebuilt from the state (a restart where it changed)
