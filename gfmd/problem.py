@@ -24,7 +24,6 @@ attraction off the wall to the same constraint.
 from __future__ import annotations
 
 import dataclasses
-import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -137,19 +136,14 @@ class Elastic:
         return self._apply(self.inv_mass, x)
 
 
-#: id(model) → its `Elastic(model, 0, 0)` (`stiffness_operator`), dropped with the model
-_STIFFNESS = {}
-
-
 def stiffness_operator(model):
-    """Elastic(model, 0, 0): K(q) alone, one per model (kept while the model lives), so that what the algorithms cache
-    on it (the coarse spaces' kernel sums, `gfmd.coupled_preconditioner`) is computed once per task, not per step."""
-    key = id(model)
-    op = _STIFFNESS.get(key)
-    if op is None or op.model is not model:
-        op = Elastic(model, 0.0, 0.0)
-        _STIFFNESS[key] = op
-        weakref.finalize(model, _STIFFNESS.pop, key, None)
+    """Elastic(model, 0, 0): K(q) alone, one per model, kept on the model object (in its __dict__, outside its
+    fields: a new model, `dataclasses.replace` included, gets its own; it goes with the model), so that what the
+    algorithms cache on it (the coarse spaces' kernel sums, `gfmd.coupled_preconditioner`,
+    `gfmd.cohesive_preconditioner`) is computed once per task, not per step."""
+    op = model.__dict__.get("_stiffness_operator")
+    if op is None:
+        op = model.__dict__["_stiffness_operator"] = Elastic(model, 0.0, 0.0)
     return op
 
 

@@ -129,7 +129,8 @@ def solve(problem, start, settings):
         raise ValueError("Settings.cohesive_preconditioner = 'two-level' needs seed Eq. 3's law, not a user law")
     preconditioner_name = cohesive_preconditioner.resolve(settings.cohesive_preconditioner, model.grid, user)
     # built when a step first engages it (ENGAGE_AFTER iterations): the steps that finish before never pay its setup
-    # (an irfft and two cumulative sums over 2N: ≈ 6 ms at 2^17; a φn* = 0.001 task −6 to −11 % CPU)
+    # (an irfft and two cumulative sums over 2N: ≈ 6 ms at 2^17, once per task since session 44, K's sums kept on the
+    # model's `stiffness_operator`; a φn* = 0.001 task −6 to −11 % CPU)
     two_level = preconditioner_name != "stiffness"
     other = None
     far = NCG_FAR_FRACTION * settings.tolerance * p_ref  # a far node's |T_n| is below this (Pa)
