@@ -147,12 +147,13 @@ def resolve(name, grid=None, user=False):
     return "stiffness" if _surface(grid) or user else "two-level"
 
 
-def build(name, fft, k, clamp, n, kn_scale):
+def build(name, fft, k, clamp, n, kn_scale, keep=None):
     """The preconditioner `name` ("two-level") for K(q) = k on the modes (q = 0 clamped
-    where `clamp`), or None for "stiffness" (the NCG's own K⁻¹)."""
+    where `clamp`), or None for "stiffness" (the NCG's own K⁻¹). keep: an object of the model that outlives the step
+    (`gfmd.problem.stiffness_operator`), on which K's kernel sums are kept for the task's later steps."""
     if name == "stiffness":
         return None
-    return TwoLevel(fft, k, clamp, n, kn_scale)
+    return TwoLevel(fft, k, clamp, n, kn_scale, keep)
 
 
 def _inverse(k, clamp):
@@ -166,14 +167,18 @@ def _inverse(k, clamp):
 class TwoLevel:
     """K⁻¹ balanced by piecewise constants on blocks of stiff nodes (module docstring)."""
 
-    def __init__(self, fft, k, clamp, n, kn_scale):
+    def __init__(self, fft, k, clamp, n, kn_scale, keep=None):
         self.fft, self.k, self.clamp, self.n, self.kn_scale = fft, k, clamp, n, kn_scale
         self.g = _inverse(k, clamp)
-        kq = k.copy()
-        if clamp:
-            kq[0] = 0.0
-        kr = fft.irfft(kq.astype(complex))  # (K u)_i = Σ_j kr(i − j) u_j
-        self.cs2 = kernel_sums(kr, n)
+        self.cs2 = getattr(keep, "_cohesive_kernel_sums", None)  # K's, kept on the model's operator (`build`)
+        if self.cs2 is None:
+            kq = k.copy()
+            if clamp:
+                kq[0] = 0.0
+            kr = fft.irfft(kq.astype(complex))  # (K u)_i = Σ_j kr(i − j) u_j
+            self.cs2 = kernel_sums(kr, n)
+            if keep is not None:
+                keep._cohesive_kernel_sums = self.cs2
         above = np.flatnonzero(k >= kn_scale)  # the crossover mode: K(q) = φn/δn²
         crossover = int(above[0]) if above.size else k.size
         self.block = max(1, int(round(BLOCK_WAVELENGTHS * n / max(crossover, 1))))

@@ -16,7 +16,7 @@ from . import coupled_preconditioner
 from . import gmres as gfmd_gmres
 from .coupled_kernels import coupled_kernels
 from .fft import Fft, spectral_weights
-from .problem import Elastic
+from .problem import stiffness_operator
 
 #: GMRES: restart length and the most restart cycles of one solve
 GMRES_RESTART = 60
@@ -70,7 +70,7 @@ def balance_residual(model, law, z_ind, u_hat):
     pairs it took)."""
     fft = Fft(model.nodes)
     try:
-        _, f, _ = balance(law, z_ind, fft, Elastic(model, 0.0, 0.0), model.half_plane)(u_hat)
+        _, f, _ = balance(law, z_ind, fft, stiffness_operator(model), model.half_plane)(u_hat)
     except laws.CompressionOverflowError:
         return np.inf, fft.pairs
     return float(np.max(np.abs(f))) / model.reference_traction, fft.pairs

@@ -44,7 +44,8 @@ BLOCK_WAVELENGTHS = 1.0
 def stiffness_kernel_sums(stiff, fft):
     """The double cumulative sums of the real-space kernels of `stiff`'s operator blocks (a b; b̄ d) (its `mass`: K
     for the Newton's `Elastic(model, 0, 0)`, whose `inv_mass` is its inverse, as `operators` needs), the q = 0 mode
-    dropped where clamped, one per (row, column) of components; cached on `stiff` (one per Newton solve)."""
+    dropped where clamped, one per (row, column) of components; cached on `stiff` (`gfmd.problem.stiffness_operator`:
+    one per model, so once per task)."""
     cached = getattr(stiff, "_coarse_kernel_sums", None)
     if cached is not None:
         return cached

@@ -22,7 +22,7 @@ from scipy.sparse.linalg import ArpackNoConvergence, LinearOperator, eigs, gmres
 
 from .coupled_krylov import newton_step
 from .fft import Fft
-from .problem import Elastic, coupled_operators
+from .problem import coupled_operators, stiffness_operator
 
 #: eigenvalues of the tangent nearest 0 that `coupled_stability` computes (shift-invert Arnoldi)
 COUPLED_STABILITY_EIGENVALUES = 6
@@ -65,7 +65,7 @@ def coupled_stability(model, law, z_ind, u_hat):
 
 def _newton_solve(model, law, z_ind, u, fft, project, shape):
     """b ↦ J⁻¹ b on the nodes (b made mean-free where the half-plane clamps the mean) by `newton_step`."""
-    stiff = Elastic(model, 0.0, 0.0)
+    stiff = stiffness_operator(model)
     clamp = model.half_plane
 
     def solve(b):

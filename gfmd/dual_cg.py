@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from .fft import Fft, dot
-from .problem import Elastic
+from .problem import stiffness_operator
 from .settings import not_converged, stall
 from .stopping import finish, wall_check, wall_residual
 
@@ -67,7 +67,7 @@ def solve_dual(problem, start, settings, *, label, band_stiffness, preconditione
     fft = Fft(n, grid=model.grid)
     clamp = model.half_plane
     k = np.ascontiguousarray(np.real(model.k_zz))
-    g = np.ascontiguousarray(np.real(Elastic(model, 0.0, 0.0).inv_mass[0]))
+    g = np.ascontiguousarray(np.real(stiffness_operator(model).inv_mass[0]))
     p_ref = model.reference_traction
     tol = settings.tolerance * p_ref
     gamma2 = settings.proportioning**2

@@ -136,6 +136,17 @@ class Elastic:
         return self._apply(self.inv_mass, x)
 
 
+def stiffness_operator(model):
+    """Elastic(model, 0, 0): K(q) alone, one per model, kept on the model object (in its __dict__, outside its
+    fields: a new model, `dataclasses.replace` included, gets its own; it goes with the model), so that what the
+    algorithms cache on it (the coarse spaces' kernel sums, `gfmd.coupled_preconditioner`,
+    `gfmd.cohesive_preconditioner`) is computed once per task, not per step."""
+    op = model.__dict__.get("_stiffness_operator")
+    if op is None:
+        op = model.__dict__["_stiffness_operator"] = Elastic(model, 0.0, 0.0)
+    return op
+
+
 @dataclass
 class Problem:
     """One load step: the model (`contact.model.Model`: K(q), unknowns, p_ref), the law on its
@@ -179,7 +190,7 @@ class Problem:
             return self._on_flat("force", u_hat, self.model.grid)
         u = self.displacements(u_hat)
         t, _ = self.law.traction(u, self.z_ind)
-        f_hat = rfft_nodes(t, self.model.grid) - Elastic(self.model, 0.0, 0.0).stiffness(u_hat)
+        f_hat = rfft_nodes(t, self.model.grid) - stiffness_operator(self.model).stiffness(u_hat)
         if self.model.half_plane:
             f_hat[:, 0] = 0.0
         return self.displacements(f_hat)
@@ -192,7 +203,7 @@ class Problem:
         if self.surface:
             return self._on_flat("energy", u_hat, self.model.grid)
         u = self.displacements(u_hat)
-        ku = self.displacements(Elastic(self.model, 0.0, 0.0).stiffness(u_hat))
+        ku = self.displacements(stiffness_operator(self.model).stiffness(u_hat))
         gap = self.z_ind - u[-1]
         if self.law.constraint and float(np.min(gap)) < -self.wall_tolerance:
             return np.inf
@@ -214,7 +225,7 @@ class Problem:
         """The dual's gradient, the gap Δ = z_ind + G P (m) for nodal wall pressures P ≥ 0 (Pa), normal only."""
         if self.surface:
             return flat_problem(self).dual_gap(np.reshape(pressure, -1)).reshape(self.model.grid)
-        g = Elastic(self.model, 0.0, 0.0).inv_mass[0]
+        g = stiffness_operator(self.model).inv_mass[0]
         return self.z_ind + irfft_nodes(np.real(g) * rfft_nodes(pressure, self.model.grid), self.model.grid)
 
 
@@ -373,7 +384,7 @@ def coupled_operators(model, law, z_ind, u, fft, shifted=True):
 
     n, c = model.nodes, model.components
     clamp = model.half_plane
-    stiff = Elastic(model, 0.0, 0.0)
+    stiff = stiffness_operator(model)
     mass = Elastic(model, *law.mean_stiffness(u, z_ind)) if shifted else stiff
     if law.constraint:
         d_nn = d_nt = d_tn = d_tt = 0.0

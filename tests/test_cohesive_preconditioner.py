@@ -112,6 +112,21 @@ def test_two_level_is_built_only_by_steps_that_engage_it(monkeypatch):
     assert len(built) == sum(engaged)  # one build per engaging step, none for the others
 
 
+def test_two_level_kernel_sums_are_computed_once_per_model(monkeypatch):
+    """K's kernel sums (an irfft and two cumulative sums over 2N) are kept on the model's stiffness operator
+    (`gfmd.problem.stiffness_operator`): computed by the first engaging step of a ramp only."""
+    monkeypatch.setattr(cp, "ENGAGE_AFTER", 0)
+    calls = []
+    plain = cp.kernel_sums
+    monkeypatch.setattr(cp, "kernel_sums", lambda *a: calls.append(1) or plain(*a))
+    built = []
+    plain_build = cp.build
+    monkeypatch.setattr(cp, "build", lambda *a, **k: built.append(1) or plain_build(*a, **k))
+    sc, h, model, law, z_of = case(nodes=2048)
+    ramp(model, law, z_of, 3e-9 * np.arange(1, 4), Settings(tolerance=TOL, cohesive_preconditioner="two-level"))
+    assert len(built) == 3 and len(calls) == 1
+
+
 def test_auto_is_two_level_on_profiles_with_eq3_only():
     assert Settings().cohesive_preconditioner == "auto"
     assert cp.resolve("auto", (256,)) == "two-level" and cp.resolve("auto", None) == "two-level"

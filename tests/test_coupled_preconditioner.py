@@ -166,3 +166,41 @@ def test_unknown_choice_names_the_setting(monkeypatch):
     u = np.zeros((2, N))
     with pytest.raises(ValueError, match="coupled_preconditioner.CHOICE"):
         coupled_krylov.newton_step(model, law, h, u, fft.rfft(u), stiff, fft, 1e-3)
+
+
+def test_stiffness_operator_is_kept_per_model_and_its_kernel_sums_computed_once(monkeypatch):
+    """`gfmd.problem.stiffness_operator`: K(q) of a model, one object per model (equal to Elastic(model, 0, 0)), a new
+    one for another model, none keeping a model alive; the coarse spaces' kernel sums cached on it are computed once per model
+    however many Newton solves use them (K's three blocks: three calls of `kernel_sums`), once more for a new model."""
+    import dataclasses
+    import gc
+    import weakref
+
+    from gfmd import cohesive_preconditioner
+    from gfmd.algorithms import coupled_newton
+    from gfmd.problem import Problem, stiffness_operator
+    from gfmd.solver import Settings
+
+    cell, h, _ = coupled_cell(nodes=1024)
+    model, law = cell.physics, cell.law
+    op = stiffness_operator(model)
+    assert stiffness_operator(model) is op
+    plain = Elastic(model, 0.0, 0.0)
+    for a, b in zip(op.mass + op.inv_mass, plain.mass + plain.inv_mass):
+        np.testing.assert_array_equal(a, b)
+    calls = []
+    counted = cohesive_preconditioner.kernel_sums
+    monkeypatch.setattr(coupled_preconditioner, "kernel_sums", lambda *a: calls.append(1) or counted(*a))
+    start = np.zeros((2, model.nodes // 2 + 1), complex)
+    for depth in (1e-9, 1.5e-9, 2e-9):  # three steps, each engaging the coarse space
+        problem = Problem(model, law, h - np.min(h) - depth, 0.0)
+        coupled_newton.solve(problem, start, Settings(tolerance=1e-6))
+    assert len(calls) == 3
+    other = dataclasses.replace(model)
+    assert stiffness_operator(other) is not op
+    coupled_newton.solve(Problem(other, law, h - np.min(h) - 1e-9, 0.0), start, Settings(tolerance=1e-6))
+    assert len(calls) == 6
+    gone = weakref.ref(other)
+    del other
+    gc.collect()
+    assert gone() is None  # nothing holds a model beyond its life

@@ -14,7 +14,7 @@ from contact import laws
 
 from ..coupled_krylov import GMRES_CYCLES, GMRES_RESTART, balance, eisenstat_walker, forcing, newton_step
 from ..fft import Fft
-from ..problem import Elastic, coupled_operators
+from ..problem import coupled_operators, stiffness_operator
 from ..stopping import finish
 
 #: Newton iterations a coupled-law step gets after FIRE stalls; each solves the linearised balance by GMRES
@@ -85,7 +85,7 @@ def solve(problem, start, settings):
     clamp = model.half_plane
     if clamp:
         u_hat[:, 0] = 0.0
-    stiff = Elastic(model, 0.0, 0.0)
+    stiff = stiffness_operator(model)
     max_move = COUPLED_NEWTON_MAX_MOVE * law.law.length_scale
     jump = settings.coupled_continuation_jump * law.law.length_scale
 

@@ -18,7 +18,7 @@ from contact import laws
 
 from ..coupled_krylov import balance, forcing, spectral_step
 from ..fft import Fft, spectral_weights
-from ..problem import Elastic
+from ..problem import Elastic, stiffness_operator
 from ..settings import stall
 from ..stopping import finish
 
@@ -61,7 +61,7 @@ def solve(problem, start, settings):
     clamp = model.half_plane
     if clamp:
         u_hat[:, 0] = 0.0
-    stiff = Elastic(model, 0.0, 0.0)
+    stiff = stiffness_operator(model)
     max_move = PTC_MAX_MOVE * law.law.length_scale
 
     force = balance(law, z_ind, fft, stiff, clamp)  # uh ↦ (f̂, f, u)

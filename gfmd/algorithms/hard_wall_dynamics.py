@@ -12,7 +12,7 @@ import numpy as np
 
 from ..fft import irfft_nodes, rfft_nodes, spectral_weights
 from ..integrators import Fire, fire_wall_velocity, verlet_coefficients
-from ..problem import Elastic, mean_shift, project_onto_wall, wall_net_force
+from ..problem import mean_shift, project_onto_wall, stiffness_operator, wall_net_force
 from ..settings import not_converged
 from ..stopping import finish
 
@@ -37,7 +37,7 @@ def solve(problem, start, settings):
     model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
     u_hat = start  # the step's initial displacements (c, N//2+1), rfft
     n, grid = model.nodes, model.grid
-    elastic = Elastic(model, 0.0, 0.0)
+    elastic = stiffness_operator(model)
     k = model.k_zz
     inv_mass = elastic.inv_mass[0]
     inv_mass_diag = float(np.sum(spectral_weights(grid) * inv_mass)) / n  # real-space diagonal of M⁻¹

@@ -16,6 +16,7 @@ from contact import laws
 
 from .. import cohesive_preconditioner, kernels
 from ..ncg_nodes import Eq3Nodes, UserNodes
+from ..problem import stiffness_operator
 from ..fft import Fft
 from ..settings import stall
 from ..stopping import finish
@@ -128,7 +129,8 @@ def solve(problem, start, settings):
         raise ValueError("Settings.cohesive_preconditioner = 'two-level' needs seed Eq. 3's law, not a user law")
     preconditioner_name = cohesive_preconditioner.resolve(settings.cohesive_preconditioner, model.grid, user)
     # built when a step first engages it (ENGAGE_AFTER iterations): the steps that finish before never pay its setup
-    # (an irfft and two cumulative sums over 2N: ≈ 6 ms at 2^17; a φn* = 0.001 task −6 to −11 % CPU)
+    # (an irfft and two cumulative sums over 2N: ≈ 6 ms at 2^17, once per task since session 44, K's sums kept on the
+    # model's `stiffness_operator`; a φn* = 0.001 task −6 to −11 % CPU)
     two_level = preconditioner_name != "stiffness"
     other = None
     far = NCG_FAR_FRACTION * settings.tolerance * p_ref  # a far node's |T_n| is below this (Pa)
@@ -192,7 +194,7 @@ def solve(problem, start, settings):
         engaged = two_level and it >= engage_at
         if engaged and other is None:
             other = cohesive_preconditioner.build(preconditioner_name, fft, k, clamp, n, float(cz.work_normal)
-                                                  / float(cz.length_normal) ** 2)
+                                                  / float(cz.length_normal) ** 2, stiffness_operator(model))
         if not engaged:
             rz, f_old_s, f_d_old = products(f_hat, f_old, d_hat, g, n)  # f·s, f_old·s, f·d_old; s = K⁻¹ f
         else:  # s = M⁻¹ f (`gfmd.cohesive_preconditioner`), rebuilt from the state (a restart where it changed)
