@@ -23,6 +23,11 @@ crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.c
   space exists, one of which the NCG saves (the direction on the nodes comes with it).
   Profiles (1+1-D) only.
 
+The deflated form A-DEF2 (Tang, Nabben, Vuik & Erlangga 2009), s = P f + (I − P A) K⁻¹ f, 1 FFT pair per application
+to the balanced form's 2 (the balanced one on restarts and wherever f·s strays from f·K⁻¹f by more than half), was
+measured and dropped (session 44, whole 201-step ramps at 2^17, seed 2, pinned simultaneous pairs with the cores
+swapped): −15 % FFT pairs but +9 % iterations, CPU × 0.98 ± 0.01 (φn* = 0.15, ν = 0.45, two rounds), × 1.02 ± 0.04
+(ν = 0.1), × 0.98 (φn* = 0.05), × 0.94 (H = 0.2); without the f·s check a step started far from equilibrium stalls.
 (K(q) + ⟨max(k_loc, 0)⟩)⁻¹ on the modes was measured and dropped (more iterations than K⁻¹,
 benchmarks/results/bench_cohesive_preconditioner.md). A step starts with K⁻¹; after ENGAGE_AFTER iterations,
 or after ENGAGE_EARLY where its convergence rate predicts more than ENGAGE_AFTER (`slow_step`), the NCG builds the
