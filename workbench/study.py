@@ -221,8 +221,8 @@ def compute_tasks(jobs, finished, *, workers, scheduler, progress, command, name
     steps = [steps_saved]
     write_failed = []
 
-    def stepped(event):
-        steps[0] += 1
+    def stepped(event):  # (time, message): the message counts the load steps a task finished since its last event
+        steps[0] += int(event[1]) if isinstance(event, tuple) else 1
         bar.set_postfix_str(f"load steps {steps[0]}/{steps_total}", refresh=False)
 
     try:

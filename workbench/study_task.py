@@ -4,8 +4,8 @@ A task directory is a one-realization `gfmd run` directory (workbench.io): the l
 are checkpointed (every `workbench.checkpoints.CHECKPOINT_SECONDS`); a complete one is reused (its stored scene compared key by key with the
 task's), an interrupted one continues from its last saved step. The task directory is
 locked while a task writes it, so a second execution of the same task (Dask may run one
-twice) waits and then finds the result. Each finished load step is reported to the
-scheduler on `STEP_TOPIC` for the study's progress bar.
+twice) waits and then finds the result. The finished load steps are reported to the
+scheduler on `STEP_TOPIC` for the study's progress bar, in batches (`REPORT_SECONDS`).
 
 Tasks of one `workbench.methods.solve_key` (they differ only in what they observe, e.g. the
 contact rule) run as one group (`run_shared`): one load ramp writes every member's directory,
@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import threading
 import time
 from functools import partial
 from pathlib import Path
@@ -27,11 +28,39 @@ from .study_file import StudyError
 STEP_TOPIC = "gfmd-study-step"
 
 
+#: a task reports its finished load steps in batches, at most one event per REPORT_SECONDS (and its last step at
+#: once): an event per step cost a worker ≈ 3 ms of its task's time each (the worker's event loop takes the GIL from
+#: the solver), measured session 44 on 10 hard-wall tasks at 2^17 (H = 0.2, 30 nm, 2 workers, 2 cores): task times
+#: 30.9 s in all with an event per step, 24.3 s with none, the study's wall time 19.9 s against 16.1 s
+REPORT_SECONDS = 1.0
+_reported = {"steps": 0, "since": None}
+_report_lock = threading.Lock()
+
+
 def _report_step(step, steps):
+    """Count a finished load step (`step` of 0 … `steps`) for the study's progress bar; sent (`flush_steps`) once
+    REPORT_SECONDS have passed since the last event, and at a ramp's last step."""
+    with _report_lock:
+        now = time.monotonic()
+        _reported["steps"] += 1
+        if _reported["since"] is None:
+            _reported["since"] = now
+        due = step >= steps or now - _reported["since"] >= REPORT_SECONDS
+    if due:
+        flush_steps()
+
+
+def flush_steps():
+    """Send the load steps counted since the last event to the scheduler (`STEP_TOPIC`, the count as the message);
+    nothing off a Dask worker or with none counted."""
+    with _report_lock:
+        count, _reported["steps"], _reported["since"] = _reported["steps"], 0, None
+    if not count:
+        return
     try:
         from distributed import get_worker
 
-        get_worker().log_event(STEP_TOPIC, 1)
+        get_worker().log_event(STEP_TOPIC, count)
     except (ImportError, ValueError):  # not on a worker
         pass
 
@@ -76,8 +105,11 @@ def run_task(scene, task_dir, command=None, progress=_report_step):
     out = Path(task_dir)
     # a second execution of the same task (Dask may run one twice, at once) waits here for the first and
     # then finds its result published (meta.json "complete", written last, every file by atomic rename)
-    with safe_files.locked(out, wait=-1, what="task directory", command=command):
-        return _run_task_locked(scene, out, command, progress)
+    try:
+        with safe_files.locked(out, wait=-1, what="task directory", command=command):
+            return _run_task_locked(scene, out, command, progress)
+    finally:
+        flush_steps()  # a ramp that stopped before its last step: its counted steps too
 
 
 def _run_task_locked(scene, out, command, progress):
@@ -115,10 +147,13 @@ def run_shared(members, command=None, progress=_report_step):
     """
     reuse_freed_arrays()
     outs = [Path(d) for _, d in members]
-    with contextlib.ExitStack() as stack:
-        for out in sorted(set(outs)):
-            stack.enter_context(safe_files.locked(out, wait=-1, what="task directory", command=command))
-        return _run_shared_locked([scene for scene, _ in members], outs, command, progress)
+    try:
+        with contextlib.ExitStack() as stack:
+            for out in sorted(set(outs)):
+                stack.enter_context(safe_files.locked(out, wait=-1, what="task directory", command=command))
+            return _run_shared_locked([scene for scene, _ in members], outs, command, progress)
+    finally:
+        flush_steps()
 
 
 def _run_shared_locked(scenes, outs, command, progress):
