@@ -59,3 +59,8 @@ COUPLED_PREDICTION_MOVE = 1.0
 #: tangential law moves the state more than a law length from the frictionless one). Between the last win and the
 #: first loss:
 COUPLED_FRICTIONLESS_COUPLING = 0.2
+# Above it (the "handover-near" chain), FIRE from the frictionless prediction instead of the guess, then Newton near
+# FIRE's state, was measured and dropped (session 45, ν = 0.1, 2^15, seed 2,
+# benchmarks/results/bench_versions_frictionless-fire.md): iterations 7 905 → 4 920, FFT pairs −14 %, CPU × 0.95 ± 0.11,
+# but 59 of 201 steps on other branches, up to 24 % of max p̄: the prediction carries u_z through the snap without the
+# tangential law's resistance, and the slip history follows it.
