@@ -52,8 +52,9 @@ class Settings:
     # the handover chains: FIRE stops at this residual (× p_ref) and Newton–Krylov finishes from there, its state kept
     # only near FIRE's (and, "handover", locally stable), else FIRE goes on (`gfmd.chains`). An earlier handover tried
     # first (Newton from FIRE's state at 1e-2 or 1e-3, kept near it, else FIRE on to 1e-4) was measured and dropped
-    # (session 45, ν = 0.1, c = 0.5, 2^15, seed 2): the same states, but FFT pairs 17 268 → 23 120 (1e-2) and 20 949
-    # (1e-3, 20 of 28 events kept there): Newton from a looser state costs more GMRES products than FIRE's rest
+    # (session 45, ν = 0.1, c = 0.5, 2^15, seed 2, one ad hoc ramp each, no bench file kept): the same states, but FFT
+    # pairs 17 268 → 23 120 (1e-2) and 20 949 (1e-3, 20 of 28 events kept there): Newton from a looser state costs
+    # more GMRES products than FIRE's rest of the way.
     coupled_handover: float = 1e-4
     # coupled law: FIRE's largest time step Δt (in place of dt_max, 1.0, which the other laws' FIRE keeps). Near Δt ≈ 0.5
     # a compressed contact patch (local tangent ≈ 0.2 of the half-plane's self-stiffness, far above the cell mean that
