@@ -9,6 +9,8 @@ application `TwoLevel.apply` needs three nodal passes besides its FFTs and two s
 * `stiff_sums`: Zᵀ Π D (x − w) (the coarse residual of y = x − w);
 * `spread_subtract`: z = Π Z c and x ← x − z, in place.
 
+`split_kernels`: the passes of `TwoLevel.apply_split` (the force given as T_n and û, the NCG's path), one each.
+
 numpy needs 4–6 passes and a temporary for each of these; the numba kernels one pass each, with the mean of
 Π Z c from the block sums (Σ_b p_b c_b / N) instead of a pass. Both give the same values up to round-off
 (the fused sums are reassociated). A rebuild assembles the coarse matrix E = Zᵀ Π (K + D) Π Z (`coarse_matrix`:
@@ -175,6 +177,167 @@ def _stiff_sums_numba(d, x, w, starts, widths, n, clamp):
 
 def _spread_subtract_numba(c, starts, widths, n, clamp, z, x):
     _spread_subtract_fused(np.ascontiguousarray(c, dtype=float), starts, widths, n, bool(clamp), z, x)
+
+
+def _block_load_numpy(t, starts, widths, n, out):
+    m = int(starts[-1] + widths[-1])
+    out[:] = np.add.reduceat(t[:m], starts)
+    return float(np.sum(t))
+
+
+def _spread_scaled_minus_numpy(c, starts, widths, n, clamp, d, t, dw, y):
+    _spread_scaled_numpy(c, starts, widths, n, clamp, d, y, dw)
+    np.subtract(t, dw, out=y)
+
+
+def _stiff_sums_of_numpy(d, x, c, starts, widths, n, clamp, w):
+    _spread_numpy(c, starts, widths, n, clamp, w)
+    return _stiff_sums_numpy(d, x, w, starts, widths, n, clamp)
+
+
+def _force_spectrum_numpy(y_hat, k, u_hat, g, x_hat):
+    y_hat -= k * u_hat
+    np.multiply(g, y_hat, out=x_hat)
+
+
+def _spread_subtract_dots_numpy(c, starts, widths, n, clamp, z, x, dw, dw_old, d_old):
+    _spread_subtract_numpy(c, starts, widths, n, clamp, z, x)
+    return (float(np.dot(dw, x)), float(np.dot(dw_old, x)) if dw_old is not None else 0.0,
+            float(np.dot(dw, d_old)) if d_old is not None else 0.0)
+
+
+def _move_numpy(u_hat, d_hat, alpha):
+    u_hat += alpha * d_hat
+
+
+if numba is not None:
+    @numba.njit(cache=True, fastmath=True)
+    def _block_load_fused(t, starts, widths, n, out):
+        total = 0.0
+        m = 0
+        for b in range(starts.size):
+            acc = 0.0
+            for i in range(starts[b], starts[b] + widths[b]):
+                acc += t[i]
+            out[b] = acc
+            total += acc
+            m = starts[b] + widths[b]
+        for i in range(m, n):
+            total += t[i]
+        return total
+
+    @numba.njit(cache=True, fastmath=True)
+    def _spread_scaled_minus_fused(c, starts, widths, n, clamp, d, t, dw, y):
+        mean = _mean(c, widths, n, clamp)
+        m = 0
+        for b in range(c.size):
+            v = c[b] - mean
+            for i in range(starts[b], starts[b] + widths[b]):
+                x = d[i] * v
+                dw[i] = x
+                y[i] = t[i] - x
+            m = starts[b] + widths[b]
+        for i in range(m, n):
+            x = -d[i] * mean
+            dw[i] = x
+            y[i] = t[i] - x
+
+    @numba.njit(cache=True, fastmath=True)
+    def _stiff_sums_of_fused(d, x, c, starts, widths, n, clamp, r):
+        mean = _mean(c, widths, n, clamp)
+        total = 0.0
+        m = 0
+        for b in range(starts.size):
+            v = c[b] - mean
+            acc = 0.0
+            for i in range(starts[b], starts[b] + widths[b]):
+                acc += d[i] * (x[i] - v)
+            r[b] = acc
+            total += acc
+            m = starts[b] + widths[b]
+        for i in range(m, n):
+            total += d[i] * (x[i] + mean)
+        if clamp:
+            mean_dy = total / n
+            for b in range(starts.size):
+                r[b] -= widths[b] * mean_dy
+
+    @numba.njit(cache=True, fastmath=True)
+    def _force_spectrum_fused(y, k, u, g, x):  # float views: mode i is (2i, 2i + 1)
+        for i in range(k.size):
+            a = y[2 * i] - k[i] * u[2 * i]
+            b = y[2 * i + 1] - k[i] * u[2 * i + 1]
+            y[2 * i], y[2 * i + 1] = a, b
+            x[2 * i], x[2 * i + 1] = g[i] * a, g[i] * b
+
+    @numba.njit(cache=True, fastmath=True)
+    def _spread_subtract_dots_fused(c, starts, widths, n, clamp, z, x, dw, dw_old, d_old, has_old, has_d):
+        mean = _mean(c, widths, n, clamp)
+        s_dw = s_old = d_dw = 0.0
+        m = 0
+        for b in range(c.size + 1):
+            if b < c.size:
+                v, lo, hi = c[b] - mean, starts[b], starts[b] + widths[b]
+                m = hi
+            else:  # the nodes past the last block
+                v, lo, hi = -mean, m, n
+            for i in range(lo, hi):
+                z[i] = v
+                xi = x[i] - v
+                x[i] = xi
+                s_dw += dw[i] * xi
+                if has_old:
+                    s_old += dw_old[i] * xi
+                if has_d:
+                    d_dw += dw[i] * d_old[i]
+        return s_dw, s_old, d_dw
+
+    @numba.njit(cache=True, fastmath=True)
+    def _move_fused(u, d, alpha):
+        for i in range(u.size):
+            u[i] += alpha * d[i]
+
+
+def _block_load_numba(t, starts, widths, n, out):
+    return float(_block_load_fused(t, starts, widths, n, out))
+
+
+def _spread_scaled_minus_numba(c, starts, widths, n, clamp, d, t, dw, y):
+    _spread_scaled_minus_fused(np.ascontiguousarray(c, dtype=float), starts, widths, n, bool(clamp), d, t, dw, y)
+
+
+def _stiff_sums_of_numba(d, x, c, starts, widths, n, clamp, w):
+    r = np.empty(starts.size)
+    _stiff_sums_of_fused(d, x, np.ascontiguousarray(c, dtype=float), starts, widths, n, bool(clamp), r)
+    return r
+
+
+def _force_spectrum_numba(y_hat, k, u_hat, g, x_hat):
+    _force_spectrum_fused(y_hat.view(np.float64), k, u_hat.view(np.float64), g, x_hat.view(np.float64))
+
+
+def _spread_subtract_dots_numba(c, starts, widths, n, clamp, z, x, dw, dw_old, d_old):
+    return _spread_subtract_dots_fused(np.ascontiguousarray(c, dtype=float), starts, widths, n, bool(clamp), z, x, dw,
+                                       dw if dw_old is None else dw_old, dw if d_old is None else d_old,
+                                       dw_old is not None, d_old is not None)
+
+
+def _move_numba(u_hat, d_hat, alpha):
+    _move_fused(u_hat.view(np.float64), d_hat.view(np.float64), float(alpha))
+
+
+def split_kernels(name=None):
+    """`gfmd.cohesive_preconditioner.TwoLevel.apply_split`'s passes, of the backend `gfmd.kernels.jit_backend(name)`:
+    (block_load(t, starts, widths, n, out) → Σ t, out = Zᵀ t; spread_scaled_minus(c, starts, widths, n, clamp, d, t,
+    dw, y): dw = D Π Z c, y = t − dw; stiff_sums_of(d, x, c, starts, widths, n, clamp, w) → Zᵀ Π D (x − Π Z c) (w: a
+    scratch array numpy needs); force_spectrum(ŷ, k, û, g, x̂): ŷ ← ŷ − K û, x̂ = g ŷ;
+    spread_subtract_dots(c, starts, widths, n, clamp, z, x, dw, dw_old, d_old) → (Σ dw s, Σ dw_old s, Σ dw d_old)
+    with z = Π Z c, s = x ← x − z (None: a sum 0); move(û, d̂, α): û ← û + α d̂). One pass each with numba."""
+    if jit_backend(name) == "numba":
+        return (_block_load_numba, _spread_scaled_minus_numba, _stiff_sums_of_numba, _force_spectrum_numba,
+                _spread_subtract_dots_numba, _move_numba)
+    return (_block_load_numpy, _spread_scaled_minus_numpy, _stiff_sums_of_numpy, _force_spectrum_numpy,
+            _spread_subtract_dots_numpy, _move_numpy)
 
 
 def coarse_kernels(name=None):

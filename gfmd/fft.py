@@ -199,6 +199,21 @@ def _fftw_r2c(x, axes):
                          pair.spectrum)
 
 
+def _fftw_r2c_scratch(x):
+    """`_fftw_r2c` of a 1-D x that the transform may overwrite, straight from x where x is aligned as the plan's input
+    (no copy in; the plan pointed back at its own input after)."""
+    pair = _fftw_plans(x.shape, (-1,))
+    if x.dtype != np.float64 or not x.flags.c_contiguous or x.ctypes.data % _pyfftw.simd_alignment:
+        return _fftw_r2c(x, (-1,))
+    plan, out = pair.forward, _pyfftw.empty_aligned(pair.spectrum.shape, dtype=complex)
+    plan.update_arrays(x, out)
+    try:
+        plan.execute()
+    finally:
+        plan.update_arrays(pair.real_in, pair.spectrum)
+    return out
+
+
 def _fftw_c2r(x_hat, shape, axes):
     """The unnormalised c2r of x_hat · 1/points (the scale taken in the copy in; without round-off where points is a
     power of two, as were the nodal values scaled after)."""
@@ -264,6 +279,20 @@ class Fft:
         if self.backend == "ducc0":
             return _ducc_fft.r2c(np.ascontiguousarray(x), axes=(-1,), forward=True)
         return scipy.fft.rfft(x, axis=-1)
+
+    def rfft_scratch(self, x):
+        """`rfft` of x (N,), which it may overwrite: with FFTW straight from x where x is aligned as its plans' input
+        (`empty_nodes`), no copy."""
+        if self.backend == "fftw" and self.grid is None and x.ndim == 1:
+            self.calls += 1
+            return _fftw_r2c_scratch(x)
+        return self.rfft(x)
+
+    def empty_nodes(self):
+        """An empty nodal field (N,), aligned as FFTW's plans want their input (`rfft_scratch`)."""
+        if self.backend == "fftw":
+            return _pyfftw.empty_aligned(self.n, dtype=float)
+        return np.empty(self.n)
 
     def irfft(self, x_hat):
         self.calls += 1

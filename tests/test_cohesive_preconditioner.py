@@ -9,6 +9,8 @@
 * a slow step engages it early (`slow_step`): the same states, fewer iterations on a strong-adhesion ramp;
 * D is k_loc with its sign (`SIGNED_CURVATURE`): a softening tail over the gaps lifts the smallest eigenvalue of the
   preconditioned operator above the one max(k_loc, 0) leaves; where the signed E is not definite, max(k_loc, 0);
+* `TwoLevel.apply_split` (the force as tractions and û, three FFTs) gives `apply`'s s, the force in its two parts, and
+  Zᵀ K s, which keeps the coarse Zᵀ K u equal to its direct value along the NCG's steps; FFT.rfft_scratch is rfft;
 * a bad Settings value is refused naming the key.
 """
 
@@ -79,6 +81,66 @@ def test_two_level_is_spd_and_exact_on_its_coarse_space(thickness):
         return np.max(np.real(np.linalg.eigvals(mat @ a_mat)))
 
     assert top(m) < 0.5 * top(g)
+
+
+@pytest.mark.parametrize("jit", ["numpy", "numba"])
+@pytest.mark.parametrize("thickness", [None, 0.5e-6])
+def test_apply_split_is_apply_on_the_force_in_two_parts(thickness, jit, monkeypatch):
+    """`TwoLevel.apply_split` from (T_n, û) gives `apply`'s s on the force f = T_n − K u (− ⟨T_n⟩ where clamped),
+    f = irfft(r̂) + D w, its nodal sums, and Zᵀ K s, which moves Zᵀ K u along with û (`move`) as computed afresh."""
+    from gfmd import coarse_kernels, kernels
+    if jit == "numba" and kernels.numba is None:
+        pytest.skip("numba not installed")
+    monkeypatch.setenv("GFMD_JIT", jit)
+    sc, h, model, law, z_of = case(nodes=256, thickness=thickness)
+    n, clamp = model.nodes, model.half_plane
+    k = np.ascontiguousarray(np.real(model.k_zz), dtype=float)
+    kn = 20.0 * float(k[1])
+    fft = Fft(n)
+    pre = cp.TwoLevel(fft, k, clamp, n, kn)
+    assert pre.split[0] is coarse_kernels.split_kernels(jit)[0]
+    rng = np.random.default_rng(3)
+    pre.rebuild(stiff_patches(n, kn, rng))
+    t, u_hat = rng.standard_normal(n), fft.rfft(rng.standard_normal(n))
+    if clamp:
+        u_hat[0] = 0.0
+    f_hat = fft.rfft(t) - k * u_hat
+    if clamp:
+        f_hat[0] = 0.0
+    s_hat, s_nodes = pre.apply(f_hat.copy())
+    dw_old, d_old = rng.standard_normal(n), rng.standard_normal(n)
+    s2_hat, s2_nodes, r_hat, dw, z_ks, sums = pre.apply_split(t, u_hat, dw_old, d_old)
+    np.testing.assert_allclose(s2_hat, s_hat, atol=1e-12 * np.max(np.abs(s_hat)))
+    np.testing.assert_allclose(s2_nodes, s_nodes, atol=1e-12 * np.max(np.abs(s_nodes)))
+    f = fft.irfft(r_hat) + dw
+    f -= np.mean(f) if clamp else 0.0
+    np.testing.assert_allclose(f, fft.irfft(f_hat), atol=1e-12 * np.max(np.abs(f)))
+    np.testing.assert_allclose(sums, (dw @ s_nodes, dw_old @ s_nodes, dw @ d_old), rtol=1e-11)
+    _, starts, p, _ = pre.coarse
+    m = starts[-1] + p[-1]
+
+    def z_k(x_hat):  # Zᵀ K x, directly
+        return np.add.reduceat(fft.irfft(k * x_hat)[:m], starts)
+
+    np.testing.assert_allclose(z_ks, z_k(s_hat), atol=1e-11 * np.max(np.abs(z_k(s_hat))))
+    np.testing.assert_allclose(pre.load, z_k(u_hat), atol=1e-12 * np.max(np.abs(z_k(u_hat))))
+    pre.move(u_hat, s_hat, 0.3, z_ks)
+    np.testing.assert_allclose(pre.load, z_k(u_hat), atol=1e-11 * np.max(np.abs(z_k(u_hat))))
+    pre.move(u_hat, s_hat, 0.3, None)  # nothing to move it by: made afresh at the next call
+    assert pre.load is None
+
+
+def test_rfft_scratch_is_rfft_and_leaves_the_plan_as_it_was():
+    fft = Fft(1 << 14)
+    rng = np.random.default_rng(4)
+    x, y = fft.empty_nodes(), rng.standard_normal(fft.n)
+    x[:] = rng.standard_normal(fft.n)
+    expected = fft.rfft(x.copy())
+    np.testing.assert_array_equal(fft.rfft_scratch(x), expected)  # the same plan, bit for bit
+    np.testing.assert_allclose(fft.rfft(y), np.fft.rfft(y), atol=1e-10 * np.sqrt(fft.n))  # the plan's own input again
+    odd = np.empty(fft.n + 1)[1:]  # not aligned as FFTW's input: copied in as rfft does
+    odd[:] = y
+    np.testing.assert_array_equal(fft.rfft_scratch(odd), fft.rfft(y))
 
 
 def test_two_level_ramp_reaches_the_default_states(monkeypatch):

@@ -92,7 +92,14 @@ def solve(problem, start, settings):
     `Settings.cohesive_preconditioner` = "two-level" (the default "auto" on a profile with Eq. 3's law) replaces
     K⁻¹ after the step's first iterations by K⁻¹
     balanced by a coarse space on the stiff patches (`gfmd.cohesive_preconditioner`); K s ≠ f then, so d·Kd
-    is a sum over the modes, and the direction restarts where the preconditioner is rebuilt.
+    is a sum over the modes, and the direction restarts where the preconditioner is rebuilt. Under it the force
+    is never formed as f̂: `TwoLevel.apply_split` takes T_n on the nodes and û, gives s and the force as
+    irfft(r̂) + D w (f·s, f_old·s, f·d_old as spectral plus nodal sums; the stopping test's irfft of r̂ plus D w),
+    and keeps Zᵀ K u on the coarse level, so an iteration costs 3 transforms instead of 5 (the force's rfft and the
+    balanced form's two pairs). Measured (session 46, whole study tasks at 2^17, realization 2, pinned simultaneous
+    pairs with the cores swapped, benchmarks/results/bench_versions_split-force*.md): CPU × 0.914 ± 0.034 (φn* = 0.15,
+    ν = 0.45, three rounds), × 0.917 ± 0.017 (ν = 0.1), × 0.901 ± 0.032 (φn* = 0.05), × 0.924 ± 0.086 (H = 0.2),
+    × 1.015 ± 0.047 (φn* = 0.001, whose steps never engage it); the same iterations, p̄ within 1e-12 of max p̄.
 
     Stall: a step NCG does not finish within min(NCG_BUDGET, max_iterations / 2) iterations, or
     whose line search finds no descent, is handed over (`Relaxed.stalled`; `gfmd.chains` restarts it
@@ -151,23 +158,35 @@ def solve(problem, start, settings):
 
     t_nodes = np.zeros(n)  # T_n on every node: zero off the near set
 
-    def traction_hat():
-        """rfft(T_n), T_n = (φn/δn) s e^{−s} (seed Eq. 3) on the near set, 0 off it."""
+    def traction_nodes():
+        """T_n = (φn/δn) s e^{−s} (seed Eq. 3) on every node: on the near set, 0 off it (an array kept until the next
+        call)."""
         t = nodal.traction_new(sv, ev)
         if isinstance(idx, slice):
-            return fft.rfft(t)
+            return t
         t_nodes[idx] = t
-        return fft.rfft(t_nodes)
+        return t_nodes
+
+    def largest_force(f_spec, f_dw):
+        """max_j |f_j| (Pa) of the force f = irfft(f_spec) + f_dw (its mean removed where clamped; f_dw None: 0),
+        the two parts of `gfmd.cohesive_preconditioner.TwoLevel.apply_split`."""
+        f = fft.irfft(f_spec)
+        if f_dw is not None:
+            f += f_dw
+            if clamp:
+                f -= np.mean(f)
+        return float(np.max(np.abs(f)))
 
     def full_residual():
         """max_j |f_j| / p_ref with every node's attraction (the converged state's check)."""
         gap_all = z_ind - fft.irfft(uh)
         s_all, e_all = scaled_gap(gap_all)
-        f_all = fft.rfft(nodal.traction(s_all, e_all))
+        t_all = nodal.traction(s_all, e_all)
+        f_all = fft.rfft(t_all)
         f_all -= k * uh
         if clamp:
             f_all[0] = 0.0
-        return float(np.max(np.abs(fft.irfft(f_all)))) / p_ref, gap_all, s_all, e_all, f_all
+        return float(np.max(np.abs(fft.irfft(f_all)))) / p_ref, gap_all, s_all, e_all, f_all, t_all
 
     guess = np.array(u_hat, dtype=complex, copy=True)
     uh = np.array(guess[-1], dtype=complex, copy=True)
@@ -175,12 +194,18 @@ def solve(problem, start, settings):
         uh[0] = 0.0
     idx, gap, sv, ev = near(NCG_NEAR_MARGIN, first=True)
     slack = NCG_NEAR_MARGIN * dn  # how far a far node may still approach before the near set is stale
-    f_hat = traction_hat()  # f̂ = rfft(T_n) − K û, q = 0 clamped on a half-plane
+    t_full = traction_nodes()  # T_n on every node at the state
+    f_hat = fft.rfft(t_full)  # f̂ = rfft(T_n) − K û, q = 0 clamped on a half-plane (under K⁻¹; see below)
     f_hat -= k * uh
     if clamp:
         f_hat[0] = 0.0
     d_hat = np.zeros_like(f_hat)  # the search direction (spectrum), updated in place
-    f_old = f_hat
+    # the force in two parts, f = irfft(f_spec) + f_dw (mean-free where clamped): (f̂, None) under K⁻¹, (r̂, D w) under
+    # the two-level preconditioner (`TwoLevel.apply_split`: the force's own rfft saved, f never on the nodes)
+    f_spec, f_dw = f_hat, None
+    f_old = (f_hat, None)
+    d_prev = None  # the last direction on the nodes (for f·d_old with the D w part)
+    z_kd = None  # Zᵀ K d of the last direction on the coarse space (`TwoLevel.move`)
     rz_old, c2 = 1.0, 0.0  # f_old·K⁻¹f_old, d·Kd of the last direction
     restart = True
     residual, converged, message, failed = np.inf, False, "", ""
@@ -196,23 +221,28 @@ def solve(problem, start, settings):
             other = cohesive_preconditioner.build(preconditioner_name, fft, k, clamp, n, float(cz.work_normal)
                                                   / float(cz.length_normal) ** 2, stiffness_operator(model))
         if not engaged:
-            rz, f_old_s, f_d_old = products(f_hat, f_old, d_hat, g, n)  # f·s, f_old·s, f·d_old; s = K⁻¹ f
+            rz, f_old_s, f_d_old = products(f_hat, f_old[0], d_hat, g, n)  # f·s, f_old·s, f·d_old; s = K⁻¹ f
+            f_spec, f_dw = f_hat, None
         else:  # s = M⁻¹ f (`gfmd.cohesive_preconditioner`), rebuilt from the state (a restart where it changed)
             if (it - engage_at) % cohesive_preconditioner.REBUILD_EVERY == 0:
                 k_loc = np.zeros(n)
                 k_loc[idx] = nodal.stiffness(sv, ev)
                 if other.rebuild(k_loc) or it == engage_at:
                     restart = True
-            s_hat, s_nodes = other.apply(f_hat)
-            rz, f_old_s, f_d_old = products_m(f_hat, f_old, d_hat, s_hat, n)
+            s_hat, s_nodes, f_spec, f_dw, z_ks, sums = other.apply_split(t_full, uh, f_old[1], d_prev)
+            rz, f_old_s, f_d_old = products_m(f_spec, f_old[0], d_hat, s_hat, n)  # f = irfft(f_spec) + f_dw: the
+            if sums is not None:  # spectral parts, and the nodal ones Σ D w s, Σ D w_old s, Σ D w d_old
+                rz, f_old_s, f_d_old = rz + sums[0], f_old_s + sums[1], f_d_old + sums[2]
+            elif f_old[1] is not None:  # no coarse space now, one before
+                f_old_s += float(np.dot(f_old[1], s_nodes if s_nodes is not None else fft.irfft(s_hat)))
         e_norm = np.sqrt(max(rz, 0.0))
         e_mid = e_norm if it == mid else e_mid
         if ratio is None or it % settings.check_every == 0 or e_norm * ratio < settings.tolerance * p_ref:
             # the test of `gfmd.algorithms.dynamics` (verification.mutations' stop-early-cohesive mutates all three)
-            residual = float(np.max(np.abs(fft.irfft(f_hat)))) / model.reference_traction
+            residual = largest_force(f_spec, f_dw) / model.reference_traction
             if residual < settings.tolerance:
                 if not isinstance(idx, slice):  # the far nodes' attraction included: converged as FIRE's is
-                    residual, gap, sv, ev, f_hat = full_residual()
+                    residual, gap, sv, ev, f_hat, t_full = full_residual()
                     if not residual < settings.tolerance:  # it counts after all: every node is near from here
                         idx, restart, ratio = slice(None), True, None
                         continue
@@ -223,7 +253,7 @@ def solve(problem, start, settings):
                 failed = "non-finite force residual"
                 break
         if it >= budget:
-            residual = float(np.max(np.abs(fft.irfft(f_hat)))) / p_ref
+            residual = largest_force(f_spec, f_dw) / p_ref
             failed = f"not converged after {it} iterations (residual {residual:.3g} p_ref)"
             break
         if (two_level and it == early < engage_at and e_mid is not None and ratio is not None
@@ -244,13 +274,15 @@ def solve(problem, start, settings):
             direction(f_hat, g, beta, d_hat)  # d̂ ← ŝ + β d̂
         else:  # K s ≠ f: d·Kd as a sum over the modes
             c2 = direction_m(s_hat, beta, d_hat, k, n)  # d̂ ← ŝ + β d̂, d·Kd
+            z_kd = None if z_ks is None else (z_ks if beta == 0.0 or z_kd is None else z_ks + beta * z_kd)
             if s_nodes is not None and (beta == 0.0 or d_nodes is not None):  # d on the nodes without an irfft
                 d_nodes = s_nodes if beta == 0.0 else combine_m(s_nodes, beta, d_nodes)
             else:
                 d_nodes = None
         restart = False
-        f_old, rz_old = f_hat, rz
+        f_old, rz_old = (f_spec, f_dw), rz
         d_all = fft.irfft(d_hat) if not engaged or d_nodes is None else d_nodes
+        d_prev = d_all
         approach = float(np.max(d_all)) if not isinstance(idx, slice) else 0.0  # Δn falls by α d: d > 0 approaches
         for _ in range(2):  # a second pass only when the step left the near set stale: rebuilt, searched again
             d = d_all[idx]
@@ -274,10 +306,17 @@ def solve(problem, start, settings):
             break
         gap, sv, ev = gap_a, s_a, e_a
         slack -= alpha * approach
-        f_hat = traction_hat()
-        advance(uh, d_hat, alpha, k, f_hat)  # û ← û + α d̂, f̂ ← rfft(T_n) − K û
-        if clamp:
-            f_hat[0] = 0.0
+        t_full = traction_nodes()
+        if two_level and it >= engage_at:  # the next iteration's force from t_full and û (`TwoLevel.apply_split`)
+            if engaged:
+                other.move(uh, d_hat, alpha, z_kd)  # û ← û + α d̂, and Zᵀ K u with it
+            else:  # (a coarse space made at the next iteration computes its Zᵀ K u afresh)
+                uh += alpha * d_hat
+        else:
+            f_hat = fft.rfft(t_full)
+            advance(uh, d_hat, alpha, k, f_hat)  # û ← û + α d̂, f̂ ← rfft(T_n) − K û
+            if clamp:
+                f_hat[0] = 0.0
     if failed:  # the chain's next algorithm restarts from the guess (`gfmd.chains`)
         return stall(guess, it, residual, fft.pairs, "ncg", f"NCG stopped ({failed})")
     pairs = fft.pairs
