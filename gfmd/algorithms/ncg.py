@@ -274,7 +274,8 @@ def solve(problem, start, settings):
             direction(f_hat, g, beta, d_hat)  # d̂ ← ŝ + β d̂
         else:  # K s ≠ f: d·Kd as a sum over the modes
             c2 = direction_m(s_hat, beta, d_hat, k, n)  # d̂ ← ŝ + β d̂, d·Kd
-            z_kd = None if z_ks is None else (z_ks if beta == 0.0 or z_kd is None else z_ks + beta * z_kd)
+            # Zᵀ K d for the coarse load's move (None: made afresh from û at the next application)
+            z_kd = z_ks if beta == 0.0 else None if z_ks is None or z_kd is None else z_ks + beta * z_kd
             if s_nodes is not None and (beta == 0.0 or d_nodes is not None):  # d on the nodes without an irfft
                 d_nodes = s_nodes if beta == 0.0 else combine_m(s_nodes, beta, d_nodes)
             else:
