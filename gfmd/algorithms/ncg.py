@@ -99,8 +99,8 @@ def solve(problem, start, settings):
     balanced form's two pairs). Measured (session 46, whole study tasks at 2^17, realization 2, pinned simultaneous
     pairs with the cores swapped, benchmarks/results/bench_versions_split-force*.md): CPU × 0.914 ± 0.034 (φn* = 0.15,
     ν = 0.45, three rounds), × 0.917 ± 0.017 (ν = 0.1), × 0.926 ± 0.051 (δn = 0.25 nm), × 0.901 ± 0.032 (φn* = 0.05),
-    × 0.924 ± 0.086 (H = 0.2),
-    × 1.015 ± 0.047 (φn* = 0.001, whose steps never engage it); the same iterations, p̄ within 1e-12 of max p̄.
+    × 0.924 ± 0.086 (H = 0.2), × 1.015 ± 0.047 (φn* = 0.001, whose steps never engage it); the same iterations
+    (δn = 0.25 nm: 6 052 → 6 055), p̄ within 1e-12 of max p̄.
 
     Stall: a step NCG does not finish within min(NCG_BUDGET, max_iterations / 2) iterations, or
     whose line search finds no descent, is handed over (`Relaxed.stalled`; `gfmd.chains` restarts it
