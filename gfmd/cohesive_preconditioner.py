@@ -190,8 +190,8 @@ class TwoLevel:
         crossover = int(above[0]) if above.size else k.size
         self.block = max(1, int(round(BLOCK_WAVELENGTHS * n / max(crossover, 1))))
         self.coarse = self.stiff = self.index = None  # index: the coarse nodes as a slice or an index array
-        self.w, self.work = np.empty(n), np.empty(n)  # apply's buffers
-        self.y, self.w_split = fft.empty_nodes(), fft.empty_nodes()  # apply_split's T − D w and Π Z c₂ (FFT inputs)
+        self.w, self.work = fft.empty_nodes(), np.empty(n)  # apply's buffers; w is apply_split's Π Z c₂ too
+        self.y = fft.empty_nodes()  # apply_split's T − D w (w and y: FFT inputs, aligned for `Fft.rfft_scratch`)
         self.dw = (np.empty(n), np.empty(n))  # and its D w, two in turn
         self.x_hat = np.empty(k.size, dtype=complex)
         self.split = coarse_kernels.split_kernels()
@@ -311,7 +311,7 @@ class TwoLevel:
         t_sum = block_load(t, starts, p, n, zt)  # Zᵀ T_n into zt, Σ T_n
         t_mean = t_sum / n if clamp else 0.0
         c = scipy.linalg.cho_solve(factor, zt - self.load - p * t_mean, check_finite=False)  # E⁻¹ Zᵀ f
-        w, dw = self.w_split, self.dw[0]
+        w, dw = self.w, self.dw[0]
         self.dw = self.dw[::-1]  # the caller keeps this D w while the next call writes the other
         spread_scaled_minus(c, starts, p, n, clamp, self.d, t, dw, self.y)  # D w (w = Π Z c), y = T_n − D w
         r_hat = fft.rfft_scratch(self.y)

@@ -202,9 +202,9 @@ def _fftw_r2c(x, axes):
 def _fftw_r2c_scratch(x):
     """`_fftw_r2c` of a 1-D x that the transform may overwrite, straight from x where x is aligned as the plan's input
     (no copy in; the plan pointed back at its own input after)."""
-    pair = _fftw_plans(x.shape, (-1,))
     if x.dtype != np.float64 or not x.flags.c_contiguous or x.ctypes.data % _pyfftw.simd_alignment:
         return _fftw_r2c(x, (-1,))
+    pair = _fftw_plans(x.shape, (-1,))
     plan, out = pair.forward, _pyfftw.empty_aligned(pair.spectrum.shape, dtype=complex)
     plan.update_arrays(x, out)
     try:

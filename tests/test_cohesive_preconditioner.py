@@ -90,7 +90,8 @@ def test_apply_split_is_apply_on_the_force_in_two_parts(thickness, jit, monkeypa
     f = irfft(r̂) + D w, its nodal sums, and Zᵀ K s, which moves Zᵀ K u along with û (`move`) as computed afresh."""
     from gfmd import coarse_kernels, kernels
     if jit == "numba" and kernels.numba is None:
-        pytest.skip("numba not installed")
+        pytest.skip("numba not installed (a default dependency; without it GFMD_JIT runs the numpy kernels, the "
+                    "other case of this test)")
     monkeypatch.setenv("GFMD_JIT", jit)
     sc, h, model, law, z_of = case(nodes=256, thickness=thickness)
     n, clamp = model.nodes, model.half_plane
