@@ -14,7 +14,7 @@ from contact import laws
 
 from . import coupled_preconditioner
 from . import gmres as gfmd_gmres
-from .coupled_kernels import coupled_kernels
+from .coupled_kernels import coupled_kernels, divided_blocks
 from .fft import Fft, spectral_weights
 from .problem import stiffness_operator
 
@@ -110,7 +110,7 @@ def spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_R
     d_nn, d_nt, d_tn, d_tt = law.law.tangent(z_ind - u[-1], -u[0])
     scale = np.sqrt(spectral_weights(n) / n)
     shape = (c, n // 2 + 1)
-    inverse = tuple(b / scale for b in stiff.inv_mass)  # z ↦ K⁻¹ y with y = z / scale, one product per block
+    inverse = divided_blocks(stiff.inv_mass, scale)  # z ↦ K⁻¹ y with y = z / scale, one product per block
     tangent_times = coupled_kernels()[1]
     dv = np.empty((c, n))
     ky = np.empty(shape, complex)

@@ -8,8 +8,9 @@ unknowns, one block (m,) for a normal-only law), w_q the rfft weights (Σ_j a_j 
 * `mix_move`: v ← keep·v + β a (the q = 0 mode 0 where clamped), û ← û + Δt v.
 
 numpy does each as before (a temporary per operation: ≈ 15 passes over the spectra an iteration); the fused kernels
-(1+1-D coupled profiles, c = 2: the coupled event steps' FIRE) one loop each. ``GFMD_JIT`` chooses
-(`gfmd.kernels.jit_backend`). Measured: benchmarks/results/bench_fire_kernels.md.
+(1+1-D coupled profiles, c = 2: the coupled event steps' FIRE) one loop each, on the blocks' real split form
+(`gfmd.coupled_kernels.Blocks.split`: a, d real, b imaginary, as an isotropic body's) where they have one: the same
+numbers bit for bit. ``GFMD_JIT`` chooses (`gfmd.kernels.jit_backend`). Measured: benchmarks/results/bench_fire_kernels.md.
 """
 
 from __future__ import annotations
@@ -85,6 +86,45 @@ if numba is not None:
             v_norm += w[i] * (v0.real * m0.real + v0.imag * m0.imag + v1.real * m1.real + v1.imag * m1.imag)
         return f_norm, v_norm
 
+    # the same two passes on `Blocks.split` (Re a, Im b, Re d) and float views of the spectra (mode i: 2i, 2i + 1):
+    # every product and sum of the complex ones above but those with the blocks' zero parts, in the same order
+    @numba.njit(cache=True)
+    def _force_power_split_kernel(t, a, b, d, u, v, w, clamp):
+        power = 0.0
+        for i in range(w.size):
+            j = 2 * i
+            u0r, u0i, u1r, u1i = u[0, j], u[0, j + 1], u[1, j], u[1, j + 1]
+            f0r = t[0, j] - (a[i] * u0r + (-(b[i] * u1i)))
+            f0i = t[0, j + 1] - (a[i] * u0i + b[i] * u1r)
+            f1r = t[1, j] - (b[i] * u0i + d[i] * u1r)
+            f1i = t[1, j + 1] - (-(b[i] * u0r) + d[i] * u1i)
+            if clamp and i == 0:
+                f0r = f0i = f1r = f1i = 0.0
+            t[0, j], t[0, j + 1], t[1, j], t[1, j + 1] = f0r, f0i, f1r, f1i
+            power += w[i] * (f0r * v[0, j] + f0i * v[0, j + 1] + f1r * v[1, j] + f1i * v[1, j + 1])
+        return power
+
+    @numba.njit(cache=True)
+    def _accelerate_split_kernel(f, ia, ib, id_, a, b, d, v, dt, w, acc):
+        f_norm = 0.0
+        v_norm = 0.0
+        for i in range(w.size):
+            j = 2 * i
+            f0r, f0i, f1r, f1i = f[0, j], f[0, j + 1], f[1, j], f[1, j + 1]
+            g0r = ia[i] * f0r + (-(ib[i] * f1i))
+            g0i = ia[i] * f0i + ib[i] * f1r
+            g1r = ib[i] * f0i + id_[i] * f1r
+            g1i = -(ib[i] * f0r) + id_[i] * f1i
+            acc[0, j], acc[0, j + 1], acc[1, j], acc[1, j + 1] = g0r, g0i, g1r, g1i
+            v0r, v0i = v[0, j] + dt * g0r, v[0, j + 1] + dt * g0i
+            v1r, v1i = v[1, j] + dt * g1r, v[1, j + 1] + dt * g1i
+            v[0, j], v[0, j + 1], v[1, j], v[1, j + 1] = v0r, v0i, v1r, v1i
+            m0r, m0i = a[i] * v0r + (-(b[i] * v1i)), a[i] * v0i + b[i] * v1r
+            m1r, m1i = b[i] * v0i + d[i] * v1r, -(b[i] * v0r) + d[i] * v1i
+            f_norm += w[i] * (f0r * g0r + f0i * g0i + f1r * g1r + f1i * g1i)
+            v_norm += w[i] * (v0r * m0r + v0i * m0i + v1r * m1r + v1i * m1i)
+        return f_norm, v_norm
+
     @numba.njit(cache=True)
     def _mix_move_kernel(v, acc, keep, beta, u_hat, dt, clamp):
         for c in range(v.shape[0]):
@@ -121,18 +161,31 @@ def largest_change(name=None):
     return _largest_change_numpy
 
 
+def _contiguous(*spectra):
+    return all(x.dtype == complex and x.flags.c_contiguous for x in spectra)
+
+
 def fire_kernels(name=None, components=2):
     """(force_power, accelerate, mix_move) of `jit_backend(name)`; the fused ones for the coupled law's two components
     (profiles only: 2+1-D surfaces are normal-only), numpy otherwise. Signatures: force_power(t_hat, k_blocks, u_hat, v, w, clamp)
     → P (f̂ into t_hat); accelerate(f_hat, inv_blocks, mass_blocks, v, dt, w, acc) → (acc, f·a, v·M v);
-    mix_move(v, acc, keep, beta, u_hat, dt, clamp). Blocks: `gfmd.problem.Elastic`'s tuples; acc: an array
+    mix_move(v, acc, keep, beta, u_hat, dt, clamp). Blocks: `gfmd.problem.Elastic`'s tuples (`Blocks`); acc: an array
     of û's shape the fused accelerate fills (numpy returns its own)."""
     if FUSED and jit_backend(name) == "numba" and components == 2:
         def force_power(t_hat, k, u_hat, v, w, clamp):
+            split = getattr(k, "split", None)
+            if split is not None and _contiguous(t_hat, u_hat, v):
+                return _force_power_split_kernel(t_hat.view(np.float64), *split, u_hat.view(np.float64),
+                                                 v.view(np.float64), w, clamp)
             return _force_power_kernel(t_hat, *k, u_hat, v, w, clamp)
 
         def accelerate(f_hat, inv_m, m, v, dt, w, acc):
-            f_norm, v_norm = _accelerate_kernel(f_hat, *inv_m, *m, v, dt, w, acc)
+            split, split_m = getattr(inv_m, "split", None), getattr(m, "split", None)
+            if split is not None and split_m is not None and _contiguous(f_hat, v, acc):
+                f_norm, v_norm = _accelerate_split_kernel(f_hat.view(np.float64), *split, *split_m, v.view(np.float64),
+                                                          dt, w, acc.view(np.float64))
+            else:
+                f_norm, v_norm = _accelerate_kernel(f_hat, *inv_m, *m, v, dt, w, acc)
             return acc, f_norm, v_norm
 
         return force_power, accelerate, _mix_move_kernel

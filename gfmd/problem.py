@@ -31,7 +31,7 @@ import scipy.sparse
 
 from contact import laws
 
-from .coupled_kernels import coupled_kernels
+from .coupled_kernels import coupled_kernels, hermitian_blocks, split_block_times
 from .fft import Fft, irfft_nodes, rfft_nodes
 
 
@@ -96,7 +96,7 @@ class Elastic:
     def __init__(self, model, k_int_x, k_int_z):
         self.model = model
         self.clamp = model.half_plane
-        self._block_times = coupled_kernels()[0]
+        self._block_times, self._split_times = coupled_kernels()[0], split_block_times()
         if model.tangential:
             a = model.k_xx + k_int_x
             b = model.k_xz
@@ -104,8 +104,9 @@ class Elastic:
             det = (a * d - np.abs(b) ** 2).real
             if self.clamp:
                 det.flat[0] = np.inf
-            self.mass = (a, b, d)
-            self.inv_mass = (d / det, -b / det, a / det)
+            self.stiffness_blocks = hermitian_blocks(model.k_xx, model.k_xz, model.k_zz)
+            self.mass = hermitian_blocks(a, b, d)
+            self.inv_mass = hermitian_blocks(d / det, -b / det, a / det)
         else:
             m = model.k_zz + k_int_z
             inv = np.zeros_like(m)
@@ -117,17 +118,22 @@ class Elastic:
             self.inv_mass = (inv,)
 
     def _apply(self, blocks, x, out=None):
-        """The block product of `blocks` ((m,) or (a, b, d): (a b; b̄ d)) with spectra x, into `out` if given."""
+        """The block product of `blocks` ((m,) or (a, b, d): (a b; b̄ d)) with spectra x, into `out` if given (on
+        `Blocks.split` where it has one: the same numbers, `gfmd.coupled_kernels.split_block_times`)."""
         if len(blocks) == 1:
             return np.multiply(blocks[0], x, out=out)
         if out is None:
             out = np.empty(x.shape, np.result_type(x, *blocks))
+        split = getattr(blocks, "split", None)
+        if split is not None and self._split_times is not None and x.dtype == complex and x.flags.c_contiguous \
+                and out.dtype == complex and out.flags.c_contiguous:
+            return self._split_times(*split, x, out)
         return self._block_times(*blocks, x, out)
 
     def stiffness(self, x):
         """K(q) x for spectra x of shape (c, nq)."""
         m = self.model
-        return self._apply((m.k_xx, m.k_xz, m.k_zz) if m.tangential else (m.k_zz,), x)
+        return self._apply(self.stiffness_blocks if m.tangential else (m.k_zz,), x)
 
     def mass_times(self, x):
         return self._apply(self.mass, x)

@@ -118,3 +118,55 @@ def test_coarse_passes_equal_the_dense_formulas(backend, clamp):
     out = tangent_plus(d_nn, d_nt, d_tn, d_tt, s, g, clamp, np.empty((2, N)))
     ds = np.stack([d_tt * s[0] + d_tn * s[1], d_nt * s[0] + d_nn * s[1]])
     np.testing.assert_allclose(out, (pi @ (ds + g).T).T, rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.skipif(kernels.numba is None, reason="numba not installed: the numpy backend has no split form (None)")
+def test_split_block_product_is_the_complex_one_bit_for_bit():
+    """`split_block_times` on `Blocks.split` (Re a, Im b, Re d) gives the complex block product's numbers exactly;
+    `hermitian_blocks` finds that form only where a, d are real and b imaginary; `divided_blocks` keeps it."""
+    from gfmd.coupled_kernels import divided_blocks, hermitian_blocks, split_block_times
+    rng = np.random.default_rng(11)
+    nq = 257
+    a, d = rng.uniform(1, 2, nq) + 0j, rng.uniform(1, 2, nq).astype(complex)
+    b = 1j * rng.normal(size=nq)
+    x = rng.normal(size=(2, nq)) + 1j * rng.normal(size=(2, nq))
+    blocks = hermitian_blocks(a, b, d)
+    assert blocks.split is not None and all(s.dtype == float for s in blocks.split)
+    complex_times = coupled_kernels("numba")[0]
+    expected = complex_times(a, b, d, x, np.empty_like(x))
+    assert np.array_equal(split_block_times("numba")(*blocks.split, x, np.empty_like(x)), expected)
+    scale = rng.uniform(0.5, 2.0, nq)
+    quotient = divided_blocks(blocks, scale)
+    assert quotient.split is not None
+    assert np.array_equal(split_block_times("numba")(*quotient.split, x, np.empty_like(x)),
+                          complex_times(a / scale, b / scale, d / scale, x, np.empty_like(x)))
+    assert hermitian_blocks(a + 1e-3j, b, d).split is None  # Im a ≠ 0
+    assert hermitian_blocks(a, b + 1e-3, d).split is None  # Re b ≠ 0
+    assert split_block_times("numpy") is None
+    assert divided_blocks((a,), 2.0)[0] is not a
+
+
+@pytest.mark.parametrize("thickness", ["inf", 2e-7])
+def test_an_isotropic_bodys_blocks_have_the_split_form(thickness):
+    """K(q), M_q and M_q⁻¹ of a coupled half-plane and layer (`gfmd.problem.Elastic`) are real on the diagonal and
+    imaginary off it, so the fused products run on the split form; the products are the complex ones either way."""
+    from pathlib import Path
+
+    from contact import surfaces
+    from contact.scene import load_scene
+    from gfmd.loading import prepare
+    from gfmd.problem import Elastic
+    base = Path(__file__).resolve().parents[1] / "studies" / "seed" / "seed_base.toml"
+    scene = load_scene(base).replace(**{"surface.nodes": 128, "surface.length": 128 * 2.5e-9,
+                                        "surface.rollon_wavelength": 2e-8, "surface.rolloff_wavelength": 8e-8,
+                                        "material.poisson_ratio": 0.1, "material.thickness": thickness,
+                                        "interface.tangential_ratio": 0.5, "surface.realizations": 1})
+    model = prepare(scene, surfaces.profile(scene.surface, 0), 0).physics
+    elastic = Elastic(model, 1e16, 2e16)
+    for blocks in (elastic.stiffness_blocks, elastic.mass, elastic.inv_mass):
+        assert blocks.split is not None
+    rng = np.random.default_rng(3)
+    x = rng.normal(size=(2, 65)) + 1j * rng.normal(size=(2, 65))
+    for blocks in (elastic.mass, elastic.inv_mass):
+        np.testing.assert_array_equal(elastic._apply(blocks, x),
+                                      coupled_kernels("numpy")[0](*blocks, x, np.empty_like(x)))

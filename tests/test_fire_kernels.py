@@ -78,3 +78,32 @@ def test_largest_change_is_the_max_of_the_differences(backend, shape):
     assert change(u, u) == 0.0
     u[..., -1] = np.nan  # a NaN wins, as numpy's max lets it
     assert np.isnan(change(u, u_prev))
+
+
+@pytest.mark.skipif(numba is None, reason="numba not installed: the fused kernels are numba's")
+@pytest.mark.parametrize("clamp", [True, False])
+def test_fused_kernels_on_the_split_blocks_are_the_complex_ones_bit_for_bit(clamp):
+    """force_power and accelerate on `Blocks` with a split form (a, d real, b imaginary: an isotropic body's K, M, M⁻¹)
+    give the numbers of the complex blocks' fused kernels exactly (what the blocks' zero parts add is exact)."""
+    from gfmd.coupled_kernels import hermitian_blocks
+    rng = np.random.default_rng(7 + clamp)
+    nq = 65
+    w = np.full(nq, 2.0)
+    w[0] = w[-1] = 1.0
+
+    def isotropic():
+        return rng.random(nq) + 1.0 + 0j, 0.3j * rng.standard_normal(nq), rng.random(nq) + 1.0 + 0j
+
+    k, m, inv_m = isotropic(), isotropic(), isotropic()
+    split = [hermitian_blocks(*x) for x in (k, m, inv_m)]
+    assert all(x.split is not None for x in split)
+    force_power, accelerate, _ = fire_kernels("numba", components=2)
+    t_hat, u_hat, v = (spectrum(rng, 2, nq) for _ in range(3))
+    results = []
+    for blocks in ((k, m, inv_m), split):  # plain tuples: the complex kernels
+        t, vv = t_hat.copy(), v.copy()
+        power = force_power(t, blocks[0], u_hat, vv, w, clamp)
+        acc, f_norm, v_norm = accelerate(t, blocks[2], blocks[1], vv, 0.37, w, np.empty_like(vv))
+        results.append((t, vv, acc, power, f_norm, v_norm))
+    for a, b in zip(*results):
+        assert np.array_equal(a, b)

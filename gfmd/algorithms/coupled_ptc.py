@@ -16,6 +16,7 @@ import numpy as np
 
 from contact import laws
 
+from ..coupled_kernels import divided_blocks
 from ..coupled_krylov import balance, forcing, spectral_step
 from ..fft import Fft, spectral_weights
 from ..problem import Elastic, stiffness_operator
@@ -126,7 +127,7 @@ def _shifted(model, k_mean, sigma):
         raise ValueError(f"coupled_ptc.PTC_MASS = {PTC_MASS!r}: expected 'modes' or 'nodes'")
     # σ(K + k̄) + K = (1 + σ)(K + σ k̄ / (1 + σ))
     shifted = Elastic(model, sigma * k_x / (1.0 + sigma), sigma * k_z / (1.0 + sigma))
-    shifted.inv_mass = tuple(b / (1.0 + sigma) for b in shifted.inv_mass)
+    shifted.inv_mass = divided_blocks(shifted.inv_mass, 1.0 + sigma)
     return shifted
 
 

@@ -45,7 +45,7 @@ def solve(problem, start, settings):
     elastic = Elastic(model, *k_mean)
 
     force_power, accelerate, mix_move = fire_kernels(components=model.components)
-    stiffness = (model.k_xx, model.k_xz, model.k_zz) if model.tangential else (model.k_zz,)
+    stiffness = elastic.stiffness_blocks if model.tangential else (model.k_zz,)  # K(q)'s blocks (`Elastic`)
     acc = np.empty_like(u_hat)
 
     if settings.method != "verlet" and problem.kind == "coupled":  # FIRE's Δt capped, its restarts milder (`Settings`)
