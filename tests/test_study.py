@@ -353,3 +353,21 @@ def test_tasks_under_an_older_address_are_moved_and_reused(reference, tmp_path):
     assert main(["study", "run", str(path), "--out", str(copy), "--quiet"]) == 0
     record = json.loads((copy / "study.json").read_text())
     assert record["tasks_reused"] == len(unique) and record["tasks_run"] == 0
+
+
+def test_local_cluster_workers_run_without_dasks_diagnostics():
+    """Our local cluster's workers get `LOCAL_CLUSTER_CONFIG` (no statistical profiler sampling the solver's stack
+    every 10 ms, slower ticks and monitors), and the settings do not leak into the calling process."""
+    import dask
+
+    from workbench.study import LOCAL_CLUSTER_CONFIG, _client
+    client, cluster = _client(1, None)
+    try:
+        seen = client.run(lambda keys: {k: dask.config.get(k) for k in keys}, list(LOCAL_CLUSTER_CONFIG))
+        assert list(seen.values()) == [LOCAL_CLUSTER_CONFIG]
+        profiled = client.run(lambda dask_worker: dask_worker.periodic_callbacks.get("profile"))
+        assert list(profiled.values()) == [None]
+    finally:
+        client.close()
+        cluster.close()
+    assert dask.config.get("distributed.worker.profile.enabled") is True

@@ -96,17 +96,29 @@ def _saved_steps(task_dir, scene):
     return len(part[0].curve["step"]) if part is not None else 0
 
 
+#: Dask's settings for our local cluster (an existing one, `--scheduler`, keeps its own): the diagnostics nothing here
+#: reads (no dashboard) off or slowed, since they run in every process beside the solvers and the scheduler: each
+#: worker's statistical profiler (a thread sampling the task's stack every 10 ms, taking the GIL), the event loops'
+#: 20 ms ticks, the system monitors (500 ms) and the nannies' memory monitors (100 ms). Measured: README, issue 24.
+LOCAL_CLUSTER_CONFIG = {"distributed.worker.profile.enabled": False, "distributed.admin.tick.interval": "1s",
+                        "distributed.admin.system-monitor.interval": "10s",
+                        "distributed.worker.memory.monitor-interval": "1s"}
+
+
 def _client(workers, scheduler):
-    """(client, cluster or None): a LocalCluster of `workers` processes, or a client of `scheduler`."""
+    """(client, cluster or None): a LocalCluster of `workers` processes (`LOCAL_CLUSTER_CONFIG`), or a client of
+    `scheduler`."""
     import logging
 
+    import dask
     from distributed import Client, LocalCluster
 
     if scheduler:
         return Client(scheduler, timeout="30s"), None
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.ERROR)
-    return Client(cluster), cluster
+    with dask.config.set(LOCAL_CLUSTER_CONFIG):
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=logging.ERROR)
+        return Client(cluster), cluster
 
 
 def readdress_tasks(out, unique):
