@@ -34,12 +34,11 @@ class Blocks(tuple):
     split = None
 
 
-def hermitian_blocks(a, b, d, split=None):
-    """`Blocks` (a, b, d) with its split form: the one given, else (Re a, Im b, Re d) where Im a = Im d = Re b = 0."""
+def hermitian_blocks(a, b, d):
+    """`Blocks` (a, b, d) with its split form (Re a, Im b, Re d) where Im a = Im d = Re b = 0 exactly, else None."""
     out = Blocks((a, b, d))
-    if split is None and not (np.any(np.imag(a)) or np.any(np.imag(d)) or np.any(np.real(b))):
-        split = tuple(np.ascontiguousarray(x, dtype=float) for x in (np.real(a), np.imag(b), np.real(d)))
-    out.split = split
+    if not (np.any(np.imag(a)) or np.any(np.imag(d)) or np.any(np.real(b))):
+        out.split = tuple(np.ascontiguousarray(x, dtype=float) for x in (np.real(a), np.imag(b), np.real(d)))
     return out
 
 
