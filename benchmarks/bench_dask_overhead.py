@@ -49,7 +49,8 @@ def task(size, phi):
 
 def run(variant, size, phi):
     """(wall, task thread CPU, worker process CPU, main process CPU) of one task on a fresh one-worker cluster."""
-    import psutil
+    import resource
+
     from distributed import Client, LocalCluster
 
     from workbench.study import _client
@@ -60,11 +61,10 @@ def run(variant, size, phi):
                                silence_logs=logging.ERROR)
         client = Client(cluster)
     try:
-        main = psutil.Process()
-        before = main.cpu_times()
+        before = resource.getrusage(resource.RUSAGE_SELF)  # this (main) process, all its threads
         wall, thread, process = client.submit(task, size, phi, pure=False).result()
-        after = main.cpu_times()
-        return wall, thread, process, after.user + after.system - before.user - before.system
+        after = resource.getrusage(resource.RUSAGE_SELF)
+        return wall, thread, process, after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
     finally:
         client.close()
         cluster.close()
