@@ -49,6 +49,11 @@ def divided_blocks(blocks, divisor):
     return hermitian_blocks(*quotients) if isinstance(blocks, Blocks) else quotients
 
 
+def float_views(*spectra):
+    """Whether every spectrum is complex128 and C-contiguous: seen as floats (mode i: 2i, 2i + 1) by the split kernels."""
+    return all(x.dtype == complex and x.flags.c_contiguous for x in spectra)
+
+
 def _block_times_numpy(a, b, d, x, out):
     np.multiply(a, x[0], out=out[0])
     out[0] += b * x[1]

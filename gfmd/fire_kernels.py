@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .coupled_kernels import float_views
 from .kernels import jit_backend, numba
 
 #: the fused kernels where they apply (False: numpy's passes everywhere, the FIRE before session 33; for benchmarks)
@@ -161,10 +162,6 @@ def largest_change(name=None):
     return _largest_change_numpy
 
 
-def _contiguous(*spectra):
-    return all(x.dtype == complex and x.flags.c_contiguous for x in spectra)
-
-
 def fire_kernels(name=None, components=2):
     """(force_power, accelerate, mix_move) of `jit_backend(name)`; the fused ones for the coupled law's two components
     (profiles only: 2+1-D surfaces are normal-only), numpy otherwise. Signatures: force_power(t_hat, k_blocks, u_hat, v, w, clamp)
@@ -174,14 +171,14 @@ def fire_kernels(name=None, components=2):
     if FUSED and jit_backend(name) == "numba" and components == 2:
         def force_power(t_hat, k, u_hat, v, w, clamp):
             split = getattr(k, "split", None)
-            if split is not None and _contiguous(t_hat, u_hat, v):
+            if split is not None and float_views(t_hat, u_hat, v):
                 return _force_power_split_kernel(t_hat.view(np.float64), *split, u_hat.view(np.float64),
                                                  v.view(np.float64), w, clamp)
             return _force_power_kernel(t_hat, *k, u_hat, v, w, clamp)
 
         def accelerate(f_hat, inv_m, m, v, dt, w, acc):
             split, split_m = getattr(inv_m, "split", None), getattr(m, "split", None)
-            if split is not None and split_m is not None and _contiguous(f_hat, v, acc):
+            if split is not None and split_m is not None and float_views(f_hat, v, acc):
                 f_norm, v_norm = _accelerate_split_kernel(f_hat.view(np.float64), *split, *split_m, v.view(np.float64),
                                                           dt, w, acc.view(np.float64))
             else:

@@ -24,6 +24,7 @@ attraction off the wall to the same constraint.
 from __future__ import annotations
 
 import dataclasses
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,7 +32,7 @@ import scipy.sparse
 
 from contact import laws
 
-from .coupled_kernels import coupled_kernels, hermitian_blocks, split_block_times
+from .coupled_kernels import coupled_kernels, float_views, hermitian_blocks, split_block_times
 from .fft import Fft, irfft_nodes, rfft_nodes
 
 
@@ -104,7 +105,6 @@ class Elastic:
             det = (a * d - np.abs(b) ** 2).real
             if self.clamp:
                 det.flat[0] = np.inf
-            self.stiffness_blocks = hermitian_blocks(model.k_xx, model.k_xz, model.k_zz)
             self.mass = hermitian_blocks(a, b, d)
             self.inv_mass = hermitian_blocks(d / det, -b / det, a / det)
         else:
@@ -117,6 +117,12 @@ class Elastic:
             self.mass = (m,)
             self.inv_mass = (inv,)
 
+    @functools.cached_property
+    def stiffness_blocks(self):
+        """K(q)'s `Blocks` (k_xx, k_xz, k_zz) of a tangential model, made at first use."""
+        m = self.model
+        return hermitian_blocks(m.k_xx, m.k_xz, m.k_zz)
+
     def _apply(self, blocks, x, out=None):
         """The block product of `blocks` ((m,) or (a, b, d): (a b; b̄ d)) with spectra x, into `out` if given (on
         `Blocks.split` where it has one: the same numbers, `gfmd.coupled_kernels.split_block_times`)."""
@@ -125,8 +131,7 @@ class Elastic:
         if out is None:
             out = np.empty(x.shape, np.result_type(x, *blocks))
         split = getattr(blocks, "split", None)
-        if split is not None and self._split_times is not None and x.dtype == complex and x.flags.c_contiguous \
-                and out.dtype == complex and out.flags.c_contiguous:
+        if split is not None and self._split_times is not None and float_views(x, out):
             return self._split_times(*split, x, out)
         return self._block_times(*blocks, x, out)
 

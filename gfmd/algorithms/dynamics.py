@@ -25,7 +25,7 @@ from contact import laws
 from ..fft import Fft, spectral_weights
 from ..fire_kernels import fire_kernels, largest_change
 from ..integrators import Fire, verlet_coefficients
-from ..problem import Elastic
+from ..problem import Elastic, stiffness_operator
 from ..settings import check_coupled_fire, not_converged
 from ..stopping import finish
 
@@ -45,7 +45,8 @@ def solve(problem, start, settings):
     elastic = Elastic(model, *k_mean)
 
     force_power, accelerate, mix_move = fire_kernels(components=model.components)
-    stiffness = elastic.stiffness_blocks if model.tangential else (model.k_zz,)  # K(q)'s blocks (`Elastic`)
+    # K(q)'s blocks, made once per model (`stiffness_operator`)
+    stiffness = stiffness_operator(model).stiffness_blocks if model.tangential else (model.k_zz,)
     acc = np.empty_like(u_hat)
 
     if settings.method != "verlet" and problem.kind == "coupled":  # FIRE's Δt capped, its restarts milder (`Settings`)
