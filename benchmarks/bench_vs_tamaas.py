@@ -21,7 +21,8 @@ the same loads, seconds apart: the machine is shared and noisy):
    ``cg-band``: the dual CG with the band preconditioner alone, `dual_coarse_block = 0`, the default
    before issue 24; ``cg``: the default with the default FFT backend) iterations, FFT pairs, s/step, s per FFT pair, the KKT residual of every step
    (the solver's residual: max |net nodal force| / p_ref, pulling wall nodes included; the
-   state never penetrates), and Tamaas' s/step on the same pressures, GFMD/Tamaas;
+   state never penetrates), and Tamaas' s/step on the same pressures, GFMD/Tamaas (the default's ramp and
+   Tamaas' each whole, in turn, `blocks`; and the ratio with each Tamaas solve interleaved after the GFMD step);
 2. cohesive φn* ∈ {0.01, 0.15} × δn ∈ {0.25, 1} nm on the same profile and ramp (N = 2^16, 2^17):
    the levers side by side (FIRE with scipy.fft = before issue 13, FIRE with ducc0, NCG with
    scipy.fft and ducc0, with the numpy and the fused numba kernels of gfmd.kernels), s/step relative
@@ -75,6 +76,7 @@ except ImportError:  # optional
     tm = None
 
 TOL = 1e-10
+BLOCK_ROUNDS = 3  # section 1: the default's ramp and Tamaas', each whole, in turn this many times (`blocks`)
 REPEATS = 3  # section 2: the NCG and hard-wall steps' times are the fastest of this many runs
 D_STEP = 1.5e-9
 STEPS = 10
@@ -168,6 +170,26 @@ def pair_seconds(n, backend):
     return float(np.median(samples))
 
 
+def blocks(case, settings, deltas, backend):
+    """(rows, Tamaas s/step, interleaved rows): the default hard wall's whole ramp, then Tamaas' on its mean pressures
+    (a fresh solver: its own warm start from the first load), in turn BLOCK_ROUNDS times; rows carry each step's median
+    time over the rounds ("s") and the last round's Tamaas fields; Tamaas s/step the median over rounds of its median.
+    Each solver runs its ramp with its own data in the caches, as a user runs it. The interleaved rows: one more ramp
+    with each Tamaas solve right after the GFMD step (the measurement before session 48: the GFMD step then starts
+    on caches that Tamaas' solve has just filled; both ratios side by side in the results file)."""
+    interleaved = ramp(case, settings, deltas, backend, tamaas_solver(case))
+    times, tm_times, rows = [], [], None
+    for _ in range(BLOCK_ROUNDS):
+        rows = ramp(case, settings, deltas, backend)
+        times.append([r["s"] for r in rows])
+        tam = tamaas_solver(case)
+        tm_rows = [tam(r["p"]) for r in rows]
+        tm_times.append(float(np.median([t["tm_s"] for t in tm_rows])))
+    for r, t, s in zip(rows, tm_rows, np.median(times, axis=0)):
+        r.update(t, s=float(s))
+    return rows, float(np.median(tm_times)), interleaved
+
+
 def med(rows, key):
     return float(np.median([r[key] for r in rows]))
 
@@ -177,7 +199,10 @@ def section_hard_wall(sizes, use_tamaas, lines):
               "Per N: one row per GFMD variant (medians over the 10 steps; `max KKT` is the largest "
               "residual over the steps, in p_ref = E*ḡ; `pen` the largest penetration in h_rms, "
               "exactly 0 by construction), then Tamaas on the mean pressures of the `cg` row. "
-              "`s/pair` = s/step ÷ pairs/step; `pair` the backend's measured rfft+irfft time.", "",
+              "`s/pair` = s/step ÷ pairs/step; `pair` the backend's measured rfft+irfft time. The `cg` row and "
+              f"Tamaas: each whole ramp in turn, {BLOCK_ROUNDS} rounds (each step's median over them; `blocks`); "
+              "`cg interleaved`: one more ramp with each Tamaas solve right after the GFMD step (as before "
+              "session 48).", "",
               "| N | code | it/step | pairs/step | s/step | s/pair | pair (s) | s/pair ÷ pair | max KKT | pen | "
               "a_rel last | GFMD/Tamaas |", "|" + "---|" * 12]
     summary = {}
@@ -192,12 +217,21 @@ def section_hard_wall(sizes, use_tamaas, lines):
                     ("cg", Settings(tolerance=TOL), None)]
         results = {}
         for name, st, backend in variants:
-            tam = tamaas_solver(case) if (use_tamaas and name == "cg") else None
-            results[name] = ramp(case, st, deltas, backend, tam)
+            results[name] = ramp(case, st, deltas, backend)
             print(f"  N=2^{e} {name}: its {[r['it'] for r in results[name]]}", flush=True)
-        t_tm = med(results["cg"], "tm_s") if use_tamaas else None
-        for name, st, backend in variants:
+        t_tm = None
+        if use_tamaas:  # the default's ramp and Tamaas' on its loads, each whole, in turn (BLOCK_ROUNDS)
+            results["cg"], t_tm, interleaved = blocks(case, variants[-1][1], deltas, variants[-1][2])
+            results["cg, interleaved"] = interleaved
+        for name, st, backend in variants + ([("cg, interleaved", variants[-1][1], variants[-1][2])]
+                                             if use_tamaas else []):
             rows = results[name]
+            if name == "cg, interleaved":  # the ratio as measured before session 48
+                t_int = med(rows, "tm_s")
+                lines.append(f"| 2^{e} | cg interleaved: each Tamaas solve right after the GFMD step | "
+                             f"{med(rows, 'it'):.0f} | {med(rows, 'pairs'):.0f} | {med(rows, 's'):.3g} | | | | | | | "
+                             f"{med(rows, 's') / t_int:.3f} (1/{t_int / med(rows, 's'):.1f}; Tamaas {t_int:.3g} s) |")
+                continue
             b = gfft.fft_backend(backend)
             t_pair = pair_seconds(n, b)
             s_step, pairs = med(rows, "s"), med(rows, "pairs")

@@ -177,15 +177,15 @@ class TwoLevel:
     def __init__(self, fft, k, clamp, n, kn_scale, keep=None):
         self.fft, self.k, self.clamp, self.n, self.kn_scale = fft, k, clamp, n, kn_scale
         self.g = _inverse(k, clamp)
-        self.cs2 = getattr(keep, "_cohesive_kernel_sums", None)  # K's, kept on the model's operator (`build`)
-        if self.cs2 is None:
+
+        def sums():
             kq = k.copy()
             if clamp:
                 kq[0] = 0.0
-            kr = fft.irfft(kq.astype(complex))  # (K u)_i = Σ_j kr(i − j) u_j
-            self.cs2 = kernel_sums(kr, n)
-            if keep is not None:
-                keep._cohesive_kernel_sums = self.cs2
+            return kernel_sums(fft.irfft(kq.astype(complex)), n)  # (K u)_i = Σ_j kr(i − j) u_j
+
+        # K's, kept on the model's operator (`build`)
+        self.cs2 = sums() if keep is None else keep.kept(("stiffness kernel sums", fft.backend), sums)
         above = np.flatnonzero(k >= kn_scale)  # the crossover mode: K(q) = φn/δn²
         crossover = int(above[0]) if above.size else k.size
         self.block = max(1, int(round(BLOCK_WAVELENGTHS * n / max(crossover, 1))))

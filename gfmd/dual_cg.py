@@ -94,7 +94,7 @@ def solve_dual(problem, start, settings, *, label, band_stiffness, preconditione
                      f"contact set of the guess above {settings.dual_contact_limit:g} of the nodes")
     pressure[~on_wall] = 0.0
     act = np.flatnonzero(on_wall)
-    k_kernel = fft.irfft(k.astype(complex))
+    k_kernel = stiffness_operator(model).kept(("stiffness kernel", fft.backend), lambda: fft.irfft(k.astype(complex)))
     wrap = preconditioner(fft, g) if preconditioner is not None else None
     sparse_in, g_d, gap = np.zeros(n), np.empty(n), np.empty(n)
 

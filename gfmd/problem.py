@@ -117,6 +117,18 @@ class Elastic:
             self.mass = (m,)
             self.inv_mass = (inv,)
 
+    def kept(self, key, make):
+        """make(), made at the first call for `key` and kept on this operator (one per model, `stiffness_operator`),
+        read-only: what a step needs that depends on K(q) alone (real-space kernels and their sums), made once per task
+        instead of once per step. The key names the FFT backend that made it, so that a kept array holds the same
+        numbers as one made afresh in the step."""
+        store = self.__dict__.setdefault("_kept", {})
+        if key not in store:
+            value = make()
+            value.flags.writeable = False
+            store[key] = value
+        return store[key]
+
     @functools.cached_property
     def stiffness_blocks(self):
         """K(q)'s `Blocks` (k_xx, k_xz, k_zz) of a tangential model, made at first use."""

@@ -18,7 +18,8 @@ from hypothesis import given, settings as hyp_settings, strategies as st
 
 from contact.loading import indenter_surface
 from gfmd.algorithms import hard_wall_two_level_cg as two
-from gfmd.problem import Elastic, Problem, band_stiffness
+from gfmd.fft import Fft
+from gfmd.problem import Elastic, Problem, band_stiffness, stiffness_operator
 from gfmd.solver import Settings, relax
 from gfmd.stopping import finish
 from test_gfmd_fast import TOL, assert_same_kkt_equilibria, case, kkt_violation, ramp, two_ramps
@@ -142,3 +143,27 @@ def test_a_converged_guess_keeps_the_arrays_its_residual_was_taken_on():
         np.testing.assert_allclose(again.gap, ref.gap, rtol=0, atol=1e-15 * float(np.ptp(h)))
         np.testing.assert_allclose(again.t_z, ref.t_z, rtol=0, atol=1e-13 * scale)
         assert (d < 0) == (not np.any(again.t_z))
+
+
+def test_the_real_space_kernels_are_made_once_per_model_as_made_in_the_step():
+    """The dual CGs' K and G kernels (the band's, `coarse_space`'s sums) depend on K(q) alone: made in a task's first
+    step and kept on the model's operator, read-only, holding what the step made before (the same FFT backend); a
+    step from the same guess on the same model then gives the same state bit for bit with 1 FFT pair fewer."""
+    sc, h, model, law, wall_tol = case()
+    d0 = sc.loading.initial_separation
+    z = indenter_surface(h, d0, d0 + 4.5e-9)
+    guess = np.zeros((1, model.nodes // 2 + 1), complex)
+    first, again = (relax(model, law, z, guess, Settings(tolerance=TOL), wall_tol) for _ in range(2))
+    assert first.method == again.method == "cg-dual2" and first.converged
+    np.testing.assert_array_equal(again.u_hat, first.u_hat)
+    assert again.fft_pairs == first.fft_pairs - 1.0
+    op = stiffness_operator(model)
+    fft = Fft(model.nodes)
+    n = model.nodes
+    kept = op.__dict__["_kept"]
+    k_kernel, g_sum = kept[("stiffness kernel", fft.backend)], kept[("compliance sums", fft.backend)]
+    np.testing.assert_array_equal(k_kernel, fft.irfft(np.real(model.k_zz).astype(complex)))
+    g = np.real(op.inv_mass[0]).astype(complex)
+    np.testing.assert_array_equal(g_sum, np.cumsum(fft.irfft(g)[np.arange(-n, n) % n]))
+    assert not k_kernel.flags.writeable and not g_sum.flags.writeable
+    assert op.kept(("stiffness kernel", fft.backend), lambda: 1 / 0) is k_kernel
