@@ -38,6 +38,11 @@ def _spread_numpy(c, starts, widths, n, clamp, out):
     return out
 
 
+def spread(c, starts, widths, n, clamp, out):
+    """Π Z c on every node, into out (N,): blocks of `widths` nodes from `starts`, consecutive from node 0."""
+    return _spread_numpy(c, starts, widths, n, clamp, out)
+
+
 def _spread_scaled_numpy(c, starts, widths, n, clamp, d, w, work):
     _spread_numpy(c, starts, widths, n, clamp, w)
     np.multiply(d, w, out=work)
@@ -195,9 +200,9 @@ def _stiff_sums_of_numpy(d, x, c, starts, widths, n, clamp, w):
     return _stiff_sums_numpy(d, x, w, starts, widths, n, clamp)
 
 
-def _force_spectrum_numpy(y_hat, k, u_hat, g, x_hat):
-    y_hat -= k * u_hat
+def _split_spectrum_numpy(y_hat, g, u_hat, x_hat):
     np.multiply(g, y_hat, out=x_hat)
+    x_hat -= u_hat
 
 
 def _spread_subtract_dots_numpy(c, starts, widths, n, clamp, z, x, dw, dw_old, d_old):
@@ -263,12 +268,10 @@ if numba is not None:
                 r[b] -= widths[b] * mean_dy
 
     @numba.njit(cache=True, fastmath=True)
-    def _force_spectrum_fused(y, k, u, g, x):  # float views: mode i is (2i, 2i + 1)
-        for i in range(k.size):
-            a = y[2 * i] - k[i] * u[2 * i]
-            b = y[2 * i + 1] - k[i] * u[2 * i + 1]
-            y[2 * i], y[2 * i + 1] = a, b
-            x[2 * i], x[2 * i + 1] = g[i] * a, g[i] * b
+    def _split_spectrum_fused(y, g, u, x):  # float views: mode i is (2i, 2i + 1)
+        for i in range(g.size):
+            x[2 * i] = g[i] * y[2 * i] - u[2 * i]
+            x[2 * i + 1] = g[i] * y[2 * i + 1] - u[2 * i + 1]
 
     @numba.njit(cache=True, fastmath=True)
     def _spread_subtract_dots_fused(c, starts, widths, n, clamp, z, x, dw, dw_old, d_old, has_old, has_d):
@@ -312,8 +315,8 @@ def _stiff_sums_of_numba(d, x, c, starts, widths, n, clamp, w):
     return r
 
 
-def _force_spectrum_numba(y_hat, k, u_hat, g, x_hat):
-    _force_spectrum_fused(y_hat.view(np.float64), k, u_hat.view(np.float64), g, x_hat.view(np.float64))
+def _split_spectrum_numba(y_hat, g, u_hat, x_hat):
+    _split_spectrum_fused(y_hat.view(np.float64), g, u_hat.view(np.float64), x_hat.view(np.float64))
 
 
 def _spread_subtract_dots_numba(c, starts, widths, n, clamp, z, x, dw, dw_old, d_old):
@@ -330,13 +333,13 @@ def split_kernels(name=None):
     """`gfmd.cohesive_preconditioner.TwoLevel.apply_split`'s passes, of the backend `gfmd.kernels.jit_backend(name)`:
     (block_load(t, starts, widths, n, out) → Σ t, out = Zᵀ t; spread_scaled_minus(c, starts, widths, n, clamp, d, t,
     dw, y): dw = D Π Z c, y = t − dw; stiff_sums_of(d, x, c, starts, widths, n, clamp, w) → Zᵀ Π D (x − Π Z c) (w: a
-    scratch array numpy needs); force_spectrum(ŷ, k, û, g, x̂): ŷ ← ŷ − K û, x̂ = g ŷ;
+    scratch array numpy needs); split_spectrum(ŷ, g, û_s, x̂): x̂ = g ŷ − û_s;
     spread_subtract_dots(c, starts, widths, n, clamp, z, x, dw, dw_old, d_old) → (Σ dw s, Σ dw_old s, Σ dw d_old)
     with z = Π Z c, s = x ← x − z (None: a sum 0); move(û, d̂, α): û ← û + α d̂). One pass each with numba."""
     if jit_backend(name) == "numba":
-        return (_block_load_numba, _spread_scaled_minus_numba, _stiff_sums_of_numba, _force_spectrum_numba,
+        return (_block_load_numba, _spread_scaled_minus_numba, _stiff_sums_of_numba, _split_spectrum_numba,
                 _spread_subtract_dots_numba, _move_numba)
-    return (_block_load_numpy, _spread_scaled_minus_numpy, _stiff_sums_of_numpy, _force_spectrum_numpy,
+    return (_block_load_numpy, _spread_scaled_minus_numpy, _stiff_sums_of_numpy, _split_spectrum_numpy,
             _spread_subtract_dots_numpy, _move_numpy)
 
 

@@ -21,8 +21,9 @@ crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.c
   SPD wherever E is (max(k_loc, 0), SPD for D ≥ 0, where E is not definite with the signed D); E from K's
   real-space kernel (no FFT; `gfmd.coarse_kernels.coarse_matrix`); 2 FFT pairs per application where a coarse
   space exists (`apply`), one of which the NCG saves (the direction on the nodes comes with it). The NCG calls
-  `apply_split` instead: the force given as T_n on the nodes and û, Zᵀ K u kept on the coarse level, 3 transforms
-  per application with the force's own rfft included (`apply` and the force: 5).
+  `apply_split` instead: the force given as T_n on the nodes and the state as its spectral part and coarse tail,
+  Zᵀ K u kept on the coarse level, s returned as its spectral part and tail, 2 transforms per application with the
+  force's own rfft included (`apply` and the force: 5); the NCG's products come from the parts (`split_products`).
   Profiles (1+1-D) only.
 
 The deflated form A-DEF2 (Tang, Nabben, Vuik & Erlangga 2009), s = P f + (I − P A) K⁻¹ f, 1 FFT pair per application
@@ -103,6 +104,32 @@ def slow_step(e_before, e_now, span, e_target, remaining):
     if e_now <= e_target:
         return False
     return np.log(e_target / e_now) / (np.log(e_now / e_before) / span) > remaining
+
+
+def split_products(spectral, now, old, d_old, sums):
+    """(f·s, f_old·s, f·d_old) of the NCG under `TwoLevel.apply_split`, from the vectors' parts.
+
+    f = r + D w with r = K x (+ a constant where clamped, which the mean-free s and d do not see), so each product is
+    a K-product plus its nodal part (`sums`). A vector a = a_s + Π Z e_a (spectral part a_s, coarse tail e_a) has
+    ⟨a, b⟩_K = a_s·K b_s + e_a·ℓ_b + e_b·ℓ_a + e_a·E_K e_b, ℓ_a = Zᵀ K a_s. spectral: (x'·Kx', x'_old·Kx', d_s·Kx')
+    (`gfmd.kernels.preconditioned_kernels`' stiffness_products; s's spectral part is x'); now: `apply_split`'s parts
+    (e_x, e_s, E_K e_s, ℓ_x'); old: the last force's (e_x, ℓ_x') or None; d_old: the last direction's
+    (e_d, E_K e_d, Zᵀ K d) or None (ℓ_d = Zᵀ K d − E_K e_d); None: that product 0 (a restart does not read it)."""
+    e_x, e_s, k_s, l_x = now
+    rz = spectral[0] + float(np.dot(e_x + e_s, l_x)) + float(np.dot(e_x, k_s)) + sums[0]
+    f_old_s = f_d_old = 0.0
+    if old is not None:
+        e_xo, l_xo = old
+        f_old_s = spectral[1] + float(np.dot(e_xo, l_x) + np.dot(e_s, l_xo) + np.dot(e_xo, k_s)) + sums[1]
+    if d_old is not None:
+        e_d, k_d, z_kd = d_old
+        f_d_old = spectral[2] + float(np.dot(e_x, z_kd - k_d) + np.dot(e_d, l_x) + np.dot(e_x, k_d)) + sums[2]
+    return rz, f_old_s, f_d_old
+
+
+def split_energy(spectral, e_d, k_d, z_kd):
+    """d·Kd of a direction d = d_s + Π Z e_d from d_s·K d_s (spectral), E_K e_d (k_d) and Zᵀ K d (z_kd)."""
+    return spectral + 2.0 * float(np.dot(e_d, z_kd - k_d)) + float(np.dot(e_d, k_d))
 
 
 def blocks(nodes, block):
@@ -196,16 +223,20 @@ class TwoLevel:
         self.x_hat = np.empty(k.size, dtype=complex)
         self.split = coarse_kernels.split_kernels()
         self.load = None  # Zᵀ K u of the current coarse space (`apply_split`, `move`); None: made at the next call
+        self.tail = self.k_tail = None  # û's coarse tail e_u and E_K e_u (`apply_split`, `move`, `fold`)
+        self.folded = fft.empty_nodes()  # `fold`'s Π Z e_u (an FFT input, aligned)
         self.kernels = coarse_kernels.coarse_kernels()  # apply's nodal passes where the blocks cover 0 … m − 1
         self.matrix = coarse_kernels.coarse_matrix()  # E, the coarse matrix
 
-    def rebuild(self, k_loc):
+    def rebuild(self, k_loc, u_hat=None):
         """The coarse space of the stiff nodes at k_loc (Pa/m per node, every node) with D = diag(k_loc)
         (SIGNED_CURVATURE; max(k_loc, 0) where E is not definite with it); False (kept as it was) where the stiff set
-        has not changed."""
+        has not changed. u_hat: the state's spectral part, into which the old space's tail is folded first (`fold`)."""
         stiff = np.flatnonzero(k_loc >= STIFF_FRACTION * self.kn_scale)
         if self.stiff is not None and np.array_equal(stiff, self.stiff):
             return False
+        if u_hat is not None:
+            self.fold(u_hat)
         for signed in ((True, False) if SIGNED_CURVATURE else (False,)):
             if self._build(np.array(k_loc, dtype=float) if signed else np.maximum(k_loc, 0.0), stiff):
                 break
@@ -214,7 +245,7 @@ class TwoLevel:
     def _build(self, d, stiff):
         """The coarse space and E's Cholesky factor for D = d on the stiff set `stiff`; False where E is not
         definite."""
-        self.d, self.stiff, self.coarse, self.load = d, stiff, None, None
+        self.d, self.stiff, self.coarse, self.load, self.tail, self.k_tail = d, stiff, None, None, None, None
         if stiff.size == 0:
             return True
         if COARSE_GAPS:  # every node: the stiff blocks and one block per gap between them
@@ -238,6 +269,7 @@ class TwoLevel:
             return False
         self.coarse, self.index = (nodes, starts, p, factor), index
         self.mass, self.dsum = mass, float(np.sum(self.d))
+        self.tail, self.k_tail = np.zeros(starts.size), np.zeros(starts.size)
         return True
 
     def _spread(self, c, z):
@@ -282,17 +314,22 @@ class TwoLevel:
         return s_hat, np.subtract(x, z, out=x)
 
     def apply_split(self, t, u_hat, dw_old=None, d_old=None):
-        """(ŝ, s on the nodes or None, r̂, D w on the nodes or None, Zᵀ K s or None, sums or None): `apply` to the
-        force f = T_n − K u (− ⟨T_n⟩ where clamped) given as the tractions t (N,) and û, in 3 FFTs instead of
-        `apply`'s 4 and the force's own rfft.
+        """`apply` on the force f = T_n − K u (− ⟨T_n⟩ where clamped) given as the tractions t (N,) and the state
+        û = û_s + rfft(Π Z e_u), its spectral part u_hat and its coarse tail e_u (`tail`): 2 FFTs.
 
-        The coarse load Zᵀ f = Zᵀ T_n − Zᵀ K u (− p ⟨T_n⟩) comes from Zᵀ K u kept on the coarse level (`load`: one
-        irfft where the coarse space is made, then `move`), so f is never needed on the nodes; K⁻¹(f − D w) is
-        g r̂ with r̂ = rfft(T_n − D w) − K û, one rfft. f = r + D w (mean removed where clamped): the NCG's products
-        take f in these two parts, the nodal ones here as sums = (Σ D w s, Σ dw_old s, Σ D w d_old) (dw_old, d_old:
-        the last force's D w and the last direction on the nodes, None: 0). Zᵀ K s, for the load's update: s = x − Π Z c₂
-        with K x = r (its mean removed where g(0) = 0) and Zᵀ K Π Z c₂ = E c₂ − E_D c₂ = Zᵀ Π D y − E_D c₂ (`coarse_d`).
-        Where the blocks do not cover 0 … m − 1 in order, or no coarse space exists: r̂ = f̂ and `apply`'s path.
+        Returns (x̂', s on the nodes, ŷ, D w, Zᵀ K s, sums, parts). The coarse load Zᵀ f = Zᵀ T_n − Zᵀ K u (− p ⟨T_n⟩)
+        comes from Zᵀ K u kept on the coarse level (`load`: made from û_s and E_K e_u where the coarse space is new,
+        then `move`d), f is never needed on the nodes. x = K⁻¹(f − D w) = x' − Π Z e_u with x̂' = g ŷ − û_s,
+        ŷ = rfft(T_n − D w): one rfft and one irfft; s = x − Π Z c₂ = x' − Π Z (e_u + c₂) on the nodes, and on the
+        modes as its spectral part x̂' and its tail e_s = −(e_u + c₂), never transformed (`split_products`: its dot
+        products from the parts). The force f = r + D w (mean removed where clamped), r̂ = ŷ − K û: the NCG's nodal
+        products take D w here, sums = (Σ D w s, Σ dw_old s, Σ D w d_old) (dw_old, d_old: the last force's D w and the
+        last direction on the nodes, None: 0); its stopping test `fold`s first (r̂ from the exact û). parts =
+        (e_x, e_s, E_K e_s, Zᵀ K x') with e_x = −e_u (x's tail) and E_K = Zᵀ Π K Π Z, from what the coarse
+        level holds (E_K c₂ = E c₂ − E_D c₂ = b₂ − E_D c₂, E_K e_u moved with e_u) and Zᵀ K x' = Zᵀ K x + E_K e_u,
+        Zᵀ K x = Zᵀ r − p ⟨r⟩. Zᵀ K s = Zᵀ K x − E_K c₂, for the load's move. Where the blocks do not cover 0 … m − 1
+        in order, or no coarse space exists (û_s is then û: no tail): `apply`'s path, (ŝ, s, f̂, None, None, None,
+        None).
         """
         fft, k, clamp, n = self.fft, self.k, self.clamp, self.n
         if self.coarse is None or not isinstance(self.index, slice):
@@ -301,12 +338,14 @@ class TwoLevel:
             if clamp:
                 f_hat[0] = 0.0
             s_hat, s_nodes = self.apply(f_hat)
-            return s_hat, s_nodes, f_hat, None, None, None
-        block_load, spread_scaled_minus, stiff_sums_of, force_spectrum, spread_subtract_dots, _ = self.split
+            return s_hat, s_nodes, f_hat, None, None, None, None
+        block_load, spread_scaled_minus, stiff_sums_of, split_spectrum, spread_subtract_dots, _ = self.split
         _, starts, p, factor = self.coarse
-        if self.load is None:  # Zᵀ K u, exact, once per coarse space
+        e_u, k_u = self.tail, self.k_tail
+        if self.load is None:  # Zᵀ K u = Zᵀ K u_s + E_K e_u, exact, once per coarse space
             self.load = np.empty(starts.size)
             block_load(fft.irfft(k * u_hat), starts, p, n, self.load)
+            self.load += k_u
         zt = np.empty(starts.size)
         t_sum = block_load(t, starts, p, n, zt)  # Zᵀ T_n into zt, Σ T_n
         t_mean = t_sum / n if clamp else 0.0
@@ -314,21 +353,32 @@ class TwoLevel:
         w, dw = self.w, self.dw[0]
         self.dw = self.dw[::-1]  # the caller keeps this D w while the next call writes the other
         spread_scaled_minus(c, starts, p, n, clamp, self.d, t, dw, self.y)  # D w (w = Π Z c), y = T_n − D w
-        r_hat = fft.rfft_scratch(self.y)
-        x_hat = self.x_hat
-        force_spectrum(r_hat, k, u_hat, self.g, x_hat)  # r̂ = rfft(T_n − D w) − K û, x̂ = K⁻¹(f − D w)
-        x = fft.irfft(x_hat)
-        b2 = stiff_sums_of(self.d, x, c, starts, p, n, clamp, w)  # Zᵀ Π D y, y = x − w
+        y_hat = fft.rfft_scratch(self.y)
+        x_hat = np.empty_like(y_hat)  # the caller keeps it (the next force's products)
+        split_spectrum(y_hat, self.g, u_hat, x_hat)  # x̂' = g ŷ − û_s
+        x = fft.irfft(x_hat)  # x' = x + Π Z e_u
+        b2 = stiff_sums_of(self.d, x, c + e_u, starts, p, n, clamp, w)  # Zᵀ Π D y, y = x − w = x' − Π Z (c + e_u)
         c2 = scipy.linalg.cho_solve(factor, b2, check_finite=False)
-        sums = spread_subtract_dots(c2, starts, p, n, clamp, w, x, dw, dw_old, d_old)  # w ← Π Z c₂, x ← x − w = s
-        s_hat = fft.rfft_scratch(w)
-        np.subtract(x_hat, s_hat, out=s_hat)
-        if clamp:
-            s_hat[0] = 0.0
+        e_s = -(e_u + c2)
+        sums = spread_subtract_dots(-e_s, starts, p, n, clamp, w, x, dw, dw_old, d_old)  # x ← x' − Π Z (e_u + c₂) = s
         mean_c = float(np.dot(p, c)) / n if clamp else 0.0
-        r_mean = float(r_hat[0].real) / n if self.g[0] == 0.0 else 0.0
+        r_mean = float(y_hat[0].real) / n if self.g[0] == 0.0 else 0.0  # r̂(0) = ŷ(0) where K(0) = 0
         z_kx = zt - self.mass * (c - mean_c) - self.load - p * r_mean  # Zᵀ K x = Zᵀ r − p ⟨r⟩, Zᵀ D w = mass (c − ⟨Zc⟩)
-        return s_hat, x, r_hat, dw, z_kx - (b2 - self.coarse_d(c2)), sums
+        k_c2 = b2 - self.coarse_d(c2)  # E_K c₂
+        return x_hat, x, y_hat, dw, z_kx - k_c2, sums, (-e_u, e_s, -(k_u + k_c2), z_kx + k_u)
+
+    def fold(self, u_hat):
+        """û_s ← û_s + rfft(Π Z e_u), e_u ← 0, in place: the spectral part is û again (one rfft; where the tail is
+        zero, nothing). True where it folded."""
+        if self.tail is None or not np.any(self.tail):
+            return False
+        _, starts, p, _ = self.coarse
+        u_hat += self.fft.rfft_scratch(coarse_kernels.spread(self.tail, starts, p, self.n, self.clamp, self.folded))
+        if self.clamp:
+            u_hat[0] = 0.0
+        self.tail[:] = 0.0
+        self.k_tail[:] = 0.0
+        return True
 
     def coarse_d(self, c):
         """E_D c, E_D = Zᵀ Π D Π Z (the D part of E, `gfmd.coarse_kernels.coarse_matrix`)."""
@@ -339,10 +389,14 @@ class TwoLevel:
             out += (self.dsum / self.n**2 * pc) * p - (p * mc + self.mass * pc) / self.n
         return out
 
-    def move(self, u_hat, d_hat, alpha, z_kd):
-        """The NCG's step û ← û + α d̂, in place, and Zᵀ K u ← Zᵀ K u + α Zᵀ K d (z_kd None: Zᵀ K u made afresh at the
+    def move(self, u_hat, d_hat, alpha, z_kd, e_d=None, k_d=None):
+        """The NCG's step û ← û + α d, in place: û_s ← û_s + α d̂_s, the tail e_u ← e_u + α e_d (E_K e_u with it,
+        k_d = E_K e_d; e_d None: d has no tail), and Zᵀ K u ← Zᵀ K u + α Zᵀ K d (z_kd None: Zᵀ K u made afresh at the
         next `apply_split`)."""
         self.split[5](u_hat, d_hat, alpha)
+        if e_d is not None:
+            self.tail += alpha * e_d
+            self.k_tail += alpha * k_d
         if z_kd is None:
             self.load = None
         elif self.load is not None:

@@ -159,6 +159,11 @@ def _direction_energy_numpy(s, beta, d, k, nodes):
     return nodal_dot(d, k * d, nodes)
 
 
+def _stiffness_products_numpy(x, x_old, d, k, nodes):
+    kx = k * x
+    return nodal_dot(x, kx, nodes), nodal_dot(x_old, kx, nodes), nodal_dot(d, kx, nodes)
+
+
 def _combine_numpy(s, beta, d):
     np.multiply(d, beta, out=d)
     return np.add(s, d, out=s)
@@ -185,6 +190,16 @@ if numba is not None:
         return energy
 
     @numba.njit(cache=True, fastmath=True)
+    def _stiffness_raw(x, x_old, d, k):  # Σ_n k_n Re(conj(a_n) x_n) for a = x, x_old, d
+        xx = ox = dx = 0.0
+        for i in range(k.size):
+            kr, ki = k[i] * x[2 * i], k[i] * x[2 * i + 1]
+            xx += x[2 * i] * kr + x[2 * i + 1] * ki
+            ox += x_old[2 * i] * kr + x_old[2 * i + 1] * ki
+            dx += d[2 * i] * kr + d[2 * i + 1] * ki
+        return xx, ox, dx
+
+    @numba.njit(cache=True, fastmath=True)
     def _combine_fused(s, beta, d):  # s ← s + β d
         for i in range(s.size):
             s[i] += beta * d[i]
@@ -203,6 +218,13 @@ def _direction_energy_numba(s, beta, d, k, nodes):
     return _nodal(energy, d[[0, -1]], k[[0, -1]] * d[[0, -1]], nodes)
 
 
+def _stiffness_products_numba(x, x_old, d, k, nodes):
+    xx, ox, dx = _stiffness_raw(x.view(np.float64), x_old.view(np.float64), d.view(np.float64), k)
+    ends = [0, -1]
+    kx = k[ends] * x[ends]
+    return _nodal(xx, x[ends], kx, nodes), _nodal(ox, x_old[ends], kx, nodes), _nodal(dx, d[ends], kx, nodes)
+
+
 def _combine_numba(s, beta, d):
     _combine_fused(s, float(beta), d)
     return s
@@ -212,12 +234,15 @@ def preconditioned_kernels(name=None):
     """The NCG's algebra under a preconditioner other than K⁻¹ (`gfmd.cohesive_preconditioner`; profiles), of the
     backend `jit_backend(name)`: (products(f, f_old, d, s, nodes): f·s, f_old·s, f·d as nodal sums (s = M⁻¹ f given);
     direction_energy(s, β, d, k, nodes): d ← s + β d in place, returning d·Kd; combine(s, β, d): s ← s + β d on the
-    nodes, returning s (d's values may be overwritten)). numba: one pass each, as `ncg_kernels` (in place of three
+    nodes, returning s (d's values may be overwritten); stiffness_products(x, x_old, d, k, nodes): x·Kx, x_old·Kx,
+    d·Kx as nodal sums, the spectral parts of the split products, `gfmd.cohesive_preconditioner.split_products`).
+    numba: one pass each, as `ncg_kernels` (in place of three
     nodal_dot passes, a direction pass, K d and its dot, and s + β d into a new array: a whole 201-step ramp at 2^17,
     φn* = 0.15, CPU × 0.969 ± 0.019, the same iterations; benchmarks/results/bench_versions_fused-two-level.md)."""
     if jit_backend(name) == "numba":
-        return _preconditioned_products_numba, _direction_energy_numba, _combine_numba
-    return _preconditioned_products_numpy, _direction_energy_numpy, _combine_numpy
+        return (_preconditioned_products_numba, _direction_energy_numba, _combine_numba,
+                _stiffness_products_numba)
+    return _preconditioned_products_numpy, _direction_energy_numpy, _combine_numpy, _stiffness_products_numpy
 
 
 def once_counted_modes(grid):

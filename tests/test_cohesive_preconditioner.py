@@ -9,8 +9,10 @@
 * a slow step engages it early (`slow_step`): the same states, fewer iterations on a strong-adhesion ramp;
 * D is k_loc with its sign (`SIGNED_CURVATURE`): a softening tail over the gaps lifts the smallest eigenvalue of the
   preconditioned operator above the one max(k_loc, 0) leaves; where the signed E is not definite, max(k_loc, 0);
-* `TwoLevel.apply_split` (the force as tractions and û, three FFTs) gives `apply`'s s, the force in its two parts, and
-  Zᵀ K s, which keeps the coarse Zᵀ K u equal to its direct value along the NCG's steps; FFT.rfft_scratch is rfft;
+* `TwoLevel.apply_split` (the force as tractions and the state's spectral part and coarse tail, two FFTs) gives
+  `apply`'s s in its spectral part and tail, the force in its two parts, and the parts from which the NCG's products
+  are the direct ones; Zᵀ K s keeps the coarse Zᵀ K u equal to its direct value along the NCG's steps; `fold` makes
+  the spectral part the state's spectrum; FFT.rfft_scratch is rfft;
 * a bad Settings value is refused naming the key.
 """
 
@@ -85,9 +87,12 @@ def test_two_level_is_spd_and_exact_on_its_coarse_space(thickness):
 
 @pytest.mark.parametrize("jit", ["numpy", "numba"])
 @pytest.mark.parametrize("thickness", [None, 0.5e-6])
-def test_apply_split_is_apply_on_the_force_in_two_parts(thickness, jit, monkeypatch):
-    """`TwoLevel.apply_split` from (T_n, û) gives `apply`'s s on the force f = T_n − K u (− ⟨T_n⟩ where clamped),
-    f = irfft(r̂) + D w, its nodal sums, and Zᵀ K s, which moves Zᵀ K u along with û (`move`) as computed afresh."""
+def test_apply_split_is_apply_on_the_state_and_the_force_in_two_parts(thickness, jit, monkeypatch):
+    """`TwoLevel.apply_split` from (T_n, û_s, the tail e_u), û = û_s + rfft(Π Z e_u), gives `apply`'s s on the force
+    f = T_n − K u (− ⟨T_n⟩ where clamped): on the nodes, and on the modes as x̂' and its tail e_s; f = irfft(ŷ − K û) +
+    D w; its nodal sums; Zᵀ K s and the parts, from which `split_products` and `split_energy` give the direct
+    products; `fold` makes û_s the state's spectrum, and `move` keeps Zᵀ K u equal to its direct value along steps
+    with tails."""
     from gfmd import coarse_kernels, kernels
     if jit == "numba" and kernels.numba is None:
         pytest.skip("numba not installed (a default dependency; without it GFMD_JIT runs the numpy kernels, the "
@@ -102,32 +107,70 @@ def test_apply_split_is_apply_on_the_force_in_two_parts(thickness, jit, monkeypa
     assert pre.split[0] is coarse_kernels.split_kernels(jit)[0]
     rng = np.random.default_rng(3)
     pre.rebuild(stiff_patches(n, kn, rng))
-    t, u_hat = rng.standard_normal(n), fft.rfft(rng.standard_normal(n))
-    if clamp:
-        u_hat[0] = 0.0
-    f_hat = fft.rfft(t) - k * u_hat
-    if clamp:
-        f_hat[0] = 0.0
-    s_hat, s_nodes = pre.apply(f_hat.copy())
-    dw_old, d_old = rng.standard_normal(n), rng.standard_normal(n)
-    s2_hat, s2_nodes, r_hat, dw, z_ks, sums = pre.apply_split(t, u_hat, dw_old, d_old)
-    np.testing.assert_allclose(s2_hat, s_hat, atol=1e-12 * np.max(np.abs(s_hat)))
-    np.testing.assert_allclose(s2_nodes, s_nodes, atol=1e-12 * np.max(np.abs(s_nodes)))
-    f = fft.irfft(r_hat) + dw
-    f -= np.mean(f) if clamp else 0.0
-    np.testing.assert_allclose(f, fft.irfft(f_hat), atol=1e-12 * np.max(np.abs(f)))
-    np.testing.assert_allclose(sums, (dw @ s_nodes, dw_old @ s_nodes, dw @ d_old), rtol=1e-11)
     _, starts, p, _ = pre.coarse
     m = starts[-1] + p[-1]
+
+    def spread(e):  # Π Z e on the nodes
+        return coarse_kernels.spread(e, starts, p, n, clamp, np.empty(n))
 
     def z_k(x_hat):  # Zᵀ K x, directly
         return np.add.reduceat(fft.irfft(k * x_hat)[:m], starts)
 
+    def k_dot(a_hat, b_hat):  # a·K b on the nodes, directly
+        return float(fft.irfft(a_hat) @ fft.irfft(k * b_hat))
+
+    t, u_hat = rng.standard_normal(n), fft.rfft(rng.standard_normal(n))
+    if clamp:
+        u_hat[0] = 0.0
+    e_u = 0.1 * rng.standard_normal(starts.size)
+    u_s = u_hat - fft.rfft(spread(e_u))  # the same state with a tail
+    if clamp:
+        u_s[0] = 0.0
+    pre.tail[:], pre.k_tail[:] = e_u, z_k(fft.rfft(spread(e_u)))
+    f_hat = fft.rfft(t) - k * u_hat
+    if clamp:
+        f_hat[0] = 0.0
+    s_hat, s_nodes = pre.apply(f_hat.copy())
+    # an older force's x and nodal part, and a direction, each with a tail
+    x_old_hat, e_xo = fft.rfft(rng.standard_normal(n)), 0.1 * rng.standard_normal(starts.size)
+    d_s, e_d = fft.rfft(rng.standard_normal(n)), 0.1 * rng.standard_normal(starts.size)
+    if clamp:
+        x_old_hat[0] = d_s[0] = 0.0
+    x_o, d_full = x_old_hat + fft.rfft(spread(e_xo)), d_s + fft.rfft(spread(e_d))
+    dw_old, d_old = rng.standard_normal(n), fft.irfft(d_full)
+    x_hat, s2_nodes, y_hat, dw, z_ks, sums, parts = pre.apply_split(t, u_s, dw_old, d_old)
+    e_x, e_s, k_s, l_x = parts
+    np.testing.assert_allclose(s2_nodes, s_nodes, atol=1e-12 * np.max(np.abs(s_nodes)))
+    s2_hat = x_hat + fft.rfft(spread(e_s))
+    np.testing.assert_allclose(s2_hat, s_hat, atol=1e-12 * np.max(np.abs(s_hat)))
+    np.testing.assert_array_equal(e_x, -e_u)
+    f = fft.irfft(y_hat - k * u_hat) + dw
+    f -= np.mean(f) if clamp else 0.0
+    np.testing.assert_allclose(f, fft.irfft(f_hat), atol=1e-12 * np.max(np.abs(f)))
+    np.testing.assert_allclose(sums, (dw @ s_nodes, dw_old @ s_nodes, dw @ d_old), rtol=1e-11)
     np.testing.assert_allclose(z_ks, z_k(s_hat), atol=1e-11 * np.max(np.abs(z_k(s_hat))))
+    np.testing.assert_allclose(k_s, z_k(fft.rfft(spread(e_s))), atol=1e-11 * np.max(np.abs(k_s)))
+    np.testing.assert_allclose(l_x, z_k(x_hat), atol=1e-11 * np.max(np.abs(l_x)))
     np.testing.assert_allclose(pre.load, z_k(u_hat), atol=1e-12 * np.max(np.abs(z_k(u_hat))))
-    pre.move(u_hat, s_hat, 0.3, z_ks)
+    # the products from the parts against the direct ones (the old force f_old = K x_old + dw_old, + a constant
+    # where clamped, which the mean-free s does not see)
+    k_d, z_kd = z_k(fft.rfft(spread(e_d))), z_k(d_full)
+    spectral = kernels.preconditioned_kernels(jit)[3](x_hat, x_old_hat, d_s, k, n)
+    np.testing.assert_allclose(spectral, (k_dot(x_hat, x_hat), k_dot(x_old_hat, x_hat), k_dot(d_s, x_hat)),
+                               rtol=1e-11)
+    rz, f_old_s, f_d_old = cp.split_products(spectral, parts, (e_xo, z_k(x_old_hat)), (e_d, k_d, z_kd), sums)
+    np.testing.assert_allclose(rz, float(f @ s_nodes), rtol=1e-10)
+    np.testing.assert_allclose(f_old_s, k_dot(x_o, s_hat) + float(dw_old @ s_nodes), rtol=1e-10)
+    np.testing.assert_allclose(f_d_old, float(f @ d_old), rtol=1e-10)
+    np.testing.assert_allclose(cp.split_energy(k_dot(d_s, d_s), e_d, k_d, z_kd), k_dot(d_full, d_full), rtol=1e-10)
+    # a step with a tail keeps Zᵀ K u; a fold leaves the state and no tail
+    k_s2 = z_k(fft.rfft(spread(e_s)))
+    pre.move(u_s, x_hat, 0.3, z_ks, e_s, k_s2)
+    u_hat += 0.3 * s_hat
     np.testing.assert_allclose(pre.load, z_k(u_hat), atol=1e-11 * np.max(np.abs(z_k(u_hat))))
-    pre.move(u_hat, s_hat, 0.3, None)  # nothing to move it by: made afresh at the next call
+    assert pre.fold(u_s) and not np.any(pre.tail) and not np.any(pre.k_tail) and not pre.fold(u_s)
+    np.testing.assert_allclose(u_s, u_hat, atol=1e-12 * np.max(np.abs(u_hat)))
+    pre.move(u_s, s_hat, 0.3, None)  # nothing to move it by: made afresh at the next call
     assert pre.load is None
 
 

@@ -227,17 +227,20 @@ def test_ncg_kernels_are_the_nodal_algebra(backend, n, seed, beta, alpha):
 @settings(deadline=None)  # the first example compiles the numba kernels
 @given(n=st.integers(2, 64), seed=st.integers(0, 2**32 - 1), beta=st.sampled_from([0.0, 0.3, 1.7]))
 def test_preconditioned_kernels_are_the_nodal_algebra(backend, n, seed, beta):
-    """products, direction_energy and combine of the two-level preconditioner's NCG (gfmd.kernels.preconditioned_kernels)
-    against the algebra on the nodes, for even and odd N and any s (not K⁻¹ f): f·s, f_old·s, f·d; d ← s + β d and
-    d·Kd = Σ_j d_j (K d)_j; s + β d on the nodes."""
+    """products, direction_energy, combine and stiffness_products of the two-level preconditioner's NCG
+    (gfmd.kernels.preconditioned_kernels) against the algebra on the nodes, for even and odd N and any s (not K⁻¹ f):
+    f·s, f_old·s, f·d; d ← s + β d and d·Kd = Σ_j d_j (K d)_j; s + β d on the nodes; s·Ks, f_old·Ks, d·Ks."""
     rng = np.random.default_rng(seed)
     f, f_old, d, s = rng.standard_normal((4, n))
     k = rng.random(n // 2 + 1) + 0.1
     k[0] = 0.0 if seed % 2 else k[0]
-    products, direction_energy, combine = kernels.preconditioned_kernels(backend)
+    products, direction_energy, combine, stiffness_products = kernels.preconditioned_kernels(backend)
     rf = np.fft.rfft
     got = products(rf(f), rf(f_old), rf(d), rf(s), n)
     np.testing.assert_allclose(got, [f @ s, f_old @ s, f @ d], rtol=1e-10, atol=1e-10 * n)
+    ks = np.fft.irfft(k * rf(s), n)
+    np.testing.assert_allclose(stiffness_products(rf(s), rf(f_old), rf(d), k, n), [s @ ks, f_old @ ks, d @ ks],
+                               rtol=1e-10, atol=1e-10 * n)
     d_hat = rf(d)
     energy = direction_energy(rf(s), beta, d_hat, k, n)
     d_new = s + beta * d

@@ -32,6 +32,11 @@ NCG_NEAR_MARGIN = 8.0
 #: NCG: every node is near once the near set would hold more than this fraction of them (a gather then
 #: costs more than the nodal work it saves)
 NCG_NEAR_FULL = 0.5
+#: NCG under the two-level preconditioner: û's coarse tail is folded into its spectrum at least every this many
+#: iterations (one rfft), keeping the split products' round-off small (`gfmd.cohesive_preconditioner.split_products`;
+#: the residual tests fold every `Settings.check_every` iterations anyway). Swept on a whole 2^17 ramp
+#: (benchmarks/bench_split_tail.py): 1, 4, 8, 16 and never give the same iterations and states within 1e-14
+FOLD_EVERY = 16
 #: e^{−s} is exactly 0 in double precision beyond this s
 EXP_UNDERFLOW = 746.0
 
@@ -100,7 +105,17 @@ def solve(problem, start, settings):
     pairs with the cores swapped, benchmarks/results/bench_versions_split-force*.md): CPU × 0.914 ± 0.034 (φn* = 0.15,
     ν = 0.45, three rounds), × 0.917 ± 0.017 (ν = 0.1), × 0.926 ± 0.051 (δn = 0.25 nm), × 0.901 ± 0.032 (φn* = 0.05),
     × 0.924 ± 0.086 (H = 0.2), × 1.015 ± 0.047 (φn* = 0.001, whose steps never engage it); the same iterations
-    (δn = 0.25 nm: 6 052 → 6 055), p̄ within 1e-12 of max p̄.
+    (δn = 0.25 nm: 6 052 → 6 055), p̄ within 1e-12 of max p̄. Since session 48 the third transform, the rfft of s's
+    coarse correction Π Z c₂, is never made: û is kept as a spectral part and a coarse tail, û_s + rfft(Π Z e_u), s and
+    d likewise (x̂' and e_s, d̂_s and e_d; `TwoLevel.apply_split`, `move`), and f·s, f_old·s, f·d_old and d·Kd come
+    from the parts (`gfmd.cohesive_preconditioner.split_products`, `split_energy`): K-products of the spectral parts
+    plus coarse sums with E_K = Zᵀ Π K Π Z, whose products the coarse level already holds. 2 transforms per iteration;
+    the tail is folded into û_s (one rfft, `TwoLevel.fold`) before a force residual test, where the coarse space
+    changes, where the near set is rebuilt and at least every FOLD_EVERY iterations. Measured (whole 201-step ramps
+    at 2^17, realization 2, φn* = 0.15): the same iterations, states within 1e-14 of max |û|, FFT pairs per step
+    41.2 → 33.9 (benchmarks/results/bench_split_tail_*.md); study tasks against session 47's, pinned simultaneous
+    pairs with the cores swapped (benchmarks/results/bench_versions_split-tail*.md): CPU × 0.96 ± 0.03 (ν = 0.45),
+    × 0.95 ± 0.01 (ν = 0.1).
 
     Stall: a step NCG does not finish within min(NCG_BUDGET, max_iterations / 2) iterations, or
     whose line search finds no descent, is handed over (`Relaxed.stalled`; `gfmd.chains` restarts it
@@ -131,7 +146,7 @@ def solve(problem, start, settings):
 
     g = preconditioner()
     products, direction, advance = kernels.ncg_kernels(grid=model.grid)  # the spectral algebra (numpy or fused)
-    products_m, direction_m, combine_m = kernels.preconditioned_kernels()  # the same under the two-level one
+    products_m, direction_m, combine_m, stiffness_m = kernels.preconditioned_kernels()  # under the two-level one
     cohesive_preconditioner.check(settings, model.grid)
     if user and settings.cohesive_preconditioner == "two-level":
         raise ValueError("Settings.cohesive_preconditioner = 'two-level' needs seed Eq. 3's law, not a user law")
@@ -148,6 +163,8 @@ def solve(problem, start, settings):
     def near(margin, first=False):
         """(near, Δn on it, s, e^{−s}) at the state uh: the nodes with Δn < (s_c + margin) δn
         (slice(None): every node), from a fresh irfft."""
+        if other is not None:  # û exact (the two-level preconditioner's coarse tail folded in)
+            other.fold(uh)
         gap_all = z_ind - fft.irfft(uh)
         if first and not user:  # an initial guess out of the law's range raises, as FIRE's does
             laws._check_compression(gap_all, dn)
@@ -169,14 +186,23 @@ def solve(problem, start, settings):
         return t_nodes
 
     def largest_force(f_spec, f_dw):
-        """max_j |f_j| (Pa) of the force f = irfft(f_spec) + f_dw (its mean removed where clamped; f_dw None: 0),
-        the two parts of `gfmd.cohesive_preconditioner.TwoLevel.apply_split`."""
+        """max_j |f_j| (Pa) of the force f = irfft(f_spec) + f_dw (its mean removed where clamped; f_dw None: 0)."""
         f = fft.irfft(f_spec)
         if f_dw is not None:
             f += f_dw
             if clamp:
                 f -= np.mean(f)
         return float(np.max(np.abs(f)))
+
+    def force_residual():
+        """max_j |f_j| (Pa) of the force at the state; under the two-level preconditioner's split form
+        (f_spec = ŷ), f = irfft(ŷ − K û) + D w with û exact (`TwoLevel.fold`: one rfft where it has a tail)."""
+        nonlocal folded
+        if parts is None:
+            return largest_force(f_spec, f_dw)
+        if other.fold(uh):
+            folded = it
+        return largest_force(f_spec - k * uh, f_dw)
 
     def full_residual():
         """max_j |f_j| / p_ref with every node's attraction (the converged state's check)."""
@@ -201,10 +227,12 @@ def solve(problem, start, settings):
     if clamp:
         f_hat[0] = 0.0
     d_hat = np.zeros_like(f_hat)  # the search direction (spectrum), updated in place
-    # the force in two parts, f = irfft(f_spec) + f_dw (mean-free where clamped): (f̂, None) under K⁻¹, (r̂, D w) under
-    # the two-level preconditioner (`TwoLevel.apply_split`: the force's own rfft saved, f never on the nodes)
+    # the force in two parts, f = irfft(f_spec) + f_dw (mean-free where clamped): (f̂, None) under K⁻¹; under the
+    # two-level preconditioner (ŷ, D w), f = irfft(ŷ − K û) + D w (`TwoLevel.apply_split`, f never on the nodes but
+    # in the residual test, `force_residual`)
     f_spec, f_dw = f_hat, None
-    f_old = (f_hat, None)
+    f_old = (f_hat, None, None)  # the last force's (f_spec, f_dw, its x's parts under the two-level one or None)
+    parts, d_parts, folded = None, None, 0  # this force's parts, the last direction's (e_d, E_K e_d), the last fold
     d_prev = None  # the last direction on the nodes (for f·d_old with the D w part)
     z_kd = None  # Zᵀ K d of the last direction on the coarse space (`TwoLevel.move`)
     rz_old, c2 = 1.0, 0.0  # f_old·K⁻¹f_old, d·Kd of the last direction
@@ -228,19 +256,25 @@ def solve(problem, start, settings):
             if (it - engage_at) % cohesive_preconditioner.REBUILD_EVERY == 0:
                 k_loc = np.zeros(n)
                 k_loc[idx] = nodal.stiffness(sv, ev)
-                if other.rebuild(k_loc) or it == engage_at:
+                if other.rebuild(k_loc, uh) or it == engage_at:
                     restart = True
-            s_hat, s_nodes, f_spec, f_dw, z_ks, sums = other.apply_split(t_full, uh, f_old[1], d_prev)
-            rz, f_old_s, f_d_old = products_m(f_spec, f_old[0], d_hat, s_hat, n)  # f = irfft(f_spec) + f_dw: the
-            if sums is not None:  # spectral parts, and the nodal ones Σ D w s, Σ D w_old s, Σ D w d_old
-                rz, f_old_s, f_d_old = rz + sums[0], f_old_s + sums[1], f_d_old + sums[2]
-            elif f_old[1] is not None:  # no coarse space now, one before
-                f_old_s += float(np.dot(f_old[1], s_nodes if s_nodes is not None else fft.irfft(s_hat)))
+            if it - folded >= FOLD_EVERY and other.fold(uh):  # the tail bounded (its products' round-off)
+                folded = it
+            s_hat, s_nodes, f_spec, f_dw, z_ks, sums, parts = other.apply_split(t_full, uh, f_old[1], d_prev)
+            if parts is not None:  # s = x' − Π Z (e_u + c₂): its products from the parts (`split_products`)
+                spectral = stiffness_m(s_hat, s_hat if f_old[2] is None else f_old[2][0], d_hat, k, n)
+                rz, f_old_s, f_d_old = cohesive_preconditioner.split_products(
+                    spectral, parts, None if restart or f_old[2] is None else f_old[2][1:],
+                    None if restart or d_parts is None else (*d_parts, z_kd), sums)
+            else:  # no coarse space: ŝ exact (a restart where there was one before)
+                rz, f_old_s, f_d_old = products_m(f_spec, f_old[0], d_hat, s_hat, n)
+                if f_old[1] is not None:
+                    f_old_s += float(np.dot(f_old[1], s_nodes if s_nodes is not None else fft.irfft(s_hat)))
         e_norm = np.sqrt(max(rz, 0.0))
         e_mid = e_norm if it == mid else e_mid
         if ratio is None or it % settings.check_every == 0 or e_norm * ratio < settings.tolerance * p_ref:
             # the test of `gfmd.algorithms.dynamics` (verification.mutations' stop-early-cohesive mutates all three)
-            residual = largest_force(f_spec, f_dw) / model.reference_traction
+            residual = force_residual() / model.reference_traction
             if residual < settings.tolerance:
                 if not isinstance(idx, slice):  # the far nodes' attraction included: converged as FIRE's is
                     residual, gap, sv, ev, f_hat, t_full = full_residual()
@@ -254,7 +288,7 @@ def solve(problem, start, settings):
                 failed = "non-finite force residual"
                 break
         if it >= budget:
-            residual = largest_force(f_spec, f_dw) / p_ref
+            residual = force_residual() / p_ref
             failed = f"not converged after {it} iterations (residual {residual:.3g} p_ref)"
             break
         if (two_level and it == early < engage_at and e_mid is not None and ratio is not None
@@ -274,15 +308,21 @@ def solve(problem, start, settings):
         if not engaged:
             direction(f_hat, g, beta, d_hat)  # d̂ ← ŝ + β d̂
         else:  # K s ≠ f: d·Kd as a sum over the modes
-            c2 = direction_m(s_hat, beta, d_hat, k, n)  # d̂ ← ŝ + β d̂, d·Kd
+            c2 = direction_m(s_hat, beta, d_hat, k, n)  # d̂ ← ŝ + β d̂, d·Kd (the spectral parts' under the tails)
             # Zᵀ K d for the coarse load's move (None: made afresh from û at the next application)
             z_kd = z_ks if beta == 0.0 else None if z_ks is None or z_kd is None else z_ks + beta * z_kd
+            if parts is not None:  # d's tail e_d = e_s + β e_d and E_K e_d with it; d·Kd from the parts
+                e_s, k_s = parts[1], parts[2]
+                d_parts = (e_s, k_s) if beta == 0.0 else (e_s + beta * d_parts[0], k_s + beta * d_parts[1])
+                c2 = cohesive_preconditioner.split_energy(c2, *d_parts, z_kd)
+            else:
+                d_parts = None
             if s_nodes is not None and (beta == 0.0 or d_nodes is not None):  # d on the nodes without an irfft
                 d_nodes = s_nodes if beta == 0.0 else combine_m(s_nodes, beta, d_nodes)
             else:
                 d_nodes = None
         restart = False
-        f_old, rz_old = (f_spec, f_dw), rz
+        f_old, rz_old = (f_spec, f_dw, None if parts is None else (s_hat, parts[0], parts[3])), rz
         d_all = fft.irfft(d_hat) if not engaged or d_nodes is None else d_nodes
         d_prev = d_all
         approach = float(np.max(d_all)) if not isinstance(idx, slice) else 0.0  # Δn falls by α d: d > 0 approaches
@@ -311,7 +351,7 @@ def solve(problem, start, settings):
         t_full = traction_nodes()
         if two_level and it >= engage_at:  # the next iteration's force from t_full and û (`TwoLevel.apply_split`)
             if engaged:
-                other.move(uh, d_hat, alpha, z_kd)  # û ← û + α d̂, and Zᵀ K u with it
+                other.move(uh, d_hat, alpha, z_kd, *(d_parts or (None, None)))  # û ← û + α d, Zᵀ K u with it
             else:  # (a coarse space made at the next iteration computes its Zᵀ K u afresh)
                 uh += alpha * d_hat
         else:
