@@ -71,7 +71,8 @@ def main(argv=None):
     ap.add_argument("--out", type=Path)
     a = ap.parse_args(argv)
     rows = sweep(a.size, a.realization, a.nu, a.phi, a.values)
-    out = a.out or ROOT / "benchmarks" / "results" / f"bench_split_tail_e{a.size}_phi{a.phi:g}_nu{a.nu:g}_r{a.realization}.md"
+    name = f"bench_split_tail_e{a.size}_phi{a.phi:g}_nu{a.nu:g}_r{a.realization}.md"
+    out = a.out or ROOT / "benchmarks" / "results" / name
     lines = header(f"The NCG's coarse tail: FOLD_EVERY swept, N = 2^{a.size}, φn* = {a.phi:g}, ν = {a.nu:g}, "
                    f"realization {a.realization}", "bench_split_tail.py", argv) + [
              "One process, one ramp after the other (a short ramp first: the process's one-time costs); CPU s on a "

@@ -217,10 +217,10 @@ class TwoLevel:
         crossover = int(above[0]) if above.size else k.size
         self.block = max(1, int(round(BLOCK_WAVELENGTHS * n / max(crossover, 1))))
         self.coarse = self.stiff = self.index = None  # index: the coarse nodes as a slice or an index array
-        self.w, self.work = fft.empty_nodes(), np.empty(n)  # apply's buffers; w is apply_split's Π Z c₂ too
+        self.w, self.work = fft.empty_nodes(), np.empty(n)  # apply's buffers; w is apply_split's scratch too
         self.y = fft.empty_nodes()  # apply_split's T − D w (w and y: FFT inputs, aligned for `Fft.rfft_scratch`)
         self.dw = (np.empty(n), np.empty(n))  # and its D w, two in turn
-        self.x_hat = np.empty(k.size, dtype=complex)
+        self.x_hats = (np.empty(k.size, dtype=complex), np.empty(k.size, dtype=complex))  # apply_split's x̂', in turn
         self.split = coarse_kernels.split_kernels()
         self.load = None  # Zᵀ K u of the current coarse space (`apply_split`, `move`); None: made at the next call
         self.tail = self.k_tail = None  # û's coarse tail e_u and E_K e_u (`apply_split`, `move`, `fold`)
@@ -237,6 +237,8 @@ class TwoLevel:
             return False
         if u_hat is not None:
             self.fold(u_hat)
+        elif self.tail is not None and np.any(self.tail):
+            raise ValueError("TwoLevel.rebuild: the state has a coarse tail; pass its spectral part (u_hat) to fold it")
         for signed in ((True, False) if SIGNED_CURVATURE else (False,)):
             if self._build(np.array(k_loc, dtype=float) if signed else np.maximum(k_loc, 0.0), stiff):
                 break
@@ -354,7 +356,8 @@ class TwoLevel:
         self.dw = self.dw[::-1]  # the caller keeps this D w while the next call writes the other
         spread_scaled_minus(c, starts, p, n, clamp, self.d, t, dw, self.y)  # D w (w = Π Z c), y = T_n − D w
         y_hat = fft.rfft_scratch(self.y)
-        x_hat = np.empty_like(y_hat)  # the caller keeps it (the next force's products)
+        x_hat = self.x_hats[0]  # the caller keeps this x̂' (its next products) while the next call writes the other
+        self.x_hats = self.x_hats[::-1]
         split_spectrum(y_hat, self.g, u_hat, x_hat)  # x̂' = g ŷ − û_s
         x = fft.irfft(x_hat)  # x' = x + Π Z e_u
         b2 = stiff_sums_of(self.d, x, c + e_u, starts, p, n, clamp, w)  # Zᵀ Π D y, y = x − w = x' − Π Z (c + e_u)
