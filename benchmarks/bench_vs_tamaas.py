@@ -216,7 +216,7 @@ def section_hard_wall(sizes, use_tamaas, lines):
                     ("cg-band", Settings(tolerance=TOL, dual_coarse_block=0), None),
                     ("cg", Settings(tolerance=TOL), None)]
         results = {}
-        for name, st, backend in variants:
+        for name, st, backend in variants:  # with Tamaas, the `cg` ramp here is the warm-up that `blocks` replaces
             results[name] = ramp(case, st, deltas, backend)
             print(f"  N=2^{e} {name}: its {[r['it'] for r in results[name]]}", flush=True)
         t_tm = None

@@ -97,6 +97,7 @@ class Elastic:
     def __init__(self, model, k_int_x, k_int_z):
         self.model = model
         self.clamp = model.half_plane
+        self._kept = {}  # `kept`'s arrays by key
         self._block_times, self._split_times = coupled_kernels()[0], split_block_times()
         if model.tangential:
             a = model.k_xx + k_int_x
@@ -122,12 +123,11 @@ class Elastic:
         read-only: what a step needs that depends on K(q) alone (real-space kernels and their sums), made once per task
         instead of once per step. The key names the FFT backend that made it, so that a kept array holds the same
         numbers as one made afresh in the step."""
-        store = self.__dict__.setdefault("_kept", {})
-        if key not in store:
+        if key not in self._kept:
             value = make()
             value.flags.writeable = False
-            store[key] = value
-        return store[key]
+            self._kept[key] = value
+        return self._kept[key]
 
     @functools.cached_property
     def stiffness_blocks(self):
