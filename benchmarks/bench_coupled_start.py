@@ -52,21 +52,21 @@ _from_last = [0, 0]  # coupled steps started from the last state, of all relaxed
 def better_start(on, margin=None):
     """The coupled chains with COUPLED_BETTER_START = `on` (and COUPLED_START_MARGIN = `margin` where given); under
     True, counts the steps that started from the last state."""
-    saved, inner = (chains.COUPLED_BETTER_START, chains.COUPLED_START_MARGIN), chains._better_start
+    saved, inner = (chains.COUPLED_BETTER_START, chains.COUPLED_START_MARGIN), chains.better_start
 
-    def choose(problem, guess, previous):
-        start, residuals, pairs = inner(problem, guess, previous)
+    def choose(problem, guess, previous, margin):
+        start, residuals, pairs, state = inner(problem, guess, previous, margin)
         _from_last[0] += start is previous
         _from_last[1] += 1
-        return start, residuals, pairs
+        return start, residuals, pairs, state
 
-    chains.COUPLED_BETTER_START, chains._better_start = on, choose
+    chains.COUPLED_BETTER_START, chains.better_start = on, choose
     if margin is not None:
         chains.COUPLED_START_MARGIN = margin
     try:
         yield
     finally:
-        (chains.COUPLED_BETTER_START, chains.COUPLED_START_MARGIN), chains._better_start = saved, inner
+        (chains.COUPLED_BETTER_START, chains.COUPLED_START_MARGIN), chains.better_start = saved, inner
 
 
 def fire_check(e, realization, step):

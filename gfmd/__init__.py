@@ -5,3 +5,7 @@ hard wall's constraint) solved by algorithms, one module each (`algorithms`), ch
 per law (`chains.relax`; `solver` keeps the old import names); `loading.run_realization` runs the
 load ramp of one realization. It imports the core (`contact`) only.
 """
+
+from . import heap as _heap
+
+_heap.keep_heap()  # glibc keeps a step's arrays on its heap (`gfmd.heap`: measured, benchmarks/results/bench_heap.md)

@@ -63,7 +63,7 @@ from contact import laws
 
 from .algorithms import (cohesive_wall, coupled_newton, coupled_ptc, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
                          hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
-from .coupled_krylov import balance_residual
+from .coupled_krylov import balance_residual, better_start
 from .coupled_rules import (COUPLED_BETTER_START, COUPLED_CONTINUATION_GMRES_CYCLES,  # read (and patched by the
                             COUPLED_CONTINUATION_ITERATIONS, COUPLED_CONTINUATION_STAGNATION,  # tests) as gfmd.chains
                             COUPLED_FIRE_BUDGET, COUPLED_FIRE_CRAWL, COUPLED_FRICTIONLESS_COUPLING, COUPLED_HANDOVER_MOVE,
@@ -362,22 +362,15 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0, previous=None)
         return _on_grid(result, model)
     if previous is None or not COUPLED_BETTER_START or problem.kind != "coupled":
         return _relax(problem, CHAINS[key], u_hat, settings)
-    start, residuals, pairs = _better_start(problem, u_hat, previous)
-    result = _relax(problem, CHAINS[key], start, settings)
+    start, residuals, pairs, state = better_start(problem, u_hat, previous, COUPLED_START_MARGIN)
+    result = _relax(replace(problem, start_state=(start, state)) if state is not None else problem, CHAINS[key],
+                    start, settings)
     result.fft_pairs += pairs
     if start is previous:
         note = (f"started from the last state (force residual {residuals[1]:.3g} p_ref; the extrapolated guess's "
                 f"{residuals[0]:.3g})")
         result.message = note + (f"; {result.message}" if result.message else "")
     return result
-
-
-def _better_start(problem, guess, previous):
-    """(`previous` where the max nodal force residual of `guess` is more than COUPLED_START_MARGIN times its own, else
-    `guess`; both residuals in p_ref, infinite in the law's overflow range; the FFT pairs spent)."""
-    (at_guess, pairs), (at_last, more) = (balance_residual(problem.model, problem.law, problem.z_ind, start)
-                                          for start in (guess, previous))
-    return (previous if COUPLED_START_MARGIN * at_last < at_guess else guess), (at_guess, at_last), pairs + more
 
 
 def _check_surface_shapes(model, z_ind, u_hat):

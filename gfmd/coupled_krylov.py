@@ -1,6 +1,7 @@
 """The coupled law's linearised balance (seed Eq. 2) solved by GMRES (`gfmd.gmres`), shared by the algorithms that
-take Newton-type steps on it: `gfmd.algorithms.coupled_newton` (K + D, `newton_step`: the two-level preconditioner of
-`gfmd.coupled_preconditioner` on the nodes) and `gfmd.algorithms.coupled_ptc` (σM + K + D, σ = 1/Δτ, `spectral_step`:
+take Newton-type steps on it: `gfmd.algorithms.coupled_newton` (K + D, `newton_direction`: the two-level
+preconditioner of `gfmd.coupled_preconditioner` on the nodes, δu and K δu nodal; `newton_step`, its spectrum,
+for `gfmd.coupled_stability`) and `gfmd.algorithms.coupled_ptc` (σM + K + D, σ = 1/Δτ, `spectral_step`:
 K⁻¹-type on the spectrum). Not an algorithm itself (no `solve`): each algorithm passes its stiffness operator.
 """
 
@@ -76,6 +77,88 @@ def balance_residual(model, law, z_ind, u_hat):
     return float(np.max(np.abs(f))) / model.reference_traction, fft.pairs
 
 
+def nodal_force(law, z_ind, u, ku, clamp):
+    """(f, u) with f = t(u) − K u on the nodes from u and its K u (no FFT; `balance`'s f to round-off): t's mean
+    removed where `clamp` (K u has none there); raises the law's CompressionOverflowError in its overflow range."""
+    t, _ = law.traction(u, z_ind)
+    if clamp:
+        t -= t.mean(axis=1, keepdims=True)
+    return t - ku, u
+
+
+def balance_state(model, law, z_ind, u_hat, fft, stiff=None):
+    """(f, u, K u) on the nodes at the spectrum u_hat (its q = 0 mode taken as 0 where the half-plane clamps it):
+    one FFT pair (u and K u) and `nodal_force`; raises the law's CompressionOverflowError in its overflow range."""
+    stiff = stiffness_operator(model) if stiff is None else stiff
+    if model.half_plane and np.any(u_hat[:, 0] != 0.0):
+        u_hat = u_hat.copy()
+        u_hat[:, 0] = 0.0
+    u, ku = fft.irfft(u_hat), fft.irfft(stiff.stiffness(u_hat))
+    return nodal_force(law, z_ind, u, ku, model.half_plane) + (ku,)
+
+
+def better_start(problem, guess, previous, margin):
+    """(`previous` where the max nodal force residual of `guess` is more than `margin` times its own, else `guess`;
+    both residuals in p_ref, infinite in the law's overflow range; the FFT pairs spent, one per start; the chosen
+    start's `balance_state` (f, u, K u), None where it overflows): `gfmd.chains`' start of a coupled step
+    (COUPLED_BETTER_START, `gfmd.coupled_rules`), whose Newton takes that state (`Problem.start_state`)."""
+    model, fft = problem.model, Fft(problem.model.nodes)
+    residuals, states = [], []
+    for start in (guess, previous):
+        try:
+            state = balance_state(model, problem.law, problem.z_ind, start, fft)
+        except laws.CompressionOverflowError:
+            residuals.append(np.inf), states.append(None)
+            continue
+        residuals.append(float(np.max(np.abs(state[0]))) / model.reference_traction)
+        states.append(state)
+    chosen = 1 if margin * residuals[1] < residuals[0] else 0
+    return (guess, previous)[chosen], tuple(residuals), fft.pairs, states[chosen]
+
+
+def newton_direction(model, law, z_ind, u, f, stiff, fft, rtol, restart=GMRES_RESTART, cycles=GMRES_CYCLES):
+    """(δu, K δu, GMRES's info) on the nodes solving (K + D) δu = f (f nodal, zero-mean rows where clamped) as
+    `newton_step` does, without its transforms after the solve: with the two-level preconditioner GMRES sums
+    δu = M⁻¹ x and K δu = Π g(x) from its products' parts (`gfmd.gmres.gmres`'s extras) and skips the true
+    residual's product (the Newton tests its own residual next); on the spectrum (`spectral_step`) one FFT pair more
+    than the solve, for f̂ in and δu, K δu out."""
+    two_level = _two_level(model, law, z_ind, u, stiff, fft)
+    if two_level is None:
+        f_hat = fft.rfft(f)
+        if model.half_plane:
+            f_hat[:, 0] = 0.0
+        du_hat, info = spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart, cycles,
+                                     trust_estimate=True)
+        both = fft.irfft(np.concatenate([du_hat, stiff.stiffness(du_hat)]))
+        c = model.components
+        return both[:c], both[c:], info
+    coarse, tangent = two_level
+    _, product = coupled_preconditioner.operators(coarse, stiff, fft, tangent, parts=True)
+    n = model.nodes
+
+    def times(x):
+        out, s, g = product(x.reshape(2, n))
+        return out.ravel(), s, g
+
+    _, info, (du, g) = gfmd_gmres.gmres(times, f.ravel(), rtol, restart, cycles, trust_estimate=True, extras=2)
+    if model.half_plane:
+        g = g - g.mean(axis=1, keepdims=True)
+    return du, g, info
+
+
+def _two_level(model, law, z_ind, u, stiff, fft):
+    """(the `coupled_preconditioner.CoarseSpace`, the tangent) of `newton_step`'s two-level preconditioner, or None
+    where it runs on the spectrum (the choice "stiffness", one component, no stiff node)."""
+    if coupled_preconditioner.CHOICE not in ("two-level", "stiffness"):
+        raise ValueError(f"gfmd.coupled_preconditioner.CHOICE = {coupled_preconditioner.CHOICE!r}: expected "
+                         "'two-level' or 'stiffness'")
+    if coupled_preconditioner.CHOICE != "two-level" or model.components != 2:
+        return None
+    tangent = law.law.tangent(z_ind - u[-1], -u[0])
+    coarse = coupled_preconditioner.coarse_space(stiff, fft, tangent, law.law.initial_stiffness)
+    return None if coarse is None else (coarse, tangent)
+
+
 def newton_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_RESTART, cycles=GMRES_CYCLES,
                 f=None):
     """(δû, GMRES's info: 0 where it reached rtol) solving (K + D) δu = f: with the two-level right preconditioner
@@ -84,15 +167,10 @@ def newton_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_RES
     norm the nodal one; `spectral_step` (K⁻¹ alone) where the choice is "stiffness", the model has one component
     or no node is stiff. The clamped q = 0 mode of a half-plane stays 0. f: the nodal f = irfft f̂ where the caller
     has it (no FFT for it here)."""
-    coarse = None
-    if coupled_preconditioner.CHOICE == "two-level" and model.components == 2:
-        tangent = law.law.tangent(z_ind - u[-1], -u[0])
-        coarse = coupled_preconditioner.coarse_space(stiff, fft, tangent, law.law.initial_stiffness)
-    elif coupled_preconditioner.CHOICE not in ("two-level", "stiffness"):
-        raise ValueError(f"gfmd.coupled_preconditioner.CHOICE = {coupled_preconditioner.CHOICE!r}: expected "
-                         "'two-level' or 'stiffness'")
-    if coarse is None:
+    two_level = _two_level(model, law, z_ind, u, stiff, fft)
+    if two_level is None:
         return spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart, cycles)
+    coarse, tangent = two_level
     inverse, product = coupled_preconditioner.operators(coarse, stiff, fft, tangent)
     n = model.nodes
     rhs = fft.irfft(f_hat) if f is None else f
@@ -100,11 +178,13 @@ def newton_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_RES
     return inverse(y.reshape(2, n)).copy(), info
 
 
-def spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_RESTART, cycles=GMRES_CYCLES):
+def spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_RESTART, cycles=GMRES_CYCLES,
+                  trust_estimate=False):
     """(δû, GMRES's info: 0 where it reached rtol) solving (K + D) δu = f by GMRES on the spectrum,
     right-preconditioned by K⁻¹: y = K δû,
     B y = y + rfft(D irfft(K⁻¹ y)) = f̂, one FFT pair per product; the unknowns scaled by √(w_q/N) so that
-    GMRES's norm is the nodal one (Parseval). The clamped q = 0 mode of a half-plane stays 0."""
+    GMRES's norm is the nodal one (Parseval). The clamped q = 0 mode of a half-plane stays 0. trust_estimate:
+    `gfmd.gmres.gmres`'s (no true residual's product after a cycle that reached rtol)."""
     n, c = model.nodes, model.components
     clamp = model.half_plane
     d_nn, d_nt, d_tn, d_tt = law.law.tangent(z_ind - u[-1], -u[0])
@@ -132,7 +212,7 @@ def spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart=GMRES_R
     rhs = np.ascontiguousarray(f_hat * scale).view(float).ravel()
     size = rhs.size
     if GMRES == "gfmd":
-        y, info = gfmd_gmres.gmres(b_times, rhs, rtol, restart, cycles)
+        y, info = gfmd_gmres.gmres(b_times, rhs, rtol, restart, cycles, trust_estimate=trust_estimate)
     else:
         y, info = gmres(LinearOperator((size, size), matvec=b_times, dtype=float), rhs, rtol=rtol, restart=restart,
                         maxiter=cycles)

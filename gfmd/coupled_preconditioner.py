@@ -136,12 +136,14 @@ def _stiffness_part(stiff, fft, a, p):
     return part
 
 
-def operators(coarse, stiff, fft, tangent, backend=None):
+def operators(coarse, stiff, fft, tangent, backend=None, parts=False):
     """(inverse, product) of the nodal right-preconditioned system (module docstring), for y (2, N) nodal:
     inverse(y) = ŝ, the spectrum of M⁻¹ y = K⁻¹ (y − D w) (the q = 0 mode 0 where clamped), w = Π Z c,
     c = `coarse.coefficients`(Zᵀ y); product(y) = A M⁻¹ y = Π (g + D s), g = y − D w, s = irfft ŝ: one FFT pair, a new
-    array. ŝ lives in one array that each call rewrites; K⁻¹ is `stiff.inv_mass`, so A = (its inverse) + D. The
-    nodal passes are `gfmd.coupled_kernels.coarse_passes`' (`backend`: `gfmd.kernels.jit_backend`'s name)."""
+    array; with `parts`, (A M⁻¹ y, s, g), s = M⁻¹ y and g, whose Π g = K s, new arrays too (the Newton's step and its
+    K δu without a transform, `gfmd.gmres.gmres`'s extras). ŝ lives in one array that each call rewrites; K⁻¹ is
+    `stiff.inv_mass`, so A = (its inverse) + D. The nodal passes are `gfmd.coupled_kernels.coarse_passes`'
+    (`backend`: `gfmd.kernels.jit_backend`'s name)."""
     n, clamp = fft.n, coarse.clamp
     d = tuple(np.ascontiguousarray(np.broadcast_to(np.asarray(x, float), (n,))) for x in tangent)
     row_block_sums, coarse_residual, tangent_plus = coarse_passes(backend)
@@ -158,6 +160,7 @@ def operators(coarse, stiff, fft, tangent, backend=None):
 
     def product(y):
         s = fft.irfft(inverse(y))
-        return tangent_plus(*d, s, g, clamp, np.empty((2, n)))
+        out = tangent_plus(*d, s, g, clamp, np.empty((2, n)))
+        return (out, s, g.copy()) if parts else out
 
     return inverse, product

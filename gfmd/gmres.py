@@ -12,7 +12,9 @@ benchmarks/results/bench_gmres.md. (Classical Gram–Schmidt with DGKS reorthogo
 pass, was tried first: the reorthogonalisation ran on 96 % of the Arnoldi steps, which made it as slow as scipy's at
 2^17.) The iteration is scipy's otherwise: x0 = 0, no preconditioner (the caller's operator is preconditioned
 already), the inner loop stops at the estimated residual ptol, each cycle ends with the true residual b − A x,
-whose norm ≤ rtol ‖b‖ is convergence, and ptol adapts between cycles as scipy's does (gh-8400). Returns (x, info):
+whose norm ≤ rtol ‖b‖ is convergence, and ptol adapts between cycles as scipy's does (gh-8400); the coupled Newton
+(`gfmd.coupled_krylov.newton_direction`) trusts the estimate instead (``trust_estimate``: one product fewer per
+solve) and takes its step's parts from the products (``extras``). Returns (x, info):
 info 0 where it converged, else the number of cycles allowed. Without numba (the ``fast`` extra) the same
 iteration projects in a numpy loop.
 """
@@ -31,16 +33,23 @@ from . import kernels
 SINGLE_BASIS_RTOL = 1e-4
 
 
-def gmres(matvec, b, rtol, restart, maxiter, single=None):
+def gmres(matvec, b, rtol, restart, maxiter, single=None, trust_estimate=False, extras=0):
     """x with ‖b − A x‖ ≤ rtol ‖b‖ (A x = matvec(x), float64 vectors), by GMRES(restart), at most `maxiter` cycles:
     (x, 0) where it converged, else (x, maxiter). single: the basis in float32 (default: rtol ≥ SINGLE_BASIS_RTOL).
     matvec must return a new array (float64 is projected in place, without a copy) and may not keep its argument
-    (one array, rewritten for every product)."""
+    (one array, rewritten for every product).
+
+    trust_estimate: a cycle whose estimated residual (the rotated Hessenberg's, exact in exact arithmetic) is ≤ rtol ‖b‖
+    ends the solve without the true residual's product (scipy's verdict costs one product more; a caller that tests
+    its own residual next, the inexact Newton, does not need it). extras = k > 0: matvec returns (A x, e_1(x), …,
+    e_k(x)), each e_i linear in x and a new array, and the solve returns (x, info, [e_1(x), …, e_k(x)]) summed from the
+    basis products' as x is from the basis (no product of x; the coupled Newton's M⁻¹ x and K M⁻¹ x, which a right
+    preconditioner's products compute on the way)."""
     b = np.asarray(b, dtype=float)
     n = b.size
     b_norm = float(np.linalg.norm(b))
     if b_norm == 0.0:
-        return np.zeros(n), 0
+        return (np.zeros(n), 0) if not extras else (np.zeros(n), 0, [0.0] * extras)
     atol = rtol * b_norm
     restart = min(restart, n)
     if single is None:
@@ -56,14 +65,20 @@ def gmres(matvec, b, rtol, restart, maxiter, single=None):
     r, r_norm = b.copy(), b_norm
     ptol_factor, ptol = 1.0, atol
     presid = r_norm
+    x_extras = [0.0] * extras  # e_i(x), summed as x is
     for _ in range(maxiter):
         basis[0] = r * (1.0 / r_norm)
         g = np.zeros(restart + 1)  # the rotated right-hand side ‖r‖ e_1
         g[0] = r_norm
         breakdown = False
+        parts = []  # e_i(v_j) of this cycle's basis vectors
         for j in range(restart):
             v_j[:] = basis[j]  # (one reused double copy of the basis vector: no fresh array per product)
-            w = np.asarray(matvec(v_j), dtype=np.float64)  # the caller's fresh product, projected in place
+            w = matvec(v_j)
+            if extras:
+                w, *more = w
+                parts.append(more)
+            w = np.asarray(w, dtype=np.float64)  # the caller's fresh product, projected in place
             w_norm = float(np.linalg.norm(w))
             h = project(basis, j, w)  # w ← w − Σ_k (v_k·w) v_k, modified Gram–Schmidt
             h_next = float(np.linalg.norm(w))
@@ -92,13 +107,20 @@ def gmres(matvec, b, rtol, restart, maxiter, single=None):
             y[k] = y[k] / hess[k, k] if hess[k, k] != 0.0 else 0.0
             y[:k] -= y[k] * hess[:k, k]
         x += y.astype(dtype) @ basis[:j + 1]
-        r = b - np.asarray(matvec(x), dtype=float)
+        for i in range(extras):
+            for k in range(j + 1):
+                x_extras[i] = x_extras[i] + y[k] * parts[k][i]
+        if trust_estimate and presid <= atol:
+            r_norm = presid
+            break
+        r = b - np.asarray(matvec(x)[0] if extras else matvec(x), dtype=float)
         r_norm = float(np.linalg.norm(r))
         if r_norm <= atol or breakdown:
             break
         ptol_factor = max(eps, 0.25 * ptol_factor) if presid <= ptol else min(1.0, 1.5 * ptol_factor)
         ptol = presid * min(ptol_factor, atol / r_norm)
-    return x, (0 if r_norm <= atol else maxiter)
+    info = 0 if r_norm <= atol else maxiter
+    return (x, info) if not extras else (x, info, x_extras)
 
 
 def _project_numpy(basis, j, w):

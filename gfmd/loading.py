@@ -19,7 +19,7 @@ from contact.model import build_model
 from contact.ramp import StepSolution, run_ramp
 from contact.scene_sections import Interface
 
-from . import kernels
+from . import heap, kernels
 from .chains import chain_key, describe, relax
 from .cohesive_preconditioner import resolve as resolve_preconditioner
 from .fft import backend_words
@@ -46,7 +46,8 @@ class GfmdCell:
 
     @property
     def reasons(self):
-        return self.physics.reasons + (integrator(self.physics, self.settings), backends())
+        return self.physics.reasons + (integrator(self.physics, self.settings), backends(),
+                                       f"memory: {heap.STATE} (gfmd.heap: speed only)")
 
     def initial_state(self):
         """u_hat = 0: the undeformed surface, rfft modes of each solved component: (c, N//2+1); on a 2+1-D

@@ -179,6 +179,9 @@ class Problem:
     law: InterfaceLaw
     z_ind: np.ndarray
     wall_tolerance: float = 0.0
+    #: (a start's spectrum, its `gfmd.coupled_krylov.balance_state`) where the chain evaluated that start already
+    #: (`gfmd.coupled_krylov.better_start`): the coupled Newton that starts from that very array takes it (no FFT)
+    start_state: tuple | None = None
 
     @property
     def kind(self):

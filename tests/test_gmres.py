@@ -150,3 +150,49 @@ def test_projection_backends_agree(dtype):
     np.testing.assert_allclose(results[0][1], results[1][1], atol=tol * np.linalg.norm(w0))
     assert np.max(np.abs(basis[:j + 1].astype(float) @ results[1][1])) <= tol * np.linalg.norm(w0)
     np.testing.assert_allclose(results[1][0], basis[:j + 1].astype(float) @ w0, rtol=tol, atol=tol)
+
+
+@settings(deadline=None, max_examples=40)
+@given(n=st.integers(5, 150), seed=st.integers(0, 2**32 - 1), spread=st.floats(0.1, 0.8),
+       rtol=st.sampled_from([1e-1, 1e-3, 1e-8]), restart=st.sampled_from([5, 20, 60]))
+def test_trusted_estimate_saves_the_true_residuals_product(n, seed, spread, rtol, restart):
+    """trust_estimate: the same iterates, one product fewer where the first cycle converges (the final true
+    residual's), and a true residual that exceeds rtol ‖b‖ by no more than the estimate's rounding (the basis's
+    unit round-off × ‖A‖₂ ‖x‖, × the products, a bound of the Arnoldi relation's error, not a fitted number)."""
+    a, b = system(n, seed, spread)
+    plain, plain_calls = counted(a)
+    trusted, trusted_calls = counted(a)
+    x0, info0 = gmres(plain, b, rtol, restart, 5)
+    x1, info1 = gmres(trusted, b, rtol, restart, 5, trust_estimate=True)
+    assert info0 == info1
+    np.testing.assert_array_equal(x0, x1)
+    if info1 == 0:
+        assert trusted_calls[0] == plain_calls[0] - 1
+        eps = np.finfo(np.float32 if rtol >= 1e-4 else np.float64).eps
+        slack = trusted_calls[0] * eps * np.linalg.norm(a, 2) * np.linalg.norm(x1)
+        assert np.linalg.norm(b - a @ x1) <= rtol * np.linalg.norm(b) + slack
+
+
+@pytest.mark.parametrize("rtol,restart", [(1e-3, 60), (1e-8, 4)])
+def test_extras_are_the_solutions_parts(rtol, restart):
+    """extras: matvec's linear parts e(v) (here B v and C v), summed with GMRES's coefficients, are e(x) of the
+    solution it returns (to round-off: ‖e(x) − B x‖ ≤ products × eps × ‖B‖₂ ‖x‖), with and without restarts, and the
+    verdict and x are the plain solve's."""
+    a, b = system(90, 11, 0.6)
+    rng = np.random.default_rng(5)
+    parts = rng.standard_normal((2, 90, 90))
+    calls = [0]
+
+    def matvec(v):
+        calls[0] += 1
+        return a @ v, parts[0] @ v, parts[1] @ v
+
+    x, info, (ex, fx) = gmres(matvec, b, rtol, restart, 50, extras=2)
+    x0, info0 = gmres(lambda v: a @ v, b, rtol, restart, 50)
+    assert info == info0 == 0
+    np.testing.assert_array_equal(x, x0)
+    for part, value in zip(parts, (ex, fx)):
+        eps = np.finfo(np.float32 if rtol >= 1e-4 else np.float64).eps
+        assert np.linalg.norm(value - part @ x) <= calls[0] * eps * np.linalg.norm(part, 2) * np.linalg.norm(x)
+    x, info, extras = gmres(matvec, np.zeros(90), rtol, restart, 5, extras=2)
+    assert info == 0 and np.all(x == 0) and extras == [0.0, 0.0]

@@ -12,7 +12,8 @@ from scipy.sparse.linalg import gmres
 
 from contact import laws
 
-from ..coupled_krylov import GMRES_CYCLES, GMRES_RESTART, balance, eisenstat_walker, forcing, newton_step
+from ..coupled_krylov import (GMRES_CYCLES, GMRES_RESTART, balance_state, eisenstat_walker, forcing,
+                              newton_direction, nodal_force)
 from ..fft import Fft
 from ..problem import coupled_operators, stiffness_operator
 from ..stopping import finish
@@ -46,7 +47,7 @@ def solve(problem, start, settings):
 
     Each iteration solves (K + D) δu = f by GMRES, D the nodal 2×2 tangent of Eq. 2
     (`contact.laws.jacobian_coupled`, ∂t/∂u = −D since Δn = z_ind − u_z, Δt = −u_x), K applied
-    by FFT: right-preconditioned by K⁻¹ balanced by a coarse space on the stiff nodes (`gfmd.coupled_krylov.newton_step`,
+    by FFT: right-preconditioned by K⁻¹ balanced by a coarse space on the stiff nodes (`gfmd.coupled_krylov.newton_direction`,
     `gfmd.coupled_preconditioner`, since session 33: 3× fewer GMRES products; K⁻¹ alone on the spectrum where no node
     is stiff, `spectral_step`), one FFT pair per product; with
     COUPLED_NEWTON_SPECTRAL = False on the nodes, preconditioned by K⁻¹ or, COUPLED_NEWTON_SHIFTED, the inverse
@@ -57,7 +58,11 @@ def solve(problem, start, settings):
     converges linearly, tight once quadratically; COUPLED_NEWTON_EISENSTAT_WALKER; measured in
     benchmarks/results/bench_coupled_forcing_*.md); the step is capped so that no node moves more than
     COUPLED_NEWTON_MAX_MOVE·min(δn, δt) and halved until ‖f‖₂ decreases (a step into the law's overflow range
-    counts as no decrease). Half-plane: the mean modes stay
+    counts as no decrease). The iterations run on the nodes (session 50): u and K u are updated by δu and K δu,
+    which GMRES sums from its products' parts (`newton_direction`: no transform after the solve, none for a trial
+    of the line search; before, 3.5 FFT pairs per iteration beyond the products); where that bookkeeping says
+    converged, the state's own force from its spectrum (one pair and a half) decides, and the iterations go on
+    where it does not. Half-plane: the mean modes stay
     clamped (the operator acts on zero-mean fields). Stops on the solver's residual
     (max |f| < tolerance·p_ref); `iterations` counts Newton iterations, `fft_pairs` includes
     GMRES's products. Not converged (message says why) after COUPLED_NEWTON_ITERATIONS or
@@ -87,15 +92,26 @@ def solve(problem, start, settings):
         u_hat[:, 0] = 0.0
     stiff = stiffness_operator(model)
     max_move = COUPLED_NEWTON_MAX_MOVE * law.law.length_scale
+
+    def spectrum(x):
+        """rfft of the nodal state (the clamped q = 0 mode 0)."""
+        x_hat = fft.rfft(x)
+        if clamp:
+            x_hat[:, 0] = 0.0
+        return x_hat
+
     jump = settings.coupled_continuation_jump * law.law.length_scale
 
-    force = balance(law, z_ind, fft, stiff, clamp)  # uh ↦ (f̂, f, u)
+    def state(uh):
+        """(f, u, K u) of the spectrum uh: one FFT pair (u and K u), f nodal (`nodal_force`)."""
+        return balance_state(model, law, z_ind, uh, fft, stiff)
 
     def project(x):
         return x - x.mean(axis=1, keepdims=True) if clamp else x
 
+    known = problem.start_state
     try:
-        fh, f, u = force(u_hat)
+        f, u, ku = known[1] if known is not None and known[0] is start else state(u_hat)
     except laws.CompressionOverflowError as exc:
         out = finish(problem, u_hat, 0, np.inf, False, f"diverged: {exc}")
         out.method, out.stalled = "newton", out.message
@@ -103,11 +119,19 @@ def solve(problem, start, settings):
     origin = u  # the nodal start, for the continuation's break-off
     residual = float(np.max(np.abs(f))) / p_ref
     message, converged, it = "", residual < settings.tolerance, 0
+    moved = False  # u (and K u) moved on the nodes since u_hat was last their spectrum
     limit = settings.coupled_continuation_iterations or COUPLED_NEWTON_ITERATIONS
     cycles = settings.coupled_continuation_gmres_cycles or COUPLED_GMRES_CYCLES
     previous = None  # the last iteration's residual (Eisenstat–Walker's η)
     stagnation, slow = settings.coupled_continuation_stagnation, 0  # iterations in a row that left > stagnation of it
-    while not converged:
+    while True:
+        if converged and moved:  # the nodal bookkeeping says so: the state's own force, from its spectrum, decides
+            u_hat, moved = spectrum(u), False
+            f, u, ku = state(u_hat)
+            residual = float(np.max(np.abs(f))) / p_ref
+            converged = residual < settings.tolerance
+        if converged:
+            break
         if it >= limit:
             message = f"not converged after {it} Newton iterations (residual {residual:.3g} p_ref)"
             break
@@ -117,13 +141,14 @@ def solve(problem, start, settings):
         rtol = forcing(settings.tolerance, residual, eta)
         before = fft.pairs
         if COUPLED_NEWTON_SPECTRAL:
-            du_hat, info = newton_step(model, law, z_ind, u, fh, stiff, fft, rtol, COUPLED_GMRES_RESTART, cycles, f)
-            du = fft.irfft(du_hat)
+            du, kdu, info = newton_direction(model, law, z_ind, u, f, stiff, fft, rtol, COUPLED_GMRES_RESTART, cycles)
         else:
             a_op, m_op, _ = coupled_operators(model, law, z_ind, u, fft, COUPLED_NEWTON_SHIFTED)
             du, info = gmres(a_op, f.ravel(), M=m_op, rtol=rtol, restart=COUPLED_GMRES_RESTART, maxiter=cycles)
-            du = project(du.reshape(c, n))
-            du_hat = None
+            du_hat = fft.rfft(project(du.reshape(c, n)))
+            if clamp:
+                du_hat[:, 0] = 0.0
+            du, kdu = fft.irfft(du_hat), fft.irfft(stiff.stiffness(du_hat))
         if settings.coupled_gmres_give_up and info != 0:
             message = (f"GMRES missed its tolerance {rtol:.2g} in {fft.pairs - before:.0f} FFT pairs (Newton iteration "
                        f"{it}, residual {residual:.3g} p_ref): the tangent is near-singular or indefinite along the "
@@ -135,36 +160,31 @@ def solve(problem, start, settings):
         if not np.isfinite(largest) or largest == 0.0:
             message = f"Newton step not finite or zero (residual {residual:.3g} p_ref)"
             break
-        if du_hat is None:
-            du_hat = fft.rfft(du)
-        if clamp:
-            du_hat[:, 0] = 0.0
         norm0 = float(np.sqrt(np.einsum("ij,ij->", f, f)))
         step = min(1.0, max_move / largest)
         accepted = False
-        while step > 1e-3:
+        while step > 1e-3:  # on the nodes: u + step δu and K u + step K δu, no transform
             try:
-                trial = force(u_hat + step * du_hat)
+                trial = nodal_force(law, z_ind, u + step * du, ku + step * kdu, clamp)
             except laws.CompressionOverflowError:
                 step *= 0.5
                 continue
-            if np.sqrt(np.einsum("ij,ij->", trial[1], trial[1])) <= (1.0 - 1e-4 * step) * norm0:
+            if np.sqrt(np.einsum("ij,ij->", trial[0], trial[0])) <= (1.0 - 1e-4 * step) * norm0:
                 accepted = True
                 break
             step *= 0.5
         if not accepted:
             message = f"Newton line search found no decrease of |f| (iteration {it}, residual {residual:.3g} p_ref)"
             break
-        u_hat = u_hat + step * du_hat
-        fh, f, u = trial
+        (f, u), ku, moved = trial, ku + step * kdu, True
         residual = float(np.max(np.abs(f))) / p_ref
         if not np.isfinite(residual):
             message = "diverged: non-finite force residual"
             break
         if jump > 0 and residual >= settings.tolerance and it >= JUMP_FROM_ITERATION:
-            moved = float(np.max(np.abs(u - origin)))
-            if moved >= jump:
-                message = (f"a node moved {moved / law.law.length_scale:.3g} law lengths from the start at Newton "
+            distance = float(np.max(np.abs(u - origin)))
+            if distance >= jump:
+                message = (f"a node moved {distance / law.law.length_scale:.3g} law lengths from the start at Newton "
                            f"iteration {it} (residual {residual:.3g} p_ref): {BROKE_OFF}")
                 break
         if stagnation > 0 and residual >= settings.tolerance:
@@ -174,6 +194,8 @@ def solve(problem, start, settings):
                            f"of it (iteration {it}, residual {residual:.3g} p_ref): {BROKE_OFF}")
                 break
         converged = residual < settings.tolerance
+    if moved:  # a stop before convergence: the state the nodes reached (its residual the nodal one)
+        u_hat = spectrum(u)
     pairs = fft.pairs
     out = finish(problem, u_hat, it, residual, converged, message)
     out.fft_pairs = pairs + 0.5
