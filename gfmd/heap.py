@@ -47,7 +47,7 @@ def keep_heap(environ=None):
         return STATE
     failed = [key for key, (param, value) in SETTINGS.items() if mallopt(param, value) != 1]
     STATE = "glibc heap kept (" + ", ".join(f"{key} {value >> 20} MB" for key, (_, value) in SETTINGS.items()) + \
-        (f"; refused: {', '.join(failed)})" if failed else "; GFMD_KEEP_HEAP=0 for glibc's defaults)")
+        (f"; refused: {', '.join(failed)})" if failed else ")")
     return STATE
 
 

@@ -47,7 +47,7 @@ class GfmdCell:
     @property
     def reasons(self):
         return self.physics.reasons + (integrator(self.physics, self.settings), backends(),
-                                       f"memory: {heap.STATE} (gfmd.heap: speed only)")
+                                       f"memory: {heap.STATE} (gfmd.heap, speed only; GFMD_KEEP_HEAP=0: glibc's defaults)")
 
     def initial_state(self):
         """u_hat = 0: the undeformed surface, rfft modes of each solved component: (c, N//2+1); on a 2+1-D
