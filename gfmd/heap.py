@@ -4,10 +4,12 @@ A step allocates and frees arrays of one field's size many times (a coupled Newt
 field, a few per GMRES product). glibc serves an allocation above its mmap threshold (128 kB at start, raised
 to the size of the last such block freed) by a fresh mmap, and gives the top of its heap back to the system
 above the trim threshold (twice that): the pages of such a block are faulted in again, zeroed by the kernel, on
-every use. Measured on whole 201-step coupled ramps at 2^17 (benchmarks/results/bench_heap.md): 4.1 million
-page faults, 10 of 54 CPU s in the kernel; with the heap kept (MMAP_THRESHOLD 32 MB, TRIM_THRESHOLD 256 MB,
-TOP_PAD 64 MB) 0.07 million and 0.2 s. The cost: a process keeps up to TRIM_THRESHOLD of freed memory for reuse
-instead of returning it.
+every use; and where MALLOC_TRIM_THRESHOLD_ is set in the environment (Dask's nannies set 65536 for their workers)
+the threshold stays at 128 kB for good. Measured on whole 201-step ramps at 2^17, ν = 0.45, realization 2
+(benchmarks/results/bench_heap_e17_nu0.45_r2.md; CPU s user + system, page faults): coupled law 47.0 s and 2.7 M
+with glibc's defaults, 105.8 s and 33 M under Dask's setting, 35.4 s and 0.07 M with the heap kept (MMAP_THRESHOLD
+32 MB, TRIM_THRESHOLD 256 MB, TOP_PAD 64 MB); the normal law 19.0, 36.5 and 17.0 s. The cost: a process keeps up to
+TRIM_THRESHOLD of freed memory for reuse instead of returning it.
 
 Set through `mallopt` (ctypes) on Linux with glibc only; nothing where the user set any of glibc's own
 MALLOC_MMAP_THRESHOLD_, MALLOC_TRIM_THRESHOLD_, MALLOC_TOP_PAD_ (theirs stand) or ``GFMD_KEEP_HEAP=0``.
