@@ -78,12 +78,17 @@ def balance_residual(model, law, z_ind, u_hat):
 
 
 def nodal_force(law, z_ind, u, ku, clamp):
-    """(f, u) with f = t(u) − K u on the nodes from u and its K u (no FFT; `balance`'s f to round-off): t's mean
-    removed where `clamp` (K u has none there); raises the law's CompressionOverflowError in its overflow range."""
+    """f = t(u) − K u on the nodes from u and its K u (no FFT; `balance`'s f to round-off): t's mean removed where
+    `clamp` (K u has none there); raises the law's CompressionOverflowError in its overflow range."""
     t, _ = law.traction(u, z_ind)
     if clamp:
         t -= t.mean(axis=1, keepdims=True)
-    return t - ku, u
+    return t - ku
+
+
+def nodes_and_stiffness(x_hat, stiff, fft):
+    """(x, K x) on the nodes of the spectra x_hat: one FFT pair (two inverse transforms, counted as such)."""
+    return fft.irfft(x_hat), fft.irfft(stiff.stiffness(x_hat))
 
 
 def balance_state(model, law, z_ind, u_hat, fft, stiff=None):
@@ -93,8 +98,8 @@ def balance_state(model, law, z_ind, u_hat, fft, stiff=None):
     if model.half_plane and np.any(u_hat[:, 0] != 0.0):
         u_hat = u_hat.copy()
         u_hat[:, 0] = 0.0
-    u, ku = fft.irfft(u_hat), fft.irfft(stiff.stiffness(u_hat))
-    return nodal_force(law, z_ind, u, ku, model.half_plane) + (ku,)
+    u, ku = nodes_and_stiffness(u_hat, stiff, fft)
+    return nodal_force(law, z_ind, u, ku, model.half_plane), u, ku
 
 
 def better_start(problem, guess, previous, margin):
@@ -120,8 +125,8 @@ def newton_direction(model, law, z_ind, u, f, stiff, fft, rtol, restart=GMRES_RE
     """(δu, K δu, GMRES's info) on the nodes solving (K + D) δu = f (f nodal, zero-mean rows where clamped) as
     `newton_step` does, without its transforms after the solve: with the two-level preconditioner GMRES sums
     δu = M⁻¹ x and K δu = Π g(x) from its products' parts (`gfmd.gmres.gmres`'s extras) and skips the true
-    residual's product (the Newton tests its own residual next); on the spectrum (`spectral_step`) one FFT pair more
-    than the solve, for f̂ in and δu, K δu out."""
+    residual's product (the Newton tests its own residual next); on the spectrum (`spectral_step`) one FFT pair and a
+    half more than the solve, for f̂ in and δu, K δu out (`nodes_and_stiffness`)."""
     two_level = _two_level(model, law, z_ind, u, stiff, fft)
     if two_level is None:
         f_hat = fft.rfft(f)
@@ -129,9 +134,7 @@ def newton_direction(model, law, z_ind, u, f, stiff, fft, rtol, restart=GMRES_RE
             f_hat[:, 0] = 0.0
         du_hat, info = spectral_step(model, law, z_ind, u, f_hat, stiff, fft, rtol, restart, cycles,
                                      trust_estimate=True)
-        both = fft.irfft(np.concatenate([du_hat, stiff.stiffness(du_hat)]))
-        c = model.components
-        return both[:c], both[c:], info
+        return nodes_and_stiffness(du_hat, stiff, fft) + (info,)
     coarse, tangent = two_level
     _, product = coupled_preconditioner.operators(coarse, stiff, fft, tangent, parts=True)
     n = model.nodes

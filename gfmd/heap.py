@@ -18,7 +18,6 @@ MALLOC_MMAP_THRESHOLD_, MALLOC_TRIM_THRESHOLD_, MALLOC_TOP_PAD_ (theirs stand) o
 from __future__ import annotations
 
 import ctypes
-import ctypes.util
 import os
 import sys
 
@@ -27,7 +26,7 @@ import sys
 M_TRIM_THRESHOLD, M_TOP_PAD, M_MMAP_THRESHOLD = -1, -2, -3
 SETTINGS = {"MMAP_THRESHOLD": (M_MMAP_THRESHOLD, 32 << 20), "TRIM_THRESHOLD": (M_TRIM_THRESHOLD, 256 << 20),
             "TOP_PAD": (M_TOP_PAD, 64 << 20)}
-#: what `keep_heap` did in this process, in words (`gfmd.loading.backends` writes it into meta.json)
+#: what `keep_heap` did in this process, in words (`gfmd.loading.GfmdCell.reasons`: meta.json's model_reasons)
 STATE = "not set"
 
 
@@ -58,7 +57,7 @@ def _mallopt():
     if not sys.platform.startswith("linux"):
         return None
     try:
-        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
+        libc = ctypes.CDLL(None)  # the C library this process runs on (find_library would start ldconfig)
         if not hasattr(libc, "gnu_get_libc_version"):  # musl and others: no mallopt semantics to rely on
             return None
         mallopt = libc.mallopt

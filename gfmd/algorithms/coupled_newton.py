@@ -13,7 +13,7 @@ from scipy.sparse.linalg import gmres
 from contact import laws
 
 from ..coupled_krylov import (GMRES_CYCLES, GMRES_RESTART, balance_state, eisenstat_walker, forcing,
-                              newton_direction, nodal_force)
+                              newton_direction, nodal_force, nodes_and_stiffness)
 from ..fft import Fft
 from ..problem import coupled_operators, stiffness_operator
 from ..stopping import finish
@@ -92,26 +92,22 @@ def solve(problem, start, settings):
         u_hat[:, 0] = 0.0
     stiff = stiffness_operator(model)
     max_move = COUPLED_NEWTON_MAX_MOVE * law.law.length_scale
+    jump = settings.coupled_continuation_jump * law.law.length_scale
 
     def spectrum(x):
-        """rfft of the nodal state (the clamped q = 0 mode 0)."""
+        """rfft of nodal fields (the clamped q = 0 mode 0)."""
         x_hat = fft.rfft(x)
         if clamp:
             x_hat[:, 0] = 0.0
         return x_hat
-
-    jump = settings.coupled_continuation_jump * law.law.length_scale
-
-    def state(uh):
-        """(f, u, K u) of the spectrum uh: one FFT pair (u and K u), f nodal (`nodal_force`)."""
-        return balance_state(model, law, z_ind, uh, fft, stiff)
 
     def project(x):
         return x - x.mean(axis=1, keepdims=True) if clamp else x
 
     known = problem.start_state
     try:
-        f, u, ku = known[1] if known is not None and known[0] is start else state(u_hat)
+        taken = known is not None and known[0] is start  # the chain evaluated this very start (`better_start`)
+        f, u, ku = known[1] if taken else balance_state(model, law, z_ind, u_hat, fft, stiff)
     except laws.CompressionOverflowError as exc:
         out = finish(problem, u_hat, 0, np.inf, False, f"diverged: {exc}")
         out.method, out.stalled = "newton", out.message
@@ -127,7 +123,7 @@ def solve(problem, start, settings):
     while True:
         if converged and moved:  # the nodal bookkeeping says so: the state's own force, from its spectrum, decides
             u_hat, moved = spectrum(u), False
-            f, u, ku = state(u_hat)
+            f, u, ku = balance_state(model, law, z_ind, u_hat, fft, stiff)
             residual = float(np.max(np.abs(f))) / p_ref
             converged = residual < settings.tolerance
         if converged:
@@ -145,10 +141,7 @@ def solve(problem, start, settings):
         else:
             a_op, m_op, _ = coupled_operators(model, law, z_ind, u, fft, COUPLED_NEWTON_SHIFTED)
             du, info = gmres(a_op, f.ravel(), M=m_op, rtol=rtol, restart=COUPLED_GMRES_RESTART, maxiter=cycles)
-            du_hat = fft.rfft(project(du.reshape(c, n)))
-            if clamp:
-                du_hat[:, 0] = 0.0
-            du, kdu = fft.irfft(du_hat), fft.irfft(stiff.stiffness(du_hat))
+            du, kdu = nodes_and_stiffness(spectrum(project(du.reshape(c, n))), stiff, fft)
         if settings.coupled_gmres_give_up and info != 0:
             message = (f"GMRES missed its tolerance {rtol:.2g} in {fft.pairs - before:.0f} FFT pairs (Newton iteration "
                        f"{it}, residual {residual:.3g} p_ref): the tangent is near-singular or indefinite along the "
@@ -164,19 +157,20 @@ def solve(problem, start, settings):
         step = min(1.0, max_move / largest)
         accepted = False
         while step > 1e-3:  # on the nodes: u + step δu and K u + step K δu, no transform
+            u_trial, ku_trial = u + step * du, ku + step * kdu
             try:
-                trial = nodal_force(law, z_ind, u + step * du, ku + step * kdu, clamp)
+                f_trial = nodal_force(law, z_ind, u_trial, ku_trial, clamp)
             except laws.CompressionOverflowError:
                 step *= 0.5
                 continue
-            if np.sqrt(np.einsum("ij,ij->", trial[0], trial[0])) <= (1.0 - 1e-4 * step) * norm0:
+            if np.sqrt(np.einsum("ij,ij->", f_trial, f_trial)) <= (1.0 - 1e-4 * step) * norm0:
                 accepted = True
                 break
             step *= 0.5
         if not accepted:
             message = f"Newton line search found no decrease of |f| (iteration {it}, residual {residual:.3g} p_ref)"
             break
-        (f, u), ku, moved = trial, ku + step * kdu, True
+        f, u, ku, moved = f_trial, u_trial, ku_trial, True
         residual = float(np.max(np.abs(f))) / p_ref
         if not np.isfinite(residual):
             message = "diverged: non-finite force residual"
