@@ -63,6 +63,7 @@ from contact import laws
 
 from .algorithms import (cohesive_wall, coupled_newton, coupled_ptc, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
                          hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
+from .blas import on_one_thread
 from .coupled_krylov import balance_residual, better_start
 from .coupled_rules import (COUPLED_BETTER_START, COUPLED_CONTINUATION_GMRES_CYCLES,  # read (and patched by the
                             COUPLED_CONTINUATION_ITERATIONS, COUPLED_CONTINUATION_STAGNATION,  # tests) as gfmd.chains
@@ -343,6 +344,7 @@ def _rejected(problem, link, r, origin):
     return ""
 
 
+@on_one_thread
 def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0, previous=None):
     """Relax one load step from the initial guess `u_hat` (c, N//2+1) along its chain; returns `Relaxed`.
 
@@ -352,6 +354,7 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0, previous=None)
     residual is more than COUPLED_START_MARGIN times its own (COUPLED_BETTER_START; the message then says so).
     2+1-D surface (model.shape (Nx, Ny)): u_hat (c, Nx, Ny//2+1), z_ind (Nx, Ny); the algorithms run on the
     flat view (`gfmd.problem.flat_problem`) and the result's spectra and fields come back on the grid.
+    Runs with one BLAS thread (`gfmd.blas.one_thread`).
     """
     problem = Problem(model, law, z_ind, wall_tolerance)
     key = chain_key(problem, settings)

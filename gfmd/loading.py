@@ -19,7 +19,7 @@ from contact.model import build_model
 from contact.ramp import StepSolution, run_ramp
 from contact.scene_sections import Interface
 
-from . import heap, kernels
+from . import blas, heap, kernels
 from .chains import chain_key, describe, relax
 from .cohesive_preconditioner import resolve as resolve_preconditioner
 from .fft import backend_words
@@ -47,7 +47,8 @@ class GfmdCell:
     @property
     def reasons(self):
         return self.physics.reasons + (integrator(self.physics, self.settings), backends(),
-                                       f"memory: {heap.STATE} (gfmd.heap, speed only; GFMD_KEEP_HEAP=0: glibc's defaults)")
+                                       f"memory: {heap.STATE} (gfmd.heap, speed only; GFMD_KEEP_HEAP=0: glibc's defaults)",
+                                       f"BLAS threads: {blas.state()} (speed only; OPENBLAS_NUM_THREADS sets them)")
 
     def initial_state(self):
         """u_hat = 0: the undeformed surface, rfft modes of each solved component: (c, N//2+1); on a 2+1-D
