@@ -41,8 +41,8 @@ def scene_text(size, realizations, law):
     """seed_base.toml at N = 2^size with the law's keys and `realizations` realizations (seeds 2..)."""
     n = 2 ** size
     keys = {"nodes": str(n), "rollon_wavelength": repr(max(2.5e-9, 4 * 10.24e-6 / n)), "seed": "2",
-            "realizations": str(realizations), "law": f'"{law["law"]}"', "tangential_ratio": repr(law["tangential_ratio"]),
-            "poisson_ratio": repr(law["poisson_ratio"])}
+            "realizations": str(realizations), "law": f'"{law["law"]}"',
+            "tangential_ratio": repr(law["tangential_ratio"]), "poisson_ratio": repr(law["poisson_ratio"])}
     lines = []
     for line in (ROOT / "studies" / "seed" / "seed_base.toml").read_text().splitlines():
         key = line.split("=")[0].strip()
@@ -88,7 +88,8 @@ def main(argv=None):
     lines += ["`gfmd run SCENE --workers W --no-plot --quiet` in a fresh process; threaded: OPENBLAS_NUM_THREADS = "
               f"{os.cpu_count()} (OpenBLAS's default here, what GFMD ran with before gfmd.blas); one: gfmd.blas's one "
               "thread per relaxation (the default). Wall s and CPU s per repeat.", "",
-              "| law | workers | threaded wall s | one wall s | threaded / one (wall, best) | threaded CPU s | one CPU s |",
+              "| law | workers | threaded wall s | one wall s | threaded / one (wall, best) | threaded CPU s "
+              "| one CPU s |",
               "|---|---|---|---|---|---|---|"]
     for name in LAWS:
         for workers in (1, 2):

@@ -11,9 +11,10 @@ one process; the normal cohesive law 13.7 / 6.8 s and 10.4 / 10.2 s; the hard wa
 Dask's nannies already start study workers with ``OPENBLAS_NUM_THREADS=1``, and so do our benchmarks: this makes
 the default what they measured.
 
-`one_thread()` (and `on_one_thread`, around `gfmd.chains.relax`) limits every BLAS library loaded in the process to one thread for the duration of a `with` block
-and restores the counts after it, so a script's own numpy work outside the solver keeps its threads. Nothing is
-changed where the user set a thread count in the environment (`THREAD_VARIABLES`: theirs stands).
+`one_thread()` (and `on_one_thread`, around `gfmd.chains.relax`) limits every BLAS library loaded in the process
+to one thread for the duration of a `with` block and restores the counts after it, so a script's own numpy work
+outside the solver keeps its threads. Nothing is changed where the user set a thread count in the environment
+(`THREAD_VARIABLES`: theirs stands).
 """
 
 from __future__ import annotations

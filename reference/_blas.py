@@ -8,13 +8,9 @@ matrices are small (≤ 4096), so one thread is also the fast choice.
 
 from __future__ import annotations
 
-import contextlib
-
 from threadpoolctl import threadpool_limits
 
 
-@contextlib.contextmanager
 def single_thread():
-    """Every loaded BLAS library at one thread inside the block, its own count restored after."""
-    with threadpool_limits(limits=1, user_api="blas"):
-        yield
+    """A context manager: every loaded BLAS library at one thread inside the block, its own count restored after."""
+    return threadpool_limits(limits=1, user_api="blas")
