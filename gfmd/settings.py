@@ -54,7 +54,9 @@ class Settings:
     # first (Newton from FIRE's state at 1e-2 or 1e-3, kept near it, else FIRE on to 1e-4) was measured and dropped
     # (session 45, ν = 0.1, c = 0.5, 2^15, seed 2, one ad hoc ramp each, no bench file kept): the same states, but FFT
     # pairs 17 268 → 23 120 (1e-2) and 20 949 (1e-3, 20 of 28 events kept there): Newton from a looser state costs
-    # more GMRES products than FIRE's rest of the way.
+    # more GMRES products than FIRE's rest of the way. Re-measured after session 50's nodal Newton (session 51, the same
+    # scene, seeds 2 and 3, whole ramps, FFT pairs against 1e-4's 14 666 and 14 827): 1e-3 +15.7 %, +5.1 %; 3e-4 −1.9 %,
+    # +0.7 %; 3e-5 (seed 2) +2.6 %; every p̄ within 9e-8 of max p̄ (the same branches).
     coupled_handover: float = 1e-4
     # coupled law: FIRE's largest time step Δt (in place of dt_max, 1.0, which the other laws' FIRE keeps). Near Δt ≈ 0.5
     # a compressed contact patch (local tangent ≈ 0.2 of the half-plane's self-stiffness, far above the cell mean that
