@@ -34,7 +34,7 @@ def state(environ=None):
     environ = os.environ if environ is None else environ
     own = [f"{name}={environ[name]}" for name in THREAD_VARIABLES if name in environ]
     if own:
-        return f"the user's {', '.join(own)}"
+        return f"as the environment sets them ({', '.join(own)}; Dask's nannies set 1 for their workers)"
     return "one thread while a step relaxes (gfmd.blas)"
 
 
