@@ -35,7 +35,7 @@ def state(environ=None):
     own = [f"{name}={environ[name]}" for name in THREAD_VARIABLES if name in environ]
     if own:
         return f"as the environment sets them ({', '.join(own)}; Dask's nannies set 1 for their workers)"
-    return "one thread while a step relaxes (gfmd.blas)"
+    return "one thread while a step relaxes (gfmd.blas; OPENBLAS_NUM_THREADS in the environment overrides it)"
 
 
 def one_thread(environ=None):

@@ -48,7 +48,7 @@ class GfmdCell:
     def reasons(self):
         return self.physics.reasons + (integrator(self.physics, self.settings), backends(),
                                        f"memory: {heap.STATE} (gfmd.heap, speed only; GFMD_KEEP_HEAP=0: glibc's defaults)",
-                                       f"BLAS threads: {blas.state()} (speed only; OPENBLAS_NUM_THREADS sets them)")
+                                       f"BLAS threads: {blas.state()} (speed only)")
 
     def initial_state(self):
         """u_hat = 0: the undeformed surface, rfft modes of each solved component: (c, N//2+1); on a 2+1-D
