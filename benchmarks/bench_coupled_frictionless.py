@@ -1,7 +1,7 @@
 """The coupled chain's frictionless predictor against "handover-near" on whole coupled ramps, and the normal law (issue 24).
 
 Usage: python benchmarks/bench_coupled_frictionless.py [--sizes 15] [--nu 0.1 0.3 0.4 0.45] [--realizations 2 3]
-                                                      [--normal] [--stability] [--out DIR]
+                                                      [--normal] [--stability] [--chains A B] [--out DIR]
 
 bench_adhesion_scaling's coupled class (seed base scene, φn* = 0.15, c = 0.5, δt = 1 nm) with material.poisson_ratio
 = ν, realization seed r, the whole 201-step ramp (no a_rel stop), each chain its own ramp in the same process (warm-up of
@@ -13,7 +13,9 @@ and CPU, predictions kept (label "newton→ncg-frictionless→newton"), and agai
 differs by more than 1e-6 of max |p̄| (another branch after an event) and the largest such difference. --stability:
 at the first step of each differing run, the lowest Re λ / (φn/δn²) of the tangent at both chains' states
 (`gfmd.coupled_stability`; > 0: locally stable). --normal: the same profile's normal-law ramp (c = 0, the NCG) for
-the coupled / normal CPU ratio the issue's target names. Writes benchmarks/results/bench_coupled_frictionless.md.
+the coupled / normal CPU ratio the issue's target names. --chains: the two Settings.coupled chains compared (the first
+the reference; e.g. "handover-near ncg-first", whose kept event steps are labelled "newton→coupled-ncg→newton").
+Writes benchmarks/results/bench_coupled_frictionless.md (--out).
 """
 
 from __future__ import annotations
@@ -39,7 +41,8 @@ from gfmd.problem import elastic_coupling  # noqa: E402
 from workbench.io import code_version  # noqa: E402
 
 CHAINS = ("handover-near", "frictionless-first")
-KEPT = "newton→ncg-frictionless→newton"
+#: the label of an event step each chain's second link finished, kept (the "predictions kept" column)
+KEPT = {"frictionless-first": "newton→ncg-frictionless→newton", "ncg-first": "newton→coupled-ncg→newton"}
 
 
 def ramp(n, cls, realization, nu, options):
@@ -67,6 +70,7 @@ def main(argv=None):
     ap.add_argument("--realizations", type=int, nargs="+", default=[2, 3])
     ap.add_argument("--normal", action="store_true")
     ap.add_argument("--stability", action="store_true")
+    ap.add_argument("--chains", nargs=2, default=list(CHAINS))
     ap.add_argument("--out", default=str(ROOT / "benchmarks" / "results" / "bench_coupled_frictionless.md"))
     args = ap.parse_args(argv)
     lines = [f"`python benchmarks/bench_coupled_frictionless.py {' '.join(argv or sys.argv[1:])}`; {code_version()}; "
@@ -81,10 +85,10 @@ def main(argv=None):
             beta = elastic_coupling(prepare(scene, h).physics)
             for real in args.realizations:
                 ref = None
-                for name in CHAINS:
+                for name in args.chains:
                     rows, cpu = ramp(n, "coupled", real, nu, {"coupled": name})
                     ev = [r for r in rows if r["method"] != "newton"]
-                    kept = sum(r["method"] == KEPT for r in rows)
+                    kept = sum(r["method"] == KEPT.get(name) for r in rows)
                     other, dp, stab = "—", "—", "—"
                     if ref is None:
                         ref = rows
@@ -100,7 +104,7 @@ def main(argv=None):
                     line = (f"| 2^{e} | {nu:g} ({beta:.3f}) | {real} | {name} | {sum(r['converged'] for r in rows)}/"
                             f"{len(rows)} | {cpu:.1f} | {sum(r['pairs'] for r in rows):.0f} | {len(ev)} | "
                             f"{sum(r['pairs'] for r in ev):.0f} | {sum(r['cpu'] for r in ev):.1f} | "
-                            f"{kept if name != CHAINS[0] else '—'} | {other} | {dp} | {stab} |")
+                            f"{kept if name != args.chains[0] else '—'} | {other} | {dp} | {stab} |")
                     lines.append(line)
                     print(line, flush=True)
                 if args.normal:

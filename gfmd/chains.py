@@ -31,6 +31,8 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   the continuation Newton stalled (start "stalled end", resumed without the break-off: a jump-in fold, Fig. 8 at
   2^17, seed 2, step 176); then the stability-tested Newton of ``coupled = "fire"``, Ψtc (kept where locally stable,
   `_LAST_RESORT`) and Verlet. Measurements: README, issue 24, benchmarks/results/bench_coupled_*.md.
+  ``coupled = "ncg-first"`` (measured, not the default): "handover-near" with the coupled NCG
+  (`gfmd.algorithms.coupled_ncg`) to `Settings.coupled_handover` before FIRE, Newton from its state kept near it.
   ``coupled = "newton"`` (the default of issue 24 until session 26): the continuation, then FIRE from the guess (and
   from the continuation's stall), then as ``coupled = "fire"``: FIRE; after a stall (`COUPLED_FIRE_BUDGET`) Newton from
   the guess, then from FIRE's end where it lowered the residual (`_progressed`), kept only where locally stable
@@ -61,8 +63,8 @@ import numpy as np
 
 from contact import laws
 
-from .algorithms import (cohesive_wall, coupled_newton, coupled_ptc, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
-                         hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
+from .algorithms import (cohesive_wall, coupled_ncg, coupled_newton, coupled_ptc, dynamics, hard_wall_dual_cg,
+                         hard_wall_dynamics, hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
 from .blas import on_one_thread
 from .coupled_krylov import balance_residual, better_start
 from .coupled_rules import (COUPLED_BETTER_START, COUPLED_CONTINUATION_GMRES_CYCLES,  # read (and patched by the
@@ -75,10 +77,9 @@ from .stopping import finish
 
 #: the algorithms by name (gfmd.algorithms: one module each, `solve(problem, start, settings) -> Relaxed`)
 ALGORITHMS = {"hard_wall_two_level_cg": hard_wall_two_level_cg.solve, "hard_wall_dual_cg": hard_wall_dual_cg.solve,
-              "hard_wall_primal_cg": hard_wall_primal_cg.solve,
-              "hard_wall_dynamics": hard_wall_dynamics.solve, "ncg": ncg.solve, "dynamics": dynamics.solve,
-              "coupled_newton": coupled_newton.solve, "coupled_ptc": coupled_ptc.solve,
-              "cohesive_wall": cohesive_wall.solve}
+              "hard_wall_primal_cg": hard_wall_primal_cg.solve, "hard_wall_dynamics": hard_wall_dynamics.solve,
+              "ncg": ncg.solve, "dynamics": dynamics.solve, "coupled_newton": coupled_newton.solve,
+              "coupled_ptc": coupled_ptc.solve, "coupled_ncg": coupled_ncg.solve, "cohesive_wall": cohesive_wall.solve}
 
 @dataclass(frozen=True)
 class Link:
@@ -182,17 +183,21 @@ CHAINS = {
     ("cohesive-wall", "fire"): (Link("cohesive_wall"),),
     ("cohesive-wall", "verlet"): (Link("cohesive_wall"),),
 }
+# "ncg-first": the coupled NCG to the handover residual, Newton from there kept near it; else on as "handover-near"
+_NEAR = CHAINS["coupled", "handover-near"]  # (continuation, FIRE to the handover, Newton kept near it, …)
+CHAINS["coupled", "ncg-first"] = (_NEAR[0], Link("coupled_ncg", tolerance="handover"), _NEAR[2], *_NEAR[1:])
 
 #: the algorithms' labels (`Relaxed.method`) and the start names in words, for messages and reports
 WORDS = {"hard_wall_two_level_cg": "the two-level dual CG", "cg-dual2": "the two-level dual CG",
          "hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG",
          "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov",
-         "ptc": "pseudo-transient continuation", "ncg-frictionless": "NCG on the frictionless reduction"}
+         "ptc": "pseudo-transient continuation", "ncg-frictionless": "NCG on the frictionless reduction",
+         "coupled-ncg": "the coupled NCG"}
 STARTS = {"guess": "the step's guess", "end": "the end state of the one before",
           "finite end": "the end state of the one before", "handover": "FIRE's handover state",
-          "stalled end": "where the continuation Newton stalled"}
+          "stalled end": "where the continuation Newton stalled", "coupled_ncg": "the coupled NCG's handover state"}
 #: Settings.coupled's chains (`chain_key`)
-COUPLED_KEYS = ("auto", "newton", "ptc", "fire", "handover", "handover-near", "frictionless-first")
+COUPLED_KEYS = ("auto", "newton", "ptc", "fire", "handover", "handover-near", "frictionless-first", "ncg-first")
 
 
 #: why a 2+1-D surface is normal-only (`refuse_tangential_surface`)
@@ -241,7 +246,7 @@ def chain_key(problem, settings):
         if key == "auto":  # the frictionless predictor where the body barely couples u_x and u_z
             weak = elastic_coupling(problem.model) <= COUPLED_FRICTIONLESS_COUPLING
             key = "frictionless-first" if weak else "handover-near"
-        if key in ("handover", "handover-near", "frictionless-first"):
+        if key in ("handover", "handover-near", "frictionless-first", "ncg-first"):
             h = settings.coupled_handover
             if not (isinstance(h, (float, int)) and settings.tolerance < h < 1.0):
                 raise ValueError(f"Settings.coupled_handover = {h!r}: expected a residual (× p_ref) between "
@@ -258,7 +263,7 @@ def chain_key(problem, settings):
 def labels(key, settings):
     """The `Relaxed.method` labels of the chain `CHAINS[key]`'s algorithms in order, e.g. ("ncg", "fire")."""
     fixed = {"hard_wall_two_level_cg": "cg-dual2", "hard_wall_dual_cg": "cg-dual", "hard_wall_primal_cg": "cg", "ncg": "ncg",
-             "coupled_newton": "newton", "coupled_ptc": "ptc"}
+             "coupled_newton": "newton", "coupled_ptc": "ptc", "coupled_ncg": "coupled-ncg"}
     return tuple((fixed.get(link.algorithm) or ("verlet" if dict(link.options).get("method", settings.method) == "verlet"
                                                 else "fire")) + (f"-{link.reduced}" if link.reduced else "")
                  for link in CHAINS[key])
@@ -320,8 +325,8 @@ def _progressed(problem, end, origin, count_pairs):
     return end.residual < start
 
 
-def _rejected(problem, link, r, origin):
-    """Why a converged state fails the link's acceptance test ("" if it passes)."""
+def _rejected(problem, link, r, origin, handed="FIRE's handover state"):
+    """Why a converged state fails the link's acceptance test ("" if it passes); handed: the handover state in words."""
     if link.accept == "continuation":  # kept only where no node moved COUPLED_JUMP law lengths from the start
         move = _move(problem, r, origin)
         return (f"a node moved {move:.3g} law lengths from the step's start (a snap or slip event: left to the "
@@ -333,8 +338,7 @@ def _rejected(problem, link, r, origin):
     if link.accept.startswith("near"):  # the equilibrium the handover state was approaching, not another one
         move = _move(problem, r, origin)
         if move >= COUPLED_HANDOVER_MOVE:
-            return (f"a node moved {move:.3g} law lengths from FIRE's handover state (another equilibrium than "
-                    "FIRE's), rejected")
+            return f"a node moved {move:.3g} law lengths from {handed} (another equilibrium), rejected"
     if not link.accept.endswith("locally stable"):
         return ""
     lowest = coupled_stability(problem.model, problem.law, problem.z_ind, r.u_hat)
@@ -468,10 +472,10 @@ def _relax(problem, chain, u_hat, settings):
             label = WORDS.get(r.method) or WORDS.get(link.algorithm, link.algorithm)
             if link.tolerance == "handover" and r.converged:  # the looser residual: handed on, not the answer
                 handed, handover_used = r, r.iterations
-                handed_words = "the frictionless prediction" if link.reduced else STARTS["handover"]
+                handed_words = "the frictionless prediction" if link.reduced else STARTS.get(link.algorithm, STARTS["handover"])
                 notes.append(f"{label} handed over at residual {r.residual:.3g} p_ref")
                 break
-            why = _rejected(problem, link, r, origin) if r.converged else ""
+            why = _rejected(problem, link, r, origin, handed_words) if r.converged else ""
             words = handed_words if start == "handover" else STARTS[start]
             where = "" if start == "guess" or i == 0 else f" from {words}"
             if r.converged and not why or not r.converged and (last_link or not r.stalled):

@@ -46,8 +46,9 @@ class Settings:
     # its state kept as a continuation of the ramp's branch, else FIRE to `coupled_handover` and Newton–Krylov from
     # there, kept near FIRE's state, else the "fire" chain), "newton" (the default of issue 24: the continuation,
     # else the "fire" chain), "handover" (as "handover-near", the handed-over state also stability-tested), "ptc"
-    # (as "newton", pseudo-transient continuation before FIRE) or "fire" (FIRE; Newton–Krylov, then Verlet after a
-    # stall); measured in `gfmd.chains`
+    # (as "newton", pseudo-transient continuation before FIRE), "ncg-first" (as "handover-near" with the coupled NCG,
+    # `gfmd.algorithms.coupled_ncg`, to `coupled_handover` before FIRE; measured, session 52) or "fire" (FIRE;
+    # Newton–Krylov, then Verlet after a stall); measured in `gfmd.chains`
     coupled: str = "auto"
     # the handover chains: FIRE stops at this residual (× p_ref) and Newton–Krylov finishes from there, its state kept
     # only near FIRE's (and, "handover", locally stable), else FIRE goes on (`gfmd.chains`). An earlier handover tried

@@ -124,7 +124,7 @@ SETTINGS_OF_KEY = {"cg": Settings(), "cg-band": Settings(dual_coarse_block=0), "
                    "fire": Settings(hard_wall="fire", cohesive="fire", coupled="fire"), "verlet": Settings(method="verlet"),
                    "ncg": Settings(), "newton": Settings(coupled="newton"), "ptc": Settings(coupled="ptc"),
                    "handover": Settings(coupled="handover"), "handover-near": Settings(),  # "auto" at ν = 0.3
-                   "frictionless-first": Settings(coupled="frictionless-first")}
+                   "frictionless-first": Settings(coupled="frictionless-first"), "ncg-first": Settings(coupled="ncg-first")}
 LAW_OF_KIND = {"hard-wall": ("hard-wall", {}), "cohesive": ("cohesive", {}), "cohesive-wall": ("cohesive-wall", {}),
                "coupled": ("cohesive", {"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3}),
                "user": ("user", {})}
@@ -222,7 +222,7 @@ def test_coupled_fire_restarts_where_newton_stalled_never_from_a_rejected_state(
 
     monkeypatch.setitem(chains.ALGORITHMS, "coupled_newton", newton)
     monkeypatch.setitem(chains.ALGORITHMS, "dynamics", fire)
-    monkeypatch.setattr(chains, "_rejected", lambda problem, link, r, origin: "a jump" if link.accept else "")
+    monkeypatch.setattr(chains, "_rejected", lambda problem, link, r, origin, *words: "a jump" if link.accept else "")
     r = chains.relax(p.model, p.law, p.z_ind, guess, settings, p.wall_tolerance)
     fires = [s for s in starts if s[0] == "fire"]
     if newton_converged:  # rejected: FIRE and then Verlet from the guess, never from the rejected state
