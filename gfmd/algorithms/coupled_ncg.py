@@ -11,7 +11,7 @@ constants on the stiff nodes, M⁻¹ f = K⁻¹ (f − D Π Z c), c = E⁻¹ Z�
 iterations (a restart), K⁻¹ alone where no node is stiff or f·M⁻¹f ≤ 0 (D is not symmetric); d = s + β d_old with
 Polak–Ribière+ β, a restart along s where f·d ≤ 0. K s = Π (f − D Π Z c) on the nodes, so K d needs no transform, and
 an iteration costs one FFT pair (rfft of f − D Π Z c, irfft of s). u and K u are kept on the nodes and made afresh
-from û every `Settings.check_every` iterations (one pair and a half), where the residual test is taken.
+from û every `Settings.check_every` iterations (one FFT pair, `gfmd.coupled_krylov.nodes_and_stiffness`), where the residual test is taken.
 """
 
 from __future__ import annotations
@@ -26,6 +26,7 @@ from ..kernels import jit_backend, numba
 
 from .. import coupled_preconditioner
 from ..coupled_kernels import coarse_passes
+from ..coupled_krylov import nodal_force, nodes_and_stiffness
 from ..fft import Fft
 from ..problem import stiffness_operator
 from ..settings import stall
@@ -58,16 +59,11 @@ def solve(problem, start, settings):
     if clamp:
         u_hat[:, 0] = 0.0
 
-    def exact():
-        u = fft.irfft(u_hat)
-        ku = fft.irfft(stiff.stiffness(u_hat))
-        return u, ku
+    def exact():  # u and K u on the nodes from û: one FFT pair
+        return nodes_and_stiffness(u_hat, stiff, fft)
 
     def force(u, ku):
-        t, _ = law.traction(u, z_ind)
-        if clamp:
-            t -= t.mean(axis=1, keepdims=True)
-        return t - ku
+        return nodal_force(law, z_ind, u, ku, clamp)
 
     try:
         u, ku = exact()
