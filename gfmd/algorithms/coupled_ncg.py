@@ -11,7 +11,8 @@ constants on the stiff nodes, M⁻¹ f = K⁻¹ (f − D Π Z c), c = E⁻¹ Z�
 iterations (a restart), K⁻¹ alone where no node is stiff or f·M⁻¹f ≤ 0 (D is not symmetric); d = s + β d_old with
 Polak–Ribière+ β, a restart along s where f·d ≤ 0. K s = Π (f − D Π Z c) on the nodes, so K d needs no transform, and
 an iteration costs one FFT pair (rfft of f − D Π Z c, irfft of s). u and K u are kept on the nodes and made afresh
-from û every `Settings.check_every` iterations (one FFT pair, `gfmd.coupled_krylov.nodes_and_stiffness`), where the residual test is taken.
+from û every `Settings.check_every` iterations (one FFT pair, `gfmd.coupled_krylov.nodes_and_stiffness`), where the
+residual test is taken.
 """
 
 from __future__ import annotations
