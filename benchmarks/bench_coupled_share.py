@@ -35,7 +35,6 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from benchmarks import bench_adhesion_scaling  # noqa: E402
-from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
 from benchmarks.report import header  # noqa: E402
 from gfmd import chains  # noqa: E402
 
@@ -47,12 +46,12 @@ def profiled(n, cls, realization, nu, options=None):
     """One whole ramp under cProfile: (rows, pstats.Stats, links), links[k] the (algorithm, converged, FFT pairs,
     CPU s) of each algorithm run of step k in the chain's order (a retry from the last state, `ramp`'s second relax
     of the same step, continues its list)."""
-    links, surfaces, runs = [], [], dict(chains.ALGORITHMS)
+    links, surface, runs = [], [None], dict(chains.ALGORITHMS)  # surface: the last step's indenter surface
     step = bench_adhesion_scaling.relax
 
     def relax(model, law, z_ind, *args, **kwargs):  # a new indenter surface: a new step
-        if not surfaces or surfaces[-1] is not z_ind:
-            surfaces.append(z_ind)
+        if surface[0] is not z_ind:
+            surface[0] = z_ind
             links.append([])
         return step(model, law, z_ind, *args, **kwargs)
 
@@ -69,8 +68,8 @@ def profiled(n, cls, realization, nu, options=None):
     bench_adhesion_scaling.relax = relax
     try:
         profile.enable()
-        rows = ramp(n, cls, options, realization=realization, scene_keys={"material.poisson_ratio": nu},
-                    a_rel_stop=1.0)
+        rows = bench_adhesion_scaling.ramp(n, cls, options, realization=realization,
+                                           scene_keys={"material.poisson_ratio": nu}, a_rel_stop=1.0)
         profile.disable()
     finally:
         chains.ALGORITHMS.update(runs)
