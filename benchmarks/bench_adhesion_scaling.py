@@ -7,14 +7,14 @@ Usage: python benchmarks/bench_adhesion_scaling.py [--quick] [--sizes 12 14 17] 
 Task classes, on the full-scale seed base scene (studies/seed/seed_base.toml, realization seed 1 unless
 --realization; δn of the scene unless --length-normal) with
 `surface.nodes` = N (L = 10.24 µm fixed; λs,H = max(2.5 nm, 4 L/N), i.e. 10 nm at 2^12), the ramp of
-`contact.loading.realization_steps` (200 steps from δ0 = 12 nm out of contact towards δ = 20 nm), stopped
+`gfmd_contact.core.loading.realization_steps` (200 steps from δ0 = 12 nm out of contact towards δ = 20 nm), stopped
 after the first step whose a_rel reaches A_REL_STOP (0.5; realization seed 1 reaches 0.27 at δ = 20 nm):
   cohesive  φn* = 0.15, c = 0: the Fig. 3 strong-adhesion task (studies/seed/fig3.toml)
   coupled   φn* = 0.15, c = 0.5, δt = 1 nm: Fig. 8's coupled law (studies/seed/fig8.toml)
   normal    the same as coupled with c = 0 (Fig. 8's normal law on the same profile and ramp)
 
 Each step is relaxed by `gfmd.chains.relax` from the ramp's warm start (linear extrapolation, retried
-from the last converged state as `contact.ramp.run_ramp` does); per step: iterations, FFT pairs
+from the last converged state as `gfmd_contact.core.ramp.run_ramp` does); per step: iterations, FFT pairs
 (rfft+irfft pairs, `Relaxed.fft_pairs`: deterministic, meaningful under load), a_rel, the chain's
 label, and CPU seconds (time.process_time; the machine is shared: MEASURED UNDER LOAD, the
 load average is printed). --compare runs the other solver on the same task in the same run: coupled with
@@ -42,13 +42,13 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from contact import surfaces  # noqa: E402
-from contact.loading import extrapolation_allowed, indenter_surface, realization_steps  # noqa: E402
-from contact.observables import step_observables  # noqa: E402
-from contact.scene import load_scene  # noqa: E402
+from gfmd_contact.core import surfaces  # noqa: E402
+from gfmd_contact.core.loading import extrapolation_allowed, indenter_surface, realization_steps  # noqa: E402
+from gfmd_contact.core.observables import step_observables  # noqa: E402
+from gfmd_contact.core.scene import load_scene  # noqa: E402
 from gfmd.chains import relax  # noqa: E402
 from gfmd.loading import prepare, wall_tolerance_of  # noqa: E402
-from workbench.study import task_scene  # noqa: E402
+from gfmd_contact.app.study import task_scene  # noqa: E402
 
 SEED = ROOT / "studies" / "seed"
 A_REL_STOP = 0.5

@@ -4,7 +4,7 @@ Usage: python benchmarks/bench_checkpoints.py [--size 17] [--seconds 0 2] [--out
 
 Two study tasks of the seed base scene at N = 2^size, surface seed 2: a weak-adhesion task (φn* = 0.001; `run_task`)
 and a hard-wall solve shared by three contact rules (traction-tolerance, compressive, gap; `run_shared`, three task
-directories, as the sensitivity study runs them). Each is run once per `workbench.checkpoints.CHECKPOINT_SECONDS`
+directories, as the sensitivity study runs them). Each is run once per `gfmd_contact.app.checkpoints.CHECKPOINT_SECONDS`
 value, one after the other in one process: CPU s, wall s, the state files written and the bytes the checkpoints wrote
 (`partial/`), and whether every curve.csv (wall_s aside) and fields.npz equal the first value's. Writes
 benchmarks/results/bench_checkpoints.md (or --out).
@@ -27,9 +27,9 @@ sys.path.insert(0, str(ROOT))
 import numpy as np  # noqa: E402
 
 from benchmarks.report import header, write  # noqa: E402
-from contact.scene import load_scene  # noqa: E402
-from workbench import checkpoints, safe_files, study_task  # noqa: E402
-from workbench.study import task_scene  # noqa: E402
+from gfmd_contact.core.scene import load_scene  # noqa: E402
+from gfmd_contact.app import checkpoints, safe_files, study_task  # noqa: E402
+from gfmd_contact.app.study import task_scene  # noqa: E402
 
 RULES = ("traction-tolerance", "compressive", "gap")
 TASKS = {"weak adhesion (φn* = 0.001), one task": ({"interface.law": "cohesive", "interface.phi_n_star": 0.001,

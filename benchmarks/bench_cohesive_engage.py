@@ -38,7 +38,7 @@ from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
 from benchmarks import report  # noqa: E402
 from benchmarks.report import header, ramp_differences, write  # noqa: E402
 from gfmd import cohesive_preconditioner  # noqa: E402
-from workbench.study_task import reuse_freed_arrays  # noqa: E402
+from gfmd_contact.app.study_task import reuse_freed_arrays  # noqa: E402
 
 RESULTS = ROOT / "benchmarks" / "results"
 #: a step whose p̄ differs from the reference's by more than this × max |p̄| settled on another equilibrium (the same

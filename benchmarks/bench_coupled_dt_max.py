@@ -25,7 +25,7 @@ sys.path.insert(0, str(ROOT))
 
 from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
 from benchmarks.report import event_sweep_arguments, event_sweep_row, write_event_sweep  # noqa: E402
-from workbench.study_task import reuse_freed_arrays  # noqa: E402
+from gfmd_contact.app.study_task import reuse_freed_arrays  # noqa: E402
 
 
 

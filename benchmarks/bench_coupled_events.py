@@ -30,7 +30,7 @@ from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
 from benchmarks.report import header, write  # noqa: E402
 from gfmd import chains, integrators  # noqa: E402
 from gfmd.settings import Settings  # noqa: E402
-from workbench.study_task import reuse_freed_arrays  # noqa: E402
+from gfmd_contact.app.study_task import reuse_freed_arrays  # noqa: E402
 
 DECADES = (1e-1, 1e-2, 1e-3)
 HANDOVER = Settings().coupled_handover  # the residual the chain's FIRE link runs to

@@ -37,13 +37,13 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from contact import surfaces  # noqa: E402
-from contact.loading import extrapolation_allowed, indenter_surface, realization_steps  # noqa: E402
-from contact.observables import step_observables  # noqa: E402
-from contact.scene import load_scene  # noqa: E402
+from gfmd_contact.core import surfaces  # noqa: E402
+from gfmd_contact.core.loading import extrapolation_allowed, indenter_surface, realization_steps  # noqa: E402
+from gfmd_contact.core.observables import step_observables  # noqa: E402
+from gfmd_contact.core.scene import load_scene  # noqa: E402
 from gfmd import chains  # noqa: E402
 from gfmd.loading import prepare  # noqa: E402
-from workbench.study import task_scene  # noqa: E402
+from gfmd_contact.app.study import task_scene  # noqa: E402
 
 SMALL = ROOT / "studies" / "seed" / "fig3_small_base.toml"
 FIG8 = {"interface.law": "cohesive", "interface.phi_n_star": 0.15, "interface.tangential_ratio": 0.5,
@@ -67,7 +67,7 @@ def relax_with(which, cell, z_ind, guess, wall_tolerance):
 
 
 def step(which, cell, scene, h, k, steps, current, previous, wall_tolerance):
-    """One ramp step as `contact.ramp.run_ramp` takes it: extrapolated warm start, retried from the last state."""
+    """One ramp step as `gfmd_contact.core.ramp.run_ramp` takes it: extrapolated warm start, retried from the last state."""
     z_ind = indenter_surface(h, scene.loading.initial_separation, steps[k])
     extrapolate = extrapolation_allowed(scene.loading, k)
     r, cpu = relax_with(which, cell, z_ind, 2 * current - previous if extrapolate else current, wall_tolerance)

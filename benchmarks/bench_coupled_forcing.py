@@ -59,9 +59,9 @@ def label(rule):
 def replay_variants(task, step, count, variants):
     """Table lines: the study task's steps step+1 … step+count, each relaxed from the same start (the first
     variant's state carried on) under every variant, a (label, context manager factory) pair."""
-    from contact import surfaces
-    from contact.loading import indenter_surface, realization_steps
-    from contact.scene import load_scene
+    from gfmd_contact.core import surfaces
+    from gfmd_contact.core.loading import indenter_surface, realization_steps
+    from gfmd_contact.core.scene import load_scene
     from gfmd.fft import rfft_nodes
     from gfmd.loading import prepare
 

@@ -34,11 +34,11 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import bench_adhesion_scaling as bas  # noqa: E402
-from contact.loading import indenter_surface, realization_steps  # noqa: E402
+from gfmd_contact.core.loading import indenter_surface, realization_steps  # noqa: E402
 from gfmd.coupled_stability import coupled_stability  # noqa: E402
 from gfmd.loading import prepare  # noqa: E402
 from gfmd.problem import elastic_coupling  # noqa: E402
-from workbench.io import code_version  # noqa: E402
+from gfmd_contact.app.io import code_version  # noqa: E402
 
 CHAINS = ("handover-near", "frictionless-first")
 #: the label of an event step each chain's second link finished, kept (the "predictions kept" column)

@@ -10,7 +10,7 @@ elsewhere), its coarse space as the Newton builds it (`gfmd.coupled_precondition
 width), and per call (best of 5 × a loop, ms): one FFT pair of shape (2, N), a preconditioned product A M⁻¹ y
 (`operators(…)[1]`, one FFT pair plus the nodal passes) with numpy's passes and with the fused ones
 (`coupled_kernels.coarse_passes`), the nodal passes' saving in FFT pairs, and the tractions (numba with
-`gfmd.vector_exp`) against `contact.law_equations.traction_coupled` (numpy); the largest relative difference of the
+`gfmd.vector_exp`) against `gfmd_contact.core.law_equations.traction_coupled` (numpy); the largest relative difference of the
 two products (round-off). One process, the variants alternating. Writes benchmarks/results/bench_coupled_passes.md.
 """
 
@@ -30,7 +30,7 @@ import numpy as np  # noqa: E402
 
 from benchmarks.bench_adhesion_scaling import task_of  # noqa: E402
 from benchmarks.report import header, write  # noqa: E402
-from contact.law_equations import traction_coupled  # noqa: E402
+from gfmd_contact.core.law_equations import traction_coupled  # noqa: E402
 from gfmd import kernels  # noqa: E402
 from gfmd.coupled_kernels import coupled_kernels  # noqa: E402
 from gfmd.coupled_preconditioner import coarse_space, operators  # noqa: E402

@@ -9,7 +9,7 @@ default chain "handover-near"; `--nu` sets material.poisson_ratio), one ramp per
 (the same load on both): CPU s per ramp (time.process_time), FFT pairs, GMRES products per solve (mean over the
 ramp's Newton solves), event steps (not "newton"), the coarse space's own cost (its builds and coarse solves,
 time.process_time inside them) and the largest differences of p̄ and a_rel and the steps whose chain label differs,
-against "stiffness". The process reuses freed arrays as a study worker does (`workbench.study_task.reuse_freed_arrays`).
+against "stiffness". The process reuses freed arrays as a study worker does (`gfmd_contact.app.study_task.reuse_freed_arrays`).
 At 2^17 run each variant in its own process at once (`--variants stiffness` beside `--variants two-level`, both with
 `--rows DIR`: each saves its ramp there), then `--from-rows DIR` writes the table of what DIR holds.
 Writes benchmarks/results/bench_coupled_preconditioner.md (or --out).
@@ -32,7 +32,7 @@ sys.path.insert(0, str(ROOT))
 from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
 from benchmarks.report import header, ramp_row, write  # noqa: E402
 from gfmd import coupled_krylov, coupled_preconditioner  # noqa: E402
-from workbench.study_task import reuse_freed_arrays  # noqa: E402
+from gfmd_contact.app.study_task import reuse_freed_arrays  # noqa: E402
 
 VARIANTS = ("stiffness", "two-level")
 

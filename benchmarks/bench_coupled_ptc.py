@@ -30,14 +30,14 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from benchmarks.bench_coupled_stability import stability_and_pairs  # noqa: E402
-from contact import surfaces  # noqa: E402
-from contact.loading import extrapolation_allowed, indenter_surface, realization_steps  # noqa: E402
-from contact.observables import step_observables  # noqa: E402
-from contact.scene import load_scene  # noqa: E402
+from gfmd_contact.core import surfaces  # noqa: E402
+from gfmd_contact.core.loading import extrapolation_allowed, indenter_surface, realization_steps  # noqa: E402
+from gfmd_contact.core.observables import step_observables  # noqa: E402
+from gfmd_contact.core.scene import load_scene  # noqa: E402
 from gfmd import chains  # noqa: E402
 from gfmd.algorithms import coupled_ptc  # noqa: E402
 from gfmd.loading import prepare  # noqa: E402
-from workbench.study import task_scene  # noqa: E402
+from gfmd_contact.app.study import task_scene  # noqa: E402
 
 SMALL = ROOT / "studies" / "seed" / "fig3_small_base.toml"
 FIG8 = {"interface.law": "cohesive", "interface.phi_n_star": 0.15, "interface.tangential_ratio": 0.5,
@@ -61,7 +61,7 @@ def relax(which, cell, z_ind, guess, wall_tolerance):
 
 
 def ramp(which, scene, h):
-    """The whole ramp with chain `which`: rows and nodal states per step (as `contact.ramp.run_ramp` steps)."""
+    """The whole ramp with chain `which`: rows and nodal states per step (as `gfmd_contact.core.ramp.run_ramp` steps)."""
     cell = prepare(scene, h)
     steps, _ = realization_steps(scene, h, 0)
     wall_tolerance = 1e-12 * max(float(np.ptp(h)), scene.interface.length_normal)

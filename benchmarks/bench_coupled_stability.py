@@ -34,9 +34,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from benchmarks.report import header, write  # noqa: E402
-from contact import surfaces  # noqa: E402
-from contact.loading import indenter_surface, realization_steps  # noqa: E402
-from contact.scene import load_scene  # noqa: E402
+from gfmd_contact.core import surfaces  # noqa: E402
+from gfmd_contact.core.loading import indenter_surface, realization_steps  # noqa: E402
+from gfmd_contact.core.scene import load_scene  # noqa: E402
 from gfmd import chains, coupled_stability  # noqa: E402
 from gfmd.loading import prepare, run_realization  # noqa: E402
 

@@ -42,7 +42,7 @@ import bench_coupled_handover as bch  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from contact.loading import indenter_surface, realization_steps  # noqa: E402
+from gfmd_contact.core.loading import indenter_surface, realization_steps  # noqa: E402
 from gfmd import chains  # noqa: E402
 
 _from_last = [0, 0]  # coupled steps started from the last state, of all relaxed under "better start"

@@ -1,10 +1,10 @@
 """What Dask's own diagnostics cost a study task on our local cluster (issue 24): Dask's defaults against
-`workbench.study.LOCAL_CLUSTER_CONFIG`, on the same whole study task.
+`gfmd_contact.app.study.LOCAL_CLUSTER_CONFIG`, on the same whole study task.
 
 Usage: python benchmarks/bench_dask_overhead.py [--size 17] [--phi 0.05] [--rounds 2] [--out FILE]
 
 Per round, one after the other, a one-worker LocalCluster with Dask's defaults ("defaults") and one made by
-`workbench.study._client` ("ours") each run the study task (`workbench.study_task.run_task`, the seed base scene at
+`gfmd_contact.app.study._client` ("ours") each run the study task (`gfmd_contact.app.study_task.run_task`, the seed base scene at
 N = 2^size, φn* = --phi, realization 2) as a Dask task. Per run: the task's wall time, the CPU time of the thread that
 ran it, of the whole worker process over the task (the difference: the worker's other threads, e.g. Dask's
 statistical profiler sampling the task's stack every 10 ms) and of the main process (scheduler, nanny, client) over
@@ -33,7 +33,7 @@ def task(size, phi):
     sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]
     from bench_adhesion_scaling import ramp, task_of
 
-    from workbench.study_task import reuse_freed_arrays, run_task
+    from gfmd_contact.app.study_task import reuse_freed_arrays, run_task
     reuse_freed_arrays()
     keys = {"interface.phi_n_star": phi, "material.poisson_ratio": 0.45}
     ramp(2**12, "cohesive", max_steps=3, scene_keys=keys)  # compiled kernels and plans warm
@@ -53,7 +53,7 @@ def run(variant, size, phi):
 
     from distributed import Client, LocalCluster
 
-    from workbench.study import _client
+    from gfmd_contact.app.study import _client
     if variant == "ours":
         client, cluster = _client(1, None)
     else:

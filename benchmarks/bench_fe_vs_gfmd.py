@@ -80,7 +80,7 @@ def run_one(nodes, method, variant, steps):
 
     import numpy as np
 
-    from workbench.methods import run_realization  # the one registry: the scene's [method] says which
+    from gfmd_contact.app.methods import run_realization  # the one registry: the scene's [method] says which
 
     sc = bench_scene(nodes, steps)
     t0 = time.perf_counter()
@@ -169,7 +169,7 @@ def main():
         print(json.dumps(run_one(int(args.one[0]), args.one[1], args.one[2], args.steps)), flush=True)
         return
     sizes = args.sizes or (SIZES_QUICK if args.quick else SIZES_FULL)
-    from workbench.io import code_version
+    from gfmd_contact.app.io import code_version
 
     code = code_version()  # before the runs: the version that is timed
     load_start = os.getloadavg()

@@ -100,7 +100,7 @@ def pair_table(sizes, rounds):
 def _ramp_worker(args):
     """One ramp with GFMD_FFT = args.worker on core args.cpu: its rows as JSON to args.dump."""
     from benchmarks.bench_adhesion_scaling import ramp
-    from workbench.study_task import reuse_freed_arrays
+    from gfmd_contact.app.study_task import reuse_freed_arrays
 
     if hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {args.cpu})

@@ -28,7 +28,7 @@ import numpy as np  # noqa: E402
 from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
 from benchmarks.report import header, ramp_row, write  # noqa: E402
 from gfmd import fire_kernels  # noqa: E402
-from workbench.study_task import reuse_freed_arrays  # noqa: E402
+from gfmd_contact.app.study_task import reuse_freed_arrays  # noqa: E402
 
 VARIANTS = {"numpy": False, "fused": True}
 

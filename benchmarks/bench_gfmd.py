@@ -14,7 +14,7 @@ The machine is shared and noisy (2 cores, other jobs): only the ratio, whose
 numerator and denominator are measured in the same process within seconds of
 each other, is meant to be compared between runs.
 
-Scene (units SI, contact.conventions): the default scene's self-affine surface
+Scene (units SI, gfmd_contact.core.conventions): the default scene's self-affine surface
 (H = 0.8, h_rms = 10 nm, ν = 0.45, L = 1.28 µm, L/λr = 8) with the short
 cut-off λs,H = max(4 l, L/4096): 4 nodes per shortest wavelength up to
 N = 2^14, and from N = 2^15 on the fixed surface of the seed's discretisation
@@ -67,10 +67,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # run as a script 
 
 # the project's imports follow the thread settings and the path (noqa: E402), on purpose
 from gfmd import fft as gfft  # noqa: E402
-from contact import surfaces  # noqa: E402
-from contact.loading import indenter_surface  # noqa: E402
-from contact.model import build_model  # noqa: E402
-from contact.scene import default_scene  # noqa: E402
+from gfmd_contact.core import surfaces  # noqa: E402
+from gfmd_contact.core.loading import indenter_surface  # noqa: E402
+from gfmd_contact.core.model import build_model  # noqa: E402
+from gfmd_contact.core.scene import default_scene  # noqa: E402
 from gfmd.solver import InterfaceLaw, Settings, relax  # noqa: E402
 
 TOLERANCE = 1e-10

@@ -2,12 +2,12 @@
 
 Usage: python benchmarks/bench_gfmd_2d.py [--quick] [--out DIR] [--no-tamaas] [--sizes 256 512 ...]
 
-Scene (SI, contact.conventions): a square periodic cell L = 1.28 µm of N × N nodes (N = 256, 512, 1024, 2048;
+Scene (SI, gfmd_contact.core.conventions): a square periodic cell L = 1.28 µm of N × N nodes (N = 256, 512, 1024, 2048;
 --quick: 256, 512), isotropic self-affine heights (H = 0.8, h_rms = 10 nm, C(q) ∝ |q|^(−2−2H) between the
 roll-off 2π/(L/8) and the cut-off 2π/(4 l), flat below the roll-off; random phases, seed 0; written here,
 as the 2-D scene kinds are another branch's), a half-space of the default scene's material. The 2-D
-model is built as tests/test_gfmd_2d.py builds it (`contact.kernels.wavevector_magnitudes`,
-`halfplane_normal`). Loads, warm-started as `contact.ramp` does (the last state, from the third step the
+model is built as tests/test_gfmd_2d.py builds it (`gfmd_contact.core.kernels.wavevector_magnitudes`,
+`halfplane_normal`). Loads, warm-started as `gfmd_contact.core.ramp` does (the last state, from the third step the
 extrapolation 2u_k − u_{k−1}), tolerance 1e-10 (as benchmarks/bench_vs_tamaas.py; Tamaas 1e-10 too):
 
 * hard wall: STEPS steps pressing from first touch to the rigid overlap of HARD_WALL_OVERLAP of the nodes
@@ -45,11 +45,11 @@ import numpy as np  # noqa: E402
 # the script runs from anywhere: the repository goes on sys.path before the project imports (E402)
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from contact.kernels import halfplane_normal, wavevector_magnitudes  # noqa: E402
-from contact.loading import indenter_surface  # noqa: E402
-from contact.model import build_model  # noqa: E402
-from contact.observables import contact_mask  # noqa: E402
-from contact.scene import default_scene  # noqa: E402
+from gfmd_contact.core.kernels import halfplane_normal, wavevector_magnitudes  # noqa: E402
+from gfmd_contact.core.loading import indenter_surface  # noqa: E402
+from gfmd_contact.core.model import build_model  # noqa: E402
+from gfmd_contact.core.observables import contact_mask  # noqa: E402
+from gfmd_contact.core.scene import default_scene  # noqa: E402
 from gfmd.chains import relax  # noqa: E402
 from gfmd.fft import fft_backend  # noqa: E402
 from gfmd.kernels import jit_backend  # noqa: E402

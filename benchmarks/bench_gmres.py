@@ -7,7 +7,7 @@ The coupled class of benchmarks/bench_adhesion_scaling.py (seed base scene, φn*
 default chain "handover-near"), one ramp per N and `gfmd.coupled_krylov.GMRES` ("scipy", then "gfmd"), alternating
 `--repeats` times in one process (the same load on both): CPU s per ramp (time.process_time), FFT pairs, event steps
 (not "newton"), and the largest differences of p̄ and a_rel and the steps whose chain label differs, against "scipy".
-The process reuses freed arrays as a study worker does (`workbench.study_task.reuse_freed_arrays`): without it the
+The process reuses freed arrays as a study worker does (`gfmd_contact.app.study_task.reuse_freed_arrays`): without it the
 page faults of fresh arrays (their pattern differs between the variants) blurred the comparison at 2^17.
 A 1-D profile (time.process_time) of where a ramp's time goes is printed for the last "scipy" run: scipy's gmres
 own time (its Gram–Schmidt loop) against the FFTs. Writes benchmarks/results/bench_gmres.md (or --out).
@@ -33,7 +33,7 @@ sys.path.insert(0, str(ROOT))
 from benchmarks.bench_adhesion_scaling import ramp  # noqa: E402
 from gfmd import coupled_krylov  # noqa: E402
 from benchmarks.report import header, ramp_row, write  # noqa: E402
-from workbench.study_task import reuse_freed_arrays  # noqa: E402
+from gfmd_contact.app.study_task import reuse_freed_arrays  # noqa: E402
 
 VARIANTS = ("scipy", "gfmd")
 

@@ -7,7 +7,7 @@ h_rms = 10 nm, ν = 0.45, L = 10.24 µm, L/λr = 8, λs = 2.5 nm, so λr/λs = 5
 (--quick: up to 2^16); below N = 2^14, where λs = 2.5 nm would be under 4 nodes, λs = 4 L/N (as
 benchmarks/bench_gfmd.py). N = 2^17 is the seed's full scale (32 nodes per λs). Realization 0 (seed 1).
 
-Ramps from first touch, warm-started as `contact.ramp` (the last state, from the third step on the
+Ramps from first touch, warm-started as `gfmd_contact.core.ramp` (the last state, from the third step on the
 extrapolation 2u_k − u_{k−1}), tolerance 1e-8 (the studies'):
 * 1.5 nm steps: δ = 1.5 … 12 nm (8 steps, all counted);
 * the Fig. 3 step, 0.1 nm, in three windows: δ to 7.5 nm, 19.5 nm (the end of Fig. 3's ramp, δ = 20 nm) and
@@ -46,10 +46,10 @@ import scipy.fft  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from contact import surfaces  # noqa: E402
-from contact.loading import indenter_surface  # noqa: E402
-from contact.model import build_model  # noqa: E402
-from contact.scene import load_scene  # noqa: E402
+from gfmd_contact.core import surfaces  # noqa: E402
+from gfmd_contact.core.loading import indenter_surface  # noqa: E402
+from gfmd_contact.core.model import build_model  # noqa: E402
+from gfmd_contact.core.scene import load_scene  # noqa: E402
 from gfmd.chains import relax  # noqa: E402
 from gfmd.problem import InterfaceLaw, wall_net_force  # noqa: E402
 from gfmd.settings import Settings  # noqa: E402

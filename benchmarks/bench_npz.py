@@ -1,9 +1,9 @@
 """What a study task's saved fields cost to write: numpy's savez_compressed (every member deflated, the writer before
-session 34) against `workbench.checkpoints._npz_bytes` (a member deflated only where zlib shrinks it).
+session 34) against `gfmd_contact.app.checkpoints._npz_bytes` (a member deflated only where zlib shrinks it).
 
 Usage: python benchmarks/bench_npz.py [--size 17] [--law weak] [--repeats 3] [--out FILE]
 
-One study task of the seed's base scene (`workbench.study.run_task`, realization 2, N = 2^size; --law: weak φn* =
+One study task of the seed's base scene (`gfmd_contact.app.study.run_task`, realization 2, N = 2^size; --law: weak φn* =
 0.001, strong φn* = 0.15, hard-wall) is run once; its fields.npz members and one saved step's checkpoint file
 (the step's fields with the ramp's warm start, `checkpoints._save_fields`) are then written by both writers, alternating,
 `--repeats` times: CPU s (time.process_time, median) and MB per file. A task writes one such checkpoint file per saved
@@ -31,9 +31,9 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import report  # noqa: E402
 
-from contact.scene import load_scene  # noqa: E402
-from workbench import checkpoints, study_task  # noqa: E402
-from workbench.study import run_task, task_scene  # noqa: E402
+from gfmd_contact.core.scene import load_scene  # noqa: E402
+from gfmd_contact.app import checkpoints, study_task  # noqa: E402
+from gfmd_contact.app.study import run_task, task_scene  # noqa: E402
 
 LAWS = {"hard-wall": {"interface.law": "hard-wall"},
         "weak": {"interface.law": "cohesive", "interface.phi_n_star": 0.001, "interface.tangential_ratio": 0.0},

@@ -5,7 +5,7 @@ Usage: python benchmarks/bench_study.py [--sizes 15 17] [--classes hard-wall coh
                                         [--cores K] [--out DIR]
 
 What is timed: one whole study task per (N, task class), run in this process by the same code a
-study worker runs (`workbench.study_task.run_task`: the full ramp of 200 steps from δ0 = 12 nm out of
+study worker runs (`gfmd_contact.app.study_task.run_task`: the full ramp of 200 steps from δ0 = 12 nm out of
 contact to δ = 20 nm, every step checkpointed to disk, fields saved), on the full-scale base
 scene `studies/seed/seed_base.toml` (seed Sec. 2.1: L = 10.24 µm, H = 0.8, h_rms = 10 nm,
 ν = 0.45, realization seed 1) with `surface.nodes` = N (λs,H = 2.5 nm fixed, so N = 2^15
@@ -17,7 +17,7 @@ Task classes (what decides the cost of a step):
   coupled    interface.law = "cohesive", φn* = 0.15, c = 0.5, δt = 1 nm (u_x and u_z, FIRE/Verlet)
 
 Projection: every full-scale study file in studies/seed/ (fig2, fig3, fig6a, fig6b, fig7, fig8)
-is expanded with `workbench.study_file.load_study`; each task is counted under its class and costs
+is expanded with `gfmd_contact.app.study_file.load_study`; each task is counted under its class and costs
 steps / (steps per CPU-second of its class at N = 2^17). Wall time on K cores assumes ideal
 process-level scaling (independent single-threaded tasks); the roughness parameters of a task
 (H, h_rms, ε_f) change its cost, which the class rate does not capture: the projection is an
@@ -25,7 +25,7 @@ estimate, the measured full-scale runs (README "Studies") are the check.
 
 Dask path (section 3; ``--no-dask-path`` skips it): the same hard-wall task at the largest N run (a) in this
 process, (b) in a child process started with the environment Dask's nanny gives its workers
-(MALLOC_TRIM_THRESHOLD_=65536) without `workbench.study_task.reuse_freed_arrays` (the study engine
+(MALLOC_TRIM_THRESHOLD_=65536) without `gfmd_contact.app.study_task.reuse_freed_arrays` (the study engine
 before that fix), (c) the same child with it (what a worker does now), (d) through
 `gfmd study run` on a 1-worker local Dask cluster (cluster start included); wall seconds and, for
 the children, minor page faults.
@@ -50,8 +50,8 @@ sys.path.insert(0, str(ROOT))  # run as a script from anywhere
 
 from bench_gfmd import machine_info  # noqa: E402
 
-from contact.scene import load_scene  # noqa: E402
-from workbench.study import load_study, run_task, task_scene  # noqa: E402
+from gfmd_contact.core.scene import load_scene  # noqa: E402
+from gfmd_contact.app.study import load_study, run_task, task_scene  # noqa: E402
 
 SEED = ROOT / "studies" / "seed"
 FULL_STUDIES = ("fig2", "fig3", "fig6a", "fig6b", "fig7", "fig8")
@@ -91,8 +91,8 @@ def measure(n, cls, workdir):
 _CHILD = r"""
 import json, resource, sys, time
 sys.path.insert(0, sys.argv[1])
-from contact.scene import load_scene
-from workbench import study_task
+from gfmd_contact.core.scene import load_scene
+from gfmd_contact.app import study_task
 if sys.argv[4] == "before":
     study_task.reuse_freed_arrays = lambda: False
 t = time.perf_counter()
@@ -106,7 +106,7 @@ def dask_path(n, workdir):
     import json
     import subprocess
 
-    from contact.scene import scene_to_toml
+    from gfmd_contact.core.scene import scene_to_toml
 
     base = load_scene(SEED / "seed_base.toml")
     scene = task_scene(base.replace(**{"surface.nodes": n, **CLASSES["hard-wall"]}), 0)

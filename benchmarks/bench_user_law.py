@@ -3,7 +3,7 @@
 Usage: python benchmarks/bench_user_law.py [--quick] [--repeats R] [--out DIR]
 
 The user law is Eq. 3 written as three numpy callables (V, T_n, dT_n/dΔn from the formula;
-`contact.user_law`). GFMD: the default scene's self-affine surface on a half-plane (φn* = 0.15,
+`gfmd_contact.core.user_law`). GFMD: the default scene's self-affine surface on a half-plane (φn* = 0.15,
 δn = 1 nm, L = 1.28 µm; δn ≥ 2 l up to N = 2^12, coarser beyond: the timing needs no resolution),
 a ramp of STEPS load steps into contact, for N = 2^10 … 2^14 (--quick: 2^10, 2^12). The FE: a
 sinusoid on a layer D = L (N = 64, 128). The two laws run alternately, `repeats` times each, and
@@ -31,8 +31,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import gfmd.loading as gl  # noqa: E402
-from contact.scene import default_scene, scene_from_dict  # noqa: E402
-from contact.user_law import user_law  # noqa: E402
+from gfmd_contact.core.scene import default_scene, scene_from_dict  # noqa: E402
+from gfmd_contact.core.user_law import user_law  # noqa: E402
 from reference.fem.run import run_realization as fe_realization  # noqa: E402
 
 STEPS = 10

@@ -8,7 +8,7 @@ DIR: a source tree of the project (a git worktree of the version, e.g. ``git wor
 ramp runs in a process that imports the code (and `benchmarks.bench_adhesion_scaling.ramp`) from its tree alone.
 Per class (bench_adhesion_scaling's seed base scene, φn* = 0.15: "cohesive" (c = 0), "hard-wall" (the hard wall on it),
 "coupled" (c = 0.5, δt = 1 nm); --nu sets material.poisson_ratio, --phi interface.phi_n_star, --set any scene key) one
-whole 201-step ramp per version (--task: the whole study task, `workbench.study_task.run_task`, with its per-step
+whole 201-step ramp per version (--task: the whole study task, `gfmd_contact.app.study_task.run_task`, with its per-step
 observables, checkpoints and files), as two simultaneous processes pinned to one core each, then again with the cores
 swapped (CPU time on this 2-core machine moves by up to 25 % with what runs on the other core, and the cores
 differ): the CPU ratio new / old is the geometric mean of the two placements' ratios (the core's factor cancels), half
@@ -48,7 +48,7 @@ def run_one(args):
 
     if not Path(gfmd.__file__).resolve().is_relative_to(root):  # an installed copy or the driver's tree would hide it
         raise SystemExit(f"bench_versions: the worker for {root} imported gfmd from {gfmd.__file__}")
-    from workbench.study_task import reuse_freed_arrays  # noqa: PLC0415  (the tree's own, as above)
+    from gfmd_contact.app.study_task import reuse_freed_arrays  # noqa: PLC0415  (the tree's own, as above)
 
     reuse_freed_arrays()
     keys = {**CLASSES[args.cls], "material.poisson_ratio": args.nu, "interface.phi_n_star": args.phi,
@@ -80,11 +80,11 @@ def scene_keys(pairs):
 
 
 def whole_task(args, keys):
-    """--task: the class's scene run as one study task (`workbench.study_task.run_task`: the ramp with its observables,
+    """--task: the class's scene run as one study task (`gfmd_contact.app.study_task.run_task`: the ramp with its observables,
     checkpoints and files) into a temporary directory: (rows of its curve.csv, CPU s). FFT pairs are not in a task's
     files (0 here)."""
     from benchmarks.bench_adhesion_scaling import task_of  # noqa: PLC0415  (the tree's own, as in run_one)
-    from workbench.study_task import run_task  # noqa: PLC0415
+    from gfmd_contact.app.study_task import run_task  # noqa: PLC0415
 
     scene, _ = task_of(2**args.size, "cohesive", args.realization, keys)
     with tempfile.TemporaryDirectory() as tmp:

@@ -2,10 +2,10 @@
 
 Usage: python benchmarks/bench_vs_tamaas.py [--quick] [--out DIR] [--no-tamaas]
 
-Scene (SI, contact.conventions): the profile of benchmarks/bench_gfmd.py (default scene,
+Scene (SI, gfmd_contact.core.conventions): the profile of benchmarks/bench_gfmd.py (default scene,
 self-affine H = 0.8, h_rms = 10 nm, ν = 0.45, L = 1.28 µm, λr = L/8, λs = max(4 l, L/4096)),
 realization 0, half-plane. Ramp: 10 equal steps of 1.5 nm from first touch (δ = 1.5 … 15 nm),
-tolerance 1e-10. GFMD warm-starts like `contact.ramp` (the last state, from the third step on
+tolerance 1e-10. GFMD warm-starts like `gfmd_contact.core.ramp` (the last state, from the third step on
 the extrapolation 2u_k − u_{k−1}); Tamaas keeps its pressure field between solves (its own warm
 start) and is given the mean pressure GFMD found at each step; it gets −h, since it puts contact
 at the maximum of its surface. Both run on one thread (OMP/OpenBLAS pinned to 1; GFMD's FFTs
@@ -83,7 +83,7 @@ STEPS = 10
 
 
 def ramp(case, settings, deltas, backend=None, tamaas=None):
-    """GFMD steps at penetrations `deltas` (warm-started as contact.ramp does); list of dicts."""
+    """GFMD steps at penetrations `deltas` (warm-started as gfmd_contact.core.ramp does); list of dicts."""
     if backend:
         os.environ["GFMD_FFT"] = backend
     n = case.model.nodes
@@ -408,7 +408,7 @@ def section_fig3(e, window, lines):
     """Steps/CPU-s on a window of the Fig. 3 ramp (dU = 0.1 nm) at δ ≈ 10 nm, per interface."""
     lines += [f"## 5. Fig. 3 study projection (N = 2^{e}, dU = 0.1 nm: 200 steps to δ = 20 nm)", "",
               f"Each interface: approach with 1 nm steps (tolerance 1e-6, untimed) to δ = 10 nm, then {window} timed "
-              "steps of 0.1 nm at tolerance 1e-10, warm-started as contact.ramp does; CPU time (process_time) "
+              "steps of 0.1 nm at tolerance 1e-10, warm-started as gfmd_contact.core.ramp does; CPU time (process_time) "
               "per step. Cohesive interfaces: the same window from the same approach state with the cohesive "
               "solver before issue 13 (FIRE, scipy.fft) and the default now (NCG, default FFT backend). "
               "Projection: 10 realizations × 200 steps per interface on 2 cores (ideal process-level scaling; "
@@ -557,7 +557,7 @@ def section_parallel(e, window, lines, fig3_totals=None):
     eff = t_serial / (2 * t_par)
     lines += [f"## 6. Parallel efficiency, 2 realizations on 2 cores (N = 2^{e}, φn* = 0.15, NCG)", "",
               f"Each job: the section-5 approach and {window}-step window of realization 0 or 1 (the work of "
-              "`workbench.ensemble.run_ensemble` with output.workers = 2, one realization per process). Serial: "
+              "`gfmd_contact.app.ensemble.run_ensemble` with output.workers = 2, one realization per process). Serial: "
               "one after the other in this process; parallel: a 2-process pool (fork), wall time incl. start-up. "
               "Other jobs share the 2 cores (load average in the header and at the end): the efficiency is a "
               "lower bound.", "",

@@ -29,7 +29,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import gfmd.loading as gl  # noqa: E402
-from contact.scene import default_scene  # noqa: E402
+from gfmd_contact.core.scene import default_scene  # noqa: E402
 from gfmd.solver import Settings  # noqa: E402
 
 NODES = 512

@@ -1,5 +1,5 @@
 import sys
 
-from workbench.cli import main  # the app layer's CLI; `python -m gfmd` as documented
+from gfmd_contact.cli import main  # the app layer's CLI; `python -m gfmd` as documented
 
 sys.exit(main())

@@ -39,7 +39,7 @@ left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, j
   (`gfmd.coupled_stability`, the FE reference's criterion); then Ψtc and Verlet. Measured, not the default:
   ``coupled = "ptc"`` (Ψtc before FIRE), "handover" (the handed-over Newton state also stability-tested).
 * cohesive wall: projected FIRE, or Verlet (method "verlet").
-* user law (`contact.user_law`, normal-only, a potential): as the normal-only cohesive law, the NCG (its
+* user law (`gfmd_contact.core.user_law`, normal-only, a potential): as the normal-only cohesive law, the NCG (its
   generic nodal path: the user's traction and tangent on every node) and FIRE after a stall; the labels are
   the same ("ncg", "ncg→fire"), the law's name is in the model description and meta.json.
 
@@ -61,7 +61,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from contact import laws
+from gfmd_contact.core import laws
 
 from .algorithms import (cohesive_wall, coupled_ncg, coupled_newton, coupled_ptc, dynamics, hard_wall_dual_cg,
                          hard_wall_dynamics, hard_wall_primal_cg, hard_wall_two_level_cg, ncg)

@@ -6,7 +6,7 @@
   (what the zero parts add is exact) from half the coefficient bytes and a third of the multiplications;
 * `tangent_times`: the nodal 2×2 law tangent D·v (rows and columns (x, z)) of `gfmd.coupled_krylov`'s products;
 * `coupled_tractions`: Eq. 2's tractions on the body, t_x = T_t(Δt), t_z = T_n(Δn), Δn = z_ind − u_z, Δt = −u_x,
-  one exponential per node; the law's formula is `contact.law_equations.traction_coupled` (the same to round-off,
+  one exponential per node; the law's formula is `gfmd_contact.core.law_equations.traction_coupled` (the same to round-off,
   tests/test_coupled_kernels.py; e^x by `gfmd.vector_exp`, within 1 ulp of libm's), which also raises its
   CompressionOverflowError (the fused pass only counts the nodes out of the law's range);
 * `weighted_dot`: Σ_q w_q Re(conj(a_q) b_q) over spectra (FIRE's mass-weighted products);
@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from contact.law_equations import MAX_COMPRESSION, traction_coupled
+from gfmd_contact.core.law_equations import MAX_COMPRESSION, traction_coupled
 
 from . import vector_exp
 from .kernels import jit_backend, numba

@@ -11,7 +11,7 @@ import numpy as np
 
 from scipy.sparse.linalg import LinearOperator, gmres
 
-from contact import laws
+from gfmd_contact.core import laws
 
 from . import coupled_preconditioner
 from . import gmres as gfmd_gmres

@@ -9,7 +9,7 @@ CGs, the cohesive NCG, FIRE on a law with a traction function, Newton–Krylov a
 (`gfmd.stopping.finish`) go through `Fft`; the projected dynamics of the hard wall and of the cohesive wall call
 scipy.fft directly (through `rfft_nodes` / `irfft_nodes`, which are exactly those calls in 1+1-D).
 
-2+1-D surfaces (a `contact.model.Model` with shape (Nx, Ny)): the algorithms see nodal fields as flat
+2+1-D surfaces (a `gfmd_contact.core.model.Model` with shape (Nx, Ny)): the algorithms see nodal fields as flat
 vectors of the N = Nx·Ny nodes (row-major, x first) and spectra as flat vectors of the Nx·(Ny//2 + 1)
 modes of the rfft2 half-spectrum (`gfmd.problem.flat_problem`); `Fft` and the helpers here reshape
 to the grid, transform over its axes (rfftn / irfftn over (-2, -1)) and flatten again (views, no

@@ -1,7 +1,7 @@
-"""GFMD on the one load ramp (`contact.ramp.run_ramp`): the cell that relaxes one load step.
+"""GFMD on the one load ramp (`gfmd_contact.core.ramp.run_ramp`): the cell that relaxes one load step.
 
-Units: SI (see `contact.conventions`). `prepare` builds the model of the scene
-(`contact.model.build_model`: unknowns, kernel, checks) and the interface law once
+Units: SI (see `gfmd_contact.core.conventions`). `prepare` builds the model of the scene
+(`gfmd_contact.core.model.build_model`: unknowns, kernel, checks) and the interface law once
 per realization; `GfmdCell.solve` relaxes one step (`gfmd.chains.relax`) from the
 ramp's warm start. `run_realization` runs a whole realization.
 """
@@ -13,11 +13,11 @@ from functools import partial
 
 import numpy as np
 
-from contact.laws import CompressionOverflowError
-from contact.loading import indenter_surface
-from contact.model import build_model
-from contact.ramp import StepSolution, run_ramp
-from contact.scene_sections import Interface
+from gfmd_contact.core.laws import CompressionOverflowError
+from gfmd_contact.core.loading import indenter_surface
+from gfmd_contact.core.model import build_model
+from gfmd_contact.core.ramp import StepSolution, run_ramp
+from gfmd_contact.core.scene_sections import Interface
 
 from . import blas, heap, kernels
 from .chains import chain_key, describe, relax
@@ -29,11 +29,11 @@ from .settings import Settings
 
 @dataclass
 class GfmdCell:
-    """One realization's GFMD problem: model, law and settings (see contact.ramp for the protocol)."""
+    """One realization's GFMD problem: model, law and settings (see gfmd_contact.core.ramp for the protocol)."""
 
     scene: object
     h: np.ndarray
-    physics: object  # contact.model.Model
+    physics: object  # gfmd_contact.core.model.Model
     law: InterfaceLaw
     settings: Settings
     method: str
@@ -83,7 +83,7 @@ def wall_tolerance_of(scene, h):
     """The gap (m) within which a node counts as on a wall, a round-off allowance: 1e-12 × the profile's height range,
     or on a flat profile × δn (interface.length_normal) for a law with a cohesive zone and × 1 nm (the default δn) for
     the hard wall, whose equilibrium has no length of its own (so δn stays an observation-only key of a hard-wall
-    solve, `contact.observation`)."""
+    solve, `gfmd_contact.core.observation`)."""
     floor = Interface().length_normal if scene.interface.law == "hard-wall" else scene.interface.length_normal
     wall_tolerance = 1e-12 * max(float(np.ptp(h)), floor)  # (verification.mutations' wall-leak mutates this line)
     return wall_tolerance
@@ -147,19 +147,19 @@ def run_realization(scene, realization=0, settings=None, progress=None, method_n
 
     Parameters
     ----------
-    scene : contact.scene.Scene
+    scene : gfmd_contact.core.scene.Scene
     realization : int
         Realization index i (random profile seed surface.seed + i).
     settings : gfmd.solver.Settings, optional
         Integrator settings (default: from scene.solver).
     progress, checkpoint, resume, variants
-        The hooks and the variants (`contact.ramp.Variant`) of `contact.ramp.run_ramp`.
+        The hooks and the variants (`gfmd_contact.core.ramp.Variant`) of `gfmd_contact.core.ramp.run_ramp`.
     method_name : str, optional
         The Result's method label (default `method_label`: "gfmd-" and the chain's key, e.g. "gfmd-ncg").
 
     Returns
     -------
-    contact.result.Result
+    gfmd_contact.core.result.Result
     """
     return run_ramp(scene, realization, partial(prepare, settings=settings, method_name=method_name),
                     progress=progress, checkpoint=checkpoint, resume=resume, variants=variants)

@@ -11,14 +11,14 @@ fused pass before session 37 from it), then the two sums (reassociated). Measure
 (benchmarks/results/bench_ncg_nodes.md, N = 2^17): a trial 0.53 ms against 0.97 ms with libm's exp in one pass and
 5.4 ms in numpy. Both backends give the same sums up to round-off; ``GFMD_JIT`` chooses, as for the spectral algebra
 (`gfmd.kernels.jit_backend`).
-A user law (`contact.user_law`) evaluates its own callables (`UserNodes`).
+A user law (`gfmd_contact.core.user_law`) evaluates its own callables (`UserNodes`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from contact import laws
+from gfmd_contact.core import laws
 
 from . import kernels, vector_exp
 from .fft import dot
@@ -108,7 +108,7 @@ class Eq3Nodes:
 
 
 class UserNodes:
-    """A user law (`contact.user_law`): state (T_n, dT_n/dΔn) from its callables."""
+    """A user law (`gfmd_contact.core.user_law`): state (T_n, dT_n/dΔn) from its callables."""
 
     def __init__(self, law):
         self.law = law

@@ -1,14 +1,14 @@
 """One load step's problem, for every GFMD algorithm: the elastic energy in Fourier space, the
 interface law, their gradient and Hessian product, and the hard wall's constraint and its dual.
 
-Units: SI (see `contact.conventions`). The unknowns are the rfft coefficients û of the surface
+Units: SI (see `gfmd_contact.core.conventions`). The unknowns are the rfft coefficients û of the surface
 displacement (components (x, z), or z alone); the nodal force (Pa, the negative gradient of the
 energy per node area) is (reference-formulas §5.2)
 
     f̂ = rfft(t_interface(u)) − K(q) û,      Δn = z_ind − u_z,  Δt = −u_x,
 
 with the q = 0 mode clamped on a half-plane (⟨u⟩ = 0, the far-field load its multiplier). Where
-the law has a potential (the normal-only CZ, `contact.laws.potential_normal`; a user law's energy), f = −(1/l) ∇E with
+the law has a potential (the normal-only CZ, `gfmd_contact.core.laws.potential_normal`; a user law's energy), f = −(1/l) ∇E with
 E(u) = l Σ_j [½ u_j (K u)_j + V(Δn_j)] (J/m, l = L/N); the coupled law (seed Eq. 2) has none and
 only the balance f = 0 and its tangent J = K + D (`Problem.tangent_times`). The hard wall is the
 constraint u_z ≤ z_ind (KKT: contact pressure ≥ 0 on the wall, f = 0 off it; `wall_balance`,
@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse
 
-from contact import laws
+from gfmd_contact.core import laws
 
 from .coupled_kernels import coupled_kernels, float_views, hermitian_blocks, split_block_times
 from .fft import Fft, irfft_nodes, rfft_nodes
@@ -39,7 +39,7 @@ from .fft import Fft, irfft_nodes, rfft_nodes
 class InterfaceLaw:
     """The interface law on the solver's unknowns: tractions on the body for displacements (SI).
 
-    The law is `model.law` (`contact.laws`: the law object `contact.model.build_model` chose for
+    The law is `model.law` (`gfmd_contact.core.laws`: the law object `gfmd_contact.core.model.build_model` chose for
     the model's unknowns; Eq. 2 where u_x is solved). `interface` and `work_tangential` are
     accepted for the callers that pass them and not used: the law object already holds the
     scene's φn, δn, φt, δt. This class only maps displacements u (c, N) to gaps, Δn = z_ind − u_z
@@ -172,7 +172,7 @@ def stiffness_operator(model):
 
 @dataclass
 class Problem:
-    """One load step: the model (`contact.model.Model`: K(q), unknowns, p_ref), the law on its
+    """One load step: the model (`gfmd_contact.core.model.Model`: K(q), unknowns, p_ref), the law on its
     unknowns, the indenter surface z_ind (m) and the gap below which a node touches a wall (m)."""
 
     model: object
@@ -185,7 +185,7 @@ class Problem:
 
     @property
     def kind(self):
-        """The law's kind, the key of `gfmd.chains.CHAINS`' first level ("user": `contact.user_law`)."""
+        """The law's kind, the key of `gfmd.chains.CHAINS`' first level ("user": `gfmd_contact.core.user_law`)."""
         if self.law.constraint:
             return "cohesive-wall" if self.law.law.adhesive else "hard-wall"
         if getattr(self.law.law, "user", False):
@@ -239,7 +239,7 @@ class Problem:
 
     def tangent_times(self, u_hat, v):
         """J v = (K + D) v (Pa) for nodal fields v (c, N): the Hessian product per node area (the force's
-        derivative is −J; D the nodal tangent of the law, `contact.laws`; zero on a hard wall)."""
+        derivative is −J; D the nodal tangent of the law, `gfmd_contact.core.laws`; zero on a hard wall)."""
         if self.surface:
             flat = flat_problem(self)
             return flat.tangent_times(u_hat.reshape(u_hat.shape[0], -1), v.reshape(v.shape[0], -1)).reshape(v.shape)

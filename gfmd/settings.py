@@ -1,6 +1,6 @@
 """What every GFMD algorithm takes and returns: `Settings` (its parameters) and `Relaxed` (one step's state).
 
-Units: SI (see `contact.conventions`); the integrators' parameters are dimensionless (time unit 1/ω0,
+Units: SI (see `gfmd_contact.core.conventions`); the integrators' parameters are dimensionless (time unit 1/ω0,
 ω0 = 1). Which algorithm runs is `gfmd.chains`' choice from `Settings.method`, `hard_wall`, `cohesive`
 and `dual_contact_limit`.
 """

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from contact import laws
+from gfmd_contact.core import laws
 
 from .fft import Fft
 from .problem import wall_balance, wall_net_force_from

@@ -1,7 +1,7 @@
 """gfmd-contact from Python: build a scene, run it, read the curves, run a study, draw the figures.
 
 ``import gfmd_contact as gc``. Units are SI throughout (m, Pa, J/m²; p > 0 compressive;
-`contact.conventions`). Everything the ``gfmd`` command does goes through these functions
+`gfmd_contact.core.conventions`). Everything the ``gfmd`` command does goes through these functions
 or the same code underneath, and a result is a directory the command line reads too.
 
 Scenes (frozen, validated; errors name the key)::
@@ -38,17 +38,35 @@ Figures (the seed's)::
     gc.plot_run(res), gc.plot_study(st)             # written as files; returns their paths
 """
 
-from contact.scene import Scene, SceneError
-from workbench.io import RunDirError
-from workbench.study import StudyError
+import importlib
 
-from .figures import plot_run, plot_study, run_figures, study_figures
-from contact.user_law import UserLaw, UserLawError, user_law
+#: public name → the module that defines it. Imported on first use (PEP 562), so that
+#: ``import gfmd_contact.core`` (what the methods import) does not pull in the application layer.
+_PUBLIC = {
+    "Scene": "gfmd_contact.core.scene", "SceneError": "gfmd_contact.core.scene",
+    "UserLaw": "gfmd_contact.core.user_law", "UserLawError": "gfmd_contact.core.user_law",
+    "user_law": "gfmd_contact.core.user_law",
+    "RunDirError": "gfmd_contact.app.io", "StudyError": "gfmd_contact.app.study",
+    **dict.fromkeys(["plot_run", "plot_study", "run_figures", "study_figures"], "gfmd_contact.figures"),
+    **dict.fromkeys(["RunResult", "open_run", "run", "with_law"], "gfmd_contact.runs"),
+    **dict.fromkeys(["change", "check", "default_scene", "example_scene", "load_scene", "save_scene", "scene_dict",
+                     "scene_toml", "stickiness"], "gfmd_contact.scenes"),
+    **dict.fromkeys(["StudyResult", "load_study", "make_study", "open_study", "run_study", "study_text"],
+                    "gfmd_contact.studies"),
+}
 
-from .runs import RunResult, open_run, run, with_law
-from .scenes import (change, check, default_scene, example_scene, load_scene, save_scene, scene_dict,
-                     scene_toml, stickiness)
-from .studies import StudyResult, load_study, make_study, open_study, run_study, study_text
+
+def __getattr__(name):
+    if name in _PUBLIC:
+        value = getattr(importlib.import_module(_PUBLIC[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'gfmd_contact' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_PUBLIC))
+
 
 __all__ = ["Scene", "SceneError", "RunDirError", "StudyError", "default_scene", "example_scene",
            "load_scene", "change", "check", "stickiness", "save_scene", "scene_dict", "scene_toml", "run", "open_run",

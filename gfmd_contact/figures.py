@@ -1,7 +1,7 @@
 """The seed's figures of a run or a study, as matplotlib Figures or files.
 
 Axes carry the non-dimensional groups p_r* = p/(ḡ_r E*), p/E*, a_rel, ḡ_r/ḡ, and δ in nm
-(`workbench.plots`, `workbench.study_plots`).
+(`gfmd_contact.app.plots`, `gfmd_contact.app.study_plots`).
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ def run_figures(result, delta=None, realization=None):
         area_vs_reduced_pressure (seed Fig. 3), pressure_vs_delta, area_vs_delta,
         gr_over_g_vs_delta (Fig. 4), interface_snapshot (Fig. 5; if fields were saved).
     """
-    from workbench.plots import make_figures
+    from gfmd_contact.app.plots import make_figures
 
     return make_figures(_dir(result), snapshot_delta=delta, realization=realization)
 
@@ -52,7 +52,7 @@ def plot_run(result, fmt="png", delta=None, realization=None):
     -------
     list of pathlib.Path
     """
-    from workbench.plots import plot_run as write
+    from gfmd_contact.app.plots import plot_run as write
 
     return write(_dir(result), snapshot_delta=delta, fmt=fmt, realization=realization)
 
@@ -73,7 +73,7 @@ def study_figures(study, over=None):
         pressure_vs_delta, area_vs_delta, gr_over_g_vs_delta (Fig. 4), interface_snapshot
         (Fig. 5), area_vs_pressure (Figs. 7–8).
     """
-    from workbench.study_plots import make_study_figures
+    from gfmd_contact.app.study_plots import make_study_figures
 
     return make_study_figures(_dir(study), over=over)
 
@@ -92,6 +92,6 @@ def plot_study(study, fmt="png", over=None):
     -------
     list of pathlib.Path
     """
-    from workbench.study_plots import plot_study as write
+    from gfmd_contact.app.study_plots import plot_study as write
 
     return write(_dir(study), fmt=fmt, over=over)

@@ -1,9 +1,9 @@
 """Runs from Python: run a scene into a run directory, read one back as pandas and numpy.
 
-Units: SI throughout (m, Pa; `contact.conventions`). A run is what `gfmd run` does:
+Units: SI throughout (m, Pa; `gfmd_contact.core.conventions`). A run is what `gfmd run` does:
 every realization in a process pool, every load step written to the run directory
 as it is computed (so an interrupted run continues with ``resume=True``), then
-curve.csv, mean_curve.csv, fields.npz, scene.toml and meta.json (`workbench.io`).
+curve.csv, mean_curve.csv, fields.npz, scene.toml and meta.json (`gfmd_contact.app.io`).
 """
 
 from __future__ import annotations
@@ -19,9 +19,9 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from contact.result import CURVE_COLUMNS, FIELD_NAMES
-from contact.errors import SceneError
-from contact.scene import Scene, load_scene as read_scene
+from gfmd_contact.core.result import CURVE_COLUMNS, FIELD_NAMES
+from gfmd_contact.core.errors import SceneError
+from gfmd_contact.core.scene import Scene, load_scene as read_scene
 
 from .scenes import change, check, load_scene, method_changes
 
@@ -36,7 +36,7 @@ class RunResult:
     ----------
     dir : pathlib.Path
         The run directory.
-    scene : contact.scene.Scene
+    scene : gfmd_contact.core.scene.Scene
         The resolved scene of the run (its scene.toml).
     meta : dict
         meta.json: "complete", "method" (what ran), "model", "messages" (non-converged
@@ -51,7 +51,7 @@ class RunResult:
             scene = read_scene(self.dir / "scene.toml")
             self.scene = dataclasses.replace(scene, name=self.meta.get("scene_name", scene.name))
         else:
-            from workbench.io import read_run
+            from gfmd_contact.app.io import read_run
 
             self.scene, self._curves, _, self.meta = read_run(self.dir)
 
@@ -109,10 +109,10 @@ class RunResult:
         path = self.dir / "mean_curve.csv"
         if path.is_file():
             return pd.read_csv(path)
-        from workbench.averages import ensemble_average
+        from gfmd_contact.app.averages import ensemble_average
 
         runs = [SimpleNamespace(realization=r, curve=c) for r, c in sorted(self._curves.items())]
-        from workbench.cycles import step_loads
+        from gfmd_contact.app.cycles import step_loads
 
         return pd.DataFrame(ensemble_average(runs, step_loads(self.scene)))
 
@@ -127,7 +127,7 @@ class RunResult:
         jump_in, jump_out (numbers of events), under force control pull_off_load (Pa, the load at which
         contact was lost; NaN where none), and events (the list of the cycle's jump events: kind, step,
         branch, δ (m), p̄ (Pa), a_rel before and after). Definitions: meta["cycle_definitions"]
-        (`contact.cycle`). Empty (these columns, no rows) for a ramp, and for an unfinished run.
+        (`gfmd_contact.core.cycle`). Empty (these columns, no rows) for a ramp, and for an unfinished run.
         """
         import pandas as pd
 
@@ -148,7 +148,7 @@ class RunResult:
         path = self.dir / "fields.npz"
         if path.is_file():
             return np.load(path)
-        from workbench.io import read_run
+        from gfmd_contact.app.io import read_run
 
         return read_run(self.dir)[2]
 
@@ -233,7 +233,7 @@ def open_run(directory):
 def compute(scene, out, workers=None, progress=True, note=None):
     """Run every realization into the prepared run directory `out` and write its final files.
 
-    The one path of `run` and `gfmd run` (after the checks and `workbench.io.prepare_run_dir`).
+    The one path of `run` and `gfmd run` (after the checks and `gfmd_contact.app.io.prepare_run_dir`).
 
     Parameters
     ----------
@@ -245,15 +245,15 @@ def compute(scene, out, workers=None, progress=True, note=None):
     progress : bool
         A tqdm progress bar over load steps.
     note : callable, optional
-        Called with one line per repair of damaged partial files (`workbench.io.load_part`).
+        Called with one line per repair of damaged partial files (`gfmd_contact.app.io.load_part`).
 
     Returns
     -------
-    (list of contact.result.Result, dict, float)
+    (list of gfmd_contact.core.result.Result, dict, float)
         The results, the reuse counts {"realizations_reused", "steps_reused"} and the wall time (s).
     """
-    from workbench import io
-    from workbench.ensemble import run_to_directory
+    from gfmd_contact.app import io
+    from gfmd_contact.app.ensemble import run_to_directory
 
     start = time.perf_counter()
     results, resume = run_to_directory(scene, out, workers=workers, progress=progress, note=note)
@@ -274,14 +274,14 @@ def with_law(scene, law):
     scene : Scene, str, pathlib.Path or dict
         The scene, or anything `load_scene` reads. interface.tangential_ratio must be 0 (a user law
         is normal-only).
-    law : contact.user_law.UserLaw
+    law : gfmd_contact.core.user_law.UserLaw
         From `user_law`.
 
     Returns
     -------
     Scene
     """
-    from contact.user_law import UserLaw
+    from gfmd_contact.core.user_law import UserLaw
 
     if not isinstance(law, UserLaw):
         raise SceneError(f"law = {law!r}: expected a user law from gfmd_contact.user_law(energy=..., traction=..., "
@@ -317,7 +317,7 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
         Replace an earlier run in `out` (only the files a run writes are removed).
     wait : float
         Seconds to wait for another process that writes `out` (0: refuse at once, None: for ever).
-    law : contact.user_law.UserLaw, optional
+    law : gfmd_contact.core.user_law.UserLaw, optional
         A user-defined interface law (`user_law`; sets interface.law = "user", `with_law`), solved by
         GFMD and the FE. With workers other than 1 its callables must be picklable (module-level functions).
 
@@ -329,7 +329,7 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
     ------
     SceneError
         A key out of range or a scene the method cannot solve, before any work.
-    workbench.io.RunDirError
+    gfmd_contact.app.io.RunDirError
         An `out` that cannot take the run (the message says why).
 
     Warns
@@ -338,7 +338,7 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
         The scene's resolution/stability warnings, and non-converged load steps
         (listed in ``result.meta["messages"]``).
     """
-    from workbench import io, safe_files
+    from gfmd_contact.app import io, safe_files
 
     scene = load_scene(scene) if not isinstance(scene, Scene) else scene
     if law is not None:

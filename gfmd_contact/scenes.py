@@ -1,7 +1,7 @@
 """Scenes from Python: load, build, change by dotted key, check, write.
 
-Units: SI throughout (m, Pa, J/m²; `contact.conventions`). A scene is the frozen,
-validated `contact.scene.Scene`; every function here returns a new one and raises
+Units: SI throughout (m, Pa, J/m²; `gfmd_contact.core.conventions`). A scene is the frozen,
+validated `gfmd_contact.core.scene.Scene`; every function here returns a new one and raises
 `SceneError` naming the key, the value and what is allowed.
 """
 
@@ -11,7 +11,7 @@ import dataclasses
 import tomllib
 from pathlib import Path
 
-from contact.scene import (Scene, SceneError, default_scene as _default_scene, example_scene_text, load_scene as
+from gfmd_contact.core.scene import (Scene, SceneError, default_scene as _default_scene, example_scene_text, load_scene as
                            _load_scene, scene_from_dict, scene_to_dict, scene_to_toml)
 
 #: `run(method=...)` and `gfmd run --method`: the scene keys each choice sets
@@ -29,7 +29,7 @@ def default_scene():
 
     Returns
     -------
-    contact.scene.Scene
+    gfmd_contact.core.scene.Scene
     """
     return _default_scene()
 
@@ -39,7 +39,7 @@ def example_scene():
 
     Returns
     -------
-    contact.scene.Scene
+    gfmd_contact.core.scene.Scene
         Named "example"; large: reduce surface.nodes and surface.realizations with `change` to try it.
     """
     return scene_from_dict(tomllib.loads(example_scene_text()), name="example")
@@ -55,13 +55,13 @@ def load_scene(source, name=None):
         file); a string holding TOML (any string with a newline or "=") whose relative
         surface.path is taken relative to the working directory; a dict of sections
         ({"surface": {"nodes": 1024}, ...}; missing keys take the defaults of
-        `contact.scene`); or a Scene (returned re-validated). Values in SI units.
+        `gfmd_contact.core.scene`); or a Scene (returned re-validated). Values in SI units.
     name : str, optional
         The scene's name (default: the file's stem, "scene" for text and dicts).
 
     Returns
     -------
-    contact.scene.Scene
+    gfmd_contact.core.scene.Scene
 
     Raises
     ------
@@ -107,7 +107,7 @@ def change(scene, changes=None, /, *, name=None, **sections):
 
     Returns
     -------
-    contact.scene.Scene
+    gfmd_contact.core.scene.Scene
         As `Scene.replace`: a new surface.kind drops the old kind's own keys, a
         deterministic kind gets one realization.
 
@@ -170,8 +170,8 @@ def check(scene):
     SceneError
         What the scene's method cannot solve, said before any work.
     """
-    from contact.loading import preflight
-    from workbench.methods import method_of
+    from gfmd_contact.core.loading import preflight
+    from gfmd_contact.app.methods import method_of
 
     method_of(scene).refuse(scene)
     return preflight(scene)
@@ -183,7 +183,7 @@ def stickiness(scene):
     Process zone l_pz = E* w/σ_max² (m, and in nodes, against its measured limit), Johnson α
     (sinusoid), Maugis λ (cylinder), Tabor-like μ_rough and Persson–Tosatti θ (rough profiles);
     Pastewka–Robbins is not defined for line contacts. Formulas and their 1+1-D forms:
-    `contact.stickiness` and docs/stickiness.rst.
+    `gfmd_contact.core.stickiness` and docs/stickiness.rst.
 
     Parameters
     ----------
@@ -195,7 +195,7 @@ def stickiness(scene):
         {key: {"value": float or None, "unit", "formula", "reading" or "reason"}}: value None
         (n/a) where the quantity is not defined for the scene, with the reason.
     """
-    from contact.stickiness import as_dict
+    from gfmd_contact.core.stickiness import as_dict
 
     return as_dict(scene)
 

@@ -1,9 +1,9 @@
 """Studies from Python: a grid of scenes × realizations on Dask, read back with xarray and pandas.
 
-Units: SI throughout (`contact.conventions`). A study is a base scene and axes over
+Units: SI throughout (`gfmd_contact.core.conventions`). A study is a base scene and axes over
 scene keys by their dotted names (the grid is their product; zipped keys vary
 together); each (parameter set, realization) is one content-addressed, resumable
-task (`workbench.study`, the same as `gfmd study run`).
+task (`gfmd_contact.app.study`, the same as `gfmd study run`).
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ import math
 import tomllib
 from pathlib import Path
 
-from contact.scene import Scene, scene_to_dict
+from gfmd_contact.core.scene import Scene, scene_to_dict
 
 from .runs import open_run
 
@@ -77,17 +77,17 @@ def make_study(scene, axes=None, zip=None, name=None):
 
     Returns
     -------
-    workbench.study.Study
+    gfmd_contact.app.study.Study
         ``.sets`` (the parameters of each set), ``.scenes``, ``.tasks``.
 
     Raises
     ------
-    workbench.study.StudyError
+    gfmd_contact.app.study.StudyError
         Naming the key and value of a bad axis (every set is checked as `run` checks a scene), or a
         scene with a user law (`user_law`): a study's tasks run from scene files, which cannot hold
         its functions; loop over `run` instead.
     """
-    from workbench.study import StudyError, study_from_dict
+    from gfmd_contact.app.study import StudyError, study_from_dict
 
     if getattr(scene, "user_law", None) is not None:
         raise StudyError("interface.law = \"user\": a study runs its tasks from scene files, which cannot hold the "
@@ -101,15 +101,15 @@ def load_study(source):
 
     Parameters
     ----------
-    source : str, pathlib.Path or workbench.study.Study
+    source : str, pathlib.Path or gfmd_contact.app.study.Study
         A study file (``gfmd study run`` reads the same; base scene and [axes], optional
         [zip]), or a `make_study` result (returned as it is).
 
     Returns
     -------
-    workbench.study.Study
+    gfmd_contact.app.study.Study
     """
-    from workbench.study import Study, load_study as read
+    from gfmd_contact.app.study import Study, load_study as read
 
     return source if isinstance(source, Study) else read(source)
 
@@ -157,7 +157,7 @@ class StudyResult:
     def table(self):
         """study.csv as a DataFrame: one row per (task, step); columns set, the varied keys,
         realization, seed, task, curve.csv's (step, U, delta (m), p (Pa), a_rel, g_r, g, …) and the set's
-        stickiness_<key> columns (`contact.stickiness`; NaN where not defined)."""
+        stickiness_<key> columns (`gfmd_contact.core.stickiness`; NaN where not defined)."""
         import pandas as pd
 
         return pd.read_csv(self.dir / "study.csv")
@@ -177,11 +177,11 @@ class StudyResult:
         Columns: set, the varied keys, realization, seed, task, cycle, pull_off_pressure (Pa, the most tensile
         p̄ on unloading, < 0 tensile), pull_off_delta and snap_off_delta (m), hysteresis (J/m², W = ∮ p̄ dδ per
         unit area), closed (True/False), jump_in and jump_out (numbers of events); NaN where a cycle has no
-        value (`workbench.cycles.write_study_cycles`). A ramp study has no cycles.csv: an empty DataFrame
+        value (`gfmd_contact.app.cycles.write_study_cycles`). A ramp study has no cycles.csv: an empty DataFrame
         with the columns that do not depend on the axes.
         """
         import pandas as pd
-        from workbench.cycles import STUDY_COLUMNS
+        from gfmd_contact.app.cycles import STUDY_COLUMNS
 
         path = self.dir / "cycles.csv"
         if not path.is_file():
@@ -221,7 +221,7 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True):
 
     Parameters
     ----------
-    study : str, pathlib.Path or workbench.study.Study
+    study : str, pathlib.Path or gfmd_contact.app.study.Study
         A study TOML file, or a `make_study` result.
     out : str or pathlib.Path
         The study directory; rerunning into it reuses every finished task.
@@ -244,7 +244,7 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True):
     """
     import warnings
 
-    from workbench.study import failure_summary, run_study as execute
+    from gfmd_contact.app.study import failure_summary, run_study as execute
 
     study = load_study(study)
     record = execute(study, out, workers=workers, scheduler=scheduler, progress=progress,

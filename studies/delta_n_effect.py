@@ -3,16 +3,16 @@
 δn = 1 nm (interface.length_normal) is this project's choice, not the seed paper's.
 Together with the contact rule (a node counts as in contact while its gap is at most
 Δtol, where T_n(Δtol) = contact_tolerance·φn/δn on the decaying branch: Δtol ≈ 9.1 δn
-at tolerance 1e-3, `contact.laws.contact_gap_threshold`) it sets the measured a_rel and
-p/E*. This script runs the default scene's geometry (contact/default_scene.toml:
+at tolerance 1e-3, `gfmd_contact.core.laws.contact_gap_threshold`) it sets the measured a_rel and
+p/E*. This script runs the default scene's geometry (gfmd_contact/core/default_scene.toml:
 self-affine H = 0.8, h_rms = 10 nm, L = 1.28 µm, λr = 160 nm, λs = 2.5 nm, ν = 0.45,
 half-plane) for φn* ∈ {0.001, 0.01, 0.05, 0.15} and the hard wall, at δn = 1 nm
 (N = 4096, the default) and δn = 0.25 nm (N = 16384: δn/l = 3.2 in both, above the
-resolution threshold δn ≥ 2 l of `contact.model`). The profile is the same continuum
+resolution threshold δn ≥ 2 l of `gfmd_contact.core.model`). The profile is the same continuum
 profile in both grids (seed Eq. 4 amplitudes, the same random phases), so the hard
 wall is run at both N, and δn = 1 nm also at N = 16384 (`--no-fine-1nm` skips it) to
 separate the grid from δn. Every run starts at δ0 = 8 nm (outside the jump-in
-separation of every case: at most 6.6 nm, `contact.model.jump_in_separation`) and goes to
+separation of every case: at most 6.6 nm, `gfmd_contact.core.model.jump_in_separation`) and goes to
 δ = 20 nm in steps of ΔU = 0.5 nm (δ = 10 and 20 nm are on the grid; ΔU = 0.25 nm,
 `--step 0.25`, gave the same values to the 4–5 digits reported). For the hard wall the
 script also counts its nodes with the cohesive rule, gap ≤ Δtol(δn), to show how much
@@ -33,11 +33,11 @@ from pathlib import Path
 
 import numpy as np
 
-from workbench.io import code_version
-from contact.laws import contact_gap_threshold
+from gfmd_contact.app.io import code_version
+from gfmd_contact.core.laws import contact_gap_threshold
 from gfmd.loading import run_realization
-from contact.model import build_model, softest_normal_stiffness
-from contact.scene import default_scene, scene_to_toml
+from gfmd_contact.core.model import build_model, softest_normal_stiffness
+from gfmd_contact.core.scene import default_scene, scene_to_toml
 
 HERE = Path(__file__).resolve().parent
 PHIS = (0.001, 0.01, 0.05, 0.15)
@@ -157,7 +157,7 @@ def write_markdown(args, summary, timings, total_wall, total_cpu):
         "Written by `studies/delta_n_effect.py` (see its docstring). "
         f"Code version `{code_version()}`, Python {platform.python_version()}, {platform.machine()}.",
         "",
-        "Scene: the default scene's geometry (`contact/default_scene.toml`): self-affine H = 0.8, h_rms = 10 nm, "
+        "Scene: the default scene's geometry (`gfmd_contact/core/default_scene.toml`): self-affine H = 0.8, h_rms = 10 nm, "
         "L = 1.28 µm, λr = 160 nm, λs,H = 2.5 nm, E = 70 GPa, ν = 0.45, half-plane, normal-only CZ (c = 0); "
         f"realizations with seeds {', '.join(str(1 + i) for i in range(args.realizations))} "
         "(the same continuum profile on both grids); "

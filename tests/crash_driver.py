@@ -5,8 +5,8 @@ write events, resume each time, until one attempt completes; prints a JSON repor
 
 REF_DIR gets the uninterrupted run (in this process for a run, which also warms it up).
 
-Every attempt is a fork of this process (the imports are paid once) that runs `workbench.cli.main`
-with the write functions of `workbench.safe_files` instrumented: each call is three events,
+Every attempt is a fork of this process (the imports are paid once) that runs `gfmd_contact.cli.main`
+with the write functions of `gfmd_contact.app.safe_files` instrumented: each call is three events,
 (a) before it, (b) half of the data written (a temporary file cut short, or half a CSV row
 appended), (c) after it. An attempt draws k from 1 + Poisson-like geometric(MEAN_GAP) and kills itself
 (SIGKILL, no cleanup, no atexit) at its k-th event; at (b) the half-written data is left on disk. A
@@ -27,7 +27,7 @@ from pathlib import Path
 
 def instrument(target, log_path):
     """Patch safe_files so that this process SIGKILLs itself at its `target`-th write event."""
-    from workbench import safe_files
+    from gfmd_contact.app import safe_files
 
     lock = threading.Lock()
     count = [0]
@@ -90,10 +90,10 @@ def attempt(argv, target, log_path):
             os.dup2(devnull, 1)
             os.dup2(devnull, 2)
             count = instrument(target, log_path)
-            import workbench.study
+            import gfmd_contact.app.study
 
-            workbench.study._client = threaded_cluster
-            from workbench.cli import main
+            gfmd_contact.app.study._client = threaded_cluster
+            from gfmd_contact.cli import main
 
             code = main(argv)
             with open(log_path + ".count", "w") as fh:
@@ -133,20 +133,20 @@ def progress(kind, out):
 def warm_up(kind, ref, args):
     """Pay the one-off costs (imports, numba compilation, git describe) in this process, before forking:
     the run's reference runs here; for a study, its first task's scene runs here as a plain run."""
-    from workbench.cli import main as gfmd
-    from workbench.io import code_version
+    from gfmd_contact.cli import main as gfmd
+    from gfmd_contact.app.io import code_version
 
     code_version()
     if kind == "run":
         assert gfmd(["run", *args, "--out", ref, "--quiet", "--workers", "1"]) == 0
         return
-    import workbench.plots  # noqa: F401
-    from workbench.study import load_study
+    import gfmd_contact.app.plots  # noqa: F401
+    from gfmd_contact.app.study import load_study
 
     scratch = Path(ref).parent / ".warm"
     task = load_study(args[0]).tasks[0]
-    from workbench.io import prepare_run_dir
-    from workbench.ensemble import run_to_directory
+    from gfmd_contact.app.io import prepare_run_dir
+    from gfmd_contact.app.ensemble import run_to_directory
 
     run_to_directory(task.scene, prepare_run_dir(scratch, task.scene), progress=False)
 

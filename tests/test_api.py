@@ -15,9 +15,9 @@ import pandas as pd
 import pytest
 
 import gfmd_contact as gc
-from workbench import io
-from workbench.averages import AVERAGED
-from workbench.cli import main
+from gfmd_contact.app import io
+from gfmd_contact.app.averages import AVERAGED
+from gfmd_contact.cli import main
 
 SMALL = {"surface.length": 320e-9, "surface.nodes": 256, "surface.rolloff_wavelength": 160e-9,
          "surface.rollon_wavelength": 10e-9, "surface.realizations": 3, "loading.steps": 6,
@@ -112,7 +112,7 @@ def test_result_is_the_run_directory_read_back(result):
 
 def test_an_unfinished_run_is_read_from_its_saved_steps(scene, result, tmp_path):
     """Every step on disk but no final files (as while a run goes): the same curve and mean curve."""
-    from workbench.ensemble import run_to_directory
+    from gfmd_contact.app.ensemble import run_to_directory
 
     two = gc.change(scene, {"surface.realizations": 2})
     out = io.prepare_run_dir(tmp_path / "unfinished", two)

@@ -1,5 +1,5 @@
-"""The layering holds: core (contact) ← methods (gfmd, reference.fem, reference.analytic) ← app (workbench,
-and gfmd_contact, the Python API over it).
+"""The layering holds: core (gfmd_contact.core) ← methods (gfmd, reference.fem, reference.analytic) ← app
+(gfmd_contact.app, and gfmd_contact: the Python API over it and the CLI over that).
 
 Read from the source with `ast` (every import, top-level or inside a function):
 the core imports no method and no app module; a method imports the core and
@@ -13,9 +13,9 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-LAYER = {"contact": "core", "gfmd": "gfmd", "reference.fem": "fem", "reference.fem3d": "fem3d",
+LAYER = {"gfmd_contact.core": "core", "gfmd": "gfmd", "reference.fem": "fem", "reference.fem3d": "fem3d",
          "reference.analytic": "analytic", "reference._blas": "plumbing",
-         "workbench": "app", "gfmd_contact": "app"}
+         "gfmd_contact.app": "app", "gfmd_contact": "app"}
 #: which groups each group may import (besides itself). "plumbing": reference._blas, the single-threaded
 #: OpenBLAS context both FE references run their dense surface solves in; thread control, not the physics
 #: either FE checks, so sharing it keeps them independent (it imports no project module)
@@ -56,7 +56,7 @@ def imports(path):
 
 
 def sources():
-    for top in ("contact", "gfmd", "gfmd_contact", "reference", "workbench"):
+    for top in ("gfmd", "gfmd_contact", "reference"):
         yield from sorted((ROOT / top).rglob("*.py"))
 
 
@@ -77,8 +77,8 @@ def test_layers_import_downward_only():
     assert not wrong, "\n".join(wrong)
 
 
-@pytest.mark.parametrize("package", ["contact", "gfmd", "reference.fem", "reference.fem3d", "workbench",
-                                     "gfmd_contact"])
+@pytest.mark.parametrize("package", ["gfmd_contact.core", "gfmd", "reference.fem", "reference.fem3d",
+                                     "gfmd_contact.app", "gfmd_contact"])
 def test_no_import_circles(package):
     modules = known_modules()
     graph = {}
@@ -108,37 +108,37 @@ def test_no_import_circles(package):
 
 def test_the_check_sees_a_violation(tmp_path, monkeypatch):
     """The import reader resolves relative and in-function imports (else the tests above prove nothing)."""
-    fake = ROOT / "contact" / "_probe_for_test.py"
+    fake = ROOT / "gfmd_contact" / "core" / "_probe_for_test.py"
     fake.write_text("def f():\n    from gfmd import solver\n\nfrom .scene import Scene\n")
     try:
         found = imports(fake)
-        assert "gfmd.solver" in found and "contact.scene" in found
-        with pytest.raises(AssertionError, match="contact._probe_for_test"):
+        assert "gfmd.solver" in found and "gfmd_contact.core.scene" in found
+        with pytest.raises(AssertionError, match="gfmd_contact.core._probe_for_test"):
             test_layers_import_downward_only()
     finally:
         fake.unlink()
 
 
 #: what reference.fem may import from the core. The FE is an independent cross-check of GFMD
-#: (issue 12): it shares the inputs (the scene; the profile heights of contact.surfaces), the
-#: model choice and its checks (contact.model), the one load ramp (contact.ramp) and the result
-#: and error types, and nothing it checks. Not contact.laws nor contact.law_equations (the FE has reference.fem.law),
-#: contact.observables (reference.fem.observables, through Cell.observe), contact.loading
-#: (z_ind: reference.fem.geometry), nor contact.kernels: the elastic kernels are what
+#: (issue 12): it shares the inputs (the scene; the profile heights of gfmd_contact.core.surfaces), the
+#: model choice and its checks (gfmd_contact.core.model), the one load ramp (gfmd_contact.core.ramp) and the result
+#: and error types, and nothing it checks. Not gfmd_contact.core.laws nor gfmd_contact.core.law_equations (the FE has reference.fem.law),
+#: gfmd_contact.core.observables (reference.fem.observables, through Cell.observe), gfmd_contact.core.loading
+#: (z_ind: reference.fem.geometry), nor gfmd_contact.core.kernels: the elastic kernels are what
 #: verification/test_fe_linear checks against the FE, so the FE solver must not use them (the
-#: verification tests may). contact.user_law: a user-defined law is an input (the user's callables), with
-#: nothing to be independent from; the FE's built-in laws stay its own. The scene is contact.scene and
+#: verification tests may). gfmd_contact.core.user_law: a user-defined law is an input (the user's callables), with
+#: nothing to be independent from; the FE's built-in laws stay its own. The scene is gfmd_contact.core.scene and
 #: the modules it is split into (scene_sections, scene_validation, scene_toml): input, as it.
-FE_MAY_IMPORT = {"contact", "contact.scene", "contact.scene_sections", "contact.scene_validation", "contact.scene_toml",
-                 "contact.surfaces", "contact.model", "contact.ramp", "contact.result", "contact.errors",
-                 "contact.user_law"}
+FE_MAY_IMPORT = {"gfmd_contact.core", "gfmd_contact.core.scene", "gfmd_contact.core.scene_sections", "gfmd_contact.core.scene_validation", "gfmd_contact.core.scene_toml",
+                 "gfmd_contact.core.surfaces", "gfmd_contact.core.model", "gfmd_contact.core.ramp", "gfmd_contact.core.result", "gfmd_contact.core.errors",
+                 "gfmd_contact.core.user_law"}
 
 
 def fe_core_imports(root=ROOT, package="fem"):
     """{FE module: core modules it imports that FE_MAY_IMPORT does not list} for reference/<package>."""
-    modules = known_modules() | {"contact"}
+    modules = known_modules() | {"gfmd_contact.core"}
 
-    def owner(name):  # contact.ramp.StepSolution → contact.ramp
+    def owner(name):  # gfmd_contact.core.ramp.StepSolution → gfmd_contact.core.ramp
         while name not in modules and "." in name:
             name = name.rpartition(".")[0]
         return name
@@ -159,9 +159,9 @@ def test_fe_reference_shares_only_its_inputs_with_gfmd(package):
                                                                          for m, t in wrong.items())
 
 
-@pytest.mark.parametrize("source", ["from contact import laws\n", "from contact.observables import rms_gradient\n",
-                                    "def f():\n    from contact.loading import indenter_surface\n",
-                                    "import contact.kernels\n"])
+@pytest.mark.parametrize("source", ["from gfmd_contact.core import laws\n", "from gfmd_contact.core.observables import rms_gradient\n",
+                                    "def f():\n    from gfmd_contact.core.loading import indenter_surface\n",
+                                    "import gfmd_contact.core.kernels\n"])
 @pytest.mark.parametrize("package", ["fem", "fem3d"])
 def test_the_fe_check_sees_a_violation(source, package):
     fake = ROOT / "reference" / package / "_probe_for_test.py"
@@ -266,9 +266,26 @@ def test_gfmd_modules_stay_small():
 
 def test_ramp_records_check_uses_its_own_code():
     """verification/ramp_records.py recomputes what the shared ramp records (issue 23): it imports no
-    project package (contact, gfmd, reference, workbench, gfmd_contact), only the standard library and numpy."""
+    project package (gfmd, reference, gfmd_contact), only the standard library and numpy."""
     tree = ast.parse((ROOT / "verification" / "ramp_records.py").read_text(encoding="utf-8"))
     names = {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
     names |= {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module and not n.level}
     assert not any(isinstance(n, ast.ImportFrom) and n.level for n in ast.walk(tree))
     assert {m.split(".")[0] for m in names} <= {"__future__", "csv", "json", "tomllib", "pathlib", "numpy"}, names
+
+
+#: the top-level import names an install may add (the architecture's "one namespace")
+TOP_LEVEL_NAMES = {"gfmd", "gfmd_contact", "reference", "verification"}
+
+
+def test_install_adds_only_the_design_top_level_names():
+    """pyproject's package patterns, matched against the source tree as setuptools matches them, install no generic
+    top-level name (a `contact` or `workbench` of ours would shadow, or be shadowed by, another package's)."""
+    import fnmatch
+    import tomllib
+
+    patterns = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["setuptools"]["packages"]["find"]["include"]
+    packages = {".".join(p.parent.relative_to(ROOT).parts) for p in ROOT.rglob("__init__.py") if ".git" not in p.parts}
+    installed = {p for p in packages if any(fnmatch.fnmatchcase(p, pat) for pat in patterns)}
+    assert {"gfmd", "gfmd_contact", "gfmd_contact.core", "gfmd_contact.app", "reference", "verification"} <= installed
+    assert {p.split(".")[0] for p in installed} <= TOP_LEVEL_NAMES, sorted(installed)

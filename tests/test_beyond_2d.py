@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from workbench.study import load_study
+from gfmd_contact.app.study import load_study
 
 ROOT = Path(__file__).resolve().parents[1]
 BEYOND = ROOT / "studies" / "beyond"

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from contact.loading import step_branches
-from workbench.study import load_study
+from gfmd_contact.core.loading import step_branches
+from gfmd_contact.app.study import load_study
 
 ROOT = Path(__file__).resolve().parents[1]
 BEYOND = ROOT / "studies" / "beyond"

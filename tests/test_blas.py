@@ -41,9 +41,9 @@ def test_the_users_thread_count_stands():
 
 
 def test_relax_runs_its_algorithms_on_one_blas_thread(monkeypatch):
-    from contact import surfaces
-    from contact.loading import indenter_surface
-    from contact.scene import default_scene
+    from gfmd_contact.core import surfaces
+    from gfmd_contact.core.loading import indenter_surface
+    from gfmd_contact.core.scene import default_scene
     from gfmd import chains
     from gfmd.loading import prepare
 

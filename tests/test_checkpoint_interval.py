@@ -1,4 +1,4 @@
-"""Checkpoints every CHECKPOINT_SECONDS, not every step (`workbench.checkpoints.save_step`, `checkpointing`).
+"""Checkpoints every CHECKPOINT_SECONDS, not every step (`gfmd_contact.app.checkpoints.save_step`, `checkpointing`).
 
 A realization's rows and warm start go to disk at its first step, at its saved steps and once CHECKPOINT_SECONDS
 have passed; the steps in between are written when the ramp stops however it stops but a kill: at its end, at an
@@ -11,14 +11,14 @@ import json
 
 import pytest
 
-import workbench.io
-from workbench import checkpoints
-from workbench.cli import main
+import gfmd_contact.app.io
+from gfmd_contact.app import checkpoints
+from gfmd_contact.cli import main
 from tests.test_run_dir import assert_same_run, scene, write_scene
 
 
 def _steps_on_disk(out, sc, realization):
-    part = workbench.io.load_part(out, sc, realization)
+    part = gfmd_contact.app.io.load_part(out, sc, realization)
     return -1 if part is None else len(part[0].curve["step"]) - 1
 
 
@@ -36,7 +36,7 @@ def reference(tmp_path, monkeypatch):
 def _run_watched(monkeypatch, path, out, stop=None, kill=False):
     """Run into `out`, recording the steps on disk at every checkpoint call; stop = (realization, step): a
     KeyboardInterrupt there (an interrupt; kill=True: no deferred step written, as SIGKILL)."""
-    seen, original = [], workbench.io.save_step
+    seen, original = [], gfmd_contact.app.io.save_step
 
     def spy(out_dir, result, state):
         original(out_dir, result, state)
@@ -44,7 +44,7 @@ def _run_watched(monkeypatch, path, out, stop=None, kill=False):
         if (result.realization, state.step) == stop:
             raise KeyboardInterrupt
 
-    monkeypatch.setattr(workbench.io, "save_step", spy)
+    monkeypatch.setattr(gfmd_contact.app.io, "save_step", spy)
     if kill:
         monkeypatch.setattr(checkpoints, "flush_steps", lambda outs: None)
     code = main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"])
@@ -112,13 +112,13 @@ def test_the_interval_from_the_environment(reference, tmp_path, monkeypatch):
     monkeypatch.setenv("GFMD_CHECKPOINT_SECONDS", "0")
     monkeypatch.setattr(checkpoints, "CHECKPOINT_SECONDS", 1e9)
     assert checkpoints.checkpoint_seconds() == 0
-    seen, original = [], workbench.io.save_step
+    seen, original = [], gfmd_contact.app.io.save_step
 
     def spy(out_dir, result, state):
         original(out_dir, result, state)
         seen.append(_steps_on_disk(out_dir, result.scene, result.realization))
 
-    monkeypatch.setattr(workbench.io, "save_step", spy)
+    monkeypatch.setattr(gfmd_contact.app.io, "save_step", spy)
     assert main(["run", str(path), "--out", str(tmp_path / "out"), "--quiet", "--no-plot"]) == 0
     assert seen == list(range(9)) * 2  # every step on disk as it is computed
     assert_same_run(ref, tmp_path / "out")

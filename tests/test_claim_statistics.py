@@ -5,7 +5,7 @@ writes them) with several parameter sets, per-realization values whose scatter d
 and is correlated between sets through the seed (the same rough profile), and two layouts:
 "equal" (every set the same seeds 1 … 5) and "unequal" (3 to 7 realizations per set, seed ranges
 offset so that sets share some seeds, not all). The known answer is recomputed here from the csv rows
-with plain numpy, not with `workbench.claims` / `workbench.claim_stats`:
+with plain numpy, not with `gfmd_contact.app.claims` / `gfmd_contact.app.claim_stats`:
 
 * the per-realization quantity (κ fit, a_rel at δ, a_rel where p_r* first reaches a load, …) from the
   rows of that (set, seed), and checked against the value the fixture was built from;
@@ -28,8 +28,8 @@ import math
 import numpy as np
 import pytest
 
-from contact.scene import default_scene, scene_to_toml
-from workbench import claims as C
+from gfmd_contact.core.scene import default_scene, scene_to_toml
+from gfmd_contact.app import claims as C
 
 EPS = np.finfo(float).eps
 ROUNDOFF = 1000 * EPS

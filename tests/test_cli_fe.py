@@ -1,6 +1,6 @@
 """`gfmd run SCENE --method fe` end to end, for both FE interface laws (hard wall, cohesive).
 
-The real command line (`workbench.cli.main`) on small finite-layer scenes: a sinusoid
+The real command line (`gfmd_contact.cli.main`) on small finite-layer scenes: a sinusoid
 (h0 = 10 nm, L = 1 µm, N = 32) and a self-affine profile (H = 0.8, h_rms = 5 nm,
 λr = 250 nm, λs = L/16 = 4 l, seed 3, N = 64: verification/test_fe_selfaffine.py's
 parameters, cut at λs = 4 l), layer D = L on a rigid base, E = 70 GPa,
@@ -10,9 +10,9 @@ Hard wall: frictionless; cohesive: normal-only CZ, φn* = 0.01, δn = 1 nm.
 Each run must return 0 and write:
 
 * curve.csv: one row per load step 0…steps (realization 0), U and δ the ramp of
-  `contact.loading.displacement_steps`, every step converged, contact reached;
+  `gfmd_contact.core.loading.displacement_steps`, every step converged, contact reached;
 * fields.npz: r0_s<k>_<field> for exactly the saved steps
-  (`contact.loading.field_step_indices`);
+  (`gfmd_contact.core.loading.field_step_indices`);
 * vtu/realization0/fe.pvd listing fe_step<k>.vtu for every saved step, in
   order, with δ_k as the time value, and each of those files;
 * each fe_step<k>.vtu, read back with meshio: the displacement at the mesh's
@@ -33,10 +33,10 @@ import meshio
 import numpy as np
 import pytest
 
-from workbench.cli import main
-from contact.loading import displacement_steps, field_step_indices
-from contact.result import FIELD_NAMES
-from contact.scene import default_scene, scene_to_toml
+from gfmd_contact.cli import main
+from gfmd_contact.core.loading import displacement_steps, field_step_indices
+from gfmd_contact.core.result import FIELD_NAMES
+from gfmd_contact.core.scene import default_scene, scene_to_toml
 
 LENGTH = 1e-6  # m
 COMMON = {

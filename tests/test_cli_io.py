@@ -1,4 +1,4 @@
-"""Result files, ensembles and the command line (workbench.io, workbench.ensemble, workbench.cli)."""
+"""Result files, ensembles and the command line (gfmd_contact.app.io, gfmd_contact.app.ensemble, gfmd_contact.cli)."""
 
 import json
 import tomllib
@@ -6,12 +6,12 @@ import tomllib
 import numpy as np
 import pytest
 
-from workbench.cli import main
-from workbench.averages import ensemble_average, mean_standard_error
-from workbench.ensemble import run_ensemble
-from workbench.io import read_run, write_run
-from contact.result import CURVE_COLUMNS, FIELD_NAMES
-from contact.scene import default_scene, scene_from_dict, scene_to_toml
+from gfmd_contact.cli import main
+from gfmd_contact.app.averages import ensemble_average, mean_standard_error
+from gfmd_contact.app.ensemble import run_ensemble
+from gfmd_contact.app.io import read_run, write_run
+from gfmd_contact.core.result import CURVE_COLUMNS, FIELD_NAMES
+from gfmd_contact.core.scene import default_scene, scene_from_dict, scene_to_toml
 
 
 def small_scene(**extra):

@@ -20,12 +20,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from contact import laws, surfaces
-from contact.kernels import contact_modulus
-from contact.loading import displacement_steps, indenter_surface
-from contact.model import softest_normal_stiffness
-from contact.observables import step_observables
-from contact.scene import SceneError, default_scene, load_scene, scene_from_dict, scene_to_dict, scene_to_toml
+from gfmd_contact.core import laws, surfaces
+from gfmd_contact.core.kernels import contact_modulus
+from gfmd_contact.core.loading import displacement_steps, indenter_surface
+from gfmd_contact.core.model import softest_normal_stiffness
+from gfmd_contact.core.observables import step_observables
+from gfmd_contact.core.scene import SceneError, default_scene, load_scene, scene_from_dict, scene_to_dict, scene_to_toml
 from gfmd.loading import prepare
 from reference.fem.law import CohesiveZone
 from reference.fem.observables import contact_set
@@ -90,7 +90,7 @@ def test_hard_wall_traction_tolerance_is_compressive(gap, t):
 @given(gap=fields(), law=st.sampled_from(LAWS), rule=st.sampled_from(RULES), tol=st.floats(1e-6, 0.3),
        contact_gap=st.floats(0.01, 15.0), noise=st.floats(-1e8, 1e8))
 def test_fe_contact_set_equals_the_law_objects(gap, law, rule, tol, contact_gap, noise):
-    """The FE's own contact-set code and `contact.laws` agree node by node (as tests/test_fem_law.py ties the laws)."""
+    """The FE's own contact-set code and `gfmd_contact.core.laws` agree node by node (as tests/test_fem_law.py ties the laws)."""
     extra = {"interface.contact_tolerance": tol} if rule == "traction-tolerance" else {}
     if rule == "gap":
         extra = {"interface.contact_gap": contact_gap}
@@ -290,7 +290,7 @@ def test_replace_drops_the_old_rules_key():
 
 def test_fe_refuses_the_cohesive_wall():
     from reference.fem.run import refusal, run_realization
-    from workbench.methods import method_of
+    from gfmd_contact.app.methods import method_of
     scene = _sinusoid("cohesive-wall", thickness=1e-6, n=64).replace(**{"method.name": "fe"})
     with pytest.raises(SceneError, match="cohesive-wall"):
         method_of(scene).refuse(scene)

@@ -2,7 +2,7 @@
 barely couples u_x and u_z; `gfmd.problem.frictionless`, `gfmd.chains`).
 
 Kernels: the reduction's normal stiffness, condensed from the model's coupled 2×2 K(q), is the frictionless normal
-kernel of `contact.kernels` (half-plane and layer: independent formulas). Chain: test_coupled_handover's ramp
+kernel of `gfmd_contact.core.kernels` (half-plane and layer: independent formulas). Chain: test_coupled_handover's ramp
 (bench_adhesion_scaling's coupled class at N = 2^12, ν = 0.45, realization seed 1) at its first event step.
 """
 
@@ -11,8 +11,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from contact import kernels, surfaces
-from contact.model import build_model
+from gfmd_contact.core import kernels, surfaces
+from gfmd_contact.core.model import build_model
 from gfmd import chains
 from gfmd.algorithms import ncg
 from gfmd.problem import InterfaceLaw, Problem, elastic_coupling, frictionless
@@ -42,7 +42,7 @@ def test_reduced_stiffness_is_the_frictionless_kernel(nu, thickness):
     youngs = _scene().material.youngs_modulus
     expected = (kernels.halfplane_normal(model.q, youngs, nu) if thickness == "inf"
                 else kernels.layer_normal(model.q, youngs, nu, thickness))
-    # the coupled kernels zero K_xz at the Nyquist mode (`contact.kernels`): the model's own frictionless
+    # the coupled kernels zero K_xz at the Nyquist mode (`gfmd_contact.core.kernels`): the model's own frictionless
     # stiffness there is its k_zz, nothing to condense
     free = np.abs(model.k_xz) > 0
     assert np.count_nonzero(~free) <= 2

@@ -26,7 +26,7 @@ class _Stop(Exception):
 
 
 def _scene():
-    from contact.scene import load_scene
+    from gfmd_contact.core.scene import load_scene
     return load_scene(SEED).replace(**{"surface.nodes": 4096, "surface.rollon_wavelength": 10e-9,
                                        "surface.realizations": 1, "interface.law": "cohesive",
                                        "interface.phi_n_star": 0.15, "interface.tangential_ratio": 0.5,
@@ -56,7 +56,7 @@ def _ramp(scene, settings):
 def ramps():
     scene = _scene()
     base = replace(settings_of(scene), coupled="newton")
-    from contact import surfaces
+    from gfmd_contact.core import surfaces
     cell = prepare(scene, surfaces.profile(scene.surface, 0), 0)
     return cell, _ramp(scene, base), _ramp(scene, replace(base, coupled="handover-near"))
 
@@ -70,8 +70,8 @@ def bound(cell):
 
 
 def _event_step(cell, ramp):
-    from contact.loading import indenter_surface, realization_steps
-    from contact import surfaces
+    from gfmd_contact.core.loading import indenter_surface, realization_steps
+    from gfmd_contact.core import surfaces
     h = surfaces.profile(cell.scene.surface, 0)
     steps, _ = realization_steps(cell.scene, h, 0)
     z = indenter_surface(h, cell.scene.loading.initial_separation, steps[EVENT])

@@ -1,11 +1,11 @@
-"""gfmd.coupled_kernels equal to the formulas they fuse: Eq. 2's tractions (`contact.law_equations`), the 2×2
+"""gfmd.coupled_kernels equal to the formulas they fuse: Eq. 2's tractions (`gfmd_contact.core.law_equations`), the 2×2
 block products of K(q), the law tangent's nodal product, the weighted spectral dot and the two-level
 preconditioner's nodal passes (against a dense block matrix Z built here), numpy and numba."""
 
 import numpy as np
 import pytest
 
-from contact.law_equations import CompressionOverflowError, traction_coupled
+from gfmd_contact.core.law_equations import CompressionOverflowError, traction_coupled
 from gfmd import kernels
 from gfmd.coupled_kernels import coarse_passes, coupled_kernels
 
@@ -152,8 +152,8 @@ def test_an_isotropic_bodys_blocks_have_the_split_form(thickness):
     imaginary off it, so the fused products run on the split form; the products are the complex ones either way."""
     from pathlib import Path
 
-    from contact import surfaces
-    from contact.scene import load_scene
+    from gfmd_contact.core import surfaces
+    from gfmd_contact.core.scene import load_scene
     from gfmd.loading import prepare
     from gfmd.problem import Elastic
     base = Path(__file__).resolve().parents[1] / "studies" / "seed" / "seed_base.toml"

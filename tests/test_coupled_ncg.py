@@ -1,6 +1,6 @@
 """The coupled NCG (`gfmd.algorithms.coupled_ncg`, Settings.coupled = "ncg-first", `gfmd.chains`).
 
-Kernel: the line search's trial pass against the law's own formulas (`contact.law_equations`, Eq. 2 and its
+Kernel: the line search's trial pass against the law's own formulas (`gfmd_contact.core.law_equations`, Eq. 2 and its
 tangent), both backends. Line search: it stops where the force along the direction, computed afresh from the
 interface law, has fallen to its tolerance. Chain: test_coupled_handover's ramp (bench_adhesion_scaling's coupled
 class at N = 2^12) at its first event step, against "handover-near".
@@ -11,7 +11,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from contact.law_equations import MAX_COMPRESSION, jacobian_coupled, traction_coupled
+from gfmd_contact.core.law_equations import MAX_COMPRESSION, jacobian_coupled, traction_coupled
 from gfmd import chains
 from gfmd.algorithms import coupled_ncg
 from gfmd.kernels import numba

@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from contact import surfaces
-from contact.scene import load_scene
+from gfmd_contact.core import surfaces
+from gfmd_contact.core.scene import load_scene
 from gfmd import coupled_krylov, coupled_preconditioner, kernels
 from gfmd.coupled_preconditioner import coarse_space, operators
 from gfmd.fft import Fft

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import pytest
 
-from contact.scene import scene_to_toml
+from gfmd_contact.core.scene import scene_to_toml
 from test_run_dir import assert_same_run, scene
 
 DRIVER = Path(__file__).with_name("crash_driver.py")

@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from contact import loading as L
-from contact.scene import scene_to_toml
+from gfmd_contact.core import loading as L
+from gfmd_contact.core.scene import scene_to_toml
 from test_load_paths import path_scene
 
 
@@ -20,7 +20,7 @@ def rows(path):
 @pytest.fixture(scope="module")
 def path_study(tmp_path_factory):
     """Two adhesion strengths × two realizations of a rough load–unload cycle: (study file, out)."""
-    from workbench.cli import main
+    from gfmd_contact.cli import main
 
     folder = tmp_path_factory.mktemp("cycstudy")
     scene = path_scene(**{"interface.law": "cohesive", "surface.nodes": 64}).replace(**{
@@ -34,9 +34,9 @@ def path_study(tmp_path_factory):
 
 
 def test_summary_keeps_the_branches_apart(path_study):
-    """summary.csv and summary.nc carry per step the branch and cycle of the scene's path (contact.loading)."""
+    """summary.csv and summary.nc carry per step the branch and cycle of the scene's path (gfmd_contact.core.loading)."""
     xr = pytest.importorskip("xarray")
-    from workbench.study import load_study
+    from gfmd_contact.app.study import load_study
 
     path, out = path_study
     study = load_study(path)
@@ -61,15 +61,15 @@ def test_summary_keeps_the_branches_apart(path_study):
 
 def test_ramp_study_has_no_branch_columns():
     """A ramp study's summary columns are the seed's (no branch/cycle)."""
-    from workbench.study import summary_columns
+    from gfmd_contact.app.study import summary_columns
 
     assert "branch" not in summary_columns() and summary_columns(True)[:3] == ["step", "branch", "cycle"]
 
 
 def test_pull_off_and_hysteresis_vs_axis(path_study):
     """gfmd study plot --over AXIS draws pull-off and W vs AXIS: each point the mean ± SE of cycles.csv's rows."""
-    from workbench.cli import main
-    from workbench.study_cycle_plots import CYCLE_STUDY_FIGURES, cycle_study_figures
+    from gfmd_contact.cli import main
+    from gfmd_contact.app.study_cycle_plots import CYCLE_STUDY_FIGURES, cycle_study_figures
 
     _, out = path_study
     table = rows(out / "cycles.csv")
@@ -97,7 +97,7 @@ def test_pull_off_and_hysteresis_vs_axis(path_study):
 
 
 def test_ramp_study_draws_no_cycle_figures(tmp_path):
-    from workbench.study_cycle_plots import cycle_study_figures
+    from gfmd_contact.app.study_cycle_plots import cycle_study_figures
 
     assert cycle_study_figures(tmp_path) == {}
 
@@ -157,8 +157,8 @@ def test_force_control_study_summaries_carry_the_load(tmp_path):
     import xarray as xr
 
     from test_load_paths import force_scene
-    from workbench.cli import main
-    from workbench.study import summary_columns
+    from gfmd_contact.cli import main
+    from gfmd_contact.app.study import summary_columns
 
     assert "load" not in summary_columns(True) and "load" in summary_columns(True, True)
     s = force_scene(top=0.05, **{"surface.nodes": 64})

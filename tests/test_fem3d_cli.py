@@ -20,11 +20,11 @@ import meshio
 import numpy as np
 import pytest
 
-from contact import surfaces
-from contact.loading import displacement_steps, field_step_indices
-from contact.scene import scene_from_dict, scene_to_toml
+from gfmd_contact.core import surfaces
+from gfmd_contact.core.loading import displacement_steps, field_step_indices
+from gfmd_contact.core.scene import scene_from_dict, scene_to_toml
 from reference.fem3d import solve_cell
-from workbench.cli import main
+from gfmd_contact.cli import main
 
 LX = 1.2e-7
 
@@ -86,7 +86,7 @@ def test_fe_on_a_surface_writes_the_run_directory(tmp_path, capsys, law):
 @pytest.mark.parametrize("change, key", [({"material": {"thickness": "inf"}}, "material.thickness"),
                                          ({"surface": {"nodes": 72, "nodes_y": 64}}, "surface.nodes")])
 def test_what_the_3d_fe_cannot_do_is_refused(tmp_path, capsys, change, key):
-    from contact.scene import scene_to_dict
+    from gfmd_contact.core.scene import scene_to_dict
 
     d = scene_to_dict(scene("hard-wall"))
     for section, values in change.items():

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from contact.kernels import layer_normal
+from gfmd_contact.core.kernels import layer_normal
 from reference.fem3d import export_vtu, solve_cell
 from reference.fem3d.law import NormalCohesiveZone
 from reference.fem3d.observables import contact_mask, gradient_squared

@@ -1,7 +1,7 @@
 """3-D FE surface stiffness of the periodic bonded cell against reference-formulas §1.3 (issue 25 item 4).
 
 The FE's mode stiffness Ŝ(m, n)/W (Pa/m, `reference.fem3d.assembly`) for single Fourier modes
-against the layer's normal-only stiffness k_zz^eff(|q|) (§1.3, `contact.kernels.layer_normal`: a
+against the layer's normal-only stiffness k_zz^eff(|q|) (§1.3, `gfmd_contact.core.kernels.layer_normal`: a
 verification test may use the kernels the FE must not), and the half-space E*|q|/2 it approximates
 for D ≥ the cell size with the truncation error k_layer/k_half − 1 (stated in the data file).
 Mesh family: N × N surface nodes, N/2 layers down to D = L graded geometrically with a fixed total
@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from contact.kernels import layer_normal
+from gfmd_contact.core.kernels import layer_normal
 from reference.fem3d.assembly import build_cell, direct_surface_column
 
 DATA = Path(__file__).parent / "data" / "fem3d_stiffness.json"

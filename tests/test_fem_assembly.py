@@ -7,8 +7,8 @@ import pytest
 import sympy as sy
 from skfem import FacetBasis, LinearForm, asm
 
-from contact import surfaces
-from contact.scene import Scene
+from gfmd_contact.core import surfaces
+from gfmd_contact.core.scene import Scene
 from reference.fem.assembly import build_cell
 from reference.fem.mesh import graded_cell
 from reference.fem.solver import fourier_interpolate

@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 import gfmd.loading as gl
-from contact import surfaces
+from gfmd_contact.core import surfaces
 from reference import fem
 from reference.fem.export import SERIES_NAME, step_mesh
 from verification.scenes import cohesive_sinusoid as cohesive_scene

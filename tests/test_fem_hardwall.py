@@ -28,7 +28,7 @@ error has a mesh floor) is held to SAFETY × stored in Δp and the Westergaard e
 import numpy as np
 import pytest
 
-from contact.scene import default_scene
+from gfmd_contact.core.scene import default_scene
 from reference import fem
 from reference.fem.hardwall import HardWallProblem
 from verification.studies import fe_hardwall as fh

@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from contact import surfaces
-from contact.loading import displacement_steps
+from gfmd_contact.core import surfaces
+from gfmd_contact.core.loading import displacement_steps
 from reference.fem.geometry import surface_indenter
 from reference.fem.run import prepare_cohesive
 from verification.studies import fe_cycle

@@ -10,8 +10,8 @@ import math
 import numpy as np
 import pytest
 
-from contact import laws
-from contact.scene import default_scene
+from gfmd_contact.core import laws
+from gfmd_contact.core.scene import default_scene
 from reference.fem.law import CohesiveZone, LawRangeError
 
 PHI_N, DN, PHI_T, DT = 0.7, 1e-9, 0.3, 2e-9
@@ -70,7 +70,7 @@ def test_coupled_reduces_to_eq3_and_is_not_conservative():
 
 
 def test_agrees_with_gfmd_law_pointwise():
-    """The two implementations (FE's and contact.laws) agree to round-off everywhere."""
+    """The two implementations (FE's and gfmd_contact.core.laws) agree to round-off everywhere."""
     gn, gt = np.meshgrid(GAPS_N, GAPS_T)
     assert np.allclose(LAW.normal(GAPS_N), laws.traction_normal(GAPS_N, PHI_N, DN), rtol=1e-13, atol=0)
     assert np.allclose(LAW.normal_slope(GAPS_N), laws.stiffness_normal(GAPS_N, PHI_N, DN), rtol=1e-13, atol=0)

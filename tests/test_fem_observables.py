@@ -1,7 +1,7 @@
 """The FE reference's own observables (reference.fem.observables) on hand-computed cases.
 
 The FE computes p, a_rel, ḡ_r, ḡ with its own code (issue 12: an independent check of
-contact.observables); the numbers below are worked out by hand from seed Eqs. 5–6 and the
+gfmd_contact.core.observables); the numbers below are worked out by hand from seed Eqs. 5–6 and the
 contact rule, and the two implementations are compared on a random case.
 """
 
@@ -10,8 +10,8 @@ import math
 import numpy as np
 import pytest
 
-from contact.observables import step_observables
-from contact.scene import default_scene
+from gfmd_contact.core.observables import step_observables
+from gfmd_contact.core.scene import default_scene
 from reference.fem.law import CohesiveZone
 from reference.fem.observables import (cohesive_observables, gradient_squared, hard_wall_observables, observables,
                                        rms_gradient)

@@ -13,9 +13,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from contact import surfaces
-from contact.loading import indenter_surface
-from contact.scene import Scene
+from gfmd_contact.core import surfaces
+from gfmd_contact.core.loading import indenter_surface
+from gfmd_contact.core.scene import Scene
 from reference import fem
 from reference.fem.assembly import build_cell
 from reference.fem.quadrature import fourier_evaluate, gauss_surface_quadrature, shape_functions

@@ -37,7 +37,7 @@ import pytest
 import scipy.linalg
 import scipy.sparse as sp
 
-from contact import surfaces
+from gfmd_contact.core import surfaces
 from reference import fem
 from reference.fem import sparse
 from reference.fem.solver import SurfaceProblem

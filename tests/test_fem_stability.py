@@ -84,7 +84,7 @@ def test_coupled_fe_equilibria_accepted_without_fallback():
     """Coupled-law FE ramp (ν = 0.3, N = 64, δ to 30 nm): from δ ≈ 23 nm sym(J) is indefinite at the
     Newton roots, yet they are stable (min Re λ(W⁻¹J) ≈ 7e16 Pa/m > 0, measured); the old check sent
     those steps to pseudo-transient continuation. Newton's roots must now be accepted."""
-    from contact.loading import displacement_steps, indenter_surface
+    from gfmd_contact.core.loading import displacement_steps, indenter_surface
     from reference import fem
     from verification.scenes import cohesive_sinusoid as scene
 

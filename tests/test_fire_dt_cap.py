@@ -16,9 +16,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from contact import surfaces
-from contact.loading import indenter_surface, realization_steps
-from contact.scene import load_scene
+from gfmd_contact.core import surfaces
+from gfmd_contact.core.loading import indenter_surface, realization_steps
+from gfmd_contact.core.scene import load_scene
 from gfmd import integrators, solver as gs
 from gfmd.loading import prepare, run_realization, settings_of
 from gfmd.settings import Settings

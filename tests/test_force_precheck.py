@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 
 import gfmd_contact as gc
-from contact import loading as L
-from contact import surfaces
-from contact.scene import scene_to_toml
+from gfmd_contact.core import loading as L
+from gfmd_contact.core import surfaces
+from gfmd_contact.core.scene import scene_to_toml
 from test_load_paths import NM, P_STAR, force_scene
 
 
@@ -24,7 +24,7 @@ def test_full_contact_pressure_of_a_sinusoid_is_westergaards_p_star():
 
 @pytest.mark.parametrize("top, code", [(1.001, 2), (0.5, 0)])
 def test_scene_check_refuses_a_hard_wall_force_path_beyond_full_contact(tmp_path, capsys, top, code):
-    from workbench.cli import main
+    from gfmd_contact.cli import main
 
     (tmp_path / "s.toml").write_text(scene_to_toml(hard_force_scene(top)))
     assert main(["scene", "--check", str(tmp_path / "s.toml")]) == code

@@ -1,4 +1,4 @@
-"""contact.force.solve_load on synthetic p̄(U) curves: the outer search finds the equilibrium that the
+"""gfmd_contact.core.force.solve_load on synthetic p̄(U) curves: the outer search finds the equilibrium that the
 stable branch reaches first from the previous state, not another root across an extremum of p̄(U).
 
 The hump is the one measured on the cohesive layer at N = 64 near the pull-off (verification/studies/
@@ -15,7 +15,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from contact import force
+from gfmd_contact.core import force
 
 NM, MPA = 1e-9, 1e6
 U_M, P_M, U_S = 2.40 * NM, -267.58 * MPA, 1.74 * NM

@@ -1,7 +1,7 @@
 """GFMD on 2+1-D surfaces (issue 25 item 2; /work/notes/SPEC2D.md's contract): Model.shape = (Nx, Ny),
 û of shape (1, Nx, Ny//2 + 1), real fields (Nx, Ny), normal-only.
 
-The 2-D models are built by hand here (`surface_model`: `contact.kernels.wavevector_magnitudes` and
+The 2-D models are built by hand here (`surface_model`: `gfmd_contact.core.kernels.wavevector_magnitudes` and
 `halfplane_normal`), so these tests do not depend on the scene layer's 2-D branch.
 
 * (a) a 1-D sinusoid embedded in 2-D (constant along y) relaxes to the 1+1-D result: u, t_z, p̄, a_rel and
@@ -28,11 +28,11 @@ import dataclasses
 import numpy as np
 import pytest
 
-from contact.kernels import halfplane_normal, wavevector_magnitudes
-from contact.loading import indenter_surface
-from contact.model import build_model
-from contact.observables import contact_mask
-from contact.scene import default_scene
+from gfmd_contact.core.kernels import halfplane_normal, wavevector_magnitudes
+from gfmd_contact.core.loading import indenter_surface
+from gfmd_contact.core.model import build_model
+from gfmd_contact.core.observables import contact_mask
+from gfmd_contact.core.scene import default_scene
 from gfmd import fft as gfft
 from gfmd.chains import SURFACE_NORMAL_ONLY, relax
 from gfmd.loading import GfmdCell

@@ -1,7 +1,7 @@
 """GFMD equilibria satisfy the discrete force balance, recomputed independently.
 
 For every load step of an adhesive sinusoid pushed through contact, the test
-rebuilds — without contact.kernels, contact.laws or gfmd.solver — the indenter
+rebuilds — without gfmd_contact.core.kernels, gfmd_contact.core.laws or gfmd.solver — the indenter
 z_ind = h − min h + δ0 − U, the gap Δn = z_ind − u_z, the elastic traction
 t_el = −irfft(K rfft(u)) with the kernel written out from reference-formulas §1,
 and the CZ traction T(Δ) from seed Eqs. 2–3, and checks
@@ -24,10 +24,10 @@ import numpy as np
 import pytest
 import scipy.fft
 
-from contact import surfaces
-from contact.loading import displacement_steps
+from gfmd_contact.core import surfaces
+from gfmd_contact.core.loading import displacement_steps
 from gfmd.loading import run_realization
-from contact.scene import default_scene
+from gfmd_contact.core.scene import default_scene
 from gfmd.solver import Settings
 
 TOL = 1e-9
@@ -129,7 +129,7 @@ def check_equilibrium(sc, settings=None):
     worst = 0.0
     for k in range(1, sc.loading.steps + 1):
         f = result.fields[k]
-        if sc.material.half_plane:  # clamped mean (contact.conventions)
+        if sc.material.half_plane:  # clamped mean (gfmd_contact.core.conventions)
             assert abs(np.mean(f["u_z"])) <= 1e-12 * H0 and abs(np.mean(f["u_x"])) <= 1e-12 * H0
         r, t_n, gap = force_residual(sc, h, U[k], f["u_z"], f["u_x"])
         worst = max(worst, r / p_ref)

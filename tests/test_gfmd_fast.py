@@ -19,10 +19,10 @@ import numpy as np
 import pytest
 from hypothesis import given, settings as hyp_settings, strategies as st
 
-from contact import surfaces
-from contact.loading import indenter_surface
-from contact.model import build_model
-from contact.scene import default_scene
+from gfmd_contact.core import surfaces
+from gfmd_contact.core.loading import indenter_surface
+from gfmd_contact.core.model import build_model
+from gfmd_contact.core.scene import default_scene
 from gfmd import fft as gfft
 from gfmd.algorithms import hard_wall_dual_cg
 from gfmd.solver import InterfaceLaw, Settings, relax

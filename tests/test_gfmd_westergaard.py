@@ -33,7 +33,7 @@ import pytest
 from scipy.optimize import brentq
 
 from gfmd.loading import run_realization
-from contact.scene import default_scene
+from gfmd_contact.core.scene import default_scene
 from gfmd.solver import Settings
 
 try:  # the reference implementation, if present (reference/analytic/westergaard.py)
@@ -148,8 +148,8 @@ def test_fire_and_verlet_agree_hard_wall():
     max|Δu_z| ≤ 2 · TOL · p_ref / k_1 and |Δp̄| ≤ 2 · TOL · p_ref.
     (Both methods share the hard-wall projection; Verlet uses uniform masses.)
     """
-    from contact.model import build_model
-    from contact import surfaces
+    from gfmd_contact.core.model import build_model
+    from gfmd_contact.core import surfaces
 
     # cap: uniform-mass Verlet needs O(√N · log(1/TOL)) iterations, ≈ 1–2e3 per step at
     # N = 512 for the cohesive sinusoid; 20 000 bounds a failing run to seconds.

@@ -16,7 +16,7 @@ import pytest
 import scipy.fft
 from hypothesis import given, settings as hyp_settings, strategies as st
 
-from contact.loading import indenter_surface
+from gfmd_contact.core.loading import indenter_surface
 from gfmd.algorithms import hard_wall_two_level_cg as two
 from gfmd.fft import Fft
 from gfmd.problem import Elastic, Problem, band_stiffness, stiffness_operator

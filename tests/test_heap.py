@@ -38,8 +38,8 @@ def test_other_platforms_say_so(kept_state, monkeypatch):
 
 
 def test_the_run_records_the_allocator():
-    from contact.scene import default_scene
-    from contact import surfaces
+    from gfmd_contact.core.scene import default_scene
+    from gfmd_contact.core import surfaces
     from gfmd.loading import prepare
 
     scene = default_scene().replace(**{"surface.nodes": 1024})
@@ -54,7 +54,7 @@ def test_our_local_clusters_workers_keep_the_heap():
     import dask
     import distributed  # noqa: F401 (its config)
 
-    from workbench.study import LOCAL_CLUSTER_CONFIG
+    from gfmd_contact.app.study import LOCAL_CLUSTER_CONFIG
 
     assert dask.config.get("distributed.nanny.pre-spawn-environ").get("MALLOC_TRIM_THRESHOLD_") is not None
     with dask.config.set(LOCAL_CLUSTER_CONFIG):  # None: the nanny leaves the variable out (Dask's documented unset)

@@ -1,6 +1,6 @@
-"""Tests of contact.kernels: plane-strain surface stiffness K(q) (reference-formulas §1).
+"""Tests of gfmd_contact.core.kernels: plane-strain surface stiffness K(q) (reference-formulas §1).
 
-Convention A (contact/conventions.py): u_z up, t = traction applied on the body, t_z = −p,
+Convention A (gfmd_contact/core/conventions.py): u_z up, t = traction applied on the body, t_z = −p,
 t̂ = K û on the rfft half-spectrum (q ≥ 0, s = +1), K_zx = conj(K_xz) = −K_xz.
 The compliances of §1.2/§1.3 are implemented here, independently of the code, and the
 sign of the coupling is pinned by the convention-independent Flamant/Cerruti line-load
@@ -14,8 +14,8 @@ import pytest
 import scipy.fft
 from hypothesis import given, settings, strategies as st
 
-from contact import kernels
-from contact.surfaces import grid
+from gfmd_contact.core import kernels
+from gfmd_contact.core.surfaces import grid
 
 EPS = np.finfo(float).eps
 E = 70e9  # Pa
@@ -342,7 +342,7 @@ def test_layer_stiffer_than_halfplane_and_uniform_settlement():
 @pytest.mark.parametrize("nu", [0.0, 0.3, 0.45, 0.49])
 @pytest.mark.parametrize("thickness", [None, 2e-8, 1e-7, 1e-6, 1e-5])
 def test_normal_kernel_is_the_frictionless_reduction_of_the_coupled_one(nu, thickness):
-    """The normal-only model (contact.model, c = 0) solves u_z alone with t_x = 0: exact only if its kernel
+    """The normal-only model (gfmd_contact.core.model, c = 0) solves u_z alone with t_x = 0: exact only if its kernel
     equals the Schur complement K_zz − |K_xz|²/K_xx of the coupled kernel. The two come from independent
     formulas (§1.1/§1.3 closed forms vs §1.2/§1.4), so this fails if either is wrong."""
     n, length = 256, 1e-6

@@ -1,6 +1,6 @@
-"""Tests of contact.laws: the exponential cohesive-zone law (seed Eqs. 2–3, reference-formulas §4.0).
+"""Tests of gfmd_contact.core.laws: the exponential cohesive-zone law (seed Eqs. 2–3, reference-formulas §4.0).
 
-Conventions (contact/conventions.py): Δ = indenter − body, T_n > 0 is tension.
+Conventions (gfmd_contact/core/conventions.py): Δ = indenter − body, T_n > 0 is tension.
 Quantities are drawn over many decades (δ from 1e-12 to 1e-6 m, φ from 1e-4 to 1e3 J/m²)
 and compared in the scaled variables s = Δ/δ, so every tolerance below is relative.
 """
@@ -15,9 +15,9 @@ from hypothesis import given, settings, strategies as st
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from contact import laws
-from contact.model import jump_in_separation as model_jump_in_separation  # the old entry point, kept
-from contact.scene import default_scene
+from gfmd_contact.core import laws
+from gfmd_contact.core.model import jump_in_separation as model_jump_in_separation  # the old entry point, kept
+from gfmd_contact.core.scene import default_scene
 
 EPS = np.finfo(float).eps
 
@@ -300,7 +300,7 @@ def test_contact_gap_threshold_rejects(tol):
         laws.contact_gap_threshold(tol, 1e-9)
 
 
-# ---------------------------------------------------------------- the laws as objects (contact.laws.law_from_scene)
+# ---------------------------------------------------------------- the laws as objects (gfmd_contact.core.laws.law_from_scene)
 
 def _scene(**kw):
     base = {"surface.kind": "flat", "surface.nodes": 64, "surface.length": 1e-6, "interface.phi_n_star": 0.05,

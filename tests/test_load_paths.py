@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import gfmd_contact as gc
-from contact import cycle as cyc
-from contact import loading as L
-from contact.scene import SceneError, default_scene, load_scene, scene_to_toml
+from gfmd_contact.core import cycle as cyc
+from gfmd_contact.core import loading as L
+from gfmd_contact.core.scene import SceneError, default_scene, load_scene, scene_to_toml
 
 NM = 1e-9
 
@@ -105,7 +105,7 @@ def test_path_run_files(cycle_run):
     meta = json.loads((res.dir / "meta.json").read_text())
     (entry,) = meta["cycles"]
     (c,) = entry["cycles"]
-    # the file's numbers are those of contact.cycle on the file's own curve
+    # the file's numbers are those of gfmd_contact.core.cycle on the file's own curve
     ref = cyc.cycle_observables(curve["delta"], curve["p"], curve["a_rel"], curve["branch"], curve["cycle"])[0]
     assert c["hysteresis"] == ref["hysteresis"] and c["pull_off_pressure"] == ref["pull_off_pressure"]
     assert c["pull_off_pressure"] == curve["p"][curve["branch"] == "unloading"].min() < 0
@@ -114,7 +114,7 @@ def test_path_run_files(cycle_run):
 
 def test_study_cycles_table(tmp_path):
     """A study of path scenes writes cycles.csv: pull-off and W per task, equal to each task's meta.json."""
-    from workbench.cli import main
+    from gfmd_contact.cli import main
 
     base = tmp_path / "base.toml"
     base.write_text(scene_to_toml(path_scene(**{"interface.law": "cohesive", "surface.nodes": 64})))
@@ -135,8 +135,8 @@ def test_study_cycles_table(tmp_path):
 
 
 def test_cycle_figures(cycle_run):
-    from workbench import plots
-    from workbench.cycle_plots import CYCLE_FIGURES
+    from gfmd_contact.app import plots
+    from gfmd_contact.app.cycle_plots import CYCLE_FIGURES
 
     s, res = cycle_run
     figs = plots.make_figures(res.dir)
@@ -170,7 +170,7 @@ def test_path_run_resumes_past_the_turning_point(tmp_path, monkeypatch, method, 
     assert meta["cycles"][0]["cycles"][0]["closed"] and meta["method"].startswith(method)
 
 
-# ----------------------------------------------------------------------------- force control (contact.force)
+# ----------------------------------------------------------------------------- force control (gfmd_contact.core.force)
 P_STAR = np.pi * 70e9 / (1 - 0.45**2) * 5 * NM / 1e-6  # Westergaard p* of the 5 nm sinusoid (Pa)
 
 
@@ -187,7 +187,7 @@ def force_run(tmp_path_factory):
 
 
 def test_force_control_follows_the_loads_and_records_the_jumps(force_run):
-    from contact import force
+    from gfmd_contact.core import force
 
     s, res = force_run
     curve = res.curve
@@ -209,7 +209,7 @@ def test_force_control_follows_the_loads_and_records_the_jumps(force_run):
 
 
 def test_force_path_beyond_full_contact_is_refused_naming_the_key(tmp_path, capsys):
-    from workbench.cli import main
+    from gfmd_contact.cli import main
 
     (tmp_path / "s.toml").write_text(scene_to_toml(force_scene(top=20.0)))
     assert main(["run", str(tmp_path / "s.toml"), "--out", str(tmp_path / "out"), "--quiet", "--no-plot"]) == 2

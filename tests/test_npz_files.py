@@ -1,4 +1,4 @@
-"""The run files' .npz writer (`workbench.checkpoints._npz_bytes`): what np.load gives back, and which members it
+"""The run files' .npz writer (`gfmd_contact.app.checkpoints._npz_bytes`): what np.load gives back, and which members it
 deflates (only those zlib shrinks: zeros, masks; float fields are stored)."""
 
 import io
@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
-from workbench import checkpoints
+from gfmd_contact.app import checkpoints
 
 
 def _members(data):

@@ -1,4 +1,4 @@
-"""Tests of contact.observables: seed Eqs. 5–6 (rms gradient), contact rules, pressure sign."""
+"""Tests of gfmd_contact.core.observables: seed Eqs. 5–6 (rms gradient), contact rules, pressure sign."""
 
 import math
 
@@ -7,8 +7,8 @@ import pytest
 from hypothesis import given, settings, strategies as st
 from hypothesis.extra.numpy import arrays
 
-from contact import laws, observables
-from contact.scene import Interface, scene_from_dict
+from gfmd_contact.core import laws, observables
+from gfmd_contact.core.scene import Interface, scene_from_dict
 
 EPS = np.finfo(float).eps
 
@@ -119,7 +119,7 @@ def test_seed_contact_tolerance_threshold_value():
 
 
 def test_contact_mask_asks_the_law_object():
-    # the rule is the law's (contact.laws: in_contact); an Interface gives the same mask as the scene's law
+    # the rule is the law's (gfmd_contact.core.laws: in_contact); an Interface gives the same mask as the scene's law
     gap = np.array([-1.0, 0.0, 5.0, 9.1, 9.2, 30.0]) * 1e-9
     t_z = np.array([-3.0, 0.0, 2.0, 1.0, -1.0, 0.0]) * 1e6
     for law_name, expected in (("hard-wall", [True, False, False, False, True, False]),
@@ -180,7 +180,7 @@ def test_reduced_pressure():
     arrays(float, n, elements=st.floats(-1e-8, 1e-8)), arrays(float, n, elements=st.floats(-1e-9, 2e-8)),
     arrays(float, n, elements=st.floats(-1e7, 1e7)))), st.sampled_from(["hard-wall", "cohesive"]))
 def test_step_observables_from_the_ramps_gradients_are_the_same_numbers(fields, law):
-    # contact.ramp computes the profile's g_i² once (`profile_gradients`) and hands it to every step: the
+    # gfmd_contact.core.ramp computes the profile's g_i² once (`profile_gradients`) and hands it to every step: the
     # observables must be those computed from the heights at every step (rms_gradient, rms_gradient_contact on the
     # contact mask, as step_observables did before), bit for bit, with or without the kept gradients
     h, gap, t_z = fields

@@ -1,4 +1,4 @@
-"""2+1-D observables (contact.observables on (Nx, Ny) arrays, issue 25): the four-neighbour local gradient,
+"""2+1-D observables (gfmd_contact.core.observables on (Nx, Ny) arrays, issue 25): the four-neighbour local gradient,
 ḡ, ḡ_r, p, a_rel of the embedded sinusoid against 1+1-D, and the periodic contact patch statistics."""
 
 import math
@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from contact import surfaces, surfaces_2d
-from contact.observables import (contact_patches, local_gradient_squared, patch_statistics, rms_gradient,
+from gfmd_contact.core import surfaces, surfaces_2d
+from gfmd_contact.core.observables import (contact_patches, local_gradient_squared, patch_statistics, rms_gradient,
                                  step_observables)
-from contact.scene import scene_from_dict
+from gfmd_contact.core.scene import scene_from_dict
 
 
 def _plane_wave(nx, ny, lx, ly, mx, my, a=1e-9):

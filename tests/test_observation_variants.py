@@ -1,5 +1,5 @@
-"""Observation-only variants share a solve (contact.observation, contact.ramp variants,
-workbench.study_task.run_shared): tasks that differ only in interface.contact_rule / contact_tolerance /
+"""Observation-only variants share a solve (gfmd_contact.core.observation, gfmd_contact.core.ramp variants,
+gfmd_contact.app.study_task.run_shared): tasks that differ only in interface.contact_rule / contact_tolerance /
 contact_gap are solved once, and each task directory gets what a separate run writes (wall times aside);
 any other difference keeps tasks apart; an interrupted group resumes to the same files; a study and a
 suite with a contact-rule axis run one solve per group, counted from their outcome records.
@@ -14,14 +14,14 @@ import tomllib
 import numpy as np
 import pytest
 
-from contact.observation import HARD_WALL_OBSERVATION_KEYS, OBSERVATION_KEYS
-from contact.scene import scene_from_dict
-from workbench import io
-from workbench.methods import solve_key
-from workbench.study import load_study, run_study
-from workbench.study_file import solve_address, solve_groups, task_scene
-from workbench.study_suite import run_suite
-from workbench.study_task import run_shared, run_task
+from gfmd_contact.core.observation import HARD_WALL_OBSERVATION_KEYS, OBSERVATION_KEYS
+from gfmd_contact.core.scene import scene_from_dict
+from gfmd_contact.app import io
+from gfmd_contact.app.methods import solve_key
+from gfmd_contact.app.study import load_study, run_study
+from gfmd_contact.app.study_file import solve_address, solve_groups, task_scene
+from gfmd_contact.app.study_suite import run_suite
+from gfmd_contact.app.study_task import run_shared, run_task
 
 from test_study import BASE as STUDY_BASE
 

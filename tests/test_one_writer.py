@@ -1,4 +1,4 @@
-"""One writer per directory, and damage repaired instead of thrown away (issue 26; workbench.safe_files, .io).
+"""One writer per directory, and damage repaired instead of thrown away (issue 26; gfmd_contact.app.safe_files, .io).
 
 The three reproductions of the issue as they were measured (two `gfmd run` at once, two
 `gfmd study run` at once, kill -9 of a pooled `gfmd run` then --resume at once) run real
@@ -17,10 +17,10 @@ import time
 import numpy as np
 import pytest
 
-import workbench.checkpoints
-import workbench.io
-from workbench import safe_files
-from workbench.cli import main
+import gfmd_contact.app.checkpoints
+import gfmd_contact.app.io
+from gfmd_contact.app import safe_files
+from gfmd_contact.cli import main
 
 from test_run_dir import assert_same_run, rows, scene, write_scene
 
@@ -188,7 +188,7 @@ def test_a_task_run_twice_at_once_leaves_one_result(tmp_path):
     published result; the directory holds one complete result equal to a single execution's."""
     import threading
 
-    from workbench.study import run_task, task_scene
+    from gfmd_contact.app.study import run_task, task_scene
 
     sc = task_scene(scene(**{"loading.steps": 30}), 0)
     one, two = tmp_path / "one", tmp_path / "two"
@@ -214,16 +214,16 @@ def interrupted(tmp_path, monkeypatch, sc, stop):
     path = write_scene(tmp_path, sc)
     ref, out = tmp_path / "ref", tmp_path / "out"
     assert main(["run", str(path), "--out", str(ref), "--quiet", "--no-plot"]) == 0
-    original = workbench.io.save_step
+    original = gfmd_contact.app.io.save_step
 
     def interrupt(out_dir, result, state):
         original(out_dir, result, state)
         if state.step == stop:
             raise KeyboardInterrupt
 
-    monkeypatch.setattr(workbench.io, "save_step", interrupt)
+    monkeypatch.setattr(gfmd_contact.app.io, "save_step", interrupt)
     assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"]) == 130
-    monkeypatch.setattr(workbench.io, "save_step", original)
+    monkeypatch.setattr(gfmd_contact.app.io, "save_step", original)
     return ref, out
 
 
@@ -289,14 +289,14 @@ def test_fewer_rows_than_saved_steps_continue_from_the_last_saved_warm_start(tmp
     path = write_scene(tmp_path, sc)
     ref, out = tmp_path / "ref", tmp_path / "out"
     assert main(["run", str(path), "--out", str(ref), "--quiet", "--no-plot"]) == 0
-    original = workbench.io.save_step
+    original = gfmd_contact.app.io.save_step
 
     def interrupt(out_dir, result, state):
         original(out_dir, result, state)
         if result.realization == 1 and state.step == stop:
             raise KeyboardInterrupt
 
-    monkeypatch.setattr(workbench.io, "save_step", interrupt)
+    monkeypatch.setattr(gfmd_contact.app.io, "save_step", interrupt)
     assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"]) == 130
     last = [sc.loading.steps, stop]  # the saved step of each realization
     for i, n in enumerate(kept):
@@ -309,7 +309,7 @@ def test_fewer_rows_than_saved_steps_continue_from_the_last_saved_warm_start(tmp
         ran.append((result.realization, state.step))
         original(out_dir, result, state)
 
-    monkeypatch.setattr(workbench.io, "save_step", count)
+    monkeypatch.setattr(gfmd_contact.app.io, "save_step", count)
     capsys.readouterr()
     assert main(["run", "--out", str(out), "--quiet", "--no-plot", "--resume"]) == 0
     err = capsys.readouterr().err
@@ -330,7 +330,7 @@ def test_cut_back_drops_the_messages_of_the_dropped_steps(tmp_path, monkeypatch)
     (every step checkpointed, CHECKPOINT_SECONDS = 0: the hook below writes without `checkpointing`)."""
     from gfmd.loading import run_realization
 
-    monkeypatch.setattr(workbench.checkpoints, "CHECKPOINT_SECONDS", 0.0)
+    monkeypatch.setattr(gfmd_contact.app.checkpoints, "CHECKPOINT_SECONDS", 0.0)
 
     sc = scene(**{"surface.realizations": 1, "output.field_steps": 4})
     out = tmp_path / "out"
@@ -339,7 +339,7 @@ def test_cut_back_drops_the_messages_of_the_dropped_steps(tmp_path, monkeypatch)
     def checkpoint(result, state):
         result.messages.append(f"message of step {state.step}")
         result.reasons = tuple(result.reasons) + (f"reason of step {state.step}",)
-        workbench.io.save_step(out, result, state)
+        gfmd_contact.app.io.save_step(out, result, state)
         if state.step == 7:
             raise KeyboardInterrupt
 
@@ -348,22 +348,22 @@ def test_cut_back_drops_the_messages_of_the_dropped_steps(tmp_path, monkeypatch)
     csv_path = out / "partial" / "realization0.csv"
     csv_path.write_text("".join(csv_path.read_text().splitlines(keepends=True)[:6]))  # steps 0..4
     notes = []
-    result, state, done = workbench.io.load_part(out, sc, 0, notes=notes)
+    result, state, done = gfmd_contact.app.io.load_part(out, sc, 0, notes=notes)
     assert (state.step, done, len(result.curve["step"]), sorted(result.fields)) == (4, False, 5, [2, 4])
     assert result.messages == [f"message of step {k}" for k in range(5)]
     assert [r for r in result.reasons if r.startswith("reason")] == [f"reason of step {k}" for k in range(5)]
     assert "dropped 3 saved step(s): realization 0 continues from step 5" in notes[0]
-    workbench.io.start_part(out, 0, result)  # the stale fields of the dropped step 6 go with the rows
+    gfmd_contact.app.io.start_part(out, 0, result)  # the stale fields of the dropped step 6 go with the rows
     assert sorted(p.name for p in (out / "partial").glob("*_step*.npz")) == ["realization0_step2.npz",
                                                                            "realization0_step4.npz"]
 
 
 def test_verify_is_one_writer_of_its_reports(tmp_path, monkeypatch, capsys):
-    import workbench.cli
+    import gfmd_contact.cli
 
     monkeypatch.setenv("GFMD_REPORT_DIR", str(tmp_path / "reports"))
     calls = []
-    monkeypatch.setattr(workbench.cli.subprocess, "call", lambda cmd, cwd=None: calls.append(cmd) or 0)
+    monkeypatch.setattr(gfmd_contact.cli.subprocess, "call", lambda cmd, cwd=None: calls.append(cmd) or 0)
     with safe_files.DirLock(tmp_path / "reports", command="gfmd verify"):
         assert main(["verify"]) == 2
         line = capsys.readouterr().err.strip().splitlines()[-1]

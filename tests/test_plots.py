@@ -1,6 +1,6 @@
-"""Figures of a run directory (workbench.plots, `gfmd plot`): what is drawn, not only that files exist.
+"""Figures of a run directory (gfmd_contact.app.plots, `gfmd plot`): what is drawn, not only that files exist.
 
-The run directories are synthetic (hand-made `Result`s written by workbench.io.write_run), so
+The run directories are synthetic (hand-made `Result`s written by gfmd_contact.app.io.write_run), so
 negative mean pressures, non-converged steps and ragged curves are exactly known.
 The figures are captured as plot_run saves them (Figure.savefig is wrapped) and their
 artists are checked against values computed here.
@@ -13,11 +13,11 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from workbench import plots
-from workbench.cli import main
-from workbench.io import read_run, write_run
-from contact.result import Result
-from contact.scene import default_scene
+from gfmd_contact.app import plots
+from gfmd_contact.cli import main
+from gfmd_contact.app.io import read_run, write_run
+from gfmd_contact.core.result import Result
+from gfmd_contact.core.scene import default_scene
 
 DELTA = np.linspace(-8e-9, 12e-9, 6)  # six load steps
 NAN = float("nan")

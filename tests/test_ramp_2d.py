@@ -2,8 +2,8 @@
 
 GFMD's 2+1-D cell is built elsewhere (gfmd/); here a tiny local method stands in for it: a Winkler bed of
 independent springs t_n = k u_z under a hard wall (u_z = min(z_ind, 0), gap = max(z_ind, 0)), whose step
-solution is exact and known in closed form. It exercises what every method shares: contact.ramp on
-(Nx, Ny) fields, workbench.io (fields.npz, curve.csv, interrupt and resume), the plots and `gfmd run`.
+solution is exact and known in closed form. It exercises what every method shares: gfmd_contact.core.ramp on
+(Nx, Ny) fields, gfmd_contact.app.io (fields.npz, curve.csv, interrupt and resume), the plots and `gfmd run`.
 """
 
 import csv
@@ -13,15 +13,15 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-import workbench.io
-import workbench.methods
-from contact import surfaces
-from contact.loading import field_step_indices, indenter_surface
-from contact.model import build_model
-from contact.ramp import StepSolution, run_ramp
-from contact.result import CURVE_COLUMNS, FIELD_NAMES
-from contact.scene import SceneError, scene_from_dict, scene_to_toml
-from workbench.cli import main
+import gfmd_contact.app.io
+import gfmd_contact.app.methods
+from gfmd_contact.core import surfaces
+from gfmd_contact.core.loading import field_step_indices, indenter_surface
+from gfmd_contact.core.model import build_model
+from gfmd_contact.core.ramp import StepSolution, run_ramp
+from gfmd_contact.core.result import CURVE_COLUMNS, FIELD_NAMES
+from gfmd_contact.core.scene import SceneError, scene_from_dict, scene_to_toml
+from gfmd_contact.cli import main
 
 #: Winkler bed stiffness (Pa/m)
 K_BED = 1e16
@@ -60,8 +60,8 @@ def _run(sc, realization=0, progress=None, checkpoint=None, resume=None):
 
 @pytest.fixture
 def winkler(monkeypatch):
-    spec = workbench.methods.MethodSpec("gfmd", _run, lambda sc: None)
-    monkeypatch.setitem(workbench.methods.METHODS, "gfmd", spec)
+    spec = gfmd_contact.app.methods.MethodSpec("gfmd", _run, lambda sc: None)
+    monkeypatch.setitem(gfmd_contact.app.methods.METHODS, "gfmd", spec)
 
 
 def test_build_model_2d():
@@ -123,7 +123,7 @@ def test_gfmd_run_interrupt_resume_and_plots(tmp_path, monkeypatch, winkler):
     plots = sorted(p.name for p in (ref / "plots").iterdir())
     assert "contact_map.png" in plots and "pressure_map.png" in plots and "interface_snapshot.png" not in plots
 
-    original = workbench.io.save_step
+    original = gfmd_contact.app.io.save_step
 
     def interrupt(out_dir, result, state):
         original(out_dir, result, state)
@@ -131,9 +131,9 @@ def test_gfmd_run_interrupt_resume_and_plots(tmp_path, monkeypatch, winkler):
             raise KeyboardInterrupt
 
     out = tmp_path / "out"
-    monkeypatch.setattr(workbench.io, "save_step", interrupt)
+    monkeypatch.setattr(gfmd_contact.app.io, "save_step", interrupt)
     assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"]) == 130
-    monkeypatch.setattr(workbench.io, "save_step", original)
+    monkeypatch.setattr(gfmd_contact.app.io, "save_step", original)
     assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot", "--resume"]) == 0
     ra, rb = _rows(ref / "curve.csv"), _rows(out / "curve.csv")
     assert [{k: v for k, v in x.items() if k != "wall_s"} for x in ra] == \
@@ -146,7 +146,7 @@ def test_gfmd_run_interrupt_resume_and_plots(tmp_path, monkeypatch, winkler):
 
 
 def test_contact_map_counts_the_curve_contact(tmp_path, winkler):
-    from workbench.plots import make_figures
+    from gfmd_contact.app.plots import make_figures
 
     sc = scene()
     path = tmp_path / "s.toml"
@@ -186,10 +186,10 @@ def test_bad_2d_scene_exits_2(tmp_path, capsys):
 
 
 def test_force_control_on_a_surface():
-    """loading.control = "force" on (Nx, Ny) fields: contact.force finds U for every load to its tolerance."""
-    from contact.force import tolerance
-    from contact.loading import path_values
-    from contact.scene import scene_to_dict
+    """loading.control = "force" on (Nx, Ny) fields: gfmd_contact.core.force finds U for every load to its tolerance."""
+    from gfmd_contact.core.force import tolerance
+    from gfmd_contact.core.loading import path_values
+    from gfmd_contact.core.scene import scene_to_dict
 
     d = scene_to_dict(scene())
     d["loading"] = {"control": "force", "path": [0.0, 5e6, 1e6], "steps": [4, 2], "initial_separation": 1e-9}

@@ -1,4 +1,4 @@
-"""Scene checks of contact.model / contact.loading: under-resolved δn, unstable start, forced full model.
+"""Scene checks of gfmd_contact.core.model / gfmd_contact.core.loading: under-resolved δn, unstable start, forced full model.
 
 Flat-surface tests are exact (a flat indenter only moves the uniform mode of a layer,
 stiffness M/D, so the jump-in separation of `jump_in_separation` is the true one).
@@ -9,12 +9,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from contact import kernels, laws
+from gfmd_contact.core import kernels, laws
 from gfmd.loading import run_realization
-from contact.loading import start_warning
-from contact.model import (MIN_LENGTH_NORMAL_NODES, ModelCheckError, build_model, jump_in_separation,
+from gfmd_contact.core.loading import start_warning
+from gfmd_contact.core.model import (MIN_LENGTH_NORMAL_NODES, ModelCheckError, build_model, jump_in_separation,
                         softest_normal_stiffness, warnings_in)
-from contact.scene import Scene, SceneError, default_scene
+from gfmd_contact.core.scene import Scene, SceneError, default_scene
 
 E, NU, DN, PHI = 70e9, 0.3, 1e-9, 0.15
 
@@ -135,7 +135,7 @@ def test_forced_coupled_unknowns():
      "coupled CZ, layer"),
 ])
 def test_model_holds_the_law_object_it_solves(extra, law, tangential, text):
-    # Model.law is the law on the chosen unknowns (contact.laws.law_from_scene(scene, tangential)),
+    # Model.law is the law on the chosen unknowns (gfmd_contact.core.laws.law_from_scene(scene, tangential)),
     # and the description names it
     sc = flat_layer(float("inf"), 10 * DN, **extra)
     model = build_model(sc)
@@ -156,7 +156,7 @@ def test_start_warning_asks_the_law():
 
 
 def test_slip_warning_flags_compressed_slipping_nodes_only():
-    from contact.loading import SLIP_LIMIT, slip_warning
+    from gfmd_contact.core.loading import SLIP_LIMIT, slip_warning
     sc = default_scene().replace(**{"interface.tangential_ratio": 0.5})
     dt = sc.interface.length_tangential
     gap = np.array([-1e-9, -1e-9, 2e-9])

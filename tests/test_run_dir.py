@@ -1,4 +1,4 @@
-"""Run directories that never lose work: written as the run goes, interrupt, resume, refusals (workbench.io, .cli).
+"""Run directories that never lose work: written as the run goes, interrupt, resume, refusals (gfmd_contact.app.io, .cli).
 
 The resumed files must equal an uninterrupted run's: every column of curve.csv but
 wall_s, every array of fields.npz, mean_curve.csv and meta.json but timings, date,
@@ -19,12 +19,12 @@ import time
 import numpy as np
 import pytest
 
-import workbench.checkpoints
-import workbench.io
-from contact import surfaces
-from workbench.cli import main
-from contact.loading import FULL_CONTACT_MARGIN, displacement_steps
-from contact.scene import default_scene, scene_to_toml
+import gfmd_contact.app.checkpoints
+import gfmd_contact.app.io
+from gfmd_contact.core import surfaces
+from gfmd_contact.cli import main
+from gfmd_contact.core.loading import FULL_CONTACT_MARGIN, displacement_steps
+from gfmd_contact.core.scene import default_scene, scene_to_toml
 
 
 def scene(**extra):
@@ -70,19 +70,19 @@ def assert_same_run(a, b):
 def test_run_writes_every_step_as_it_goes(tmp_path, monkeypatch):
     """While realization 1 runs, realization 0 and the steps of 1 so far are on disk and meta says incomplete
     (a checkpoint every step: CHECKPOINT_SECONDS = 0; the interval: tests/test_checkpoint_interval.py)."""
-    monkeypatch.setattr(workbench.checkpoints, "CHECKPOINT_SECONDS", 0.0)
+    monkeypatch.setattr(gfmd_contact.app.checkpoints, "CHECKPOINT_SECONDS", 0.0)
     sc = scene()
     out = tmp_path / "out"
     seen = []
-    original = workbench.io.save_step
+    original = gfmd_contact.app.io.save_step
 
     def spy(out_dir, result, state):
         original(out_dir, result, state)
         if result.realization == 1 and state.step == 4:
             meta = json.loads((out / "meta.json").read_text())
-            seen.append((meta["complete"], workbench.io.load_part(out, sc, 0), workbench.io.load_part(out, sc, 1)))
+            seen.append((meta["complete"], gfmd_contact.app.io.load_part(out, sc, 0), gfmd_contact.app.io.load_part(out, sc, 1)))
 
-    monkeypatch.setattr(workbench.io, "save_step", spy)
+    monkeypatch.setattr(gfmd_contact.app.io, "save_step", spy)
     assert main(["run", str(write_scene(tmp_path, sc)), "--out", str(out), "--quiet", "--no-plot"]) == 0
     (complete, part0, part1), = seen
     assert complete is False
@@ -100,7 +100,7 @@ def interrupted_and_resumed(tmp_path, monkeypatch, sc, stop_after):
     path = write_scene(tmp_path, sc)
     ref = tmp_path / "ref"
     assert main(["run", str(path), "--out", str(ref), "--quiet", "--no-plot"]) == 0
-    original = workbench.io.save_step
+    original = gfmd_contact.app.io.save_step
 
     def interrupt(out_dir, result, state):
         original(out_dir, result, state)
@@ -108,11 +108,11 @@ def interrupted_and_resumed(tmp_path, monkeypatch, sc, stop_after):
             raise KeyboardInterrupt
 
     out = tmp_path / "out"
-    monkeypatch.setattr(workbench.io, "save_step", interrupt)
+    monkeypatch.setattr(gfmd_contact.app.io, "save_step", interrupt)
     assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"]) == 130
     assert json.loads((out / "meta.json").read_text())["complete"] is False
     assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"]) == 2  # not without --resume
-    monkeypatch.setattr(workbench.io, "save_step", original)
+    monkeypatch.setattr(gfmd_contact.app.io, "save_step", original)
     assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot", "--resume"]) == 0
     return ref, out
 
@@ -130,12 +130,12 @@ def test_resume_equals_uninterrupted_run(tmp_path, monkeypatch, stop_after):
 def test_resume_restarts_a_row_cut_short(tmp_path, monkeypatch):
     """A kill between the row and the state write leaves an untrusted row: resume drops and recomputes it
     (a checkpoint every step, CHECKPOINT_SECONDS = 0: the kill cuts step 5's)."""
-    monkeypatch.setattr(workbench.checkpoints, "CHECKPOINT_SECONDS", 0.0)
+    monkeypatch.setattr(gfmd_contact.app.checkpoints, "CHECKPOINT_SECONDS", 0.0)
     sc = scene(**{"surface.realizations": 1})
     path = write_scene(tmp_path, sc)
     ref = tmp_path / "ref"
     assert main(["run", str(path), "--out", str(ref), "--quiet", "--no-plot"]) == 0
-    original = workbench.io.save_step
+    original = gfmd_contact.app.io.save_step
 
     def killed(out_dir, result, state):
         if state.step == 5:  # the row is written, then "killed" before the state
@@ -145,9 +145,9 @@ def test_resume_restarts_a_row_cut_short(tmp_path, monkeypatch):
         original(out_dir, result, state)
 
     out = tmp_path / "out"
-    monkeypatch.setattr(workbench.io, "save_step", killed)
+    monkeypatch.setattr(gfmd_contact.app.io, "save_step", killed)
     assert main(["run", str(path), "--out", str(out), "--quiet", "--no-plot"]) == 130
-    monkeypatch.setattr(workbench.io, "save_step", original)
+    monkeypatch.setattr(gfmd_contact.app.io, "save_step", original)
     assert main(["run", "--out", str(out), "--quiet", "--no-plot", "--resume"]) == 0  # scene taken from --out
     assert_same_run(ref, out)
     assert json.loads((out / "meta.json").read_text())["resume"]["steps_reused"] == 5
@@ -186,7 +186,7 @@ def test_sigint_to_a_pooled_run_then_resume(tmp_path):
     assert last.startswith("gfmd: interrupted:") and "--resume" in last and str(out) in last
     meta = json.loads((out / "meta.json").read_text())
     assert meta["complete"] is False and not (out / "curve.csv").exists()
-    parts = [workbench.io.load_part(out, sc, i) for i in range(4)]
+    parts = [gfmd_contact.app.io.load_part(out, sc, i) for i in range(4)]
     assert any(p is not None for p in parts) and not all(p is not None and p[2] for p in parts)
     saved = sum(len(p[0].curve["step"]) for p in parts if p is not None)
     assert saved >= 11
@@ -203,7 +203,7 @@ def test_out_guards_before_any_compute(tmp_path, capsys, monkeypatch):
     sc = scene(**{"surface.realizations": 1})
     path = write_scene(tmp_path, sc)
     calls = []
-    monkeypatch.setattr("workbench.ensemble.run_to_directory", lambda *a, **k: calls.append(1))
+    monkeypatch.setattr("gfmd_contact.app.ensemble.run_to_directory", lambda *a, **k: calls.append(1))
     a_file = tmp_path / "file.txt"
     a_file.write_text("x")
     assert main(["run", str(path), "--out", str(a_file)]) == 2
@@ -344,10 +344,10 @@ def test_bad_flags_name_the_flag(argv, capsys):
 
 
 def test_verify_runs_from_any_directory(tmp_path, monkeypatch):
-    import workbench.cli
+    import gfmd_contact.cli
 
     calls = []
-    monkeypatch.setattr(workbench.cli.subprocess, "call", lambda cmd, cwd=None: calls.append((cmd, cwd)) or 0)
+    monkeypatch.setattr(gfmd_contact.cli.subprocess, "call", lambda cmd, cwd=None: calls.append((cmd, cwd)) or 0)
     monkeypatch.chdir(tmp_path)
     assert main(["verify", "--", "-x"]) == 0
     (cmd, cwd), = calls

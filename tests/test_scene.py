@@ -1,4 +1,4 @@
-"""Tests of contact.scene: TOML scenes, validation messages, round trip, Scene.replace."""
+"""Tests of gfmd_contact.core.scene: TOML scenes, validation messages, round trip, Scene.replace."""
 
 import dataclasses
 import math
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from contact.scene import (Interface, Material, Scene, SceneError, Surface, default_scene, example_scene_text,
+from gfmd_contact.core.scene import (Interface, Material, Scene, SceneError, Surface, default_scene, example_scene_text,
                         load_scene, scene_from_dict, scene_to_dict, scene_to_toml)
 
 
@@ -34,7 +34,7 @@ def test_default_scene_is_valid_and_round_trips(tmp_path):
 
 
 def test_example_scene_loads(tmp_path):
-    path = Path(resources.files("contact").joinpath("example_scene.toml"))
+    path = Path(resources.files("gfmd_contact.core").joinpath("example_scene.toml"))
     scene = load_scene(path)
     assert scene.name == "example_scene"
     assert scene.surface.kind == "self-affine" and scene.surface.nodes >= 8
@@ -104,7 +104,7 @@ def test_round_trip_is_exact(d):
         e = scene.material.youngs_modulus
         assert scene.interface.phi_n_star == w / (scene.interface.length_normal * e)
         # φn derived back from φn* is w up to the roundings of w/(δn E) and φn* δn E: |Δ| ≤ 4 ε w
-        # (contact.scene docstring; the bound is the rounding analysis, not a fit)
+        # (gfmd_contact.core.scene docstring; the bound is the rounding analysis, not a fit)
         assert abs(scene.work_normal - w) <= 4 * 2**-53 * w * (1 + 1e-12)
     else:
         assert scene.interface.phi_n_star == d["interface"]["phi_n_star"]
@@ -524,13 +524,13 @@ def test_largest_allowed_values_are_valid():
 def _shipped(name):
     if name == "default":
         return default_scene()
-    return load_scene(Path(resources.files("contact").joinpath("example_scene.toml")))
+    return load_scene(Path(resources.files("gfmd_contact.core").joinpath("example_scene.toml")))
 
 
 @pytest.mark.parametrize("name", ["default", "example"])
 def test_shipped_scenes_start_stable_and_stay_below_full_contact(name):
-    from contact import surfaces
-    from contact.model import build_model, jump_in_separation, softest_normal_stiffness
+    from gfmd_contact.core import surfaces
+    from gfmd_contact.core.model import build_model, jump_in_separation, softest_normal_stiffness
 
     scene = _shipped(name)
     h0 = surfaces.profile(scene.surface, 0)

@@ -2,7 +2,7 @@
 
 Scenes are drawn over the ranges the scene check accepts (log-uniform lengths, moduli, φn*,
 δn; every surface kind and law; 1–12 load steps; small N so that an example is fast) and run
-through the CLI entry point (`workbench.cli.main`, in this process) into a temporary
+through the CLI entry point (`gfmd_contact.cli.main`, in this process) into a temporary
 directory. The only outcomes allowed are the documented ones:
 
 * exit 2, refused before any compute: one line naming a scene key, and nothing written;
@@ -32,13 +32,13 @@ import pandas as pd
 import pytest
 from hypothesis import HealthCheck, currently_in_test_context, event, given, settings, strategies as st
 
-from contact.result import CURVE_COLUMNS, FIELD_NAMES
-from workbench.cli import main
+from gfmd_contact.core.result import CURVE_COLUMNS, FIELD_NAMES
+from gfmd_contact.cli import main
 
 GFMD_EXAMPLES, FE_EXAMPLES = 60, 12
 SLOW_FACTOR = 8
 KINDS = ("self-affine", "sinusoid", "cylinder", "flat", "file")
-#: "section.key" as the scene names its keys (contact.scene): a refusal must name one
+#: "section.key" as the scene names its keys (gfmd_contact.core.scene): a refusal must name one
 SECTIONS = ("surface", "material", "interface", "loading", "solver", "output", "method")
 KEY = re.compile(r"\b(" + "|".join(SECTIONS) + r")\.[a-z_]+")
 
@@ -210,7 +210,7 @@ def test_every_fe_scene_ends_the_documented_way_many(drawn, tmp_path_factory):
 
 def _example_scene(tmp, **changes):
     """`gfmd scene --example` at 1,024 nodes (λs,H above the spacing), 1 realization, with `changes`."""
-    from contact.scene import example_scene_text
+    from gfmd_contact.core.scene import example_scene_text
 
     text = example_scene_text()
     for old, new in {"nodes = 131072": "nodes = 1024", "rollon_wavelength = 2.5e-9": "rollon_wavelength = 4e-8",
@@ -241,7 +241,7 @@ def test_gfmd_step_without_state_is_marked_not_a_crash(tmp_path, monkeypatch):
     residual = 1e300, p = -0.0 beside a_rel > 0, with empty field files that the assembly then crashed on.
     Now: exit 1, the step named, NaN observables and residual, N NaN values per saved field."""
     import gfmd.loading
-    from contact.laws import CompressionOverflowError
+    from gfmd_contact.core.laws import CompressionOverflowError
 
     relax, calls = gfmd.loading.relax, []
 
@@ -271,7 +271,7 @@ def test_fe_diverged_iterate_is_a_non_converged_step(tmp_path, monkeypatch):
     from test_cli_fe import fe_scene
 
     import reference.fem.solver as fem_solver
-    from contact.scene import scene_to_toml
+    from gfmd_contact.core.scene import scene_to_toml
 
     solve_step, calls = fem_solver.SurfaceProblem.solve_step, []
 
@@ -306,13 +306,13 @@ def run_cli_file(path, out):
 
 
 def test_load_step_refusal_rests_on_the_measurement():
-    """The refusal of a load step beyond the law's range (contact.loading.check_step_in_law_range) refuses no
+    """The refusal of a load step beyond the law's range (gfmd_contact.core.loading.check_step_in_law_range) refuses no
     scene that was measured to run (verification/data/length_normal_limit.json), and the measurement holds
     cells on both sides of it."""
-    from contact.errors import SceneError
-    from contact.laws import MAX_COMPRESSION
-    from contact.loading import preflight
-    from contact.scene import scene_from_dict
+    from gfmd_contact.core.errors import SceneError
+    from gfmd_contact.core.laws import MAX_COMPRESSION
+    from gfmd_contact.core.loading import preflight
+    from gfmd_contact.core.scene import scene_from_dict
     from verification import measured
 
     cells = measured.load("length_normal_limit")["entries"]

@@ -17,10 +17,10 @@ import dataclasses
 import numpy as np
 import pytest
 
-from contact import surfaces
-from contact.loading import indenter_surface
-from contact.model import build_model
-from contact.scene import default_scene
+from gfmd_contact.core import surfaces
+from gfmd_contact.core.loading import indenter_surface
+from gfmd_contact.core.model import build_model
+from gfmd_contact.core.scene import default_scene
 from gfmd import chains
 from gfmd.algorithms import coupled_newton
 from gfmd.loading import prepare, run_realization
@@ -36,9 +36,9 @@ def problem(law="cohesive", nodes=256, delta=3e-9, thickness=None, **extra):
     if thickness is not None:
         kw["material.thickness"] = thickness
     sc = default_scene().replace(**kw)
-    if law == "user":  # seed Eq. 3 through the extension point (contact.user_law)
-        from contact import laws
-        from contact.user_law import user_law
+    if law == "user":  # seed Eq. 3 through the extension point (gfmd_contact.core.user_law)
+        from gfmd_contact.core import laws
+        from gfmd_contact.core.user_law import user_law
         phi, dn = sc.work_normal, sc.interface.length_normal
         sc = dataclasses.replace(sc, user_law=user_law(lambda g: laws.potential_normal(g, phi, dn),
                                                        lambda g: laws.traction_normal(g, phi, dn),

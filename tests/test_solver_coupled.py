@@ -23,8 +23,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from contact.loading import indenter_surface, realization_steps
-from contact.scene import load_scene
+from gfmd_contact.core.loading import indenter_surface, realization_steps
+from gfmd_contact.core.scene import load_scene
 from gfmd import chains, coupled_preconditioner, solver as gs
 from gfmd.algorithms import coupled_newton, dynamics
 from gfmd.coupled_krylov import FORCING, FORCING_MIN, eisenstat_walker, forcing
@@ -56,7 +56,7 @@ def fig8_step():
 
     with pytest.raises(_Stop):
         run_realization(scene, 0, checkpoint=checkpoint)
-    from contact import surfaces
+    from gfmd_contact.core import surfaces
     h = surfaces.profile(scene.surface, 0)
     cell = prepare(scene, h, 0)
     steps, _ = realization_steps(scene, h, 0)

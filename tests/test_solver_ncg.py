@@ -20,10 +20,10 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from contact import surfaces
-from contact.loading import indenter_surface
-from contact.model import build_model
-from contact.scene import default_scene
+from gfmd_contact.core import surfaces
+from gfmd_contact.core.loading import indenter_surface
+from gfmd_contact.core.model import build_model
+from gfmd_contact.core.scene import default_scene
 from gfmd import fft as gfft, kernels
 from gfmd.algorithms import ncg as gs
 from gfmd.solver import InterfaceLaw, Settings, relax
@@ -257,7 +257,7 @@ def test_eq3_nodes_are_the_law(backend, n, seed, alpha, dn):
     """gfmd.ncg_nodes.Eq3Nodes (numpy and fused) against seed Eq. 3 written out here: at the trial gaps
     Δ = Δn − α d (s = Δ/δn capped at −MAX_COMPRESSION), Σ T_n d and Σ k_loc d² with T_n = (φn/δn) s e^{−s},
     k_loc = (φn/δn²)(1 − s) e^{−s}; the gaps span deep compression (the cap) to the far tail."""
-    from contact.laws import MAX_COMPRESSION
+    from gfmd_contact.core.laws import MAX_COMPRESSION
     from gfmd.ncg_nodes import Eq3Nodes
 
     rng = np.random.default_rng(seed)

@@ -1,4 +1,4 @@
-"""Stickiness diagnostics (contact.stickiness, docs/stickiness.rst): each formula against a value worked
+"""Stickiness diagnostics (gfmd_contact.core.stickiness, docs/stickiness.rst): each formula against a value worked
 out by hand or with plain numpy, Johnson α and Maugis λ against the analytic reference modules, the
 n/a rules, the lines of `gfmd scene --check`, meta.json's "stickiness", the study-table columns, and
 the process-zone warning on both sides of the measured limit (the core's constant, tied to verification/data/process_zone.json here).
@@ -11,16 +11,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from contact import stickiness as st
-from contact import surfaces
-from contact.model import build_model
-from contact.scene import Scene, scene_to_dict, scene_to_toml
+from gfmd_contact.core import stickiness as st
+from gfmd_contact.core import surfaces
+from gfmd_contact.core.model import build_model
+from gfmd_contact.core.scene import Scene, scene_to_dict, scene_to_toml
 from reference.analytic import jkr_sinusoid, maugis_dugdale
 from verification.studies import process_zone as pz_study
-from workbench import io
-from workbench.cli import main
-from workbench.study import stickiness_columns, study_from_dict
-from workbench.study_tables import _stickiness_cells
+from gfmd_contact.app import io
+from gfmd_contact.cli import main
+from gfmd_contact.app.study import stickiness_columns, study_from_dict
+from gfmd_contact.app.study_tables import _stickiness_cells
 
 E, NU = 70e9, 0.45
 E_STAR = E / (1 - NU**2)
@@ -228,7 +228,7 @@ def test_no_process_zone_warning_without_adhesion():
 
 
 def test_study_netcdf_carries_the_per_set_diagnostics():
-    from workbench.study import summary_dataset
+    from gfmd_contact.app.study import summary_dataset
 
     study = study_from_dict({"scene": scene_to_dict(scene("cylinder")),
                              "axes": {"surface.radius": [1e-6, 4e-6]},

@@ -1,4 +1,4 @@
-"""Studies (workbench.study, `gfmd study run`): grid/zip expansion, refusals naming the key, a tiny
+"""Studies (gfmd_contact.app.study, `gfmd study run`): grid/zip expansion, refusals naming the key, a tiny
 study on a local Dask cluster killed part-way with a real SIGINT and resumed (reuse counts, the
 same study.csv/summary.csv as an uninterrupted run but wall_s), a failing task that does not stop
 the others, and the netCDF summary read back with xarray.
@@ -19,10 +19,10 @@ import time
 import numpy as np
 import pytest
 
-from contact import stickiness
-from workbench import io
-from workbench.cli import main
-from workbench.study import load_study, stickiness_columns, study_from_dict
+from gfmd_contact.core import stickiness
+from gfmd_contact.app import io
+from gfmd_contact.cli import main
+from gfmd_contact.app.study import load_study, stickiness_columns, study_from_dict
 
 BASE = """
 [surface]
@@ -307,8 +307,8 @@ def test_a_failing_task_does_not_stop_the_others(reference, tmp_path, capsys):
 def test_task_address_ignores_keys_at_their_default_and_a_changed_default_is_caught(reference, tmp_path):
     """A key at its default does not enter the address (a version adding a key keeps every task);
     a finished task whose stored scene differs from the current one is refused by name, not reused."""
-    from contact.scene import Scene
-    from workbench.study import StudyError, run_task, task_key, task_key_text
+    from gfmd_contact.core.scene import Scene
+    from gfmd_contact.app.study import StudyError, run_task, task_key, task_key_text
 
     study = load_study(write_study(tmp_path))
     task = study.tasks[0]
@@ -335,8 +335,8 @@ def test_tasks_under_an_older_address_are_moved_and_reused(reference, tmp_path):
     import hashlib
     import shutil
 
-    from contact.scene import scene_to_toml
-    from workbench.study import readdress_tasks
+    from gfmd_contact.core.scene import scene_to_toml
+    from gfmd_contact.app.study import readdress_tasks
 
     path, out = reference
     copy = tmp_path / "out"
@@ -360,7 +360,7 @@ def test_local_cluster_workers_run_without_dasks_diagnostics():
     every 10 ms, slower ticks and monitors), and the settings do not leak into the calling process."""
     import dask
 
-    from workbench.study import LOCAL_CLUSTER_CONFIG, _client
+    from gfmd_contact.app.study import LOCAL_CLUSTER_CONFIG, _client
     client, cluster = _client(1, None)
     try:
         seen = client.run(lambda keys: {k: dask.config.get(k) for k in keys}, list(LOCAL_CLUSTER_CONFIG))

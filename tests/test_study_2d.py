@@ -14,9 +14,9 @@ import math
 import numpy as np
 import pytest
 
-from workbench.claims import evaluate, kappa_per_realization, read_study_dir
-from workbench.cli import main
-from workbench.study_plots import FIGURES_2D, make_study_figures
+from gfmd_contact.app.claims import evaluate, kappa_per_realization, read_study_dir
+from gfmd_contact.cli import main
+from gfmd_contact.app.study_plots import FIGURES_2D, make_study_figures
 
 N, STEPS = 32, 8
 
@@ -134,7 +134,7 @@ def test_figures_and_claims_of_a_2d_study(study2d):
 def test_an_interrupted_2d_task_continues_from_its_saved_steps(study2d, tmp_path):
     """A task stopped after 4 checkpointed steps (its (Nx, Ny) state saved) continues there on `study run`;
     the tables equal the uninterrupted study's (every column but wall_s)."""
-    from workbench.study import load_study, prepare_study_dir, run_task
+    from gfmd_contact.app.study import load_study, prepare_study_dir, run_task
 
     ref_path, ref = study2d
     (tmp_path / "base.toml").write_text(BASE)

@@ -1,4 +1,4 @@
-"""The seed's claims on study tables (workbench.claims, workbench.study_report): each effect size and
+"""The seed's claims on study tables (gfmd_contact.app.claims, gfmd_contact.app.study_report): each effect size and
 verdict on a synthetic study directory (study.json, base_scene.toml, study.csv written here) where the
 answer is known — κ of an exact a_rel = κ p_r* with known per-realization scatter, p(δ) that differs
 from the hard wall by a known fraction, a_rel that grows by a known amount, ḡ_r/ḡ a known distance
@@ -11,10 +11,10 @@ import math
 import numpy as np
 import pytest
 
-from contact.scene import default_scene, scene_to_toml
-from workbench import claims as C
-from workbench.cli import main
-from workbench.study_report import claims_text, write_report
+from gfmd_contact.core.scene import default_scene, scene_to_toml
+from gfmd_contact.app import claims as C
+from gfmd_contact.cli import main
+from gfmd_contact.app.study_report import claims_text, write_report
 
 COLUMNS = C.COLUMNS
 STEPS = 23

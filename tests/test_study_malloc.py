@@ -1,4 +1,4 @@
-"""Study tasks reuse freed arrays under Dask's worker environment (`workbench.study_task.reuse_freed_arrays`).
+"""Study tasks reuse freed arrays under Dask's worker environment (`gfmd_contact.app.study_task.reuse_freed_arrays`).
 
 Dask's nanny starts workers with MALLOC_TRIM_THRESHOLD_=65536; under glibc that made every
 solver array of ≥ 2^14 doubles an mmap that is faulted in anew on each allocation. The check
@@ -16,12 +16,12 @@ import sys
 
 import pytest
 
-from workbench import study_task
+from gfmd_contact.app import study_task
 
 CHILD = r"""
 import json, resource, sys
 import numpy as np
-from workbench import study_task
+from gfmd_contact.app import study_task
 fixed = study_task.reuse_freed_arrays() if sys.argv[1] == "fix" else None
 x = np.ones(1 << 17); del x  # the first allocation's faults are not counted
 before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
@@ -52,7 +52,7 @@ def test_tasks_reuse_freed_arrays_under_dask_environment():
 def test_run_task_applies_it(monkeypatch, tmp_path):
     calls = []
     monkeypatch.setattr(study_task, "reuse_freed_arrays", lambda: calls.append(1))
-    from contact.scene import default_scene
+    from gfmd_contact.core.scene import default_scene
 
     scene = default_scene().replace(**{"surface.nodes": 64, "surface.rollon_wavelength": 1e-7, "loading.steps": 2,
                                        "surface.realizations": 1})

@@ -1,5 +1,5 @@
-"""Figures of a study directory (workbench.study_plots, `gfmd study plot`): a tiny study run once through
-`workbench.study.run_study` (N = 512, 24 load steps, h_rms = 10, 15 nm × hard wall / φn* = 0.15,
+"""Figures of a study directory (gfmd_contact.app.study_plots, `gfmd study plot`): a tiny study run once through
+`gfmd_contact.app.study.run_study` (N = 512, 24 load steps, h_rms = 10, 15 nm × hard wall / φn* = 0.15,
 2 realizations: 4 sets, 8 tasks on 2 workers); every figure is written, holds one curve per set with
 the hard walls as references, labels its error bars, the κ fit per hard-wall set; a partial study
 (one task gone, still "running") is drawn with a note; refusals name the problem (exit 2)."""
@@ -9,9 +9,9 @@ import shutil
 
 import pytest
 
-from workbench.cli import main
-from workbench.study import run_study, study_from_dict
-from workbench.study_plots import FIGURES, make_study_figures, plot_study
+from gfmd_contact.cli import main
+from gfmd_contact.app.study import run_study, study_from_dict
+from gfmd_contact.app.study_plots import FIGURES, make_study_figures, plot_study
 
 BASE = {
     "surface": {"kind": "self-affine", "length": 320e-9, "nodes": 512, "hurst": 0.8, "h_rms": 10e-9,

@@ -1,11 +1,11 @@
-"""A study task's load steps reach the progress bar in batches (`workbench.study_task.REPORT_SECONDS`): one Dask
+"""A study task's load steps reach the progress bar in batches (`gfmd_contact.app.study_task.REPORT_SECONDS`): one Dask
 event per REPORT_SECONDS of solving and one at a ramp's last step (or at the task's end), each carrying its count, so
 the bar's total is every step while a worker sends a few events per task instead of one per step (each cost the
 solver ≈ 3 ms: the module's measured figures). A fake worker and clock stand in for Dask's."""
 
 import pytest
 
-from workbench import study_task
+from gfmd_contact.app import study_task
 
 
 class FakeWorker:

@@ -1,4 +1,4 @@
-"""Suites (workbench.study_suite, `gfmd study run A.toml B.toml --out DIR`): two tiny studies sharing
+"""Suites (gfmd_contact.app.study_suite, `gfmd study run A.toml B.toml --out DIR`): two tiny studies sharing
 their hard-wall set run as one suite; the shared tasks are computed once and hard-linked into the other
 study; each study directory's tables equal a single-file run's; a rerun reuses everything; two studies
 of one name are refused; a study run alone first, or a task interrupted in the second study's
@@ -14,11 +14,11 @@ import os
 
 import pytest
 
-from workbench import io
-from workbench.cli import main
-from workbench.study import load_study, run_study
-from workbench.study_file import longest_first, task_cost
-from workbench.study_task import run_task
+from gfmd_contact.app import io
+from gfmd_contact.cli import main
+from gfmd_contact.app.study import load_study, run_study
+from gfmd_contact.app.study_file import longest_first, task_cost
+from gfmd_contact.app.study_task import run_task
 
 from test_study import BASE as STUDY_BASE
 
@@ -205,9 +205,9 @@ def test_tasks_run_longest_first(tmp_path):
 def test_task_cost_orders_scenes():
     """Relative costs: coupled ≫ strong cohesive > hard wall > weak cohesive; ∝ steps and N log N;
     less contact (larger h_rms at the same penetration) is cheaper; longest_first sorts stably."""
-    from contact.scene import Scene
+    from gfmd_contact.core.scene import Scene
 
-    from workbench.study_file import Task
+    from gfmd_contact.app.study_file import Task
 
     base = Scene().replace(**{"interface.law": "cohesive", "interface.phi_n_star": 0.001})
     weak = task_cost(base)

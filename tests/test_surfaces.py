@@ -1,4 +1,4 @@
-"""Tests of contact.surfaces: indenter profiles h(x) (seed Eq. 4, reference-formulas §6).
+"""Tests of gfmd_contact.core.surfaces: indenter profiles h(x) (seed Eq. 4, reference-formulas §6).
 
 The two-sided discrete PSD is ⟨|ĥ_n|²⟩ ∝ C(q_n) with ĥ = rfft(h)/N. Eq. 4 is transcribed here
 independently of the code (`_eq4`).
@@ -11,8 +11,8 @@ import pytest
 import scipy.fft
 from hypothesis import given, settings, strategies as st
 
-from contact import surfaces
-from contact.scene import Surface
+from gfmd_contact.core import surfaces
+from gfmd_contact.core.scene import Surface
 
 EPS = np.finfo(float).eps
 
@@ -310,7 +310,7 @@ BAD_FILES = ["16x16 npy", "corrupt npy", "text named npy", "npz named npy", "0-d
 def test_from_file_refuses_what_is_not_a_profile(tmp_path, what):
     # a SceneError (a ValueError) naming surface.path, the file, the problem and what is expected,
     # never a raw numpy/pickle/unicode error or a silently flattened array
-    from contact.scene import SceneError
+    from gfmd_contact.core.scene import SceneError
 
     path, words = _write(tmp_path, what)
     with pytest.raises(SceneError) as info:

@@ -1,4 +1,4 @@
-"""Tests of 2+1-D surfaces: contact.surfaces_2d and the [surface] nodes_y / length_y keys (issue 25).
+"""Tests of 2+1-D surfaces: gfmd_contact.core.surfaces_2d and the [surface] nodes_y / length_y keys (issue 25).
 
 Eq. 4 read radially is transcribed here independently (`_eq4_radial`); the PSD checks compare the
 rfft2 of a surface with it mode by mode, to an FFT round-off bound.
@@ -12,8 +12,8 @@ import pytest
 import scipy.fft
 from hypothesis import given, settings, strategies as st
 
-from contact import surfaces, surfaces_2d
-from contact.scene import SceneError, default_scene, load_scene, scene_from_dict, scene_to_toml
+from gfmd_contact.core import surfaces, surfaces_2d
+from gfmd_contact.core.scene import SceneError, default_scene, load_scene, scene_from_dict, scene_to_toml
 
 EPS = np.finfo(float).eps
 
@@ -233,7 +233,7 @@ def test_file_surface(tmp_path):
 
 def test_example_surface_scene_loads():
     from importlib import resources
-    text = resources.files("contact").joinpath("example_surface_scene.toml").read_text()
+    text = resources.files("gfmd_contact.core").joinpath("example_surface_scene.toml").read_text()
     sc = scene_from_dict(tomllib.loads(text), name="example_surface")
     assert sc.surface.shape == (128, 128) and sc.surface.kind == "self-affine"
     assert sc.interface.law == "hard-wall"

@@ -1,4 +1,4 @@
-"""Measured topographies through SurfaceTopography, the optional extra (contact.topography_files, issue 25).
+"""Measured topographies through SurfaceTopography, the optional extra (gfmd_contact.core.topography_files, issue 25).
 
 The files are written by SurfaceTopography itself (netCDF, its container format, round-trips heights, unit
 and physical size exactly) and read back through a scene; tests that need the package skip without it,
@@ -10,9 +10,9 @@ import sys
 import numpy as np
 import pytest
 
-from contact import topography_files
-from contact.scene import SceneError, load_scene, scene_from_dict
-from contact.surfaces import profile
+from gfmd_contact.core import topography_files
+from gfmd_contact.core.scene import SceneError, load_scene, scene_from_dict
+from gfmd_contact.core.surfaces import profile
 
 # heights converted by one product with the unit's factor: equal to value × factor up to one rounding
 ONE_ROUNDING = 2.0**-52

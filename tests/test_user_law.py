@@ -1,4 +1,4 @@
-"""The user-defined interface law (contact.user_law; issue 22 §2): its consistency check, the numbers it
+"""The user-defined interface law (gfmd_contact.core.user_law; issue 22 §2): its consistency check, the numbers it
 derives, GFMD and the FE on it, the chain that runs it, and the Python API around it.
 
 The built-in law re-expressed through it (seed Eq. 3 as callables, written here from the formula)
@@ -18,10 +18,10 @@ import pytest
 import gfmd.chains as chains
 import gfmd.loading as gl
 import gfmd_contact as gc
-from contact import laws
-from contact.model import build_model
-from contact.scene import SceneError, default_scene
-from contact.user_law import CHECK_RTOL, UserLawError, user_law
+from gfmd_contact.core import laws
+from gfmd_contact.core.model import build_model
+from gfmd_contact.core.scene import SceneError, default_scene
+from gfmd_contact.core.user_law import CHECK_RTOL, UserLawError, user_law
 from gfmd.problem import InterfaceLaw, Problem
 from gfmd.solver import Settings
 from reference.fem.run import run_realization as fe_realization
@@ -130,7 +130,7 @@ def test_eq3_through_the_extension_point_derives_the_built_in_numbers():
     assert user.steepest_softening == pytest.approx(built_in.steepest_softening, rel=1e-12)
     # w = V(50 δn) − min V = φn (1 − 51 e^{−50}): the far end's energy is 1e-20 φn
     assert user.work_normal == pytest.approx(built_in.work_normal, rel=1e-14)
-    from contact import stickiness
+    from gfmd_contact.core import stickiness
 
     assert stickiness.resolution_warnings(user_scene(sc)) == stickiness.resolution_warnings(sc)
     # l_pz = E* w/σ_max²: w from Brent at xatol 1e-12 δn on V's quadratic minimum, round-off of a few ε

@@ -1,5 +1,5 @@
 """A full disk, a file-size limit, a read-only or unwritable directory: one line naming the path, exit 2,
-nothing written before damaged, and --resume completes (issue 26; workbench.safe_files).
+nothing written before damaged, and --resume completes (issue 26; gfmd_contact.app.safe_files).
 
 The error is injected at every write of a run in turn (the k-th write of `safe_files`: a
 temporary file or a CSV row half-written, then OSError), cycling through ENOSPC, EFBIG,
@@ -14,9 +14,9 @@ from pathlib import Path
 
 import pytest
 
-import workbench.study
-from workbench import checkpoints, safe_files
-from workbench.cli import main
+import gfmd_contact.app.study
+from gfmd_contact.app import checkpoints, safe_files
+from gfmd_contact.cli import main
 
 from test_run_dir import assert_same_run, scene, write_scene
 
@@ -86,7 +86,7 @@ def error_line(err):
 @pytest.mark.parametrize("every_step", [True, False])
 def test_every_write_of_a_run_fails_cleanly_then_resumes(tmp_path, monkeypatch, capsys, every_step):
     """every_step: a checkpoint at every step (CHECKPOINT_SECONDS = 0), else the default interval, where the steps
-    between writes go to disk when the ramp stops (`workbench.checkpoints.checkpointing`)."""
+    between writes go to disk when the ramp stops (`gfmd_contact.app.checkpoints.checkpointing`)."""
     seconds = 0.0 if every_step else checkpoints.CHECKPOINT_SECONDS
     sc = scene(**{"surface.realizations": 2, "loading.steps": 4})
     path = write_scene(tmp_path, sc)
@@ -182,7 +182,7 @@ output = { field_steps = 1 }
                                          ("/.summary.nc", errno.EROFS), ("/.study.json", errno.EACCES)])
 def test_study_write_sites_fail_cleanly_then_resume(tmp_path, monkeypatch, capsys, where, code):
     """The tasks run in this process (a threaded Dask cluster) so that the injection reaches them."""
-    monkeypatch.setattr(workbench.study, "_client", threaded)
+    monkeypatch.setattr(gfmd_contact.app.study, "_client", threaded)
     study = tmp_path / "s.toml"
     study.write_text(STUDY)
     ref, out = tmp_path / "ref", tmp_path / "out"
@@ -194,7 +194,7 @@ def test_study_write_sites_fail_cleanly_then_resume(tmp_path, monkeypatch, capsy
     assert inject.hit and line.startswith(f"gfmd: error: cannot write {out}/") and WHY[code] in line, line
     assert f"continue with: gfmd study run {study} --out {out}" in line
     monkeypatch.undo()
-    monkeypatch.setattr(workbench.study, "_client", threaded)
+    monkeypatch.setattr(gfmd_contact.app.study, "_client", threaded)
     assert main(["study", "run", str(study), "--out", str(out), "--quiet"]) == 0
     for name in ("summary.csv", "summary.nc"):
         assert (ref / name).read_bytes() == (out / name).read_bytes()

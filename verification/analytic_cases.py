@@ -1,6 +1,6 @@
 """Observables and study helpers shared by the `verification/test_analytic_*.py` cases.
 
-Scenes: `verification.scenes.sinusoid` / `cylinder` (SI, `contact.conventions`). Every function
+Scenes: `verification.scenes.sinusoid` / `cylinder` (SI, `gfmd_contact.core.conventions`). Every function
 here runs GFMD on one scene or reduces its saved fields to what the analytic references
 (`reference.analytic`) predict; no tolerance lives here.
 

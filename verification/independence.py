@@ -14,23 +14,23 @@ ROOT = Path(__file__).resolve().parent.parent
 
 #: what each shared core module provides to the FE (a module missing here is shown as "not described")
 PURPOSE = {
-    "contact": "the package itself (its __init__)",
-    "contact.scene": "the scene: the one input both methods read (geometry, material, law parameters, load steps)",
-    "contact.scene_sections": "the scene's sections and their defaults (contact.scene's dataclasses, split out)",
-    "contact.scene_validation": "the scene's TOML checks and refusals (contact.scene's reader, split out)",
-    "contact.scene_toml": "the scene written back as TOML (contact.scene's writer, split out)",
-    "contact.surfaces": "the profile heights h(x) built from the scene (same nodes, same realization)",
-    "contact.model": "the model choice and its checks (which law/layer the scene asks for)",
-    "contact.ramp": "the load steps (the one δ ramp, its continuation and checkpoints)",
-    "contact.result": "the result type the FE returns (curves, fields)",
-    "contact.errors": "the error types",
-    "contact.user_law": "a user-defined law (interface.law = \"user\") only: the user's own functions, an input with "
+    "gfmd_contact.core": "the package itself (its __init__)",
+    "gfmd_contact.core.scene": "the scene: the one input both methods read (geometry, material, law parameters, load steps)",
+    "gfmd_contact.core.scene_sections": "the scene's sections and their defaults (gfmd_contact.core.scene's dataclasses, split out)",
+    "gfmd_contact.core.scene_validation": "the scene's TOML checks and refusals (gfmd_contact.core.scene's reader, split out)",
+    "gfmd_contact.core.scene_toml": "the scene written back as TOML (gfmd_contact.core.scene's writer, split out)",
+    "gfmd_contact.core.surfaces": "the profile heights h(x) built from the scene (same nodes, same realization)",
+    "gfmd_contact.core.model": "the model choice and its checks (which law/layer the scene asks for)",
+    "gfmd_contact.core.ramp": "the load steps (the one δ ramp, its continuation and checkpoints)",
+    "gfmd_contact.core.result": "the result type the FE returns (curves, fields)",
+    "gfmd_contact.core.errors": "the error types",
+    "gfmd_contact.core.user_law": "a user-defined law (interface.law = \"user\") only: the user's own functions, an input with "
                         "nothing to be independent from; the built-in laws stay reference.fem.law's",
 }
 
 #: what the FE computes with its own code (module of reference.fem), not shared
 INDEPENDENT = {
-    "elasticity (no contact.kernels: the half-plane/layer kernels are what the FE checks)": "reference.fem.assembly",
+    "elasticity (no gfmd_contact.core.kernels: the half-plane/layer kernels are what the FE checks)": "reference.fem.assembly",
     "cohesive-zone law (seed Eqs. 2-3)": "reference.fem.law",
     "observables p, a_rel, g_r, ḡ_r, contact set": "reference.fem.observables",
     "indenter geometry and position z_ind": "reference.fem.geometry",
@@ -51,7 +51,7 @@ def allowed_imports(path=None):
 def fe_core_imports(root=None):
     """{core module: [reference.fem modules importing it]} (imports anywhere in the file)."""
     root = Path(root or ROOT)
-    core = {".".join(p.relative_to(root).with_suffix("").parts) for p in (root / "contact").glob("*.py")}
+    core = {".".join(p.relative_to(root).with_suffix("").parts) for p in (root / "gfmd_contact" / "core").glob("*.py")}
     core = {c.removesuffix(".__init__") for c in core}
     found = {}
     for path in sorted((root / "reference" / "fem").glob("*.py")):
@@ -63,7 +63,7 @@ def fe_core_imports(root=None):
             elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
                 names = [node.module] + [f"{node.module}.{a.name}" for a in node.names]
             for n in names:
-                if n == "contact" or n.startswith("contact."):
+                if n == "gfmd_contact.core" or n.startswith("gfmd_contact.core."):
                     while n not in core and "." in n:
                         n = n.rpartition(".")[0]
                     found.setdefault(n, set()).add(mod)

@@ -7,7 +7,7 @@ measurement it was derived from and the rule that derives it stays in the test. 
     {"study": "verification.studies.<study>", "regenerate": "<command>", "description": "…",
      "entries": {key: {"code_version", "date", "scene", "values": {…}, …}}}
 
-Each entry carries its own code version, date (UTC) and scene (`contact.scene.scene_to_dict`, or
+Each entry carries its own code version, date (UTC) and scene (`gfmd_contact.core.scene.scene_to_dict`, or
 the catalogue factory that builds it); writing replaces the entries measured and keeps the others.
 """
 
@@ -99,11 +99,11 @@ def node_count(a_rel_difference, nodes):
 
 def make_entry(values, scene=None, **extra):
     """An entry measured now: code version, date, scene (a Scene is stored as its dict), values."""
-    from workbench.io import code_version
+    from gfmd_contact.app.io import code_version
 
     from .records import to_jsonable
     if scene is not None and not isinstance(scene, (str, dict)):
-        from contact.scene import scene_to_dict
+        from gfmd_contact.core.scene import scene_to_dict
         scene = scene_to_dict(scene)
     return _rounded(to_jsonable({"code_version": code_version(),
                                  "date": _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds"),

@@ -1,6 +1,6 @@
 """Where, when and at what cost the numbers were made: `provenance()` and the `Meter`.
 
-`provenance()`: code version (`workbench.io.code_version`), platform, python, numpy, scipy,
+`provenance()`: code version (`gfmd_contact.app.io.code_version`), platform, python, numpy, scipy,
 date, command line, working directory (cached per process).
 
 `Meter`: wall time (`time.perf_counter`) and peak memory of a block. Memory is the delta of
@@ -44,7 +44,7 @@ def provenance(refresh=False):
     if _PROVENANCE is None or refresh:
         import scipy
 
-        from workbench.io import code_version
+        from gfmd_contact.app.io import code_version
         _PROVENANCE = {
             "code_version": code_version(),
             "platform": platform.platform(),

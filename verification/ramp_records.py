@@ -1,11 +1,11 @@
 """The shared ramp checked, not trusted (issue 23): what a run directory records, recomputed from its saved fields.
 
-`contact.ramp` records, for every method, δ, p̄, a_rel, ḡ_r and ḡ per step in curve.csv; for a load path
-workbench adds each step's branch and cycle (curve.csv) and each cycle's hysteresis W = ∮ p̄ dδ (meta.json
+`gfmd_contact.core.ramp` records, for every method, δ, p̄, a_rel, ḡ_r and ḡ per step in curve.csv; for a load path
+the application layer adds each step's branch and cycle (curve.csv) and each cycle's hysteresis W = ∮ p̄ dδ (meta.json
 "cycles"). A bug there is shared by GFMD and the FE, so no GFMD–FE comparison can see it. This module
 recomputes those numbers with the harness's own plain numpy from what the run saved: fields.npz (x, h, and
 per saved step u_z, gap Δn, t_n) and scene.toml (read with tomllib: the path corners, steps, δn and the
-contact rule). It imports nothing from `contact`, `workbench`, `gfmd` or `reference`.
+contact rule). It imports nothing from `gfmd_contact`, `gfmd` or `reference`.
 
 Definitions recomputed (reference-formulas §0, seed Eqs. 5–6):
     δ_k     = h_i − min h − Δn_i − u_z,i at every node i (the indenter is rigid: z_ind = h − min h + δ0 − U,

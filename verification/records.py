@@ -4,7 +4,7 @@ A `Measurement` is one number a verification test measured (an error, a differen
 with its tolerance, where the tolerance comes from, the methods and resolution it compares, its
 cost and plots (`verification.plots`). The pytest fixture `verification_record`
 (`verification/conftest.py`) makes them; `verification.report` renders them.
-Values are usually dimensionless relative errors; SI otherwise (`contact.conventions`).
+Values are usually dimensionless relative errors; SI otherwise (`gfmd_contact.core.conventions`).
 """
 
 from __future__ import annotations
@@ -44,7 +44,7 @@ class Measurement:
     test: str = ""  # pytest node id, filled by the fixture
     test_outcome: str = ""  # passed/failed/skipped/error, filled at session end
     provenance: dict = field(default_factory=dict)
-    scene: str = ""  # the scene measured, as TOML (`contact.scene.scene_to_toml`); "" if not given
+    scene: str = ""  # the scene measured, as TOML (`gfmd_contact.core.scene.scene_to_toml`); "" if not given
     #: the stored measured number the tolerance rests on (at this record's resolution), None if the
     #: tolerance is a rule (round-off, one node per edge) or the test did not say
     measured: float | None = None
@@ -65,8 +65,8 @@ class Measurement:
                        else bool(self.passed))
         if self.measured is not None:
             self.measured = float(self.measured)
-        if not isinstance(self.scene, str):  # a contact.scene.Scene
-            from contact.scene import scene_to_toml
+        if not isinstance(self.scene, str):  # a gfmd_contact.core.scene.Scene
+            from gfmd_contact.core.scene import scene_to_toml
             self.scene = scene_to_toml(self.scene)
 
     def to_dict(self):
@@ -143,7 +143,7 @@ def write_results(path, records, session=None):
     doc = results_document(records, session)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    from workbench.safe_files import atomic_write  # a kill or a full disk never leaves half a results.json
+    from gfmd_contact.app.safe_files import atomic_write  # a kill or a full disk never leaves half a results.json
 
     atomic_write(path, json.dumps(doc, indent=1, allow_nan=False))
     return doc

@@ -549,7 +549,7 @@ def write_report(path, records, session=None, provenance=None):
     """Write the HTML page to `path` (parents created); returns the path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    from workbench.safe_files import atomic_write  # a kill or a full disk never leaves half a page
+    from gfmd_contact.app.safe_files import atomic_write  # a kill or a full disk never leaves half a page
 
     atomic_write(path, render_html(records, session, provenance))
     return path

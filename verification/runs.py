@@ -1,5 +1,5 @@
 """Running the methods on a scene, timed: the one place where verification calls a solver,
-through the one registry `workbench.methods` (the scene's [method] says which runs).
+through the one registry `gfmd_contact.app.methods` (the scene's [method] says which runs).
 
 * `run_fe_and_gfmd(scene, order=2)`: `reference.fem` P<order> and GFMD on one scene.
 * `run_methods(scene, names)`: the named methods of `METHODS`, each under a `Meter`.
@@ -15,13 +15,13 @@ from typing import Any, Callable
 
 import numpy as np
 
-from workbench.methods import run_realization as run_method
+from gfmd_contact.app.methods import run_realization as run_method
 
 from .provenance import Meter
 
 
 def with_method(scene, name, **options):
-    """`scene` solved by method `name` (workbench.methods registry) with [method] `options`."""
+    """`scene` solved by method `name` (gfmd_contact.app.methods registry) with [method] `options`."""
     return scene.replace(**{"method.name": name, **{f"method.{k}": v for k, v in options.items()}})
 
 
@@ -74,7 +74,7 @@ def _gfmd(integrator, name=None, **pinned):
     return run
 
 
-#: method name -> callable(scene, realization=0) -> contact.result.Result
+#: method name -> callable(scene, realization=0) -> gfmd_contact.core.result.Result
 METHODS: dict[str, Callable] = {"gfmd-fire": _gfmd("fire"), "gfmd-verlet": _gfmd("verlet"),
                                 "gfmd-fire-only": _gfmd("fire", "gfmd-fire-only", cohesive="fire", hard_wall="fire",
                                                       coupled="fire")}
@@ -82,7 +82,7 @@ METHODS: dict[str, Callable] = {"gfmd-fire": _gfmd("fire"), "gfmd-verlet": _gfmd
 
 @dataclass
 class MethodRun:
-    result: Any  # contact.result.Result
+    result: Any  # gfmd_contact.core.result.Result
     wall_s: float
     peak_memory_bytes: int
     memory_method: str

@@ -1,6 +1,6 @@
 """The scene catalogue: every scene a verification case, a study, a unit test or a benchmark runs.
 
-Each factory returns a validated `contact.scene.Scene` (SI units, `contact.conventions`);
+Each factory returns a validated `gfmd_contact.core.scene.Scene` (SI units, `gfmd_contact.core.conventions`);
 cases vary them with `.replace(**{"section.key": value})`. Tests, studies and benchmarks
 import scenes from here, never from a test module.
 """
@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from contact.scene import Scene, default_scene
+from gfmd_contact.core.scene import Scene, default_scene
 
 _MATERIAL = {"material.youngs_modulus": 70e9, "material.poisson_ratio": 0.3}
 
@@ -81,7 +81,7 @@ def centred_self_affine_path(n):
     of 1.9e-4 in p(δ) between N ≤ 1024 and N ≥ 2048, not discretisation). The profile has 16 modes
     (λs = L/16), so its Fourier series is exact on every N ≥ 64 and is evaluated directly.
     """
-    from contact import surfaces
+    from gfmd_contact.core import surfaces
     if not _PROFILE_DIR:  # one folder per process, removed at exit (the profile is rebuilt from _SELF_AFFINE)
         _PROFILE_DIR.append(Path(tempfile.mkdtemp(prefix="speed_accuracy_profiles_")))
         atexit.register(shutil.rmtree, _PROFILE_DIR[0], ignore_errors=True)
@@ -125,7 +125,7 @@ def adhesive_self_affine(n):
     N ≥ 64), seed 3, lowest point on the node x = 0 (`centred_self_affine_path`), layer D = L, E = 70 GPa,
     ν = 0.3, normal CZ φn* = 0.01, δn = 1 nm, δ from −5 nm to 10 nm in 15 steps.
 
-    δ0 = 5 nm > δ_jump = 4.0 δn (contact.model.jump_in_separation): from inside the jump-in range
+    δ0 = 5 nm > δ_jump = 4.0 δn (gfmd_contact.core.model.jump_in_separation): from inside the jump-in range
     (δ0 = 2 nm) the jump at the first steps picked N-dependent equilibria."""
     return Scene().replace(**_MATERIAL, **_centred_self_affine(n), **{
         "interface.law": "cohesive", "interface.phi_n_star": 0.01,

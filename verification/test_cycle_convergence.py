@@ -136,8 +136,8 @@ def test_cycle_extreme(label, verification_record):
 
 def test_the_scene_check_warns_of_the_coarse_unloading_step_only():
     """The coarse-step case above leaves the attached branch silently: the scene check says so before the run
-    (contact.model.MAX_UNLOADING_STEP_LENGTHS), and stays quiet for the steps measured to follow the branch."""
-    from contact.model import MAX_UNLOADING_STEP_LENGTHS, build_model, scene_warnings
+    (gfmd_contact.core.model.MAX_UNLOADING_STEP_LENGTHS), and stays quiet for the steps measured to follow the branch."""
+    from gfmd_contact.core.model import MAX_UNLOADING_STEP_LENGTHS, build_model, scene_warnings
 
     def coarse(label):
         scene = cc.EXTREMES[label][0]()

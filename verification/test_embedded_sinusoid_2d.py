@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from contact.model import build_model
+from gfmd_contact.core.model import build_model
 from verification import analytic_cases as ac
 from verification.plots import curve_plot
 from verification.scenes import embedded_sinusoid, sinusoid

@@ -16,7 +16,7 @@ differences fall with order ≈ 2.3–2.5 from N = 256 to 512 in every cell, als
 locking plateau), |Δa_rel| ≤ 4/N. N = 256 has δn = l (under-resolved, warned): both methods share
 the nodes, so the comparison is of methods, not of the continuum.
 
-δn/l threshold (`contact.model.MIN_LENGTH_NORMAL_NODES`): for δn ≥ 2 l, |Δp|/max|p| and |Δa_rel|
+δn/l threshold (`gfmd_contact.core.model.MIN_LENGTH_NORMAL_NODES`): for δn ≥ 2 l, |Δp|/max|p| and |Δa_rel|
 against N = 4096 ≤ 3 × the largest stored value over the four threshold cases; at δn = l the
 pressure error must exceed 3× the δn = 2 l one (the threshold separates two regimes).
 """
@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import pytest
 
-from contact.model import MIN_LENGTH_NORMAL_NODES
+from gfmd_contact.core.model import MIN_LENGTH_NORMAL_NODES
 from verification import measured
 from verification.plots import convergence_plot, curve_plot, grid_plot, table_plot
 from verification.studies import extremes as ex

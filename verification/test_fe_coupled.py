@@ -191,7 +191,7 @@ def test_gfmd_coupled_slip_regime(verification_record):
     assert rg.all_converged, f"GFMD in the slip regime: {rg.messages}"
     fallback = [k for k, label in enumerate(rg.diagnostics.get("algorithms", [])) if "newton" in label]
     assert fallback, "no step was relaxed by the Newton–Krylov (the coupled chain's first algorithm)"
-    for r in (rf, rg):  # both methods say that the run left the verified range (contact.loading.SLIP_LIMIT)
+    for r in (rf, rg):  # both methods say that the run left the verified range (gfmd_contact.core.loading.SLIP_LIMIT)
         assert any("slip regime" in w for w in r.reasons), (r.method, r.reasons)
     k = max(rf.fields)
     tn, tt = (field_difference(rf, rg, f, steps=[k]) for f in ("t_n", "t_t"))

@@ -1,5 +1,5 @@
 """GFMD vs the FE cell through a force-controlled load–unload cycle on a cohesive layer (each its own law and
-observables, both through the one ramp and the generic outer search `contact.force`).
+observables, both through the one ramp and the generic outer search `gfmd_contact.core.force`).
 
 Study, scene and metrics: `verification.studies.fe_force_cycle` (cohesive_sinusoid with φn* = 0.15 under
 `loading.control = "force"`, p̄ path [0, 400, −320] MPa in 5 + 18 steps from out of contact: a jump-in at the

@@ -36,8 +36,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from contact import surfaces
-from contact.model import build_model
+from gfmd_contact.core import surfaces
+from gfmd_contact.core.model import build_model
 from verification.metrics import relative_l2
 from verification.plots import curve_plot, profile_plot, table_plot
 from verification.records import scene_resolution

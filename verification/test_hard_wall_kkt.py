@@ -18,7 +18,7 @@ such a residual moves them. The residual measured in each run is in its record (
 import numpy as np
 import pytest
 
-from contact.scene import default_scene
+from gfmd_contact.core.scene import default_scene
 from verification.runs import run_gfmd
 from verification.scenes import sinusoid
 

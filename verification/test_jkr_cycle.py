@@ -10,7 +10,7 @@ snap-off δ is resolved only to the unloading step Δδ = 0.0025 h0: its two fin
 (1.7e-3 h0), so its rate is taken over the three coarsest levels. Jump-in δ (→ 0) and hysteresis (→ the area
 between Johnson's branches) converge slowly (rates ≈ 0.7 and 0.9 in δn): the cohesive tail lets the surface
 jump in before touching, at δ ≈ −0.14 h0 at d/λ = 0.005, which cuts the loop's area by a third there.
-Force control (`contact.force`): the pull-off load (midpoint of the last load carried and the first that
+Force control (`gfmd_contact.core.force`): the pull-off load (midpoint of the last load carried and the first that
 detached, ±2.5e-4 p*) against Johnson's min p̄(a): 2.7e-3 → 2.0e-4 p* (rate 2.4; the finest at the load step).
 A factor 2 in w would move pull-off by ≈ 0.1 p*, ~500 times its bound.
 """

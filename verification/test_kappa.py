@@ -2,7 +2,7 @@
 
 The points below a_max = 0.1 follow a_rel = κ p_r* exactly with κ = 1.75 (the seed's value);
 points above a_max follow another relation, and tensile (p_r* ≤ 0), zero-area and NaN points
-are mixed in: `contact.observables.fit_kappa` must return κ to round-off and count exactly the
+are mixed in: `gfmd_contact.core.observables.fit_kappa` must return κ to round-off and count exactly the
 qualifying points. A second relation with noise checks the least-squares slope through the
 origin against numpy's lstsq on the same points. Added because the mutation run found a κ fit
 2 % off uncaught.
@@ -11,7 +11,7 @@ origin against numpy's lstsq on the same points. Added because the mutation run 
 import numpy as np
 import pytest
 
-from contact.observables import fit_kappa
+from gfmd_contact.core.observables import fit_kappa
 
 KAPPA = 1.75
 ROUND_OFF = 1e-12

@@ -1,6 +1,6 @@
 """κ vs N for the hard-wall self-affine default geometry (issue 12): the fitted κ converges with the grid.
 
-Study, scene and numbers: `verification.studies.kappa_convergence` (contact/default_scene.toml as a hard
+Study, scene and numbers: `verification.studies.kappa_convergence` (gfmd_contact/core/default_scene.toml as a hard
 wall, 4 realizations, N = 1024 … 8192); stored in verification/data/kappa_convergence.json (regenerate:
 `python -m verification.studies.kappa_convergence --write`, about a minute).
 

@@ -1,4 +1,4 @@
-"""The process-zone resolution check (contact.stickiness) is checked, not trusted: its limit is re-measured.
+"""The process-zone resolution check (gfmd_contact.core.stickiness) is checked, not trusted: its limit is re-measured.
 
 Study, scene and metric: `verification.studies.process_zone` (adhesive sinusoid, w = 7 J/m², δn = 0.1 nm,
 l_pz = E* w/σ_max² = 0.93 nm; error = max over 8 loads of |Δp̄|/max|p̄| and |Δa_rel| against N = 8192).
@@ -11,8 +11,8 @@ slip in l_pz such as the prefactor or a missing e²) or a check that does not re
 
 from __future__ import annotations
 
-from contact import stickiness
-from contact.model import build_model
+from gfmd_contact.core import stickiness
+from gfmd_contact.core.model import build_model
 from verification import measured
 from verification.studies import process_zone as pz
 

@@ -2,7 +2,7 @@
 
 GFMD (a half-plane and a layer) and the FE (P2, the layer) each run one load–unload cycle with a jump-in and a
 jump-out (scenes `ramp_check_half_plane`, `ramp_check_layer`), fields saved at every step; the run directory
-is written by workbench.io as `gfmd run` writes it. `verification.ramp_records` then recomputes with its own
+is written by gfmd_contact.app.io as `gfmd run` writes it. `verification.ramp_records` then recomputes with its own
 plain numpy, from the saved fields and scene.toml only: δ per step (from h, Δn and u_z at every node, and
 from the path's corners), p̄, a_rel, ḡ, ḡ_r, each step's branch and cycle, and the cycle's hysteresis W.
 
@@ -22,8 +22,8 @@ from verification import ramp_records as rr
 from verification import scenes
 from verification.plots import table_plot
 from verification.runs import with_method
-from workbench.io import write_run
-from workbench.methods import run_realization
+from gfmd_contact.app.io import write_run
+from gfmd_contact.app.methods import run_realization
 
 CASE = "ramp/recorded-vs-saved-fields"
 RUNS = {"gfmd-half-plane": ("gfmd", scenes.ramp_check_half_plane, {}),

@@ -236,7 +236,7 @@ def test_render_check_flags_a_broken_page(tmp_path):
 
 
 def test_scene_shown_once_per_case_and_round_trips(tmp_path):
-    from contact.scene import default_scene, load_scene
+    from gfmd_contact.core.scene import default_scene, load_scene
     sc = default_scene().replace(**{"surface.nodes": 8192})
     recs = [Measurement(case="c", metric=f"m{i}", value=1e-3, tolerance=1e-2, scene=sc) for i in range(3)]
     assert recs[0].scene.startswith("# resolved scene")  # a Scene is stored as its TOML

@@ -1,4 +1,4 @@
-"""The cohesive wall (`contact.laws.CohesiveWall`: Eq. 3's attraction for Δn > 0, Δn ≥ 0 a constraint).
+"""The cohesive wall (`gfmd_contact.core.laws.CohesiveWall`: Eq. 3's attraction for Δn > 0, Δn ≥ 0 a constraint).
 
 The hard wall's projected FIRE (or Verlet) with the attraction added to the nodal force, the
 cohesive dynamics' mass weighting and trust region; the same residual, and KKT fixed points
@@ -15,7 +15,7 @@ from ..problem import Elastic, mean_shift, project_onto_wall
 from ..settings import Relaxed, not_converged
 
 def solve(problem, start, settings):
-    """Cohesive wall (`contact.laws.CohesiveWall`): Eq. 3's attraction off the wall, Δn ≥ 0 projected.
+    """Cohesive wall (`gfmd_contact.core.laws.CohesiveWall`): Eq. 3's attraction off the wall, Δn ≥ 0 projected.
 
     The `gfmd.algorithms.hard_wall_dynamics` projected FIRE (or Verlet) with the attraction T_n(Δn) added to the
     nodal force, f = T_n(Δn) + p − K u (p: the half-plane's far-field load keeping ⟨u⟩ = 0, the

@@ -19,8 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from contact import laws
-from contact.law_equations import MAX_COMPRESSION, jacobian_coupled, traction_coupled
+from gfmd_contact.core import laws
+from gfmd_contact.core.law_equations import MAX_COMPRESSION, jacobian_coupled, traction_coupled
 
 from .. import vector_exp
 from ..kernels import jit_backend, numba

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.sparse.linalg import gmres
 
-from contact import laws
+from gfmd_contact.core import laws
 
 from ..coupled_krylov import (GMRES_CYCLES, GMRES_RESTART, balance_state, eisenstat_walker, forcing,
                               newton_direction, nodal_force, nodes_and_stiffness)
@@ -46,7 +46,7 @@ def solve(problem, start, settings):
     """Newton–Krylov on the coupled law's nodal balance f(u) = t(u) − K u = 0 (no dynamics).
 
     Each iteration solves (K + D) δu = f by GMRES, D the nodal 2×2 tangent of Eq. 2
-    (`contact.laws.jacobian_coupled`, ∂t/∂u = −D since Δn = z_ind − u_z, Δt = −u_x), K applied
+    (`gfmd_contact.core.laws.jacobian_coupled`, ∂t/∂u = −D since Δn = z_ind − u_z, Δt = −u_x), K applied
     by FFT: right-preconditioned by K⁻¹ balanced by a coarse space on the stiff nodes (`gfmd.coupled_krylov.newton_direction`,
     `gfmd.coupled_preconditioner`, since session 33: 3× fewer GMRES products; K⁻¹ alone on the spectrum where no node
     is stiff, `spectral_step`), one FFT pair per product; with

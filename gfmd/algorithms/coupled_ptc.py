@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from contact import laws
+from gfmd_contact.core import laws
 
 from ..coupled_kernels import divided_blocks
 from ..coupled_krylov import balance, forcing, spectral_step

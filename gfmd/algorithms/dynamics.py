@@ -20,7 +20,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from contact import laws
+from gfmd_contact.core import laws
 
 from ..fft import Fft, spectral_weights
 from ..fire_kernels import fire_kernels, largest_change

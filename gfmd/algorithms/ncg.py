@@ -5,14 +5,14 @@ elastic + CZ energy (`gfmd.problem`); 5–10× fewer FFT pairs per step than FIR
 (benchmarks/results/bench_vs_tamaas.md). The law's nodal work runs on the nodes near the indenter
 only, the spectral algebra in `gfmd.kernels` (numpy, or fused numba kernels where installed).
 The nodal law work is `gfmd.ncg_nodes`'s: seed Eq. 3's (numpy, or one fused numba pass per line-search trial), or
-a user law's (`contact.user_law`: its traction and tangent on the near set, whose cut is the law's `far_gap`).
+a user law's (`gfmd_contact.core.user_law`: its traction and tangent on the near set, whose cut is the law's `far_gap`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from contact import laws
+from gfmd_contact.core import laws
 
 from .. import cohesive_preconditioner, kernels
 from ..ncg_nodes import Eq3Nodes, UserNodes
@@ -65,7 +65,7 @@ def _attraction_cut(x):
 def solve(problem, start, settings):
     """Normal-only cohesive law by nonlinear preconditioned conjugate gradients, FIRE as fallback.
 
-    The law has a potential (`contact.laws.potential_normal`): the step minimises
+    The law has a potential (`gfmd_contact.core.laws.potential_normal`): the step minimises
     E(u) = ½ uᵀKu + Σ_j V(Δn_j), Δn = z_ind − u, whose negative gradient is the force
     f = T_n(Δn) − K u of `gfmd.algorithms.dynamics` (mean removed on a half-plane, ⟨u⟩ = 0).
     Polak–Ribière+ CG on the nodal displacements preconditioned as the hard-wall CG, s = K⁻¹ f
@@ -128,7 +128,7 @@ def solve(problem, start, settings):
     clamp = model.half_plane
     cz = law.law
     p_ref = model.reference_traction
-    if getattr(cz, "user", False):  # a user law (contact.user_law): its callables on the near set (`far_gap`)
+    if getattr(cz, "user", False):  # a user law (gfmd_contact.core.user_law): its callables on the near set (`far_gap`)
         dn, nodal, user = float(cz.length_scale), UserNodes(cz), True
     else:
         phi, dn = float(cz.work_normal), float(cz.length_normal)

@@ -2,7 +2,7 @@
 and 2+1-D references (docs/analytic_2d.rst).
 
 Plain numpy functions, SI units per unit length, p > 0 compressive
-(see contact.conventions). One module per classical solution:
+(see gfmd_contact.core.conventions). One module per classical solution:
 
 * hertz           – rigid cylinder on a half-plane (§2)
 * westergaard     – periodic sinusoid, no adhesion (§3)

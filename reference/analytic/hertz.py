@@ -6,7 +6,7 @@ Implements shared/reference-formulas.md §2 (Johnson 1985, ch. 4):
     p0 = 2F/(πa) = E*a/(2R) = √(FE*/(πR)),
     δ_rel = (F/(πE*)) [2 ln(L/(πa)) + 1]      (periodic cell, §2.2).
 
-Units: SI, per unit length out of plane (see contact.conventions): F in N/m,
+Units: SI, per unit length out of plane (see gfmd_contact.core.conventions): F in N/m,
 a, R, x, L in m, E* = E/(1−ν²) in Pa, pressures in Pa. Sign: p > 0 is
 compressive. x is measured from the contact centre.
 Validity: frictionless, small slopes (a ≪ R), half-plane, isolated contact
@@ -67,7 +67,7 @@ def approach_periodic(load, radius, e_star, period):
 
     δ_rel = (F/(πE*)) [2 ln(L/(πa)) + 1] for one Hertz contact per periodic cell
     of length `period` L [m] on a half-plane (mean displacement ū_z = 0 as in
-    contact.conventions). δ_rel > 0: the tip is pushed into the body. Requires
+    gfmd_contact.core.conventions). δ_rel > 0: the tip is pushed into the body. Requires
     a < L/2; accurate to O((a/L)²) (1e-5 relative at L = 100a).
     """
     L = positive("period", period)

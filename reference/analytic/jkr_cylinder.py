@@ -9,7 +9,7 @@ al. 1996; λ → ∞ limit of Baney & Hui 1997):
     pull-off (load control): a_c = (2wR²/(πE*))^{1/3},
                              F_c = −3(πE*w²R/16)^{1/3} = −(3/4)πE*a_c²/R.
 
-Units: SI per unit length (contact.conventions): F in N/m, a, R, x in m,
+Units: SI per unit length (gfmd_contact.core.conventions): F in N/m, a, R, x in m,
 E* = E/(1−ν²) and p in Pa, work of adhesion w in J/m². p > 0 is compressive
 (adhesive tension is p < 0); x is measured from the contact centre.
 Validity: frictionless, a ≪ R, half-plane, cohesive-zone length

@@ -17,7 +17,7 @@ load is zero at ψ_a = π/3, i.e. α_c = 3^{3/4}/4 ≈ 0.5699 (derived here from
 two conditions; Johnson 1995 quotes 0.57): for α ≥ α_c full contact is reached
 spontaneously at zero load.
 
-Units: SI per unit length (contact.conventions): h0, λ, a, x, gaps in m; E*,
+Units: SI per unit length (gfmd_contact.core.conventions): h0, λ, a, x, gaps in m; E*,
 p̄, p in Pa; w in J/m². p > 0 is compressive; x is measured from the centre
 of a contact (any period). Validity: frictionless, h0 ≪ λ, half-plane,
 cohesive-zone length πE*w/(4σ0²) ≪ a (JKR limit). Full contact (a = λ/2) is

@@ -14,7 +14,7 @@ Maugis parameter:  λ = 4σ0 (R/(π²E*²w))^{1/3}     (E* = E/(1−ν²), check
  pressure: |x| < a:      p = p_u{Ā√(1−X²) − (λ/2) arctan √((m²−1)/(1−X²))},  X = x/a
            a ≤ |x| ≤ c:  p = −σ0  (= −p_u πλ/4)
 
-Units: SI per unit length (contact.conventions): F in N/m, a, c, R, x in m,
+Units: SI per unit length (gfmd_contact.core.conventions): F in N/m, a, c, R, x in m,
 E*, σ0, p in Pa, w in J/m². p > 0 is compressive (the cohesive zone pulls:
 p = −σ0 < 0). Validity: frictionless, a ≪ R, half-plane. λ → ∞ gives JKR
 (jkr_cylinder), λ → 0 a DMT-like limit F → F_Hertz − 2√(2σ0wR).

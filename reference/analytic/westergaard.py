@@ -11,7 +11,7 @@ eq. 4). Indenter z_ind(x) = −d + h0[1 − cos(2πx/λ)], h0 = amplitude
     g(x) = 2h0[S√(S² − S_a²) − S_a² ln((S + √(S² − S_a²))/S_a)],  S = |sin ψ|,
     ḡ = h0[1 − P + P ln P],   U = λ h0 p* P²(¼ − ½ ln P).
 
-Units: SI per unit length (contact.conventions): h0, λ, a, x, gaps in m; E*,
+Units: SI per unit length (gfmd_contact.core.conventions): h0, λ, a, x, gaps in m; E*,
 p̄, p in Pa; U in J/m. p > 0 is compressive; p̄ = F/λ is the mean pressure.
 x is measured from the centre of a contact (minimum of the profile); x may
 lie in any period. Validity: frictionless hard wall, small slopes

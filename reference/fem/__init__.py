@@ -1,8 +1,8 @@
 """Plane-strain finite-element reference for the periodic bonded-layer cell (issue #4).
 
-Units: SI (see `contact.conventions`). An independent cross-check of GFMD: it shares
-the inputs (the scene, the profile heights of `contact.surfaces`), the model choice
-(`contact.model`), the load ramp (`contact.ramp`, load steps included) and the result
+Units: SI (see `gfmd_contact.core.conventions`). An independent cross-check of GFMD: it shares
+the inputs (the scene, the profile heights of `gfmd_contact.core.surfaces`), the model choice
+(`gfmd_contact.core.model`), the load ramp (`gfmd_contact.core.ramp`, load steps included) and the result
 type with GFMD, and nothing it checks: the cohesive law (`law`), the indenter position
 (`geometry`) and the observables p, a_rel, ḡ_r (`observables`) are its own code, and no
 solver code is shared (tests/test_architecture.py holds this):
@@ -23,7 +23,7 @@ solver code is shared (tests/test_architecture.py holds this):
 * `export`    VTU output (meshio): one file per recorded step + a PVD series
 
 `run_realization(scene, realization=0, order=2, progress=None, linear="auto")` returns a
-`contact.result.Result` with method "fe-p2" / "fe-p1".
+`gfmd_contact.core.result.Result` with method "fe-p2" / "fe-p1".
 """
 
 from .export import export_vtu

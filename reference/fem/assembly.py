@@ -1,6 +1,6 @@
 """Plane-strain elasticity of the periodic bonded cell: assembly, periodicity, condensation.
 
-Units: SI (see `contact.conventions`). Independent of the GFMD solver: only
+Units: SI (see `gfmd_contact.core.conventions`). Independent of the GFMD solver: only
 scikit-fem, numpy and scipy. Periodicity is imposed by eliminating the DOFs on
 the right edge x = L/2 onto their images on the left edge x = −L/2 with an
 explicit 0/1 projection matrix P (K_r = Pᵀ K P); the base z = −D is bonded

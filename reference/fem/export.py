@@ -1,6 +1,6 @@
 """VTU / PVD export of FE fields (meshio): displacement and stress per recorded load step.
 
-Units: SI (see `contact.conventions`): coordinates and displacement in m, stress in Pa,
+Units: SI (see `gfmd_contact.core.conventions`): coordinates and displacement in m, stress in Pa,
 the PVD time value is the indenter displacement δ = U − δ0 in m.
 
 The input is a `Result` of `reference.fem.run_realization` (cohesive or hard

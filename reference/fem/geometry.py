@@ -1,6 +1,6 @@
 """The indenter on the FE surface: the profile between the nodes and z_ind at every surface point.
 
-Units: SI (see `contact.conventions`). P2 has surface points at the facet
+Units: SI (see `gfmd_contact.core.conventions`). P2 has surface points at the facet
 midpoints; h there is the band-limited (Fourier) interpolant of the nodal heights.
 """
 
@@ -22,11 +22,11 @@ def fourier_interpolate(h, factor):
 
 
 def surface_indenter(h_surface, h_min, initial_separation, displacement):
-    """z_ind = h − min h + δ0 − U (m, contact.conventions) at every FE surface point.
+    """z_ind = h − min h + δ0 − U (m, gfmd_contact.core.conventions) at every FE surface point.
 
     h_surface: the profile at the surface points (Fourier interpolant of the nodal h);
     h_min: the *nodal* minimum of h (m), so that z_ind at the vertices is exactly GFMD's.
-    Written here from the convention, not taken from `contact.loading` (the FE is an
+    Written here from the convention, not taken from `gfmd_contact.core.loading` (the FE is an
     independent check).
     """
     return np.asarray(h_surface, dtype=float) - h_min + initial_separation - displacement

@@ -1,6 +1,6 @@
 """Frictionless, non-adhesive hard wall on the condensed FE surface (issue #4 prerequisite of #5).
 
-Units: SI (see `contact.conventions`). The linear cell is condensed once onto the
+Units: SI (see `gfmd_contact.core.conventions`). The linear cell is condensed once onto the
 normal surface displacements u_z (`Cell.schur(("z",))`: u_x of the surface is
 free, t_x = 0, the interior follows linearly). Each load step is the convex QP
 
@@ -11,7 +11,7 @@ midpoints from the band-limited interpolant of h, as `reference.fem.solver`).
 KKT: S u + μ = 0, μ ≥ 0 (wall force per unit length out of plane, N/m),
 Δn ≥ 0, μ_i Δn_i = 0. The contact traction on the body at surface point i is
 t_z = −μ_i/W_i (W the FacetBasis nodal weights, m), so −t_z ≥ 0 only where
-Δn = 0 (contact.conventions "Hard wall"). On the N GFMD nodes the Result reports
+Δn = 0 (gfmd_contact.core.conventions "Hard wall"). On the N GFMD nodes the Result reports
 t_z = −(nodal wall force)/l, the P2 midpoint forces lumped onto their vertices
 (`HardWallProblem.node_traction`), so that p = −⟨t_z⟩ is the exact Σμ/L.
 
@@ -48,7 +48,7 @@ import numpy as np
 import scipy.linalg
 import scipy.optimize
 
-from contact.ramp import StepSolution
+from gfmd_contact.core.ramp import StepSolution
 
 from .assembly import build_cell
 from .geometry import fourier_interpolate, surface_indenter  # the FE's own z_ind (P2 midpoints: Fourier interpolant)
@@ -58,7 +58,7 @@ from .observables import hard_wall_observables, rms_gradient
 class HardWallProblem:
     """Condensed normal surface system of one scene for the hard wall (see module docstring).
 
-    scene: a hard-wall `contact.scene.Scene` with finite material.thickness; h: the
+    scene: a hard-wall `gfmd_contact.core.scene.Scene` with finite material.thickness; h: the
     profile (m) on the N nodes; order: 1 (P1) or 2 (P2).
     """
 
@@ -111,7 +111,7 @@ class HardWallProblem:
         return -force / spacing
 
     def indenter(self, initial_separation, displacement):
-        """z_ind = h − min_nodes h + δ0 − U (m) at all surface points (contact.conventions)."""
+        """z_ind = h − min_nodes h + δ0 − U (m) at all surface points (gfmd_contact.core.conventions)."""
         return surface_indenter(self.h_surface, self.h_min, initial_separation, displacement)
 
     def state(self, active, z_ind):
@@ -163,13 +163,13 @@ class HardWallProblem:
 
 @dataclass
 class HardWallCell:
-    """One realization's FE hard-wall problem (see contact.ramp for the protocol). The state is
+    """One realization's FE hard-wall problem (see gfmd_contact.core.ramp for the protocol). The state is
     the stacked (u_z at the surface points, wall forces μ): the active set warm-starts from the
     previous step, never from an extrapolation (a constraint, not a smooth law)."""
 
     scene: object
     prob: HardWallProblem
-    physics: object  # contact.model.Model
+    physics: object  # gfmd_contact.core.model.Model
     tolerance: float
     method: str
     model: str

@@ -1,10 +1,10 @@
 """The FE reference's own cohesive-zone law (seed Eqs. 2–3), written from the seed paper.
 
-Independent of `contact.laws` on purpose: the FE cross-checks GFMD, so it evaluates the
+Independent of `gfmd_contact.core.laws` on purpose: the FE cross-checks GFMD, so it evaluates the
 interface law with its own code (a unit test, tests/test_fem_law.py, compares the two
 pointwise). Only the scene's numbers are shared.
 
-Units: SI (see `contact.conventions`). Gaps Δn = z_ind − u_z and Δt = −u_x (m), lengths
+Units: SI (see `gfmd_contact.core.conventions`). Gaps Δn = z_ind − u_z and Δt = −u_x (m), lengths
 δn, δt (m), works of separation φn, φt (J/m²), tractions (Pa), T_n > 0 tensile, acting on
 the body as t_z = T_n, t_x = T_t (reference-formulas §0).
 
@@ -14,7 +14,7 @@ the body as t_z = T_n, t_x = T_t (reference-formulas §0).
 
 with φn = φn* δn E and φt = c φn* δt E (seed §2.1: φn* = φn/(δn E), c = φt*/φn*).
 
-A user-defined law (interface.law = "user", `contact.user_law`) has nothing to be independent from:
+A user-defined law (interface.law = "user", `gfmd_contact.core.user_law`) has nothing to be independent from:
 the FE evaluates the user's callables through `UserZone`, which answers what `CohesiveZone` answers
 for the normal law.
 """
@@ -115,7 +115,7 @@ class CohesiveZone:
 
 
 class UserZone:
-    """A user law (`contact.user_law.UserLaw`, normal-only) as the FE's Newton sees a law: T_n, dT_n/dΔn, V.
+    """A user law (`gfmd_contact.core.user_law.UserLaw`, normal-only) as the FE's Newton sees a law: T_n, dT_n/dΔn, V.
 
     delta_n is the law's length (the Newton step limit 0.5 δn), phi_n = e·peak_traction·length so that
     φn/(e δn) is its peak traction and φn/δn² a stiffness scale (pseudo-transient continuation's mass).
@@ -143,6 +143,6 @@ class UserZone:
         return self.user.potential(gap_n)
 
     def contact_gap(self, tolerance):
-        """Δtol (m) of the user law at this tolerance (`contact.user_law`: T_n = tolerance·e·peak_traction)."""
+        """Δtol (m) of the user law at this tolerance (`gfmd_contact.core.user_law`: T_n = tolerance·e·peak_traction)."""
         import dataclasses
         return dataclasses.replace(self.user, contact_tolerance=tolerance, contact_rule="traction-tolerance").contact_gap

@@ -1,6 +1,6 @@
 """Graded triangle mesh of one periodic cell of a bonded layer (numpy only).
 
-Units: SI (see `contact.conventions`). The cell is −L/2 ≤ x ≤ L/2, −D ≤ z ≤ 0.
+Units: SI (see `gfmd_contact.core.conventions`). The cell is −L/2 ≤ x ≤ L/2, −D ≤ z ≤ 0.
 The top row holds the N GFMD nodes x_j = (j − N/2) l, l = L/N, plus the
 periodic image x = L/2 of node 0. Going down, rows are spaced like the local
 horizontal spacing h; every `rows_per_level` rows the horizontal resolution is

@@ -1,9 +1,9 @@
 """The FE reference's own per-step observables p, a_rel, ḡ_r, ḡ (seed §2, Eqs. 5–6).
 
-Independent of `contact.observables` on purpose: the FE cross-checks GFMD, so it turns its
+Independent of `gfmd_contact.core.observables` on purpose: the FE cross-checks GFMD, so it turns its
 own fields into the observables with its own code (tests/test_fem_observables.py checks
 it against hand-computed cases). `FeCell.observe` / `HardWallCell.observe` return these
-to `contact.ramp.run_ramp`, under the names and units of `contact.result.CURVE_COLUMNS`:
+to `gfmd_contact.core.ramp.run_ramp`, under the names and units of `gfmd_contact.core.result.CURVE_COLUMNS`:
 
     p      mean pressure −⟨t_z⟩ over the N nodes (Pa), compressive positive (reference-formulas §0)
     a_rel  fraction of the N nodes in contact (1), by the scene's interface.contact_rule

@@ -1,6 +1,6 @@
 """Gauss–Legendre quadrature of the cohesive boundary term on the periodic top surface (issue #4).
 
-Units: SI (see `contact.conventions`). The default FE boundary term uses nodal
+Units: SI (see `gfmd_contact.core.conventions`). The default FE boundary term uses nodal
 (lumped) quadrature: the nodal force is f_i = W_i T(Δ_i) with W the FacetBasis
 load-vector weights (`Cell.weights`: P1 l per node, P2 Simpson l/3 at
 vertices, 2l/3 at facet midpoints), the same structure as GFMD's nodal forces.
@@ -116,7 +116,7 @@ def fourier_evaluate(h, length, x, x0=None):
     """Band-limited (trigonometric) interpolant of periodic nodal values h (m) at arbitrary x (m).
 
     h: values at x_j = x0 + j L/N (default x0 = −L/2, the GFMD grid
-    `contact.surfaces.grid`); length: period L (m). The Nyquist mode (even N) is
+    `gfmd_contact.core.surfaces.grid`); length: period L (m). The Nyquist mode (even N) is
     split evenly between ±q, i.e. it enters as a cosine: the same interpolant
     as `solver.fourier_interpolate`, which samples it on a finer grid.
     """

@@ -1,6 +1,6 @@
 """The FE reference on the one load ramp: which FE problem a scene needs, and its cell.
 
-Units: SI (see `contact.conventions`). The only FE module that knows every
+Units: SI (see `gfmd_contact.core.conventions`). The only FE module that knows every
 problem kind: the cohesive law (`solver.SurfaceProblem`, dense, or its sparse
 subclass in `sparse`) and the hard wall (`hardwall`).
 """
@@ -10,8 +10,8 @@ from __future__ import annotations
 import time
 from functools import partial
 
-from contact.model import build_model
-from contact.ramp import run_ramp
+from gfmd_contact.core.model import build_model
+from gfmd_contact.core.ramp import run_ramp
 
 from .._blas import single_thread
 from .hardwall import HardWallCell, HardWallProblem
@@ -21,9 +21,9 @@ from .sparse import make_problem
 
 def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, tolerance=None, linear="auto",
                     quadrature="nodal", *, checkpoint=None, resume=None):
-    """FE reference for one realization on the one load ramp (`contact.ramp.run_ramp`).
+    """FE reference for one realization on the one load ramp (`gfmd_contact.core.ramp.run_ramp`).
 
-    Same steps and scene as GFMD, its own z_ind, law and observables (`reference.fem`); a `contact.result.Result` with
+    Same steps and scene as GFMD, its own z_ind, law and observables (`reference.fem`); a `gfmd_contact.core.result.Result` with
     method "fe-p<order>" and diagnostics problem, setup_s, solutions (and wall_forces
     for the hard wall). tolerance: max |R/W|/p_ref per step (default
     min(scene.solver.tolerance, 1e-10)). linear: "dense" (Schur complement S, dense
@@ -51,7 +51,7 @@ def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, 
 
 def refusal(scene):
     """Why the FE reference cannot solve `scene` (a str), or None. The cohesive wall (CZ attraction with
-    a hard-wall repulsion, `contact.laws.CohesiveWall`) would need the cohesive Newton and the hard wall's
+    a hard-wall repulsion, `gfmd_contact.core.laws.CohesiveWall`) would need the cohesive Newton and the hard wall's
     active set in one solver, which the FE reference does not have; GFMD solves it."""
     if scene.interface.law == "cohesive-wall":
         return ("interface.law = \"cohesive-wall\": the FE reference does not model the cohesive wall (CZ "
@@ -101,9 +101,9 @@ def _mesh_text(scene, prob, order):
 
 
 def _cell_common(scene, prob, physics, order, tolerance, setup):
-    """What every FE cell carries besides its model text (see contact.ramp for the protocol)."""
+    """What every FE cell carries besides its model text (see gfmd_contact.core.ramp for the protocol)."""
     reasons = ("FE mesh of the finite layer on its bonded base, periodic cell; the model choice and checks of "
-               "contact.model, as for every method",) + physics.reasons
+               "gfmd_contact.core.model, as for every method",) + physics.reasons
     return dict(scene=scene, prob=prob, physics=physics,
                 tolerance=tolerance if tolerance is not None else min(scene.solver.tolerance, 1e-10),
                 method=f"fe-p{order}", reasons=reasons,

@@ -1,6 +1,6 @@
 """Nonlinear surface solve of the FE cell and the displacement-controlled load ramp.
 
-Units: SI (see `contact.conventions`). Two linear paths, chosen by
+Units: SI (see `gfmd_contact.core.conventions`). Two linear paths, chosen by
 `run_realization(linear=...)`: "dense" condenses the linear interior once onto
 the top surface (dense Schur complement S from `reference.fem.assembly`);
 "sparse" / "sparse-lagged" (`reference.fem.sparse`) never forms S and solves
@@ -50,8 +50,8 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
 
-from contact.ramp import StepSolution
-from contact.user_law import scene_law
+from gfmd_contact.core.ramp import StepSolution
+from gfmd_contact.core.user_law import scene_law
 
 from .assembly import build_cell
 from .geometry import fourier_interpolate, surface_indenter
@@ -115,7 +115,7 @@ class SurfaceProblem:
             raise NotImplementedError(f"interface.law = {i.law!r}: SurfaceProblem solves the cohesive law; the hard "
                                       "wall is reference.fem.hardwall (run_realization routes it there)")
         self.scene = scene
-        # u_x solved: the core's model choice (contact.model) when given, else wherever c > 0
+        # u_x solved: the core's model choice (gfmd_contact.core.model) when given, else wherever c > 0
         self.tangential = i.tangential_ratio > 0 if tangential is None else bool(tangential)
         self.h_min = float(np.min(h))
         self.cell = build_cell(scene.surface.nodes, scene.surface.length, m.thickness, m.youngs_modulus,
@@ -413,12 +413,12 @@ class SurfaceProblem:
 
 @dataclass
 class FeCell:
-    """One realization's FE cohesive problem (see contact.ramp for the protocol): Newton with
+    """One realization's FE cohesive problem (see gfmd_contact.core.ramp for the protocol): Newton with
     the problem's own fallbacks per step, warm-started from the ramp's extrapolation."""
 
     scene: object
     prob: object  # SurfaceProblem (dense) or its sparse subclass
-    physics: object  # contact.model.Model: the model choice and checks shared with every method
+    physics: object  # gfmd_contact.core.model.Model: the model choice and checks shared with every method
     tolerance: float
     method: str
     model: str

@@ -1,6 +1,6 @@
 """Sparse Newton for the FE surface problem: the full reduced system, SuperLU (issue #4, large N).
 
-Units: SI (see `contact.conventions`). `SurfaceProblem` condenses the linear
+Units: SI (see `gfmd_contact.core.conventions`). `SurfaceProblem` condenses the linear
 interior onto the surface with a dense Schur complement S and factors a dense
 tangent every Newton iteration: for P2 at N = 4096 (8192 surface points) that is
 a 8192² matrix (0.5 GB) and ~4·10¹¹ flops per factorization.
@@ -74,7 +74,7 @@ def make_problem(linear, scene, h, order=2, mesh_kw=None, quadrature="nodal", ta
     """The surface problem of `scene` with heights h (m) for the linear-solver choice `linear`.
 
     quadrature="gauss" (`SurfaceProblem`) is implemented on the dense path only: ValueError otherwise.
-    tangential: u_x solved (default: wherever c > 0; `contact.model` decides in run_realization).
+    tangential: u_x solved (default: wherever c > 0; `gfmd_contact.core.model` decides in run_realization).
     """
     if tangential is None:
         tangential = scene.interface.tangential_ratio > 0

@@ -1,9 +1,9 @@
 """3-D finite-element reference for the periodic 2+1-D cell (issue 25 item 4).
 
-Units: SI (see `contact.conventions`). An independent cross-check of GFMD in 2+1-D: it shares only
+Units: SI (see `gfmd_contact.core.conventions`). An independent cross-check of GFMD in 2+1-D: it shares only
 the inputs (heights on the Nx × Ny grid, the cell, material, law parameters, displacements) and
-uses no code of the core it checks (no `contact.laws`, `contact.observables`, `contact.kernels`,
-`contact.loading`; tests/test_architecture.py holds this), nor `reference.fem`:
+uses no code of the core it checks (no `gfmd_contact.core.laws`, `gfmd_contact.core.observables`, `gfmd_contact.core.kernels`,
+`gfmd_contact.core.loading`; tests/test_architecture.py holds this), nor `reference.fem`:
 
 * `mesh`        hexahedral mesh (skfem.MeshHex1.init_tensor), surface nodes = the scene's grid,
                 geometric grading in depth

@@ -1,6 +1,6 @@
 """Linear elasticity of the periodic bonded 3-D cell: scikit-fem assembly, periodicity, condensation.
 
-Units: SI (see `contact.conventions`). Only scikit-fem, numpy and scipy: no elastic kernel of the
+Units: SI (see `gfmd_contact.core.conventions`). Only scikit-fem, numpy and scipy: no elastic kernel of the
 core (the FE is what checks them). Trilinear hexahedra (`skfem.ElementHex1`, vector), stiffness of
 `skfem.models.elasticity.linear_elasticity`. Periodicity: the DOFs of the image vertices x = Lx and
 y = Ly are eliminated onto those of x = 0, y = 0 by an explicit 0/1 projection P (K_r = Pᵀ K P), as

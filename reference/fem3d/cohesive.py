@@ -1,6 +1,6 @@
 """Normal cohesive zone (seed Eq. 3) on the condensed 3-D FE surface: Newton with line search.
 
-Units: SI (see `contact.conventions`). Each load step minimises the energy per cell
+Units: SI (see `gfmd_contact.core.conventions`). Each load step minimises the energy per cell
 
     Π(u) = ½ uᵀ S u + Σ_i W_i V(Δn_i),   Δn = z_ind − u_z,
 

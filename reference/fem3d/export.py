@@ -1,6 +1,6 @@
 """VTU export (meshio) of a 3-D FE step: the hexahedral mesh with the displacement at every vertex.
 
-Units: SI (see `contact.conventions`). Points: the vertices (i lx, j ly, z_k) for i ≤ Nx, j ≤ Ny
+Units: SI (see `gfmd_contact.core.conventions`). Points: the vertices (i lx, j ly, z_k) for i ≤ Nx, j ≤ Ny
 (the periodic images x = Lx, y = Ly repeat x = 0, y = 0), cells "hexahedron" (VTK vertex order),
 point data "displacement" (u_x, u_y, u_z) (m) from `assembly.Cell3D.displacement_field`, and on the
 surface nodes "gap" (m) and "t_n" (Pa) (zero below the surface).

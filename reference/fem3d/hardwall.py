@@ -1,6 +1,6 @@
 """Frictionless, non-adhesive hard wall on the condensed 3-D FE surface: primal–dual active set.
 
-Units: SI (see `contact.conventions`). Each load step is the convex QP
+Units: SI (see `gfmd_contact.core.conventions`). Each load step is the convex QP
 
     min ½ uᵀ S u   subject to   u_i ≤ z_ind,i   (Δn = z_ind − u_z ≥ 0)
 

@@ -1,6 +1,6 @@
 """The 3-D FE's own normal cohesive-zone law (seed Eq. 3) and the seed's contact gap, from the paper.
 
-Units: SI (see `contact.conventions`). Independent of `contact.laws` (and of `reference.fem.law`):
+Units: SI (see `gfmd_contact.core.conventions`). Independent of `gfmd_contact.core.laws` (and of `reference.fem.law`):
 only the numbers are shared. Gap Δn = z_ind − u_z (m), T_n > 0 tensile, acting on the body as t_z = T_n:
 
     T_n(Δn) = (φn/δn) s e^{−s},   s = Δn/δn   (seed Eq. 3),   φn = φn* δn E   (seed §2.1)

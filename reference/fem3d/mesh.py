@@ -1,6 +1,6 @@
 """Depth grading of the hexahedral mesh of one periodic Lx × Ly cell of a bonded layer (numpy).
 
-Units: SI (see `contact.conventions`). The cell is 0 ≤ x ≤ Lx, 0 ≤ y ≤ Ly, −D ≤ z ≤ 0; the mesh is
+Units: SI (see `gfmd_contact.core.conventions`). The cell is 0 ≤ x ≤ Lx, 0 ≤ y ≤ Ly, −D ≤ z ≤ 0; the mesh is
 `skfem.MeshHex1.init_tensor` on x_i = i Lx/Nx (i = 0 … Nx), y_j = j Ly/Ny and the z levels below
 (`reference.fem3d.assembly.periodic_cell`): the top vertices are the scene's Nx × Ny grid, node (i, j)
 at (i Lx/Nx, j Ly/Ny, 0) (SPEC2D), plus the periodic images x = Lx, y = Ly. The lateral spacing is

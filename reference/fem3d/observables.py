@@ -1,6 +1,6 @@
 """The 3-D FE's own per-step observables on the Nx × Ny surface nodes (seed §2, Eqs. 5–6 in 2+1-D).
 
-Independent of `contact.observables` (SPEC2D definitions, written here again):
+Independent of `gfmd_contact.core.observables` (SPEC2D definitions, written here again):
 
     p      = −⟨t_z⟩ over the Nx·Ny nodes (Pa), compressive positive
     a_rel  = fraction of nodes in contact, by the contact rule:

@@ -1,6 +1,6 @@
-"""The 3-D FE reference on the one load ramp (`contact.ramp`): its `Cell` for a 2+1-D scene.
+"""The 3-D FE reference on the one load ramp (`gfmd_contact.core.ramp`): its `Cell` for a 2+1-D scene.
 
-Units: SI (see `contact.conventions`). Same steps, profile and ramp protocol as GFMD; its own
+Units: SI (see `gfmd_contact.core.conventions`). Same steps, profile and ramp protocol as GFMD; its own
 z_ind (z_ind = h − min h + δ0 − U, `run`), its own law (`law`), solvers (`hardwall`, `cohesive`)
 and observables (`observables`, through `Cell.observe`), as `reference.fem.run` does in 1+1-D.
 What the 3-D FE cannot model is refused by `refusal` (the CLI says it before any work).
@@ -13,8 +13,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from contact.model import build_model
-from contact.ramp import StepSolution, run_ramp
+from gfmd_contact.core.model import build_model
+from gfmd_contact.core.ramp import StepSolution, run_ramp
 
 from .._blas import single_thread
 from .assembly import build_cell
@@ -54,7 +54,7 @@ def refusal(scene):
 
 def run_realization(scene, realization=0, progress=None, mesh_kw=None, tolerance=None, *, checkpoint=None,
                     resume=None):
-    """The 3-D FE for one realization of a 2+1-D scene on the one load ramp; a `contact.result.Result`
+    """The 3-D FE for one realization of a 2+1-D scene on the one load ramp; a `gfmd_contact.core.result.Result`
     with method "fe3d-q1". mesh_kw: `build_cell`'s layers / top (default: its grading from the lateral
     spacing). tolerance: residual bound per step (/ p_ref; default min(scene.solver.tolerance, 1e-10))."""
     why = refusal(scene)
@@ -94,7 +94,7 @@ def prepare_cell(scene, h, mesh_kw=None, tolerance=None):
              + ("Newton with line search" if i.law == "cohesive" else "primal–dual active set")
              + " on the condensed surface (lateral Fourier block diagonalisation); method.order/linear do not apply")
     reasons = ("3-D FE (reference.fem3d) of the finite layer on its bonded base, periodic cell; the model choice and "
-               "checks of contact.model, as for every method",) + physics.reasons
+               "checks of gfmd_contact.core.model, as for every method",) + physics.reasons
     return Fe3dCell(scene=scene, cell=cell, problem=problem, physics=physics,
                     z0=(h - h.min() + scene.loading.initial_separation).ravel(), shape=h.shape,
                     tolerance=tolerance if tolerance is not None else min(scene.solver.tolerance, 1e-10),
@@ -106,7 +106,7 @@ def prepare_cell(scene, h, mesh_kw=None, tolerance=None):
 
 @dataclass
 class Fe3dCell:
-    """One realization's 3-D FE problem (see contact.ramp for the protocol). State: u_z of the surface
+    """One realization's 3-D FE problem (see gfmd_contact.core.ramp for the protocol). State: u_z of the surface
     (cohesive) or the stacked (u_z, μ) (hard wall); the cohesive warm start is the path tangent (`cohesive`)."""
 
     scene: object

@@ -1,8 +1,8 @@
 """Entry point of the 3-D FE reference: a displacement-controlled ramp on plain inputs (issue 25 item 4).
 
-Units: SI (see `contact.conventions`). `solve_cell` takes plain numbers and arrays, so that it
-does not depend on the scene's 2+1-D keys; `from_scene` is the thin adapter from a `contact.scene.Scene`.
-The indenter at node (i, j) (written here from the convention, not taken from `contact.loading`):
+Units: SI (see `gfmd_contact.core.conventions`). `solve_cell` takes plain numbers and arrays, so that it
+does not depend on the scene's 2+1-D keys; `from_scene` is the thin adapter from a `gfmd_contact.core.scene.Scene`.
+The indenter at node (i, j) (written here from the convention, not taken from `gfmd_contact.core.loading`):
 
     z_ind = h − min h + δ0 − U,   Δn = z_ind − u_z,
 
@@ -137,7 +137,7 @@ def _solve_cell(heights, length_x, length_y, youngs_modulus, poisson_ratio, thic
 
 
 def from_scene(scene, heights, displacements, **kw):
-    """`solve_cell` for a 2+1-D `contact.scene.Scene` (SPEC2D keys: surface.nodes_y, surface.length_y)
+    """`solve_cell` for a 2+1-D `gfmd_contact.core.scene.Scene` (SPEC2D keys: surface.nodes_y, surface.length_y)
     with its heights (Nx, Ny) (m) and the indenter displacements U (m) of its ramp."""
     s, m, i = scene.surface, scene.material, scene.interface
     if getattr(s, "nodes_y", 0) < 2:

@@ -2,7 +2,7 @@
 
 Reads two study directories (`gfmd study run` outputs: study.csv, base_scene.toml, …): a 1+1-D one (e.g.
 studies/seed/fig3_small.toml) and a 2+1-D one (studies/beyond/fig3_2d_small.toml), measures the seed's
-claims on each with `workbench.claims.evaluate` (the same definitions, mean ± SE over the realizations,
+claims on each with `gfmd_contact.app.claims.evaluate` (the same definitions, mean ± SE over the realizations,
 delta-method SE for effects; `gfmd study report` prints the same numbers one study at a time) and writes
 one row per claim with the two effect sizes and verdicts:
 
@@ -30,8 +30,8 @@ import sys
 import tomllib
 from pathlib import Path
 
-from workbench.claims import _phi_family, eval_delta, evaluate, nonlinearity, read_study_dir, seeded
-from workbench.claim_stats import difference
+from gfmd_contact.app.claims import _phi_family, eval_delta, evaluate, nonlinearity, read_study_dir, seeded
+from gfmd_contact.app.claim_stats import difference
 
 ROWS = (("kappa", "κ (hard wall, 0 < a_rel ≤ 0.1)"),
         ("nonlinearity", "nonlinearity NL(φn* max) − NL(φn* min)"),
@@ -95,7 +95,7 @@ def render(dir_1d, dir_2d):
     """(markdown text, csv text) of the side-by-side table."""
     table = rows(dir_1d, dir_2d)
     md = ["# The seed's claims: 1+1-D vs 2+1-D (effect sizes side by side)", "",
-          "Written by `studies/beyond/compare_dims.py` with `workbench.claims.evaluate` (definitions: `gfmd study report`).",
+          "Written by `studies/beyond/compare_dims.py` with `gfmd_contact.app.claims.evaluate` (definitions: `gfmd study report`).",
           f"1+1-D: `{Path(dir_1d).name}/` ({_scale(dir_1d)}); 2+1-D: `{Path(dir_2d).name}/` ({_scale(dir_2d)}).",
           "Mean ± SE over the realizations; effects with the delta-method SE; verdicts at 2 SE. SMALL scale: NOT the",
           "full-scale answer (studies/seed/fig3.toml, studies/beyond/fig3_2d.toml).", "",

@@ -4,14 +4,14 @@ Reads the outputs of the studies in studies/beyond/ (`gfmd study run`): per stud
 `cycles.csv` (pull-off p̄ and hysteresis W per realization and cycle), `study.csv` (every realization's
 steps: δ, p, a_rel, ḡ_r, and the stickiness diagnostics of its scene) and `summary.csv` (the branch of
 every step), and `base_scene.toml` (E, ν). Writes a claims-style table (mean ± SE over the
-realizations, SE = s/√n and, for effects, the delta-method SE of `workbench.claim_stats`).
+realizations, SE = s/√n and, for effects, the delta-method SE of `gfmd_contact.app.claim_stats`).
 
 * Pull-off p̄_po (MPa, < 0 tensile) and hysteresis W = ∮ p̄ dδ (mJ/m²) of cycle 0 per parameter set.
-* The seed's nonlinearity (`workbench.claims.nonlinearity`, same definition) on the loading branch:
+* The seed's nonlinearity (`gfmd_contact.app.claims.nonlinearity`, same definition) on the loading branch:
   NL = 2 a_rel(x_max/2)/a_rel(x_max) − 1, x = p_r* = p/(ḡ_r E*), x_max = p_r* at δ_eval (the
   largest δ every set of the study reached on loading, ≤ 20 nm); NL = 0 for a_rel ∝ p_r*. Its
   effect per adhesive set is ΔNL = NL(cohesive) − NL(hard wall of the same surface), paired by seed.
-* Against the stickiness diagnostics of the adhesive set's scene (`contact.stickiness`):
+* Against the stickiness diagnostics of the adhesive set's scene (`gfmd_contact.core.stickiness`):
   Persson–Tosatti θ = U_el(full contact)/(w L) and the Tabor-like μ_rough (their 1+1-D forms,
   README "Stickiness"). The closing line gives Spearman's rank correlation of ΔNL with θ and with
   μ_rough over the distinct adhesive sets (a set that appears in two studies is counted once).
@@ -34,8 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
-from workbench.claim_stats import difference, stats
-from workbench.claims import at_level
+from gfmd_contact.app.claim_stats import difference, stats
+from gfmd_contact.app.claims import at_level
 
 STUDIES = ("fig3_cycle", "fig6a_cycle", "fig6b_cycle")
 DELTA_SEED = 20e-9
@@ -100,7 +100,7 @@ def load_study(study_dir):
 
 
 def nonlinearity(curve, delta):
-    """2 a_rel(x_max/2)/a_rel(x_max) − 1 of one loading curve (`workbench.claims.nonlinearity`)."""
+    """2 a_rel(x_max/2)/a_rel(x_max) − 1 of one loading curve (`gfmd_contact.app.claims.nonlinearity`)."""
     d = np.asarray(curve["delta"])
     if d.size == 0 or d.max() < delta - 1e-3 * abs(delta) - 1e-15:
         return math.nan
@@ -195,7 +195,7 @@ def render(root):
     md = ["# Beyond the seed: pull-off, hysteresis and the seed's nonlinearity vs stickiness", "",
           "Written by `studies/beyond/report.py` from the committed `cycles.csv`, `study.csv` and `summary.csv`",
           f"under `{Path(root).name}/`. Mean ± SE over the realizations (n); ΔNL: NL(cohesive) − NL(hard wall",
-          "of the same surface), paired by seed, delta-method SE (`workbench.claim_stats`). p̄_po: most tensile",
+          "of the same surface), paired by seed, delta-method SE (`gfmd_contact.app.claim_stats`). p̄_po: most tensile",
           "p̄ on unloading (MPa, < 0 tensile); W = ∮ p̄ dδ (mJ/m²); jumps: summed over the realizations; NL = 2 a_rel(x_max/2)/a_rel(x_max) − 1 on the",
           "loading branch, x = p_r*, x_max at δ_eval; θ: Persson–Tosatti U_el(full contact)/(wL); μ_rough: Tabor-like.",
           "", _scale_line(root), "",

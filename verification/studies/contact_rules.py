@@ -5,7 +5,7 @@ Scene: `verification.scenes.cohesive_sinusoid` (a = 50 nm, L = D = 1 µm, ν = 0
 the three rules: "traction-tolerance" (the seed's), "compressive", and "gap" with contact_gap = 1
 (Δn ≤ δn). Every (law, rule) is run by both methods through the method registry
 (`verification.runs.run_fe_and_gfmd`: FE P2 and GFMD FIRE); a_rel is each method's own:
-`contact.observables` (the law object's `in_contact`) for GFMD, `reference.fem.observables.contact_set`
+`gfmd_contact.core.observables` (the law object's `in_contact`) for GFMD, `reference.fem.observables.contact_set`
 for the FE (the FE cell's `observe`).
 
 Measured per N: max over the load steps of |a_rel^FE − a_rel^GFMD|, in nodes (× N). a_rel counts

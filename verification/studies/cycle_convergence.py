@@ -7,7 +7,7 @@ Convergence (`convergence`): `verification.scenes.cycle_self_affine(N)` — the 
 unloading),
 on N = 2^10 … 2^15 (δn/l = 1 … 32; N = 2^10 is under-resolved and warned). The profile's spectrum is
 fixed by its physical cut-offs, so only the discretization changes with N. Per N: W = ∮ p̄ dδ, the
-pull-off pressure (most tensile p̄ on unloading) and the snap-off δ (`contact.cycle`); the differences
+pull-off pressure (most tensile p̄ on unloading) and the snap-off δ (`gfmd_contact.core.cycle`); the differences
 of neighbouring N, |W(N) − W(2N)|/W(2N) and |F(N) − F(2N)|/|F(2N)|, and their observed orders
 log2(d(N/2, N)/d(N, 2N)).
 
@@ -16,7 +16,7 @@ W, pull-off, snap-off, events, a_rel at the deepest step and at the end):
 * "sticky": the convergence scene at N = 2048 (φn* = 0.15, δn = 0.25 nm = 2 l);
 * "near full contact": a cohesive sinusoid (a = 50 nm, λ = 1 µm, φn* = 0.15, δn = 1 nm) on a
   half-plane, N = 256, along δ = −2 nm → 0.99 δ_max → −10 nm in 60 + 120 steps, δ_max = ⟨h⟩ − min h = a
-  (full contact, `contact.loading.realization_steps`); slow variant: 0.998 δ_max (the ramp's own
+  (full contact, `gfmd_contact.core.loading.realization_steps`); slow variant: 0.998 δ_max (the ramp's own
   limit, FULL_CONTACT_MARGIN) on N = 1024;
 * "pull-off, fine steps": the sticky scene unloaded in 960 steps (Δδ = 0.0125 nm = δn/20) through the
   pull-off region; snap-off δ and pull-off against the convergence scene's δn/5 unloading;
@@ -37,8 +37,8 @@ import time
 
 import numpy as np
 
-from contact import cycle as cyc
-from contact.loading import step_branches
+from gfmd_contact.core import cycle as cyc
+from gfmd_contact.core.loading import step_branches
 from verification import measured
 from verification.scenes import CYCLE_PATH, CYCLE_STEPS, cohesive_sinusoid, cycle_self_affine
 
@@ -49,7 +49,7 @@ AMPLITUDE = 50e-9  # of the near-full-contact sinusoid (its δ_max on a half-pla
 
 
 def observables(result, scene):
-    """The cycle row of `contact.cycle` plus stability facts of one run."""
+    """The cycle row of `gfmd_contact.core.cycle` plus stability facts of one run."""
     d, p, a = (np.asarray(result.curve[c], float) for c in ("delta", "p", "a_rel"))
     branch, cycle = step_branches(scene.loading)
     (row,) = cyc.cycle_observables(d, p, a, branch, cycle)
@@ -65,7 +65,7 @@ def observables(result, scene):
 
 
 def run(scene):
-    from workbench.methods import run_realization
+    from gfmd_contact.app.methods import run_realization
     t0 = time.perf_counter()
     r = run_realization(scene)
     out = observables(r, scene)

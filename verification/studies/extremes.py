@@ -7,11 +7,11 @@ at fixed ΔU, N at fixed l with L = N·l, λr = L/8 (the seed's ratio), h_rms = 
 
 Three parts:
 * sweep cells (`run_cell`): one load ramp each; status ok (all steps converged, no warning), warn
-  (all converged, a check of `contact.model.scene_warnings` / `contact.loading.start_warning`
+  (all converged, a check of `gfmd_contact.core.model.scene_warnings` / `gfmd_contact.core.loading.start_warning`
   fired) or fail (refused with a specific message, or a step did not converge);
 * GFMD vs FE P2 on layer cells (`fe_compare`): the base scene on a layer D = L, δ from −8 nm to
   2 nm in 20 steps, N = 256 (CI) and 512; Δp = max|p_FE − p_GFMD|/max|p|, t_n L2 over the field steps;
-* the δn/l resolution threshold (`threshold_study`, behind `contact.model.MIN_LENGTH_NORMAL_NODES`):
+* the δn/l resolution threshold (`threshold_study`, behind `gfmd_contact.core.model.MIN_LENGTH_NORMAL_NODES`):
   one continuum profile (λs,H = 8 or 32 nm, φn* = 0.15 or 0.01) on N = 64 … 4096 (δn/l = 0.25 … 16),
   N = 4096 the reference; max over the steps of |Δp|/max|p| and |Δa_rel|.
 
@@ -31,7 +31,7 @@ import time
 
 import numpy as np
 
-from contact.model import warnings_in
+from gfmd_contact.core.model import warnings_in
 from verification import measured, metrics
 from verification.runs import fe_vs_gfmd
 from verification.scenes import EXTREMES_BASE, extremes_base
@@ -109,7 +109,7 @@ def verdict(nan, converged, messages, warnings, numbers):
 
 def run_cell(overrides):
     """Run one cell; a dict with status, message and the numbers (never raises for scene errors)."""
-    from workbench.methods import run_realization
+    from gfmd_contact.app.methods import run_realization
     t0 = time.perf_counter()
     sc = None
     try:
@@ -223,7 +223,7 @@ def threshold_study(case):
     """The case's profile on every N of THRESHOLD_NODES, against the finest (cached): {"ratio" δn/l,
     "N", "dp" max|Δp|/max|p|, "da" max|Δa_rel|, "warned" (an under-resolved warning), "wall_s"}."""
     if case not in _THRESHOLD:
-        from workbench.methods import run_realization
+        from gfmd_contact.app.methods import run_realization
         t0 = time.perf_counter()
         runs = {}
         for n in THRESHOLD_NODES:

@@ -4,7 +4,7 @@ contact, strong adhesion φn* = 0.15 … 1, small δn, δ0 in the law's range, t
 Base scene: `verification.scenes.extremes_base` made a surface — self-affine (seed Eq. 4 read radially), 128 × 128
 nodes on L = Ly = 64 nm (l = 0.5 nm, δn = 2 l), H = 0.8, h_rms = 2 nm, λr = 16 nm, λs,H = 2 nm, seed 1, half-space
 ν = 0.45, normal-only CZ φn* = 0.15, δn = 1 nm, δ0 = 8 δn, δ from −8 nm to 4 nm in 24 steps, FIRE at 1e-8 p_ref.
-Each cell (CELLS) changes a few keys. A cell runs through the one ramp (`workbench.methods.run_realization`) and
+Each cell (CELLS) changes a few keys. A cell runs through the one ramp (`gfmd_contact.app.methods.run_realization`) and
 is classified as in 1+1-D (`extremes.run_cell`): ok (every step converged, no warning), warn (converged, a scene
 check fired), refused (ValueError naming the key), fail (a step did not converge — reported in the result's
 messages — or a NaN). Also recorded: the ramp's notes (e.g. the early stop at the full-contact limit), the final
@@ -23,7 +23,7 @@ import time
 
 import numpy as np
 
-from contact.model import warnings_in
+from gfmd_contact.core.model import warnings_in
 from verification import measured
 from verification.scenes import extremes_base
 from verification.studies.extremes import names_a_key, verdict
@@ -71,7 +71,7 @@ def scene(overrides):
 
 def run_cell(overrides):
     """One cell through the ramp: status, message and numbers (never raises for a refused scene)."""
-    from workbench.methods import run_realization
+    from gfmd_contact.app.methods import run_realization
     t0 = time.perf_counter()
     try:
         sc = scene(overrides)

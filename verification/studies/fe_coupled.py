@@ -50,7 +50,7 @@ def compare(n, nu):
     rf, rg = out["rf"], out["rg"]
     assert rf.all_converged, f"FE N={n} ν={nu}: {rf.messages}"
     assert rg.all_converged, f"GFMD N={n} ν={nu}: {rg.messages}"
-    for r in (rf, rg):  # the verified range stays below contact.loading.SLIP_LIMIT
+    for r in (rf, rg):  # the verified range stays below gfmd_contact.core.loading.SLIP_LIMIT
         assert not any("slip regime" in w for w in r.reasons), (r.method, r.reasons)
     traction_scale = sc.work_normal / sc.interface.length_normal  # φn/δn (Pa)
     tn, tn_max = _field_differences(rf, rg, "t_n", traction_scale)

@@ -8,7 +8,7 @@ unloading branch snaps off (one jump-out) before the path's end, so the loop is 
 passes both jumps with its trust-region energy descent (`reference.fem.solver.SurfaceProblem.descend`).
 
 Each method its own law evaluation, solver and observables: GFMD (FIRE, scene tolerance) and `reference.fem`
-P2 (Newton), sharing only the scene; each run's cycle observables from its own curve with `contact.cycle`.
+P2 (Newton), sharing only the scene; each run's cycle observables from its own curve with `gfmd_contact.core.cycle`.
 Differences (GFMD the reference):
 * "p": max over the cycle's steps |p̄_FE − p̄_GFMD| / E* (E* = E/(1 − ν²));
 * "pull-off": |F_FE − F_GFMD| / |F_GFMD| of the most tensile p̄ on unloading;
@@ -34,8 +34,8 @@ import time
 
 import numpy as np
 
-from contact import cycle as cyc
-from contact.loading import step_branches
+from gfmd_contact.core import cycle as cyc
+from gfmd_contact.core.loading import step_branches
 from verification import measured
 from verification.runs import run_fe_and_gfmd
 from verification.scenes import cohesive_sinusoid

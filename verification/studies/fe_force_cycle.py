@@ -1,7 +1,7 @@
 """GFMD vs the FE cell through a force-controlled load–unload cycle on a cohesive layer: differences vs N.
 
 Scene: `verification.studies.fe_cycle.scene` (cohesive_sinusoid, φn* = 0.15, δn = 1 nm, layer D = L = 1 µm)
-under `loading.control = "force"` (issue 23 §2, `contact.force`): from p̄ = 0 with the indenter out of contact
+under `loading.control = "force"` (issue 23 §2, `gfmd_contact.core.force`): from p̄ = 0 with the indenter out of contact
 (δ0 = 10 nm = 10 δn) along the mean pressure path `PATH` = [0, 400, −320] MPa in 5 + 18 steps (ΔP = 80 MPa
 loading, 40 MPa unloading). Under force control the approach branch (p̄ growing more tensile as the indenter
 nears, dp̄/dU < 0) carries no compressive load: the first step jumps into contact (an instability event,
@@ -12,7 +12,7 @@ The loads −240 and −280 MPa bracket the pull-off ≥ 13 MPa from it at every
 differ by < 1 MPa), so the event lies in the same step in both methods by construction of the path, not by luck.
 
 Each method its own law, solver and observables (GFMD FIRE, `reference.fem` P2 with its trust-region descent),
-both through the one ramp and the generic outer search on U (`contact.force.solve_load`); they share the scene.
+both through the one ramp and the generic outer search on U (`gfmd_contact.core.force.solve_load`); they share the scene.
 Differences (GFMD the reference):
 * "δ": max |δ_FE − δ_GFMD| over the steps where both are attached (the stable branches: loading after the
   jump-in, unloading down to the last load carried), / the path's δ extent (max δ − min δ of GFMD);
@@ -20,7 +20,7 @@ Differences (GFMD the reference):
   event's load; 0 = the same step);
 * "a_rel at events": max over the events of |Δa_rel| before and after, in nodes (`measured.node_count`);
 * "event steps": max |step_FE − step_GFMD| over the events (the kinds and detached flags must agree).
-Each method must reach every carried load: |p̄ − P| ≤ `contact.force.tolerance` (otherwise AssertionError).
+Each method must reach every carried load: |p̄ − P| ≤ `gfmd_contact.core.force.tolerance` (otherwise AssertionError).
 How much of "δ" that tolerance can make: "δ from the load tolerance" = max |p̄_FE − p̄_GFMD| · |dδ/dP| / extent
 over the same steps (dδ/dP from GFMD's neighbouring steps on the branch), stored next to it.
 The pull-off itself (`pull_off`, entry "pull-off"): each method's detach load under force control in 0.5 MPa steps
@@ -43,9 +43,9 @@ import time
 
 import numpy as np
 
-from contact import cycle as cyc
-from contact import force
-from contact.loading import path_values, step_branches
+from gfmd_contact.core import cycle as cyc
+from gfmd_contact.core import force
+from gfmd_contact.core.loading import path_values, step_branches
 from verification import measured
 from verification.runs import run_fe_and_gfmd
 from verification.studies import fe_cycle

@@ -25,7 +25,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 import gfmd.loading as gl
-from contact.scene import default_scene
+from gfmd_contact.core.scene import default_scene
 from gfmd.solver import Settings
 from reference import fem
 from reference.analytic.westergaard import full_contact_pressure, mean_gap

@@ -27,8 +27,8 @@ import argparse
 
 import numpy as np
 
-from contact import cycle as cyc
-from contact.loading import step_branches
+from gfmd_contact.core import cycle as cyc
+from gfmd_contact.core.loading import step_branches
 from verification import analytic_cases as ac
 from verification import measured
 from verification.runs import run_fe
@@ -57,7 +57,7 @@ def measure(nodes, d_rel):
 
 
 def jump_steps(result, s):
-    """The steps of the run's jump-in and jump-out events (`contact.cycle`)."""
+    """The steps of the run's jump-in and jump-out events (`gfmd_contact.core.cycle`)."""
     d, p, a = (np.asarray(result.curve[c], float) for c in ("delta", "p", "a_rel"))
     (row,) = cyc.cycle_observables(d, p, a, *step_branches(s.loading))
     return [int(e["step"]) for e in row["events"]]

@@ -2,7 +2,7 @@
 
 A normal traction t_z = cos(q_n x + 0.7) (phase: not symmetric in x) on the periodic bonded
 layer L = 1, D = L/2, E = 1: the surface response of the condensed FE cell (`Cell.schur`, the
-operator the nonlinear FE solve uses) against the exact layer kernel (`contact.kernels.layer_normal`
+operator the nonlinear FE solve uses) against the exact layer kernel (`gfmd_contact.core.kernels.layer_normal`
 for u_z with t_x = 0, `layer_coupled` for u_x): relative compliance error of mode n, the max of
 the u_z error and the u_x error (the latter relative to 1/k_zz). Measured per ν at N = 64:
 P2 modes n = 1, 4 (≥ 16 nodes per wavelength), P1 mode n = 1 (volumetric locking as ν → ½),
@@ -20,7 +20,7 @@ import time
 
 import numpy as np
 
-from contact import kernels
+from gfmd_contact.core import kernels
 from reference._blas import single_thread
 from reference.fem.assembly import build_cell
 from verification import measured

@@ -2,7 +2,7 @@
 
 Scene: `verification.scenes.cohesive_sinusoid` with every step's fields kept (a = 50 nm,
 L = D = 1 µm, E = 70 GPa, ν = 0.3, normal CZ, φn* = 0.01, δn = 1 nm, δ0 = 2 nm,
-δ from −2 nm to 60 nm in 20 steps). FE P2 (`method.name = "fe"`, workbench.methods)
+δ from −2 nm to 60 nm in 20 steps). FE P2 (`method.name = "fe"`, gfmd_contact.app.methods)
 with quadrature="nodal" (f_i = W_i T(Δ_i), Simpson weights) and "gauss"
 (f = Bᵀ(w_g T(Δ_g)), 4 Gauss points per facet, z_ind from the Fourier
 interpolant of h; `reference.fem.quadrature`); GFMD (FIRE, nodal forces l T_i).
@@ -27,7 +27,7 @@ import time
 
 import numpy as np
 
-from contact.loading import field_step_indices
+from gfmd_contact.core.loading import field_step_indices
 from verification import measured
 from verification.metrics import field_difference
 from verification.runs import run_method, with_method

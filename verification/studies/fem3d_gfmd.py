@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from contact.scene import scene_from_dict
+from gfmd_contact.core.scene import scene_from_dict
 from verification import measured
 from verification.metrics import curve_difference, max_abs_difference, observed_orders
 
@@ -109,7 +109,7 @@ def compare(surface, law, n):
     """GFMD vs 3-D FE on scene(surface, law, n): {metric: difference, fe_s, gfmd_s, rf, rg}, once per process."""
     key = (surface, law, n)
     if key not in _CACHE:
-        from workbench.methods import run_realization
+        from gfmd_contact.app.methods import run_realization
 
         t0 = time.perf_counter()
         rg = run_realization(scene(surface, law, n))

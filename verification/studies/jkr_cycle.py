@@ -7,18 +7,18 @@ that the cohesive-zone length d/λ = 0.04 … 0.005), loaded along `loading.path
 with 120 steps out and 480 back (Δδ = 0.01 h0 loading, 0.0025 h0 unloading).
 
 Analytic cycle (this module's own code from `reference.analytic.jkr_sinusoid`): the indenter's mean height
-above the mean plane is h0 − δ (contact.conventions; ⟨h⟩ − min h = h0), so on a half-plane the mean gap is
+above the mean plane is h0 − δ (gfmd_contact.core.conventions; ⟨h⟩ − min h = h0), so on a half-plane the mean gap is
 ḡ = h0 − δ and the attached branch is δ(a) = h0 − ḡ(a), p̄(a). Loading: no contact (p̄ = 0) up to δ = 0
 (ḡ(0⁺) = h0), there a jump into the branch at the a_in > a_off with ḡ(a_in) = h0; unloading follows the
 branch down to the maximum of ḡ(a) at a_off (δ_off = h0 − ḡ(a_off)), where contact snaps off. Pull-off
 (most tensile p̄ on unloading) = min p̄(a) over a ∈ [a_off, a_max]; hysteresis W = ∮ p̄ dδ =
 ∫_{a_off}^{a_in} p̄(a) ḡ'(a) da > 0 (the area between the branches, J/m²).
 
-Force control (`contact.force`, loads `FORCE_PATH` × p*): the pull-off load, the midpoint between the last
+Force control (`gfmd_contact.core.force`, loads `FORCE_PATH` × p*): the pull-off load, the midpoint between the last
 load carried and the first that detached the body (±ΔP/2 = 2.5e-4 p*), against min p̄(a) (Johnson's
 load-controlled pull-off).
 
-GFMD numbers: the run's own `contact.cycle` observables from its curve (pull-off, snap-off δ from the
+GFMD numbers: the run's own `gfmd_contact.core.cycle` observables from its curve (pull-off, snap-off δ from the
 jump-out, jump-in δ from the jump-in, W by the trapezoid rule) and the branch error max |p̄ − p̄_J(δ)|/p*
 over the attached steps with δ ≥ δ_off (loading after the jump-in, unloading before the snap-off).
 Errors are scaled by p* (pressures), h0 (δ) and W_J (hysteresis); rate = least-squares slope of log error vs
@@ -39,8 +39,8 @@ import numpy as np
 from scipy.integrate import quad
 from scipy.optimize import brentq, minimize_scalar
 
-from contact import cycle as cyc
-from contact.loading import step_branches
+from gfmd_contact.core import cycle as cyc
+from gfmd_contact.core.loading import step_branches
 from reference.analytic import jkr_sinusoid as J
 from reference.analytic import westergaard as W
 from verification import analytic_cases as ac
@@ -56,7 +56,7 @@ D_REL = (0.04, 0.02, 0.01, 0.005)
 NODES = {"ci": 2048}
 METRICS = ("pull-off", "snap-off δ", "jump-in δ", "hysteresis", "loading branch", "unloading branch",
            "pull-off (force control)")
-#: force control (contact.force): loads 0 → 0.2 p* → −0.085 p* → −0.105 p* in 4, 8 and 40 steps (ΔP = 5e-4 p*
+#: force control (gfmd_contact.core.force): loads 0 → 0.2 p* → −0.085 p* → −0.105 p* in 4, 8 and 40 steps (ΔP = 5e-4 p*
 #: near pull-off); the pull-off load is the midpoint of the last load carried and the first that detached
 FORCE_PATH, FORCE_STEPS = (0.0, 0.2, -0.085, -0.105), (4, 8, 40)
 
@@ -141,7 +141,7 @@ def measure(nodes, d_rel):
 def cycle_errors(result, s, d_rel, compliance=0.0):
     """(errors {the displacement-controlled metrics}, numbers, curve (δ/h0, p̄/p*, branch)) of one method's
     run of `scene`-like `s` against Johnson's cycle (with the body's mean compliance C, `analytic`), from the
-    run's own curve and `contact.cycle`. The jump-in error is |δ_jump-in − 0| / h0."""
+    run's own curve and `gfmd_contact.core.cycle`. The jump-in error is |δ_jump-in − 0| / h0."""
     ref = analytic(compliance)
     d, p, a = (np.asarray(result.curve[c], float) for c in ("delta", "p", "a_rel"))
     branch, cycle = step_branches(s.loading)

@@ -7,7 +7,7 @@ h_rms = 10 nm, E = 70 GPa, ν = 0.45, half-space) on a periodic L × L cell, L =
 contact (initial_separation 0) to 1.5 h_rms in STEPS steps.
 
 Two κ per realization (least squares through the origin over the steps with 0 < a_rel ≤ 0.1,
-`contact.observables.fit_kappa`):
+`gfmd_contact.core.observables.fit_kappa`):
 
 * "kappa_r": the seed's, a_rel = κ p/(ḡ_r E*), ḡ_r the rms gradient over the contact nodes (four-neighbour
   form of seed Eq. 6, SPEC2D);
@@ -32,8 +32,8 @@ import time
 import numpy as np
 
 import gfmd.loading as gl
-from contact.observables import fit_kappa
-from contact.scene import default_scene
+from gfmd_contact.core.observables import fit_kappa
+from gfmd_contact.core.scene import default_scene
 from verification import measured
 from verification.studies.kappa_convergence import richardson
 

@@ -1,6 +1,6 @@
 """κ (seed Eq. 1, a_rel = κ p/(ḡ_r E*)) vs N for the hard-wall self-affine default geometry.
 
-Scene: `contact/default_scene.toml` (L = 1.28 µm, λr = 160 nm, H = 0.8, h_rms = 10 nm, ν = 0.45, half-plane)
+Scene: `gfmd_contact/core/default_scene.toml` (L = 1.28 µm, λr = 160 nm, H = 0.8, h_rms = 10 nm, ν = 0.45, half-plane)
 with interface.law = "hard-wall", δ from first contact (initial_separation 0) to 30 nm in STEPS steps.
 N = 1024 … 8192 at fixed L and λr, two ways:
 
@@ -10,7 +10,7 @@ N = 1024 … 8192 at fixed L and λr, two ways:
   the same spectrum (the shared modes keep their phases: one random stream per realization; h_rms is
   renormalised), so κ(N) changes with the surface, not only with the discretisation.
 
-κ per realization: `contact.observables.fit_kappa` (least squares through the origin over the steps with
+κ per realization: `gfmd_contact.core.observables.fit_kappa` (least squares through the origin over the steps with
 0 < a_rel ≤ 0.1).
 
 Per N: κ of each realization, their mean and spread (max − min). Between neighbouring N: the differences
@@ -31,8 +31,8 @@ import time
 import numpy as np
 
 import gfmd.loading as gl
-from contact.observables import fit_kappa, reduced_pressure
-from contact.scene import default_scene
+from gfmd_contact.core.observables import fit_kappa, reduced_pressure
+from gfmd_contact.core.scene import default_scene
 from verification import measured
 
 NAME = "kappa_convergence"
@@ -102,7 +102,7 @@ def main(argv=None):
             print(" ", key, v)
         print(f"  {wall:.1f} s")
         entries[variant] = measured.make_entry(
-            values, scene=f"contact/default_scene.toml, hard wall, λs = {lam}, δ 0 … 30 nm in {STEPS} steps",
+            values, scene=f"gfmd_contact/core/default_scene.toml, hard wall, λs = {lam}, δ 0 … 30 nm in {STEPS} steps",
             wall_s={str(n): w for n, w in walls.items()})
     if args.write:
         print(measured.write(NAME, entries,

@@ -1,14 +1,14 @@
 """How small a cohesive length δn GFMD still relaxes: δn/l (l = L/N) and the load step ΔU/δn (issue 26).
 
-Behind the refusal in `contact.loading.check_step_in_law_range` (a cohesive ramp whose load step
+Behind the refusal in `gfmd_contact.core.loading.check_step_in_law_range` (a cohesive ramp whose load step
 ΔU exceeds the law's range 600 δn) and the finding that δn/l itself sets no solvability limit above
-1e-4 (below `MIN_LENGTH_NORMAL_NODES` = 2 δn is a warning about accuracy, `contact.model`). Cells: two profiles (the example
+1e-4 (below `MIN_LENGTH_NORMAL_NODES` = 2 δn is a warning about accuracy, `gfmd_contact.core.model`). Cells: two profiles (the example
 scene's self-affine one at N = 1024, L = 10.24 µm, λs = 40 nm; a sinusoid of 5 nm amplitude),
 φn* = 0.01, 0.15, E = 70 GPa, ν = 0.45, half-plane, δ0 = 12 nm, final δ = 17 nm, the default
 solver (FIRE/NCG, 1e-8, 200,000 iterations), `loading.steps` such that ΔU = 0.145 nm (the example's
 200 steps) and 40 steps; δn/l = 1e-4 … 1e-2. A cell's ramp stops at its first non-converged step;
 its values: δn/l, ΔU/δn, steps run, steps converged, all converged (1/0: every step the realization runs,
-up to its own full-contact limit on a half-plane, converged). `contact.loading` refuses
+up to its own full-contact limit on a half-plane, converged). `gfmd_contact.core.loading` refuses
 ΔU > 600 δn (the law's range); the cells below it are the measurement that a scene it accepts runs.
 
     python -m verification.studies.length_normal_limit [--write] [--kind K …] [--phi F …] [--steps S …] [--ratio R …]
@@ -45,7 +45,7 @@ class _Stop(Exception):
 def cell_scene(kind, phi, ratio, steps):
     import copy
 
-    from contact.scene import scene_from_dict
+    from gfmd_contact.core.scene import scene_from_dict
 
     d = copy.deepcopy(BASE)
     if kind == "sinusoid":

@@ -15,7 +15,7 @@ function of λ and does NOT converge away as δn → 0 at fixed λ. It is measur
 error at each λ (reference-formulas §4.2 table, an independent L-BFGS solution with L = 8R: −11%, −7.4%,
 −1.0% at λ = 0.3, 1, 3); it vanishes only as λ → ∞ (the JKR limit, where both laws give −3/2^{4/3} F_u).
 
-Pull-off (GFMD): the run's own `contact.cycle` observable, the most tensile p̄ on unloading, as a line load
+Pull-off (GFMD): the run's own `gfmd_contact.core.cycle` observable, the most tensile p̄ on unloading, as a line load
 F = p̄_min L (N/m). Under displacement control the branch passes the minimum of F(a) before it snaps off
 (dδ/da = 0 lies beyond dF/da = 0), so min p̄ L is the load-controlled pull-off of §4.2. It is sampled at the
 steps: the sampling error (sampled minimum − vertex of the parabola through the minimum and its two
@@ -31,7 +31,7 @@ doubled (same node spacing): e(2R) − e(R) is the periodic-image part.
 
 Force control (entry "force", λ = 1, 3 at the CI N): the same cylinder along p̄ = FORCE_PATH × |F_MD|/L, the
 last segment (0.8 → 1.2 |F_MD|) in steps Δ = 0.005 |F_MD|; the pull-off is the load at which the body
-detached (the run's own event, `contact.cycle` pull_off_load). For a line contact the load-controlled
+detached (the run's own event, `gfmd_contact.core.cycle` pull_off_load). For a line contact the load-controlled
 pull-off is the extremum dF/da = 0 (Baney & Hui 1997), the same minimum displacement control passes, so
 |F_force − F_disp| ≤ Δ + the outer search's tolerance + the displacement sampling error. Measured
 (2026-11-25): F_force/F_u = −1.0351, −1.1820 vs F_disp/F_u = −1.0346, −1.1767 (λ = 1, 3):
@@ -52,8 +52,8 @@ import time
 
 import numpy as np
 
-from contact import cycle as cyc
-from contact.loading import step_branches
+from gfmd_contact.core import cycle as cyc
+from gfmd_contact.core.loading import step_branches
 from reference.analytic import maugis_dugdale as MD
 from verification import analytic_cases as ac
 from verification import measured
@@ -149,9 +149,9 @@ def load_step(lam, length=LENGTH):
 
 def measure_force(nodes, lam, length=LENGTH):
     """{"F": pull-off under force control (N/m) = the load at which the body detached (the run's own event,
-    `contact.cycle` pull_off_load × L), "F_carried": the last load still carried, "F_md", "F_u", "error",
+    `gfmd_contact.core.cycle` pull_off_load × L), "F_carried": the last load still carried, "F_md", "F_u", "error",
     "step" (N/m), "tolerance" (the outer search's |p̄ − P| × L), "wall_s"}."""
-    from contact import force
+    from gfmd_contact.core import force
 
     s = force_scene(nodes, lam, length)
     result, wall = ac.run(s)

@@ -8,7 +8,7 @@ that the mapped Maugis parameter of the sphere is λ = 0.1, 0.3, 1 or 3 (σ0 = �
 Displacement control along `loading.path` = [−1, 2, 0.5, −3] nm in 10, 6 and 350 steps (Δδ = 0.01 nm on the
 unloading segment that holds the minimum of P, δ ≈ −0.2 nm at λ = 1, and the snap-off).
 
-Pull-off (GFMD): the run's own `contact.cycle` observable, the most tensile p̄ on unloading, as a load
+Pull-off (GFMD): the run's own `gfmd_contact.core.cycle` observable, the most tensile p̄ on unloading, as a load
 P = p̄_min L² (N, one sphere per cell). Under displacement control the branch passes the minimum of P(a)
 (load-controlled pull-off) before it snaps off, as for the cylinder (`md_pulloff`). Sampling error: the sampled
 minimum − the vertex of the parabola through it and its neighbours (stored, / P_u).
@@ -33,8 +33,8 @@ import time
 
 import numpy as np
 
-from contact import cycle as cyc
-from contact.loading import step_branches
+from gfmd_contact.core import cycle as cyc
+from gfmd_contact.core.loading import step_branches
 from reference.analytic import maugis_dugdale_sphere as MDS
 from verification import analytic_cases as ac
 from verification import measured

@@ -1,4 +1,4 @@
-"""Process-zone resolution: the grid error of an adhesive sinusoid vs l_pz/Δx (contact.stickiness).
+"""Process-zone resolution: the grid error of an adhesive sinusoid vs l_pz/Δx (gfmd_contact.core.stickiness).
 
 Scene: `verification.scenes.sinusoid`, h = −h0 cos(2πx/λ), h0 = 10 nm, λ = L = 1 µm, half-plane
 E = 70 GPa, ν = 0.45, exponential CZ law (normal only) at fixed work of adhesion w = φn = 7 J/m²
@@ -10,12 +10,12 @@ error at N = max over the 8 steps of |p̄_N − p̄_ref|/max|p̄_ref| and |a_rel
 
 The measured limit (`min_process_zone_nodes`): the smallest l_pz/Δx sampled from which on (every
 finer grid of every case) both errors stay ≤ 1 % (`ERROR_LIMIT`). The δn/Δx of each point is stored
-too: the limit is read against the separate δn check (contact.model.MIN_LENGTH_NORMAL_NODES).
+too: the limit is read against the separate δn check (gfmd_contact.core.model.MIN_LENGTH_NORMAL_NODES).
 
     python -m verification.studies.process_zone [--write]
 
 `--write` stores the numbers in verification/data/process_zone.json, which
-`contact.stickiness.measured_process_zone_limit` (the check) and tests/test_stickiness.py read.
+`gfmd_contact.core.stickiness.measured_process_zone_limit` (the check) and tests/test_stickiness.py read.
 """
 
 from __future__ import annotations
@@ -49,7 +49,7 @@ def scene(nodes, delta_n):
 
 
 def process_zone(delta_n):
-    """l_pz = E* w/σ_max² with σ_max = w/(e δn) (m), written out here (independent of contact.stickiness)."""
+    """l_pz = E* w/σ_max² with σ_max = w/(e δn) (m), written out here (independent of gfmd_contact.core.stickiness)."""
     e_star = scene(256, delta_n).material.contact_modulus
     return e_star * WORK / (WORK / (math.e * delta_n)) ** 2
 
@@ -102,7 +102,7 @@ def main(argv=None):
             values, scene=(f"verification.scenes.sinusoid(N, 10e-9, 1e-6, law='cohesive', steps=8, final=6e-9, "
                            f"w = {WORK} J/m², δn ∈ {DELTA_N})"), wall_s=wall)},
             description="grid error of an adhesive sinusoid vs process-zone size l_pz/Δx; the limit below which "
-                        "the error exceeds 1 % (read by contact.stickiness)"))
+                        "the error exceeds 1 % (read by gfmd_contact.core.stickiness)"))
 
 
 if __name__ == "__main__":

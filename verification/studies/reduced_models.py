@@ -28,8 +28,8 @@ import time
 import numpy as np
 
 import gfmd.loading as gl
-from contact.kernels import constrained_modulus
-from contact.observables import reduced_pressure
+from gfmd_contact.core.kernels import constrained_modulus
+from gfmd_contact.core.observables import reduced_pressure
 from verification import measured
 from verification.scenes import extremes_base
 

@@ -37,7 +37,7 @@ from itertools import pairwise
 
 import numpy as np
 
-from contact.observables import contact_mask
+from gfmd_contact.core.observables import contact_mask
 from verification import measured
 from verification.metrics import max_abs_difference, relative_l2, worst
 from verification.plots import pareto_plot, table_plot

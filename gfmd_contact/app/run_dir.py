@@ -1,0 +1,163 @@
+"""The run directory before a run: refuse what cannot take it, then start it (scene.toml, meta.json).
+
+`prepare_run_dir` checks an output directory before any compute (a file, a non-empty directory
+without --resume/--overwrite, a directory of another scene, files a run does not write: each
+refused with `RunDirError` saying what to do) and writes scene.toml and meta.json
+("complete": false, `_meta_base`: code version, platform, stickiness diagnostics) first, so an
+interrupted run is recognisable and resumable; `run_complete` says whether one finished.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import os
+import platform
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from gfmd_contact.core import stickiness
+from gfmd_contact.core.laws import law_from_scene
+from gfmd_contact.core.scene import load_scene, scene_to_dict, scene_to_toml
+
+from . import safe_files
+from .checkpoints import PARTIAL, _atomic_write
+
+#: files and folders a run directory may hold (what --overwrite removes)
+RUN_ENTRIES = ("curve.csv", "mean_curve.csv", "fields.npz", "scene.toml", "meta.json", "plots", "vtu", "partial")
+
+
+class RunDirError(ValueError):
+    """An output directory that cannot take this run: the message says why and what to do."""
+
+
+@functools.cache
+def code_version():
+    """Package version plus the git commit of the source tree when available.
+
+    Computed once per process, when first asked (a run asks before its first step): a long-lived
+    process (a study worker) keeps reporting the version of the code it started with, not that of
+    a later checkout of the tree.
+    """
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        v = version("gfmd-contact")
+    except PackageNotFoundError:
+        v = "unknown"
+    try:
+        root = Path(__file__).resolve().parent.parent.parent
+        sha = subprocess.run(["git", "describe", "--always", "--dirty"], cwd=root, capture_output=True,
+                             text=True, timeout=5).stdout.strip()
+        if sha:
+            v += f"+git.{sha}"
+    except (OSError, subprocess.SubprocessError):
+        pass
+    return v
+
+
+def _meta_base(scene, method, command):
+    return {
+        "complete": False,
+        "code_version": code_version(),
+        "scene_name": scene.name,
+        "method": method,
+        "platform": {"python": sys.version.split()[0], "machine": platform.machine(),
+                     "system": platform.platform(), "cpus": os.cpu_count()},
+        "numpy": np.__version__,
+        "date": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+        "command": command or " ".join(sys.argv),
+        "units": "SI: m, Pa, J/m^2; see gfmd_contact/core/conventions.py",
+        "stickiness": stickiness.as_dict(scene),  # before any run: gfmd_contact.core.stickiness (value null = n/a, reason)
+        **({"user_law": law_from_scene(scene).summary()} if scene.user_law is not None else {}),
+    }
+
+
+def _differences(a, b, prefix=""):
+    keys = sorted(set(a) | set(b))
+    out = []
+    for k in keys:
+        va, vb = a.get(k), b.get(k)
+        if isinstance(va, dict) and isinstance(vb, dict):
+            out += _differences(va, vb, f"{prefix}{k}.")
+        elif va != vb:
+            out.append(f"{prefix}{k}: {va!r} there, {vb!r} now")
+    return out
+
+
+def stored_scene_differences(out, scene):
+    """The keys in which DIR/scene.toml differs from `scene` ("key: there, now"; output.workers ignored)."""
+    a, b = scene_to_dict(load_scene(Path(out) / "scene.toml")), scene_to_dict(scene)
+    for d in (a, b):
+        d["output"].pop("workers", None)
+    return _differences(a, b)
+
+
+def prepare_run_dir(out, scene, *, resume=False, overwrite=False, command=None):
+    """Check `out` before any compute and start the run there; returns the directory (Path).
+
+    Refused (RunDirError): `out` is a file; without resume, a non-empty `out` (overwrite
+    clears the entries a run writes, RUN_ENTRIES, and refuses if anything else is there);
+    with resume, a directory holding another scene (the differing keys named, the method
+    included; output.workers may differ). Then scene.toml and meta.json ("complete": false) are
+    written, so an interrupted run is recognisable and resumable.
+    """
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise RunDirError(f"--out {str(out)!r} is an existing file, not a directory: choose another --out")
+    existing = sorted(p.name for p in out.iterdir() if p.name != safe_files.LOCK_NAME) if out.is_dir() else []
+    if existing and resume and (out / "scene.toml").is_file():
+        diff = stored_scene_differences(out, scene)
+        if diff:
+            raise RunDirError(f"--resume: {out} holds a run of another scene ({'; '.join(diff)}); resume with "
+                              "the same scene (or omit the scene file to take it from the directory), or choose "
+                              "another --out")
+        remove_temporaries(out)
+        if run_complete(out):  # partial/ outlives a kill between the final meta.json and its removal
+            shutil.rmtree(out / PARTIAL, ignore_errors=True)
+            return out
+        (out / PARTIAL).mkdir(exist_ok=True)
+        if not (out / "meta.json").is_file():  # a start cut short after scene.toml
+            _atomic_write(out / "meta.json", json.dumps(_meta_base(scene, scene.method.name, command), indent=2))
+        return out
+    if existing and resume:
+        raise RunDirError(f"--resume: {out} is not empty but holds no scene.toml ({', '.join(existing)}): it is not a "
+                          "gfmd run directory; choose another --out")
+    if existing and not overwrite:
+        what = "an unfinished run" if (out / PARTIAL).is_dir() else "files"
+        raise RunDirError(f"--out {out} is not empty (it holds {what}: {', '.join(existing[:6])}"
+                          f"{', …' if len(existing) > 6 else ''}): add --resume to continue a run there, "
+                          "--overwrite to replace it, or choose another --out")
+    if existing:
+        foreign = [n for n in existing if n not in RUN_ENTRIES and not n.startswith(".")]
+        if foreign:
+            raise RunDirError(f"--overwrite: {out} holds files a run does not write ({', '.join(foreign)}); "
+                              "not removing them: choose another --out or remove them yourself")
+        for name in existing:
+            path = out / name
+            shutil.rmtree(path) if path.is_dir() else path.unlink()
+    out.mkdir(parents=True, exist_ok=True)
+    _atomic_write(out / "scene.toml", scene_to_toml(scene))
+    meta = _meta_base(scene, scene.method.name, command)
+    _atomic_write(out / "meta.json", json.dumps(meta, indent=2))
+    (out / PARTIAL).mkdir(exist_ok=True)
+    return out
+
+
+def remove_temporaries(out):
+    """Remove the temporary files (.NAME.*.tmp) a killed writer left in `out`, partial/ and plots/
+    (call only while holding the directory's lock: nobody else is writing them)."""
+    for d in (Path(out), Path(out) / PARTIAL, Path(out) / "plots"):
+        for p in d.glob(".*.tmp") if d.is_dir() else []:
+            p.unlink(missing_ok=True)
+
+
+def run_complete(out):
+    """True if `out` holds a finished run (meta.json "complete": true)."""
+    meta = Path(out) / "meta.json"
+    return meta.is_file() and json.loads(meta.read_text()).get("complete") is True

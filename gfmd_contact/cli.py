@@ -1,0 +1,477 @@
+"""Command line: `gfmd run | plot | scene | verify | study run | study plot | study report` (also `python -m gfmd`).
+
+Units: SI everywhere (see gfmd_contact.core.conventions); scenes are TOML files (gfmd_contact.core.scene).
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+from gfmd_contact.core.scene import SceneError, default_scene, example_scene_text, load_scene
+
+
+def _checks(scene):
+    """Every check `gfmd run` makes before compute (gfmd_contact.check); (warnings, notes)."""
+    from gfmd_contact import check
+
+    return check(scene)
+
+
+def _gfmd_description(scene):
+    """GFMD's algorithms for the scene in words ("GFMD ncg (then fire where it stalls)"), as gfmd.chains picks them."""
+    from gfmd.loading import describe_scene
+
+    return describe_scene(scene)
+
+
+def _method_overrides(args):
+    """--method as scene keys (gfmd_contact.scenes.METHOD_CHOICES): fe → method.name; fire/verlet → GFMD
+    with that integrator."""
+    from gfmd_contact.scenes import method_changes
+
+    return method_changes(args.method)
+
+
+def _interrupted(signum, frame):
+    raise KeyboardInterrupt
+
+
+@contextlib.contextmanager
+def _interrupt_signals():
+    """SIGINT and SIGTERM raise KeyboardInterrupt while a run goes, also in a process started in the
+    background (a shell leaves SIGINT ignored there): `kill -INT` then stops it as Ctrl-C does."""
+    previous = {s: signal.signal(s, _interrupted) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+
+
+def _resume_command(args, out):
+    method = f" --method {args.method}" if args.method else ""
+    scene = f" {args.scene}" if args.scene else ""
+    return f"gfmd run{scene} --out {out}{method} --resume"
+
+
+def _on_disk(scene, out):
+    """One line: what an interrupted run left in `out`."""
+    from .app import io
+
+    parts = [io.load_part(out, scene, i) for i in range(scene.surface.realizations)]
+    done = sum(1 for p in parts if p is not None and p[2])
+    partial = [p for p in parts if p is not None and not p[2]]
+    steps = sum(len(p[0].curve["step"]) for p in partial)
+    return (f"{done} of {scene.surface.realizations} realization(s) complete, {len(partial)} partial "
+            f"({steps} load steps) saved in {out}")
+
+
+def _scene_from_args(args):
+    if args.scene:
+        if Path(args.scene).is_dir():
+            raise SceneError(f"scene {args.scene!r} is a directory, not a TOML scene file "
+                             "(to continue a run in it: gfmd run --out DIR --resume)")
+        return load_scene(args.scene)
+    if args.resume and args.out and (Path(args.out) / "scene.toml").is_file():
+        return load_scene(Path(args.out) / "scene.toml")  # resume the scene of the run directory
+    return default_scene()
+
+
+def _cmd_run(args):
+    import dataclasses
+    import json
+
+    from .app import io
+
+    scene = _scene_from_args(args)
+    overrides = _method_overrides(args)
+    if args.realizations is not None:
+        overrides["surface.realizations"] = args.realizations
+    if overrides:
+        scene = scene.replace(**overrides)
+    if args.resume and not args.scene and args.out and (Path(args.out) / "meta.json").is_file():
+        name = json.loads((Path(args.out) / "meta.json").read_text()).get("scene_name", scene.name)
+        scene = dataclasses.replace(scene, name=name)
+    warnings, notes = _checks(scene)  # refusals happen here, before any file is touched
+    out = Path(args.out or f"results/{scene.name}")
+    if out.exists() and not out.is_dir():
+        raise io.RunDirError(f"--out {str(out)!r} is an existing file, not a directory: choose another --out")
+    from .app import safe_files
+
+    advice = ("wait for it to end (or add --wait to wait for it), or stop it first; to run beside it, choose "
+              "another --out")
+    try:
+        with safe_files.locked(out, wait=getattr(args, "wait", 0), what="run directory", advice=advice, note=_note):
+            return _run_locked(args, scene, out, warnings, notes)
+    except safe_files.WriteFailed as exc:
+        print(f"gfmd: error: {exc}; the files written before are intact: free space or fix the permissions, then "
+              f"continue with: {_resume_command(args, out)}", file=sys.stderr)
+        return 2
+
+
+def _note(line):
+    print(f"note: {line}", file=sys.stderr)
+
+
+def _draw(out):
+    """The run's figures; a failure to write them (the results are complete) is exit 2 with what to do."""
+    from .app.plots import plot_run
+    from .app.safe_files import WriteFailed
+
+    try:
+        for path in plot_run(out):
+            print(f"wrote {path}", file=sys.stderr)
+    except WriteFailed as exc:
+        print(f"gfmd: error: {exc}; the results in {out}/ are complete: make {out / 'plots'} writable (or free "
+              f"space), then draw the figures with: gfmd plot {out}", file=sys.stderr)
+        return 2
+    return 0
+
+
+def _run_locked(args, scene, out, warnings, notes):
+    """`gfmd run` in the locked run directory `out`."""
+    from .app import io
+
+    out = io.prepare_run_dir(out, scene, resume=args.resume, overwrite=args.overwrite)
+    if args.resume and io.run_complete(out):  # its figures may be missing (a kill, a full disk): drawn again
+        print(f"{out}: this run is complete; nothing to resume"
+              + ("" if args.no_plot else "; drawing its figures again (--no-plot skips them)"), file=sys.stderr)
+        return 0 if args.no_plot else _draw(out)
+    for w in warnings:
+        print(f"WARNING: {w}", file=sys.stderr)
+    for n in notes:
+        print(f"note: {n}", file=sys.stderr)
+    method = "FE" if scene.method.name == "fe" else _gfmd_description(scene)
+    print(f"scene {scene.name!r}: {scene.surface.realizations} realization(s), {scene.loading.steps} load steps, "
+          f"method {method}; results go to {out}/ as they are computed", file=sys.stderr)
+    try:
+        from gfmd_contact.runs import compute  # the one path of gfmd run and gfmd_contact.run
+
+        with _interrupt_signals():
+            results, resume, elapsed = compute(scene, out, workers=args.workers, progress=not args.quiet,
+                                               note=_note)
+    except KeyboardInterrupt:
+        print(f"\ngfmd: interrupted: {_on_disk(scene, out)}; continue with: {_resume_command(args, out)}",
+              file=sys.stderr)
+        return 130
+    if resume["realizations_reused"] or resume["steps_reused"]:
+        print(f"resumed: {resume['realizations_reused']} realization(s) and {resume['steps_reused']} load steps "
+              "reused from the interrupted run", file=sys.stderr)
+    print(f"model solved: {results[0].model}", file=sys.stderr)
+    for reason in results[0].reasons:
+        print(f"  - {reason}", file=sys.stderr)
+    bad = [m for r in results for m in r.messages]
+    for m in bad:
+        print(f"WARNING: {m}", file=sys.stderr)
+    if not args.no_plot and _draw(out):
+        return 2
+    print(f"results in {out}/ (curve.csv, mean_curve.csv, fields.npz, scene.toml, meta.json) after {elapsed:.1f} s",
+          file=sys.stderr)
+    return 1 if any(not r.all_converged for r in results) else 0  # a fallback that converged is no failure
+
+
+def _cmd_plot(args):
+    from .app.plots import plot_run
+
+    for path in plot_run(args.dir, snapshot_delta=args.delta, fmt=args.format, realization=args.realization,
+                         wait=getattr(args, "wait", 0)):
+        print(f"wrote {path}")
+    return 0
+
+
+def _cmd_scene(args):
+    if args.example:
+        print(example_scene_text(), end="")
+        return 0
+    if args.check:
+        if Path(args.check).is_dir():
+            raise SceneError(f"scene {args.check!r} is a directory, not a TOML scene file")
+        scene = load_scene(args.check)
+        scene = scene.replace(**_method_overrides(args)) if args.method else scene
+        warnings, notes = _checks(scene)  # the same checks as `gfmd run`
+        for w in warnings:
+            print(f"WARNING: {w}", file=sys.stderr)
+        for n in notes:
+            print(f"note: {n}", file=sys.stderr)
+        from gfmd_contact.core.stickiness import lines as stickiness_lines
+
+        for line in stickiness_lines(scene):  # the diagnostics of gfmd_contact.core.stickiness (n/a: with the reason)
+            print(f"stickiness: {line}")
+        size = (f"Nx × Ny = {scene.surface.nodes} × {scene.surface.nodes_y} (2+1-D)" if scene.surface.two_d
+                else f"N = {scene.surface.nodes}")
+        print(f"{args.check}: valid scene; surface {scene.surface.kind}, {size}, "
+              f"law {scene.interface.law}" + (f"; {len(warnings)} warning(s)" if warnings else "")
+              + (f"; {len(notes)} realization(s) stop early" if notes else ""))
+        return 0
+    print("use `gfmd scene --example` or `gfmd scene --check FILE`", file=sys.stderr)
+    return 2
+
+
+def _source_root():
+    """The source checkout the package runs from, if it holds the verification suite, else None."""
+    root = Path(__file__).resolve().parent.parent
+    needed = (root / "conftest.py", root / "pyproject.toml", root / "verification" / "conftest.py")
+    return root if all(p.is_file() for p in needed) else None
+
+
+def _cmd_verify(args):
+    root = _source_root()
+    if root is None:
+        print("gfmd: error: `gfmd verify` needs the source checkout (conftest.py, pyproject.toml and verification/ "
+              f"next to the gfmd package; this gfmd runs from {Path(__file__).resolve().parent}): clone the "
+              "repository, `pip install -e \".[test]\"` there and run `gfmd verify` again", file=sys.stderr)
+        return 2
+    import os
+
+    from .app.safe_files import locked
+
+    cmd = [sys.executable, "-m", "pytest", "verification"] + (["--full"] if args.full else []) + args.pytest_args
+    reports = Path(os.environ.get("GFMD_REPORT_DIR") or root / "reports")
+    print(f"running {' '.join(cmd[2:])} in {root}; the report goes to {reports / 'index.html'}",
+          file=sys.stderr)
+    with locked(reports, wait=getattr(args, "wait", 0), what="report folder", command="gfmd verify",
+                advice="wait for that `gfmd verify` to end (or add --wait to wait for it)"):
+        return subprocess.call(cmd, cwd=root)
+
+
+def _cmd_study_run(args):
+    from .app.study import failure_summary, load_study, run_study
+
+    if len(args.study) > 1:
+        return _cmd_study_suite(args)
+    args.study = args.study[0]
+    study = load_study(args.study)  # every parameter set is validated here, before any compute
+    out = Path(args.out or f"results/{study.name}")
+    n_tasks = len(study.tasks)
+    where = _where(args)
+    print(f"study {study.name!r}: {len(study.sets)} parameter set(s), {n_tasks} task(s) on {where}; "
+          f"results go to {out}/", file=sys.stderr)
+    command = _rerun_command(args.study, out, args)
+    from .app.safe_files import WriteFailed
+
+    try:
+        with _interrupt_signals():
+            record = run_study(study, out, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet,
+                               command=command, wait=getattr(args, "wait", 0))
+    except WriteFailed as exc:
+        print(f"gfmd: error: {exc}; the files written before are intact: free space or fix the permissions, then "
+              f"continue with: {command}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        from .app.study import done_tasks
+
+        print(f"\ngfmd: interrupted: {done_tasks(study, out)} of {n_tasks} task(s) complete in {out}/tasks, the "
+              f"others keep their saved load steps; continue with: {command}", file=sys.stderr)
+        return 130
+    unconverged = [t for t in record["tasks"] if t["all_converged"] is False]
+    print(f"study {study.name!r}: {record['tasks_total']} task(s): {record['tasks_reused']} reused, "
+          f"{record['tasks_run']} run ({record['steps_reused']} saved load steps continued), "
+          f"{record['tasks_failed']} failed; {out}/study.csv, summary.csv, summary.nc, study.json",
+          file=sys.stderr)
+    for t in unconverged:
+        print(f"WARNING: set {t['set']}, realization {t['realization']} (task {t['key']}): non-converged steps: "
+              f"{'; '.join(t['messages'][:3])}", file=sys.stderr)
+    if record["tasks_failed"]:
+        print(f"{record['tasks_failed']} task(s) failed (tracebacks in {out}/study.json):", file=sys.stderr)
+        for line in failure_summary(record):
+            print(f"  - {line}", file=sys.stderr)
+    return 1 if record["tasks_failed"] or unconverged else 0
+
+
+def _where(args):
+    """Where a study's tasks run, in words (the --scheduler or the local cluster)."""
+    return f"the Dask scheduler at {args.scheduler}" if args.scheduler else \
+        f"a local Dask cluster of {args.workers or 'all'} worker process(es)"
+
+
+def _rerun_command(files, out, args):
+    """The `gfmd study run` command line that continues this run (printed after an interrupt or a disk error)."""
+    return f"gfmd study run {files} --out {out}" + (f" --workers {args.workers}" if args.workers else "") \
+        + (f" --scheduler {args.scheduler}" if args.scheduler else "")
+
+
+def _cmd_study_suite(args):
+    """`gfmd study run A.toml B.toml ... --out DIR`: the studies as one suite (gfmd_contact.app.study_suite)."""
+    import json
+
+    from .app.safe_files import WriteFailed
+    from .app.study import failure_summary, load_study
+    from .app.study_suite import check_names, run_suite, suite_done
+
+    if not args.out:
+        raise ValueError("several study files need --out DIR (each study goes to DIR/<study name>/)")
+    studies = [load_study(path) for path in args.study]  # every file validated before any compute
+    check_names(studies)
+    out = Path(args.out)
+    distinct = len({t.key for s in studies for t in s.tasks})
+    where = _where(args)
+    print(f"suite of {len(studies)} studies ({', '.join(s.name for s in studies)}): "
+          f"{sum(len(s.tasks) for s in studies)} task(s), {distinct} distinct, on {where}; results go to "
+          f"{out}/<study name>/", file=sys.stderr)
+    command = _rerun_command(' '.join(args.study), out, args)
+    try:
+        with _interrupt_signals():
+            suite = run_suite(studies, out, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet,
+                              command=command, wait=getattr(args, "wait", 0))
+    except WriteFailed as exc:
+        print(f"gfmd: error: {exc}; the files written before are intact: free space or fix the permissions, then "
+              f"continue with: {command}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"\ngfmd: interrupted: {suite_done(studies, out)} of {distinct} distinct task(s) complete under {out}, "
+              f"the others keep their saved load steps; continue with: {command}", file=sys.stderr)
+        return 130
+    bad = 0
+    for row in suite["studies"]:
+        record = json.loads((out / row["dir"] / "study.json").read_text())
+        print(f"study {row['name']!r}: {row['tasks']} task(s): {row['tasks_reused']} reused, {row['tasks_run']} run, "
+              f"{row['tasks_linked']} linked from a sibling study, {row['tasks_failed']} failed; {out / row['dir']}/",
+              file=sys.stderr)
+        for t in record["tasks"]:
+            if t["all_converged"] is False and t["status"] != "linked":  # named once, where it ran
+                bad += 1
+                print(f"WARNING: {row['name']} set {t['set']}, realization {t['realization']} (task {t['key']}): "
+                      f"non-converged steps: {'; '.join(t['messages'][:3])}", file=sys.stderr)
+        for line in failure_summary(record):
+            print(f"  - {row['name']}: {line}", file=sys.stderr)
+    print(f"suite: {suite['distinct_tasks']} distinct task(s), {suite['tasks_run']} run, {suite['tasks_linked']} "
+          f"linked, {suite['tasks_failed']} failed, {suite['timings']['wall_s']:.1f} s; {out}/suite.json",
+          file=sys.stderr)
+    return 1 if suite["tasks_failed"] or bad else 0
+
+
+def _cmd_study_plot(args):
+    from .app.study_plots import plot_study
+
+    for path in plot_study(args.dir, fmt=args.format, over=args.over):
+        print(f"wrote {path}")
+    return 0
+
+
+def _cmd_study_report(args):
+    from .app.study_report import claims_text, write_report
+
+    path = write_report(args.dirs, out=args.out)
+    for line in claims_text(args.dirs):
+        print(line)
+    print(f"wrote {path}")
+    return 0
+
+
+def _count(minimum):
+    def parse(text):
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"{value} < {minimum}: must be an integer ≥ {minimum}")
+        return value
+    return parse
+
+
+def _seconds(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
+    if not value >= 0:
+        raise argparse.ArgumentTypeError(f"{text}: must be a number of seconds ≥ 0")
+    return value
+
+
+def _wait_option(parser, what):
+    parser.add_argument("--wait", nargs="?", type=_seconds, const=-1, default=0, metavar="SECONDS",
+                        help=f"if another process is writing the {what}, wait for it to end (at most SECONDS; "
+                             "default: refuse at once, exit 2)")
+
+
+def build_parser():
+    parser = argparse.ArgumentParser(prog="gfmd", description="GFMD for rough adhesive line contacts (SI units).")
+    sub = parser.add_subparsers(dest="command", required=True)
+    run = sub.add_parser("run", help="run a scene (default: the built-in default scene) and write results + plots")
+    run.add_argument("scene", nargs="?", help="scene TOML file (omit for the built-in default scene)")
+    run.add_argument("--out", help="output directory (default results/<scene name>)")
+    run.add_argument("--method", choices=("fire", "verlet", "fe"),
+                     help="fire/verlet: GFMD with that integrator (solver.method); fe: the FE reference (method.name)")
+    run.add_argument("--realizations", type=_count(1), help="override surface.realizations (≥ 1)")
+    run.add_argument("--workers", type=_count(0), default=None,
+                     help="processes (default output.workers; 0 = all cores)")
+    run.add_argument("--resume", action="store_true",
+                     help="continue an interrupted run in --out: finished realizations are reused, an interrupted one "
+                          "continues from its last saved step (the scene file may be omitted: taken from --out)")
+    run.add_argument("--overwrite", action="store_true", help="replace the results of an earlier run in --out")
+    run.add_argument("--no-plot", action="store_true", help="skip the figures")
+    _wait_option(run, "run directory")
+    run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.set_defaults(func=_cmd_run)
+    plot = sub.add_parser("plot", help="seed-style figures of a run directory (into DIR/plots/)")
+    plot.add_argument("dir")
+    plot.add_argument("--delta", type=float, help="δ (m) of the interface snapshot (default: last saved step)")
+    plot.add_argument("--format", choices=("png", "svg", "pdf"), default="png", help="file format (default png)")
+    plot.add_argument("--realization", type=int, metavar="I",
+                      help="realization of the interface snapshot, as in curve.csv's `realization` column "
+                           "(default: the first one with saved fields)")
+    _wait_option(plot, "plot folder")
+    plot.set_defaults(func=_cmd_plot)
+    scene = sub.add_parser("scene", help="print a commented example scene or check a scene file")
+    scene.add_argument("--example", action="store_true")
+    scene.add_argument("--check", metavar="FILE", help="validate FILE with every check `gfmd run` makes")
+    scene.add_argument("--method", choices=("fire", "verlet", "fe"), help="with --check: also the method's checks")
+    scene.set_defaults(func=_cmd_scene)
+    verify = sub.add_parser("verify", help="run the verification suite (pytest verification) and write reports/")
+    verify.add_argument("--full", action="store_true", help="include the expensive studies")
+    verify.add_argument("pytest_args", nargs="*",
+                        help="passed to pytest (after --, e.g. gfmd verify -- -x -k westergaard)")
+    _wait_option(verify, "report folder")
+    verify.set_defaults(func=_cmd_verify)
+    study = sub.add_parser("study", help="parameter studies: a grid of scenes × realizations on Dask")
+    study_sub = study.add_subparsers(dest="study_command", required=True)
+    srun = study_sub.add_parser("run", help="run (or continue) a study file's tasks and write study.csv, "
+                                "summary.csv, summary.nc, study.json")
+    srun.add_argument("study", nargs="+", help="study TOML file (base scene + [axes], optional [zip]); several: "
+                      "one suite, each study in DIR/<study name>/, each distinct task computed once")
+    srun.add_argument("--out", help="study directory (default results/<study name>); with several files the "
+                      "suite's directory (required); rerun to resume")
+    srun.add_argument("--workers", type=_count(1), default=None,
+                      help="worker processes of the local Dask cluster (default: all cores)")
+    srun.add_argument("--scheduler", metavar="ADDRESS",
+                      help="send the tasks to an existing Dask cluster (e.g. tcp://HOST:8786) instead; --out must "
+                           "be on a file system every worker sees")
+    srun.add_argument("--quiet", action="store_true", help="no progress bar")
+    _wait_option(srun, "study directory")
+    srun.set_defaults(func=_cmd_study_run)
+    splot = study_sub.add_parser("plot", help="seed-style figures of a study directory (into DIR/figures/): "
+                                 "overlays of the parameter sets, hard-wall reference, κ fit, snapshot")
+    splot.add_argument("dir", help="study directory (gfmd study run --out DIR)")
+    splot.add_argument("--format", choices=("png", "svg"), default="png", help="file format (default png)")
+    splot.add_argument("--over", metavar="AXIS",
+                       help="one panel per combination of the other varied keys, one curve per value of AXIS "
+                            "(a dotted key of the study, e.g. surface.h_rms); default: every set in one panel")
+    splot.set_defaults(func=_cmd_study_plot)
+    sreport = study_sub.add_parser("report", help="the seed's claims measured on study directories: "
+                                   "DIR/report.html (self-contained) and the claims table on stdout")
+    sreport.add_argument("dirs", nargs="+", metavar="DIR", help="study directories (several: one merged page)")
+    sreport.add_argument("--out", help="the HTML page (default: the first DIR's report.html)")
+    sreport.set_defaults(func=_cmd_study_report)
+    return parser
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    try:
+        from .app.checkpoints import checkpoint_seconds
+
+        checkpoint_seconds()  # a bad $GFMD_CHECKPOINT_SECONDS is refused before any compute
+        return args.func(args)
+    except (SceneError, ValueError, OSError) as exc:
+        print(f"gfmd: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("\ngfmd: interrupted before any result was computed", file=sys.stderr)
+        return 130

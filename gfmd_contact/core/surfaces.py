@@ -1,0 +1,144 @@
+"""Rigid indenter profiles h(x) on the periodic grid (m).
+
+Units: SI (see `gfmd_contact.core.conventions`). Grid x_j = (j − N/2) l, l = L/N.
+Random profiles use the seed's spectral method (seed Eq. 4, reference-formulas §6):
+deterministic amplitudes √((2π/L) C(q_n)), random phases from an explicit seed,
+zero mean, and h_rms exact after a final rescaling.
+"""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import numpy as np
+import scipy.fft
+
+from .errors import SceneError, first_line
+from .topography_files import TEXT_SUFFIXES  # read as text here; other suffixes: instrument files
+from .psd import grid, psd_self_affine  # noqa: F401 (the grid and Eq. 4's shape, shared with gfmd_contact.core.surfaces_2d)
+
+
+def self_affine(nodes, length, hurst, h_rms, rolloff_wavelength, rollon_wavelength, seed):
+    """Random self-affine profile (m): seed Eq. 4 spectrum, random phases, exact h_rms.
+
+    The Nyquist mode (even N) and q = 0 carry no amplitude. `seed` fixes the phases
+    via numpy's default_rng, so equal arguments give identical profiles.
+    """
+    q = 2 * np.pi * np.fft.rfftfreq(nodes, d=length / nodes)
+    amplitude = np.sqrt(psd_self_affine(q, hurst, rolloff_wavelength, rollon_wavelength, length))
+    if nodes % 2 == 0:
+        amplitude[-1] = 0.0
+    rng = np.random.default_rng(seed)
+    phase = rng.uniform(0.0, 2 * np.pi, size=q.size)
+    h = scipy.fft.irfft(amplitude * np.exp(1j * phase), n=nodes)
+    rms = np.sqrt(np.mean(h**2))
+    if rms == 0.0:
+        raise ValueError("self-affine spectrum has no modes on this grid: check the wavelengths against L and N")
+    return h * (h_rms / rms)
+
+
+def sinusoid(nodes, length, amplitude):
+    """h(x) = −a cos(2πx/L) (m): one wavelength per cell, minimum (first contact) at x = 0.
+
+    `amplitude` a in m (peak-to-valley 2a); reference-formulas §0 profile up to a constant.
+    """
+    return -amplitude * np.cos(2 * np.pi * grid(nodes, length) / length)
+
+
+def cylinder(nodes, length, radius):
+    """Parabolic cylinder h(x) = x²/(2R) (m) centred at x = 0, R in m."""
+    x = grid(nodes, length)
+    return x**2 / (2 * radius)
+
+
+def flat(nodes, length):
+    """Flat indenter h = 0 (m)."""
+    return np.zeros(nodes)
+
+
+def from_file(path, nodes, length=None):
+    """Heights (m) read from a file of exactly `nodes` values: a 1-D .npy array, or a text file
+    (suffix .txt, .dat, .csv, .tsv or none) with one column of heights (whitespace-separated numbers,
+    '#' comments). Any other suffix is an instrument file, a line scan read through SurfaceTopography (the
+    optional extra, `gfmd_contact.core.topography_files`), its heights converted to m and its physical size checked
+    against `length` (surface.length, m).
+
+    Anything else (a missing, unreadable, corrupt, empty, comma-separated or 2-D file, non-numeric
+    or non-finite values, the wrong count) raises a `SceneError` naming surface.path,
+    the file and what is expected.
+    """
+    path = Path(path)
+    expected = (f"expected a 1-D .npy array or a text file with one column of surface.nodes = {nodes} "
+                "heights in m")
+
+    def fail(problem):
+        raise SceneError(f"surface.path = {str(path)!r}: {problem}; {expected}")
+
+    if not path.is_file():
+        fail("is a directory, not a file" if path.is_dir() else "no such file")
+    if path.suffix.lower() not in (".npy",) + TEXT_SUFFIXES:
+        from .topography_files import read_topography_file
+        return read_topography_file(path, (nodes,), (length,))
+    try:
+        if path.suffix.lower() == ".npy":
+            try:
+                h = np.load(path, allow_pickle=False)
+            except (ValueError, EOFError) as exc:
+                fail(f"not a valid .npy file ({first_line(exc)})")
+        else:
+            try:
+                text = path.read_text()
+            except UnicodeDecodeError:
+                fail("not a text file (binary content; a NumPy array must have the suffix .npy, an instrument "
+                     "file its own suffix)")
+            body = [line.split("#", 1)[0] for line in text.splitlines()]
+            if not any(line.strip() for line in body):
+                fail("the file holds no numbers (empty)")
+            if any("," in line for line in body):
+                fail("comma-separated values are not read (write one height per line)")
+            try:
+                h = np.loadtxt(io.StringIO(text), dtype=float, ndmin=1)
+            except ValueError as exc:  # non-numeric text, ragged rows
+                fail(f"cannot be read as numbers ({first_line(exc)})")
+    except OSError as exc:  # unreadable
+        fail(f"cannot be read ({first_line(exc)})")
+    if not isinstance(h, np.ndarray):  # e.g. an .npz archive named .npy
+        getattr(h, "close", lambda: None)()
+        fail(f"holds a {type(h).__name__}, not an array")
+    if h.dtype.kind not in "iuf":
+        fail(f"holds values of dtype {h.dtype}, not real numbers")
+    if h.ndim != 1:
+        fail(f"holds an array of shape {h.shape} ({h.ndim}-D), not one column of heights")
+    if h.size == 0:
+        fail("the file holds no numbers (empty)")
+    h = np.asarray(h, dtype=float)
+    if h.size != nodes:
+        raise SceneError(f"surface.path = {str(path)!r} holds {h.size} heights, but surface.nodes = {nodes}; "
+                         f"{expected}")
+    if not np.all(np.isfinite(h)):
+        fail(f"contains non-finite heights ({int(np.sum(~np.isfinite(h)))} of {h.size})")
+    return h
+
+
+def profile(surface, realization=0):
+    """Profile h(x) (m) for a `gfmd_contact.core.scene.Surface` spec; realization i uses seed + i.
+
+    A 2+1-D surface (surface.nodes_y ≥ 2) gives h(x, y) of shape (Nx, Ny) (`gfmd_contact.core.surfaces_2d`).
+    """
+    if getattr(surface, "nodes_y", 0):
+        from .surfaces_2d import profile_2d
+        return profile_2d(surface, realization)
+    n, length = surface.nodes, surface.length
+    if surface.kind == "self-affine":
+        return self_affine(n, length, surface.hurst, surface.h_rms, surface.rolloff_wavelength,
+                           surface.rollon_wavelength, surface.seed + realization)
+    if surface.kind == "sinusoid":
+        return sinusoid(n, length, surface.amplitude)
+    if surface.kind == "cylinder":
+        return cylinder(n, length, surface.radius)
+    if surface.kind == "flat":
+        return flat(n, length)
+    if surface.kind == "file":
+        return from_file(surface.path, n, length)
+    raise ValueError(f"surface.kind = {surface.kind!r} is not a known profile kind")

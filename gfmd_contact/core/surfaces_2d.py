@@ -1,0 +1,137 @@
+"""Rigid indenter surfaces h(x, y) on the periodic Nx × Ny grid (m), 2+1-D (issue 25).
+
+Units: SI (see `gfmd_contact.core.conventions`). Axis 0 is x, axis 1 is y. Node (i, j) sits at (i lx, j ly),
+lx = Lx/Nx, ly = Ly/Ny (the 2+1-D contract); the positions written with a result (`positions`, Result.x
+and Result.y) are those of a profile, `gfmd_contact.core.surfaces.grid` along each axis, ((i − Nx/2) lx, (j − Ny/2) ly),
+the same nodes shifted by half a cell, so the centre (Lx/2, Ly/2) is (0, 0) as x = 0 is node N/2 of a
+profile. Heights follow the
+sign convention of 1+1-D (reference-formulas §0): the same `indenter_surface`, first contact at the
+minimum of h.
+
+Random surfaces read the seed's Eq. 4 radially: the PSD shape C(|q|)/C(q_r) of
+`gfmd_contact.core.surfaces.psd_self_affine` at |q| = (q_x² + q_y²)^½, deterministic amplitudes √C, random
+phases from the explicit seed that are Hermitian-symmetric by construction (the phases of the rfft2 of
+white noise drawn with numpy's default_rng(seed)), zero mean (q = 0 empty), the Nyquist lines empty
+(as the 1-D Nyquist mode), and h_rms exact over the surface after a final rescaling.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.fft
+from pathlib import Path
+
+from .errors import SceneError, first_line
+from .psd import grid, psd_self_affine
+from .topography_files import TEXT_SUFFIXES
+
+
+def positions(nodes_x, length_x, nodes_y, length_y):
+    """(x, y): node coordinates (m) along each axis, shapes (Nx,), (Ny,); node (i, j) at (x_i, y_j)."""
+    return grid(nodes_x, length_x), grid(nodes_y, length_y)
+
+
+def self_affine(nodes_x, length_x, nodes_y, length_y, hurst, h_rms, rolloff_wavelength, rollon_wavelength, seed):
+    """Random isotropic self-affine surface (m), shape (Nx, Ny): seed Eq. 4 in |q|, exact h_rms (module docstring).
+
+    The plateau starts at the longest wave of the cell, 2π/max(Lx, Ly). Equal arguments give identical
+    surfaces.
+    """
+    qx = 2 * np.pi * np.fft.fftfreq(nodes_x, d=length_x / nodes_x)
+    qy = 2 * np.pi * np.fft.rfftfreq(nodes_y, d=length_y / nodes_y)
+    q = np.hypot(qx[:, None], qy[None, :])
+    amplitude = np.sqrt(psd_self_affine(q, hurst, rolloff_wavelength, rollon_wavelength, max(length_x, length_y)))
+    if nodes_x % 2 == 0:
+        amplitude[nodes_x // 2, :] = 0.0
+    if nodes_y % 2 == 0:
+        amplitude[:, -1] = 0.0
+    noise = scipy.fft.rfftn(np.random.default_rng(seed).standard_normal((nodes_x, nodes_y)), axes=(0, 1))
+    magnitude = np.abs(noise)
+    phase = np.divide(noise, magnitude, out=np.ones_like(noise), where=magnitude > 0)
+    h = scipy.fft.irfftn(amplitude * phase, s=(nodes_x, nodes_y), axes=(0, 1))
+    rms = np.sqrt(np.mean(h**2))
+    if rms == 0.0:
+        raise ValueError("self-affine spectrum has no modes on this grid: check the wavelengths against L and N")
+    return h * (h_rms / rms)
+
+
+def embedded_sinusoid(nodes_x, length_x, nodes_y, amplitude):
+    """The 1-D sinusoid h = −a cos(2πx/Lx) (the operations of `gfmd_contact.core.surfaces.sinusoid`, so bit-equal),
+    constant along y: shape (Nx, Ny)."""
+    line = -amplitude * np.cos(2 * np.pi * grid(nodes_x, length_x) / length_x)
+    return np.repeat(line[:, None], nodes_y, axis=1)
+
+
+def egg_box(nodes_x, length_x, nodes_y, length_y, amplitude):
+    """h_ij = a cos(2πi/Nx) cos(2πj/Ny) (m): the contract's a cos(2πx/Lx) cos(2πy/Ly) with node (i, j) at
+    (i lx, j ly); one period per cell each way, crests at nodes (0, 0) and (Nx/2, Ny/2), troughs (first
+    contact) at (Nx/2, 0) and (0, Ny/2). (Even Nx, Ny: the same as a cos(2πx/Lx) cos(2πy/Ly) on the
+    centred positions of `positions`.) `length_x`, `length_y` set only the period, the cell itself."""
+    i, j = np.arange(nodes_x), np.arange(nodes_y)
+    return amplitude * np.outer(np.cos(2 * np.pi * i / nodes_x), np.cos(2 * np.pi * j / nodes_y))
+
+
+def sphere(nodes_x, length_x, nodes_y, length_y, radius):
+    """Paraboloid h = (x² + y²)/(2R) (m) centred at (0, 0), node (Nx/2, Ny/2); the 2+1-D kin of the cylinder."""
+    x, y = positions(nodes_x, length_x, nodes_y, length_y)
+    return (x[:, None] ** 2 + y[None, :] ** 2) / (2 * radius)
+
+
+def from_file_2d(path, nodes_x, nodes_y, lengths=None):
+    """Heights (m) from a .npy file holding an array of shape (nodes, nodes_y) (axis 0 x, axis 1 y), or from
+    an instrument file (any other suffix but text), a map read through SurfaceTopography (the optional
+    extra, `gfmd_contact.core.topography_files`): heights converted to m, its physical size checked against
+    `lengths` = (surface.length, surface.length_y) (m).
+
+    Anything else (missing, not .npy, corrupt, the wrong shape, non-real or non-finite values) raises a
+    `SceneError` naming surface.path (and surface.nodes / surface.nodes_y for a shape mismatch).
+    """
+    path = Path(path)
+    expected = f"expected a .npy array of shape (surface.nodes, surface.nodes_y) = ({nodes_x}, {nodes_y}) in m"
+
+    def fail(problem):
+        raise SceneError(f"surface.path = {str(path)!r}: {problem}; {expected}")
+
+    if not path.is_file():
+        fail("is a directory, not a file" if path.is_dir() else "no such file")
+    if path.suffix.lower() not in (".npy",) + TEXT_SUFFIXES:
+        from .topography_files import read_topography_file
+        return read_topography_file(path, (nodes_x, nodes_y), lengths)
+    if path.suffix.lower() != ".npy":
+        fail("a 2+1-D surface is read from a .npy file only (text files hold 1+1-D profiles)")
+    try:
+        h = np.load(path, allow_pickle=False)
+    except (ValueError, EOFError, OSError) as exc:
+        fail(f"not a valid .npy file ({first_line(exc)})")
+    if not isinstance(h, np.ndarray):
+        getattr(h, "close", lambda: None)()
+        fail(f"holds a {type(h).__name__}, not an array")
+    if h.dtype.kind not in "iuf":
+        fail(f"holds values of dtype {h.dtype}, not real numbers")
+    if h.shape != (nodes_x, nodes_y):
+        raise SceneError(f"surface.path = {str(path)!r} holds an array of shape {h.shape}, but (surface.nodes, "
+                         f"surface.nodes_y) = ({nodes_x}, {nodes_y}); {expected}")
+    h = np.asarray(h, dtype=float)
+    if not np.all(np.isfinite(h)):
+        fail(f"contains non-finite heights ({int(np.sum(~np.isfinite(h)))} of {h.size})")
+    return h
+
+
+def profile_2d(surface, realization=0):
+    """Heights h (m) of shape (Nx, Ny) for a 2+1-D `gfmd_contact.core.scene.Surface`; realization i uses seed + i."""
+    nx, lx, ny, ly = surface.nodes, surface.length, surface.nodes_y, surface.length_y
+    kind = surface.kind
+    if kind == "self-affine":
+        return self_affine(nx, lx, ny, ly, surface.hurst, surface.h_rms, surface.rolloff_wavelength,
+                           surface.rollon_wavelength, surface.seed + realization)
+    if kind == "sinusoid":
+        return embedded_sinusoid(nx, lx, ny, surface.amplitude)
+    if kind == "egg-box":
+        return egg_box(nx, lx, ny, ly, surface.amplitude)
+    if kind == "sphere":
+        return sphere(nx, lx, ny, ly, surface.radius)
+    if kind == "flat":
+        return np.zeros((nx, ny))
+    if kind == "file":
+        return from_file_2d(surface.path, nx, ny, (lx, ly))
+    raise ValueError(f"surface.kind = {kind!r} is not a 2+1-D surface kind")
