@@ -1,4 +1,4 @@
-"""The cycle part of a run directory whose loading has a path (issue 23 §1–3): extra columns and meta.json.
+"""The cycle part of a run directory whose loading has a path: extra columns and meta.json.
 
 Units: SI (see `gfmd_contact.core.conventions`). For a scene with `loading.path` (`gfmd_contact.core.loading`):
   curve.csv       + branch ("loading"/"unloading"), cycle (0, 1, ...) and event ("jump-in"/"jump-out"/""):
@@ -40,11 +40,10 @@ def realization_cycles(scene, curve, instabilities=None):
     return rows, columns
 
 
-def meta_cycles(scene, results):
-    """meta.json entries of a path run: {"cycles": [{realization, seed, cycles}], units, definitions}."""
-    entries = [{"realization": r.realization, "seed": r.seed,
-                "cycles": realization_cycles(scene, r.curve, r.diagnostics.get("instabilities"))[0]}
-               for r in results]
+def meta_cycles(results, cycles):
+    """meta.json entries of a path run: {"cycles": [{realization, seed, cycles}], units, definitions}; cycles:
+    {realization: its per-cycle observables}, the first item of `realization_cycles`."""
+    entries = [{"realization": r.realization, "seed": r.seed, "cycles": cycles[r.realization]} for r in results]
     return {"cycles": entries, "cycle_units": cyc.UNITS,
             "cycle_definitions": " ".join(cyc.__doc__.split("\n\n")[2:]).replace("\n", " ")}
 

@@ -46,7 +46,7 @@ from .checkpoints import (PARTIAL, _atomic_write, _file_mode, _fmt, _npz_bytes, 
                           consistent_rows, load_part, save_realization, save_step, start_part)
 from .cycles import has_path, mean_columns, meta_cycles, realization_cycles, step_loads
 from .run_dir import (RUN_ENTRIES, RunDirError, _meta_base, code_version, prepare_run_dir,  # noqa: F401
-                      remove_temporaries, run_complete, stored_scene_differences)
+                      remove_temporaries, run_complete, started_stickiness, stored_scene_differences)
 
 
 def _user_law_notes(scene):
@@ -73,8 +73,11 @@ def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
     writer.writerow(("realization", "seed") + CURVE_COLUMNS + (("algorithm",) if labelled else ())
                     + (("branch", "cycle", "event") if cycled else ())
                     + (("load",) if cycled and scene.loading.control == "force" else ()))
+    # each realization's cycles once: their per-step columns go into curve.csv, their observables into meta.json
+    cycles = {r.realization: realization_cycles(scene, r.curve, r.diagnostics.get("instabilities"))
+              for r in results} if cycled else {}
     for r in results:
-        extra = realization_cycles(scene, r.curve, r.diagnostics.get("instabilities"))[1] if cycled else {}
+        extra = cycles[r.realization][1] if cycled else {}
         for k in range(len(r.curve["step"])):
             writer.writerow([r.realization, r.seed] + [_fmt(r.curve[c][k]) for c in CURVE_COLUMNS]
                             + ([step_algorithm(r, k)] if labelled else []) + [extra[c][k] for c in extra])
@@ -96,7 +99,7 @@ def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
                 arrays[f"r{r.realization}_s{step}_{name}"] = fields[name]
     _atomic_write(out / "fields.npz", _npz_bytes(arrays), binary=True)
     _atomic_write(out / "scene.toml", scene_to_toml(scene))
-    meta = _meta_base(scene, results[0].method, command)
+    meta = _meta_base(scene, results[0].method, command, started_stickiness(out))
     meta.update({
         "complete": True,
         "model": results[0].model,
@@ -107,7 +110,7 @@ def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
         "all_converged": all(r.all_converged for r in results),
         "notes": [n for r in results for n in r.notes] + _user_law_notes(scene),
         **({"algorithms": algorithm_counts(results)} if labelled else {}),
-        **(meta_cycles(scene, results) if cycled else {}),
+        **(meta_cycles(results, {k: rows for k, (rows, _) in cycles.items()}) if cycled else {}),
         "messages": [m for r in results for m in r.messages],
         "resume": resume or {"realizations_reused": 0, "steps_reused": 0},
         "timings": {**(timings or {}),

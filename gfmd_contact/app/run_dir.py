@@ -61,7 +61,9 @@ def code_version():
     return v
 
 
-def _meta_base(scene, method, command):
+def _meta_base(scene, method, command, stickiness_entry=None):
+    """meta.json's entries known before any step; stickiness_entry: the scene's diagnostics where the run's start
+    already computed them (`started_stickiness`), else computed here."""
     return {
         "complete": False,
         "code_version": code_version(),
@@ -73,9 +75,18 @@ def _meta_base(scene, method, command):
         "date": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
         "command": command or " ".join(sys.argv),
         "units": "SI: m, Pa, J/m^2; see gfmd_contact/core/conventions.py",
-        "stickiness": stickiness.as_dict(scene),  # before any run: gfmd_contact.core.stickiness (value null = n/a, reason)
+        # before any run: gfmd_contact.core.stickiness (value null = n/a, reason)
+        "stickiness": stickiness.as_dict(scene) if stickiness_entry is None else stickiness_entry,
         **({"user_law": law_from_scene(scene).summary()} if scene.user_law is not None else {}),
     }
+
+
+def started_stickiness(out):
+    """The stickiness diagnostics the run's start wrote into DIR/meta.json (`prepare_run_dir`), or None."""
+    try:
+        return json.loads((Path(out) / "meta.json").read_text(encoding="utf-8")).get("stickiness")
+    except (OSError, ValueError):
+        return None
 
 
 def _differences(a, b, prefix=""):
