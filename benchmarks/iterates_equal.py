@@ -10,13 +10,15 @@ hard wall's dual CG (and its hand-over to the primal), primal CG, FIRE and Verle
 NCG, its FIRE fallback (a budget of 3 NCG iterations), FIRE and Verlet; the cohesive wall's FIRE
 and Verlet; the coupled law's FIRE, its Newton–Krylov fallback (a budget of 20 FIRE iterations)
 and Verlet, with the Newton–Krylov stage failing (0 iterations) or its states rejected as not locally
-stable (the stability test patched to say so), both ending in Verlet (a FIRE budget of 20). Each
+stable (the stability test patched to say so), both ending in Verlet (a FIRE budget of 20), and the
+coupled chains "frictionless-first" and FIRE alone (Settings.coupled = "fire"). Each
 case runs the load ramp of `gfmd.loading.run_realization` (N = 512, 6 steps of 1 nm, 5 nm for the
 hard wall) and records every call of `gfmd.loading.relax` (retries included): the state u_hat,
 the fields, iterations, residual, converged and FFT pairs, and the curve.
 The algorithm labels (`Relaxed.method`) are compared as text and reported, not required equal
 (the refactor of issue 22 names the algorithm where it used to leave the label empty).
-Wall times are never compared. Set GFMD_FFT and GFMD_JIT alike for both recordings.
+Wall times are never compared. `compare` compares the cases both recordings hold and names the others
+(a case of a chain added or removed since the base was recorded). Set GFMD_FFT and GFMD_JIT alike for both recordings.
 """
 
 from __future__ import annotations
@@ -74,6 +76,8 @@ CASES = {
     "coupled-newton-rejected": ("cohesive", COUPLED, {"_patch": {"COUPLED_FIRE_BUDGET": 20,
                                                                  "coupled_stability": lambda *a: -1.0}}),
     "coupled-verlet": ("cohesive", COUPLED, {"method": "verlet"}),
+    "coupled-frictionless-first": ("cohesive", COUPLED, {"coupled": "frictionless-first"}),
+    "coupled-fire-only": ("cohesive", COUPLED, {"coupled": "fire"}),
 }
 BODIES = {"half-plane": None, "layer": LAYER}
 
@@ -160,7 +164,8 @@ def _equal(x, y):
 def compare(base, new):
     base, new = Path(base), Path(new)
     rows, ok = [], True
-    for path in sorted(base.glob("*.npz")):
+    names = {p.name for p in base.glob("*.npz")} & {p.name for p in new.glob("*.npz")}
+    for path in sorted(base / name for name in names):
         a, b = np.load(path), np.load(new / path.name)
         keys = [k for k in a.files if not k.endswith("/method")]
         same = set(a.files) == set(b.files) and all(_equal(a[k], b[k]) for k in keys)
@@ -174,7 +179,11 @@ def compare(base, new):
     print("| body | case | steps solved (relax calls) | iterations | arrays | iterates | label (base→new) |\n"
           "|---|---|---|---|---|---|---|")
     print("\n".join(rows))
-    return ok
+    for folder, other in ((base, new), (new, base)):  # cases of one recording only (a chain added or removed)
+        missing = sorted(p.stem for p in folder.glob("*.npz") if p.name not in names)
+        if missing:
+            print(f"only in {folder} (not compared): {', '.join(missing)}")
+    return ok and bool(names)
 
 
 if __name__ == "__main__":
