@@ -99,7 +99,7 @@ MUTATIONS = (
              "    np.add.at(w, pos, np.full_like(ones[top_s], length / xs.size))",
              "FE surface quadrature weights uniform (L/points each) instead of the FacetBasis load vector "
              "(Simpson l/3, 2l/3 for P2; P1 unchanged)"),
-    # the code every method shares (issue 23 "the shared ramp is checked, not trusted"): caught by
+    # the code every method shares (the shared ramp is checked, not trusted): caught by
     # verification/test_ramp_records.py, which recomputes the records from the saved fields
     Mutation("ramp-delta-off-by-one", "gfmd_contact/core/ramp.py", "delta=displacement - d0,",
              "delta=steps[max(k - 1, 0)] - d0,",

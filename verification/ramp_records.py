@@ -1,4 +1,4 @@
-"""The shared ramp checked, not trusted (issue 23): what a run directory records, recomputed from its saved fields.
+"""The shared ramp checked, not trusted: what a run directory records, recomputed from its saved fields.
 
 `gfmd_contact.core.ramp` records, for every method, δ, p̄, a_rel, ḡ_r and ḡ per step in curve.csv; for a load path
 the application layer adds each step's branch and cycle (curve.csv) and each cycle's hysteresis W = ∮ p̄ dδ (meta.json

@@ -232,7 +232,7 @@ def small_sinusoid(law):
         "loading.final_penetration": 4e-9})
 
 
-# ----------------------------------------------------------------------------- the shared ramp's records (issue 23)
+# ----------------------------------------------------------------------------- the shared ramp's records
 def ramp_check_layer(n=64):
     """`jump_in_sinusoid` (layer D = L, φn* = 0.15, δn = 1 nm) through one load–unload cycle, δ: −10 → 30 →
     −10 nm in 20 + 30 steps (jump-in on loading, jump-out on unloading), fields at every step 1 … 50."""

@@ -1,4 +1,4 @@
-"""Contact rules, GFMD vs FE, each method counting contact with its own code (issue 11 item 6).
+"""Contact rules, GFMD vs FE, each method counting contact with its own code.
 
 Study, scenes and metric: `verification.studies.contact_rules` (cohesive φn* = 0.01 and hard-wall sinusoid
 on a layer, rules "traction-tolerance", "compressive", "gap" with contact_gap = 1; GFMD FIRE vs FE P2;

@@ -1,8 +1,8 @@
-"""GFMD load–unload cycle: W and pull-off vs N at fixed physics, and stability at the cycle's extremes (issue 23).
+"""GFMD load–unload cycle: W and pull-off vs N at fixed physics, and stability at the cycle's extremes.
 
 Study, scenes and outcomes: `verification.studies.cycle_convergence`; measured numbers in
 verification/data/cycle_convergence.json (regenerate: `python -m verification.studies.cycle_convergence
---full --write`). Measured (2026-11-25), sticky self-affine cycle (φn* = 0.15, δn = 0.25 nm, L = 256 nm),
+--full --write`). Measured, sticky self-affine cycle (φn* = 0.15, δn = 0.25 nm, L = 256 nm),
 N = 2^10 … 2^15: W = 1.2614e-3 → 1.2550e-3 J/m², neighbouring differences |ΔW|/W 4.0e-3, 7.9e-4, 3.0e-4,
 2.7e-5, 3.0e-5 (orders 2.3, 1.4, 3.5, then a floor ≈ 3e-5 from N = 2^13 on); pull-off −38.09 MPa,
 differences 1.6e-5 … 3.7e-6 (at most 1e-4); snap-off δ = −2.3 nm at every N.

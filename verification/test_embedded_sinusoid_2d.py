@@ -1,4 +1,4 @@
-"""The 1-D sinusoid embedded in 2+1-D equals the 1+1-D run through the whole ramp (issue 25, item 4 of the
+"""The 1-D sinusoid embedded in 2+1-D equals the 1+1-D run through the whole ramp (one of the
 analytic cases; `reference.analytic.embedded_sinusoid`: the 2-D means ARE the 1-D ones).
 
 Scenes: `verification.scenes.sinusoid` (1+1-D, N = 128, L = 1 µm, A = 10 nm, default half-plane) and

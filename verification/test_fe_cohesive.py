@@ -1,4 +1,4 @@
-"""GFMD (finite bonded layer) vs the FE cell on the adhesive sinusoid, normal CZ law (issue #4 (b)).
+"""GFMD (finite bonded layer) vs the FE cell on the adhesive sinusoid, normal CZ law.
 
 Study, scene and metrics: `verification.studies.fe_cohesive` (t_n(x) relative L2, p(δ), a_rel; GFMD FIRE
 vs FE P2); its measured differences at N = 64 … 512 are in verification/data/fe_cohesive.json, entry

@@ -1,4 +1,4 @@
-"""GFMD (finite bonded layer) vs the FE cell on the adhesive sinusoid, COUPLED CZ law (issue #4, case 3).
+"""GFMD (finite bonded layer) vs the FE cell on the adhesive sinusoid, COUPLED CZ law (case 3).
 
 Scene: `verification.scenes.coupled_sinusoid` (the normal-law case's sinusoid, a = 50 nm,
 L = D = 1 µm, φn* = 0.01, δn = δt = 1 nm, δ0 = 2 nm, with the coupled law of seed Eq. 2,
@@ -51,8 +51,8 @@ per-mode critically damped Verlet converges there, so coupled-law FIRE now falls
 and to 28 nm (ν = 0.1, N = 128; 26 nm at N = 64). Beyond, explicit damped dynamics with a fixed step cannot follow the
 law's growing, non-symmetric local stiffness: its equilibria there become flutter points of damped
 dynamics, so after FIRE's budget the step now goes first to Newton–Krylov on the law's tangent, which
-accepts only locally stable equilibria (`gfmd.algorithms.coupled_newton`, tests/test_solver_coupled.py); since issue 24
-the Newton–Krylov runs first on every step, its state kept as a continuation (`gfmd.chains`). `test_gfmd_coupled_slip_regime`
+accepts only locally stable equilibria (`gfmd.algorithms.coupled_newton`, tests/test_solver_coupled.py), and the
+Newton–Krylov runs first on every step, its state kept as a continuation (`gfmd.chains`). `test_gfmd_coupled_slip_regime`
 runs into that regime (N = 128, ν = 0.3, δ to 40 nm) and records the differences, informational.
 """
 
@@ -179,8 +179,7 @@ def test_fe_coupled_sinusoid_convergence(nu, verification_record):
 
 def test_gfmd_coupled_slip_regime(verification_record):
     """Beyond the verified range (ν = 0.3, N = 128, δ to 40 nm in 20 steps): both methods must converge,
-    GFMD through the Newton–Krylov (the coupled chain's first algorithm since issue 24; before, the fallback after
-    FIRE's budget: FIRE alone did not converge there when the fallback was added).
+    GFMD through the Newton–Krylov (the coupled chain's first algorithm; FIRE alone does not converge there).
     The differences there are recorded (the report), not asserted: the law's exponential sensitivity, not
     discretisation, sets them."""
     n, nu = 128, 0.3
@@ -202,7 +201,7 @@ def test_gfmd_coupled_slip_regime(verification_record):
         case=f"fe/coupled-sinusoid-c{TANGENTIAL_RATIO:g}-slip-regime", metric="t_n, t_t relative L2 at δ = 40 nm",
         value=[tn, tt], tolerance=None, passed=None, methods=METHODS, resolution={"N": n, "nu": nu},
         tolerance_source="informational: beyond the verified δ range (docstring)",
-        notes=f"max|Δt| = {slip:.3g} δt; GFMD steps {fallback} were relaxed by the Newton–Krylov (first since issue 24)",
+        notes=f"max|Δt| = {slip:.3g} δt; GFMD steps {fallback} were relaxed by the Newton–Krylov (first in the coupled chain)",
         plots=[profile_plot(rf.x, {"GFMD": rg.fields[k]["t_n"], "FE": rf.fields[k]["t_n"]}, xlabel="x (m)",
                             ylabel="t_n (Pa)", title="t_n at δ = 40 nm (slip regime), N = 128, ν = 0.3"),
                profile_plot(rf.x, {"GFMD": rg.fields[k]["t_t"], "FE": rf.fields[k]["t_t"]}, xlabel="x (m)",

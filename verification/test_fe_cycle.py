@@ -4,7 +4,7 @@ Study, scene and metrics: `verification.studies.fe_cycle` (cohesive_sinusoid wit
 [−10, 30, −10] nm in 40 + 80 steps, displacement control from out of contact: one jump-in on loading, one
 snap-off on unloading; the FE passes both with its trust-region energy descent). Its differences vs
 N = 64, 128, 256 are in verification/data/fe_cycle.json (regenerate: `python -m verification.studies.fe_cycle
---write`). Measured (2026-11-25): max |Δp̄|/E* 1.1e-4 → 1.0e-5 → 1.3e-6 (orders 3.4, 2.9), pull-off 3.0e-3 →
+--write`). Measured: max |Δp̄|/E* 1.1e-4 → 1.0e-5 → 1.3e-6 (orders 3.4, 2.9), pull-off 3.0e-3 →
 4.6e-4 → 7.4e-5 (2.7, 2.6), W = ∮ p̄ dδ 3.3e-3 → 3.3e-4 → 9.5e-5 (3.3, 1.8), jump-in and snap-off at the same
 step in both at every N (δ = −5 nm and −8 nm); GFMD's pull-off is converged to 4e-6 at N = 128, so the
 difference is the FE's P2 discretization.

@@ -1,4 +1,4 @@
-"""GFMD vs FE through a jump into contact: `verification.scenes.jump_in_sinusoid` (issue #4 (c)).
+"""GFMD vs FE through a jump into contact: `verification.scenes.jump_in_sinusoid`.
 
 The cohesive sinusoid at φn* = 0.15, δ0 = 10 nm (≥ 8 δn), δ from −10 nm to 40 nm in 25 steps. The FE
 Newton solve fails at the jump and falls back to its trust-region energy descent; GFMD

@@ -1,4 +1,4 @@
-"""FE boundary quadrature: nodal (lumped, default) vs Gauss–Legendre vs GFMD (issue #4).
+"""FE boundary quadrature: nodal (lumped, default) vs Gauss–Legendre vs GFMD.
 
 Study, scene and metrics: `verification.studies.fe_quadrature` (FE P2 with nodal and with 4-point Gauss
 boundary quadrature, GFMD FIRE; t_n, p and the FE pressure from its own total boundary force, p_force).

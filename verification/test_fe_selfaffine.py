@@ -1,4 +1,4 @@
-"""GFMD (finite bonded layer) vs the FE cell on self-affine adhesive profiles, H = 0.8 and 0.2 (issue #4, case 2).
+"""GFMD (finite bonded layer) vs the FE cell on self-affine adhesive profiles, H = 0.8 and 0.2 (case 2).
 
 Study, scene and metrics: `verification.studies.fe_selfaffine` (L = 1 µm, λs,H = L/64, so every N ≥ 128
 samples the same 32 modes: refining N refines the discretisation only; t_n, p, ḡ_r, a_rel differences).

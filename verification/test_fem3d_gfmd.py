@@ -1,4 +1,4 @@
-"""GFMD 2+1-D vs the 3-D FE (reference.fem3d) node by node; the embedded sinusoid 3-D FE vs 1+1-D FE (issue 25).
+"""GFMD 2+1-D vs the 3-D FE (reference.fem3d) node by node; the embedded sinusoid 3-D FE vs 1+1-D FE.
 
 Study, scenes and metrics: `verification.studies.fem3d_gfmd` (L = 1 µm, bonded layer D = L so both
 methods solve the same body; egg-box A = 20 nm and a band-limited self-affine surface, H = 0.8, the

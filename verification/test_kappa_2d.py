@@ -1,4 +1,4 @@
-"""κ of hard-wall self-affine surfaces in 2+1-D vs N, against published 2+1-D values (issue 25 verification).
+"""κ of hard-wall self-affine surfaces in 2+1-D vs N, against published 2+1-D values.
 
 Study, scene and numbers: `verification.studies.kappa_2d` (λs fixed in physical length, N × N = 64² … 512²,
 4 realizations); stored in verification/data/kappa_2d.json (regenerate: `python -m

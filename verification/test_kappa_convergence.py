@@ -1,4 +1,4 @@
-"""κ vs N for the hard-wall self-affine default geometry (issue 12): the fitted κ converges with the grid.
+"""κ vs N for the hard-wall self-affine default geometry: the fitted κ converges with the grid.
 
 Study, scene and numbers: `verification.studies.kappa_convergence` (gfmd_contact/core/default_scene.toml as a hard
 wall, 4 realizations, N = 1024 … 8192); stored in verification/data/kappa_convergence.json (regenerate:

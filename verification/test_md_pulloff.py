@@ -90,7 +90,7 @@ def test_md_pull_off_law_shape_error_falls_with_lambda(ci_runs):
     assert all(a > b for a, b in zip(errors, errors[1:])), errors
 
 
-# ------------------------------------------------------------------ force control (issue 23 §2, gfmd_contact.core.force)
+# ------------------------------------------------------------------ force control (gfmd_contact.core.force)
 @pytest.fixture(scope="module")
 def force_runs():
     return {lam: mp.measure_force(mp.CI_NODES[lam], lam) for lam in mp.FORCE_LAMBDAS}

@@ -1,4 +1,4 @@
-"""The shared ramp is checked, not trusted (issue 23): curve.csv and meta.json recomputed from fields.npz.
+"""The shared ramp is checked, not trusted: curve.csv and meta.json recomputed from fields.npz.
 
 GFMD (a half-plane and a layer) and the FE (P2, the layer) each run one load–unload cycle with a jump-in and a
 jump-out (scenes `ramp_check_half_plane`, `ramp_check_layer`), fields saved at every step; the run directory

@@ -1,4 +1,4 @@
-"""Model only what a scene requires (issue #5): the reduced models against the full ones, side by side.
+"""Model only what a scene requires: the reduced models against the full ones, side by side.
 
 Study, scene and metrics: `verification.studies.reduced_models` (extremes_base, N = 512, loaded to
 δ = 8 nm); its measured numbers are in verification/data/reduced_models.json (regenerate:

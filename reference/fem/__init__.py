@@ -1,4 +1,4 @@
-"""Plane-strain finite-element reference for the periodic bonded-layer cell (issue #4).
+"""Plane-strain finite-element reference for the periodic bonded-layer cell.
 
 Units: SI (see `gfmd_contact.core.conventions`). An independent cross-check of GFMD: it shares
 the inputs (the scene, the profile heights of `gfmd_contact.core.surfaces`), the model choice

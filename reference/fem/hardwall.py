@@ -1,4 +1,4 @@
-"""Frictionless, non-adhesive hard wall on the condensed FE surface (issue #4 prerequisite of #5).
+"""Frictionless, non-adhesive hard wall on the condensed FE surface.
 
 Units: SI (see `gfmd_contact.core.conventions`). The linear cell is condensed once onto the
 normal surface displacements u_z (`Cell.schur(("z",))`: u_x of the surface is

@@ -1,4 +1,4 @@
-"""Gauss–Legendre quadrature of the cohesive boundary term on the periodic top surface (issue #4).
+"""Gauss–Legendre quadrature of the cohesive boundary term on the periodic top surface.
 
 Units: SI (see `gfmd_contact.core.conventions`). The default FE boundary term uses nodal
 (lumped) quadrature: the nodal force is f_i = W_i T(Δ_i) with W the FacetBasis

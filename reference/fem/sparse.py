@@ -1,4 +1,4 @@
-"""Sparse Newton for the FE surface problem: the full reduced system, SuperLU (issue #4, large N).
+"""Sparse Newton for the FE surface problem: the full reduced system, SuperLU (large N).
 
 Units: SI (see `gfmd_contact.core.conventions`). `SurfaceProblem` condenses the linear
 interior onto the surface with a dense Schur complement S and factors a dense

@@ -1,4 +1,4 @@
-"""3-D finite-element reference for the periodic 2+1-D cell (issue 25 item 4).
+"""3-D finite-element reference for the periodic 2+1-D cell.
 
 Units: SI (see `gfmd_contact.core.conventions`). An independent cross-check of GFMD in 2+1-D: it shares only
 the inputs (heights on the Nx × Ny grid, the cell, material, law parameters, displacements) and

@@ -1,4 +1,4 @@
-"""Entry point of the 3-D FE reference: a displacement-controlled ramp on plain inputs (issue 25 item 4).
+"""Entry point of the 3-D FE reference: a displacement-controlled ramp on plain inputs.
 
 Units: SI (see `gfmd_contact.core.conventions`). `solve_cell` takes plain numbers and arrays, so that it
 does not depend on the scene's 2+1-D keys; `from_scene` is the thin adapter from a `gfmd_contact.core.scene.Scene`.

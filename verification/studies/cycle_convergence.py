@@ -1,5 +1,5 @@
 """GFMD load–unload cycle: hysteresis and pull-off convergence with N at fixed physics, and stability at
-the extremes of the cycle (issue 23, Verification).
+the extremes of the cycle.
 
 Convergence (`convergence`): `verification.scenes.cycle_self_affine(N)` — the extremes base profile
 (L = 256 nm, H = 0.8, h_rms = 4 nm, λr = 64 nm, λs,H = 4 nm, seed 1; half-plane, ν = 0.45), made sticky:

@@ -1,4 +1,4 @@
-"""Stability at the extremes (issue #5): one-parameter sweeps around a base scene, plus corners.
+"""Stability at the extremes: one-parameter sweeps around a base scene, plus corners.
 
 Base scene: `verification.scenes.extremes_base` (cohesive self-affine, L = 256 nm, N = 512, δn = 1 nm
 = 2 l, φn* = 0.15, half-plane ν = 0.45, δ0 = 8 δn, δ from −8 nm to 4 nm in 24 steps, FIRE 1e-8).

@@ -1,4 +1,4 @@
-"""Stability at the extremes in 2+1-D (issue 25; the 1+1-D cells: `verification.studies.extremes`): near full
+"""Stability at the extremes in 2+1-D (the 1+1-D cells: `verification.studies.extremes`): near full
 contact, strong adhesion φn* = 0.15 … 1, small δn, δ0 in the law's range, the refused coupled law.
 
 Base scene: `verification.scenes.extremes_base` made a surface — self-affine (seed Eq. 4 read radially), 128 × 128

@@ -1,7 +1,7 @@
 """GFMD vs the FE cell through a force-controlled load–unload cycle on a cohesive layer: differences vs N.
 
 Scene: `verification.studies.fe_cycle.scene` (cohesive_sinusoid, φn* = 0.15, δn = 1 nm, layer D = L = 1 µm)
-under `loading.control = "force"` (issue 23 §2, `gfmd_contact.core.force`): from p̄ = 0 with the indenter out of contact
+under `loading.control = "force"` (`gfmd_contact.core.force`): from p̄ = 0 with the indenter out of contact
 (δ0 = 10 nm = 10 δn) along the mean pressure path `PATH` = [0, 400, −320] MPa in 5 + 18 steps (ΔP = 80 MPa
 loading, 40 MPa unloading). Under force control the approach branch (p̄ growing more tensile as the indenter
 nears, dp̄/dU < 0) carries no compressive load: the first step jumps into contact (an instability event,

@@ -1,4 +1,4 @@
-"""κ for hard-wall self-affine surfaces in 2+1-D vs N (issue 25 verification), against published 2+1-D values.
+"""κ for hard-wall self-affine surfaces in 2+1-D vs N, against published 2+1-D values.
 
 Scene: a 2+1-D hard-wall contact of an isotropic self-affine surface (seed Eq. 4 read radially, H = 0.8,
 h_rms = 10 nm, E = 70 GPa, ν = 0.45, half-space) on a periodic L × L cell, L = 1.28 µm, λr = L/2,

@@ -1,4 +1,4 @@
-"""How small a cohesive length δn GFMD still relaxes: δn/l (l = L/N) and the load step ΔU/δn (issue 26).
+"""How small a cohesive length δn GFMD still relaxes: δn/l (l = L/N) and the load step ΔU/δn.
 
 Behind the refusal in `gfmd_contact.core.loading.check_step_in_law_range` (a cohesive ramp whose load step
 ΔU exceeds the law's range 600 δn) and the finding that δn/l itself sets no solvability limit above

@@ -33,13 +33,13 @@ Force control (entry "force", λ = 1, 3 at the CI N): the same cylinder along p�
 last segment (0.8 → 1.2 |F_MD|) in steps Δ = 0.005 |F_MD|; the pull-off is the load at which the body
 detached (the run's own event, `gfmd_contact.core.cycle` pull_off_load). For a line contact the load-controlled
 pull-off is the extremum dF/da = 0 (Baney & Hui 1997), the same minimum displacement control passes, so
-|F_force − F_disp| ≤ Δ + the outer search's tolerance + the displacement sampling error. Measured
-(2026-11-25): F_force/F_u = −1.0351, −1.1820 vs F_disp/F_u = −1.0346, −1.1767 (λ = 1, 3):
+|F_force − F_disp| ≤ Δ + the outer search's tolerance + the displacement sampling error. Measured:
+F_force/F_u = −1.0351, −1.1820 vs F_disp/F_u = −1.0346, −1.1767 (λ = 1, 3):
 (F_force − F_disp)/|F_MD| = −4.8e-4, −4.5e-3 ≤ 5.2e-3.
 
 N per λ in NODES (4 doublings each, ≈ 90 s in all, most of it λ = 10 at N ≤ 16384); `--write` stores them in
 verification/data/md_pulloff.json (entry "ci"), which verification/test_md_pulloff.py reads (it re-runs
-N = CI_NODES, the second level of each list). Measured (2026-11-25): e_∞ = +0.1082, +0.07048, +0.00962,
+N = CI_NODES, the second level of each list). Measured: e_∞ = +0.1082, +0.07048, +0.00962,
 +5.5e-5 at λ = 0.3, 1, 3, 10; F/F_u = −0.6635, −1.0346, −1.1765, −1.19046 vs MD −0.7440, −1.1130, −1.1880,
 −1.19052; at L = 8R −0.6632, −1.0339, −1.1758 against the §4.2 exponential-law table −0.663, −1.031, −1.176
 (λ = 1: 0.3% apart, more than the table's 3 digits; its load step is not stated, so not asserted).
@@ -122,7 +122,7 @@ def measure(nodes, lam, length=LENGTH):
             "sampling": abs(y1 - vertex) * length / f_u, "snap_off_delta": row["snap_off_delta"], "wall_s": wall}
 
 
-#: force control (issue 23 §2): λ values and the load path in units of |F_MD|/L: load to a compressive p̄, unload
+#: force control (`gfmd_contact.core.force`): λ values and the load path in units of |F_MD|/L: load to a compressive p̄, unload
 #: coarsely to 0.8 of the MD pull-off, then FORCE_FINE steps across ±20 % of it (0.8 → 1.2 |F_MD|)
 FORCE_LAMBDAS = (1.0, 3.0)
 FORCE_PATH = (0.0, 1.0, -0.8, -1.2)

@@ -1,4 +1,4 @@
-"""Model only what a scene requires (issue #5): the reduced models against the full ones, measured.
+"""Model only what a scene requires: the reduced models against the full ones, measured.
 
 Scene: `verification.scenes.extremes_base` (self-affine, H = 0.8, h_rms = 4 nm, L = 256 nm, N = 512,
 φn* = 0.15, δn = 1 nm, δ0 = 8 nm) loaded further, δ to 8 nm (32 steps; 48 in (b)); FIRE, tolerance 1e-8;

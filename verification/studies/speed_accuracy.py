@@ -1,4 +1,4 @@
-"""Speed–accuracy trade (issue #5): error vs wall time of every method and setting on three scenes.
+"""Speed–accuracy trade: error vs wall time of every method and setting on three scenes.
 
 Scenes (`verification.scenes.SPEED_ACCURACY`): (a) adhesive sinusoid, normal CZ φn* = 0.01;
 (b) adhesive self-affine, normal CZ φn* = 0.01, layer D = L; (c) the same profile, hard wall.
