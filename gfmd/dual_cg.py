@@ -6,11 +6,15 @@ algorithm module keeps its preconditioner and `solve(problem, start, settings)`,
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from functools import partial
+from typing import NamedTuple
+
 import numpy as np
 
 from .fft import Fft, dot
 from .problem import stiffness_operator
-from .settings import not_converged, stall
+from .settings import Relaxed, not_converged, stall
 from .stopping import finish, wall_check, wall_residual
 
 #: The dual hard-wall CG hands a step over to the primal only when its contact set grows past this
@@ -61,21 +65,67 @@ def solve_dual(problem, start, settings, *, label, band_stiffness, preconditione
     contact set's node indices (the same object until A changes). `label` names the algorithm
     (`Relaxed.method`).
     """
-    model, z_ind, wall_tolerance = problem.model, problem.z_ind, problem.wall_tolerance
-    u_hat = start  # the step's initial displacements (c, N//2+1), rfft
-    n = model.nodes
-    fft = Fft(n, grid=model.grid)
-    clamp = model.half_plane
+    model = problem.model
+    fft = Fft(model.nodes, grid=model.grid)
     k = np.ascontiguousarray(np.real(model.k_zz))
-    g = np.ascontiguousarray(np.real(stiffness_operator(model).inv_mass[0]))
-    p_ref = model.reference_traction
-    tol = settings.tolerance * p_ref
-    gamma2 = settings.proportioning**2
-    limit = settings.dual_contact_limit * n
-    transient_limit = min(TRANSIENT_FACTOR * limit, n - 2)
-    z = np.ascontiguousarray(z_ind, dtype=float)
+    z = np.ascontiguousarray(problem.z_ind, dtype=float)
+    guess = _guess(problem, start, settings, fft, k, z, label)
+    if isinstance(guess, Relaxed):
+        return guess
+    dual = _setup(problem, settings, fft, k, z, band_stiffness, preconditioner)
+    state = _init(dual, *guess)
+    while not (state.hand_over or state.converged or state.message) and state.it < settings.max_iterations:
+        _step(dual, state)
+    return _result(problem, dual, state, label)
 
-    u_hat_z = np.ascontiguousarray(u_hat[-1])
+
+class _Dual(NamedTuple):
+    """What one step's dual CG holds fixed: the operators, the targets and two scratch arrays."""
+
+    model: object
+    settings: object
+    fft: Fft
+    k: np.ndarray  # K's rfft coefficients (Pa/m)
+    g: np.ndarray  # G = K⁻¹'s rfft coefficients
+    z: np.ndarray  # z_ind
+    wall_tolerance: float
+    tol: float  # tolerance · p_ref (Pa)
+    gamma2: float  # proportioning²
+    transient_limit: float  # the contact set's size that hands over mid-way
+    k_kernel: np.ndarray  # K's real-space kernel
+    band_stiffness: object
+    wrap: object  # the algorithm's `precondition(r, band, act)`, or None: the band alone
+    sparse_in: np.ndarray  # G's input, zero off the nodes being written
+    g_d: np.ndarray  # G d of the search direction
+
+
+@dataclass
+class DualState:
+    """The dual CG's iterate: pressures on the contact set A, the gaps, the band of K_AA and the CG recurrence."""
+
+    pressure: np.ndarray  # P (Pa), full length, zero off A
+    act: np.ndarray  # A: sorted node indices (a new object whenever A changes)
+    gap: np.ndarray  # Δ = z_ind + G P
+    ku: np.ndarray  # K u of the last candidate tested (of the guess before)
+    band_nodes: np.ndarray  # U ⊇ A, the nodes the band was built on
+    k_band: object = None  # K_UU truncated to the band (CSR)
+    band_in: np.ndarray = None
+    d: np.ndarray = None  # the search direction on A
+    rz_old: float = 1.0
+    restart: bool = True
+    stop: float = 0.5  # a candidate is tested when max |s| < stop · tol
+    it: int = 0
+    residual: float = np.inf
+    converged: bool = False
+    message: str = ""
+    hand_over: bool = False
+
+
+def _guess(problem, start, settings, fft, k, z, label):
+    """The guess's (pressures, contact set, K u): P = p_far − K u where positive, p_far = K u on the nodes the
+    guess leaves free; or its `Relaxed` when it already passes the test or its contact set is too large."""
+    model, wall_tolerance = problem.model, problem.wall_tolerance
+    u_hat_z = np.ascontiguousarray(start[-1])
     u = fft.irfft(u_hat_z)
     ku = fft.irfft(k * u_hat_z)
     if float(np.max(u - z)) <= wall_tolerance:  # feasible up to round-off: already converged?
@@ -84,123 +134,177 @@ def solve_dual(problem, start, settings, *, label, band_stiffness, preconditione
             out = finish(problem, fft.rfft(np.minimum(u, z))[None, :], 0, residual, True, "", (u, ku))
             out.fft_pairs, out.method = fft.pairs, label  # the fields from the arrays the residual was taken on
             return out
-    # the guess's pressures: P = p_far − K u where positive; p_far = K u on the nodes the guess leaves free
     free = z - u > 0
-    p_far = float(np.median(ku[free])) if clamp and free.any() else 0.0
+    p_far = float(np.median(ku[free])) if model.half_plane and free.any() else 0.0
     pressure = p_far - ku  # full length; zero off A from here on
     on_wall = pressure > 1e-9 * float(np.max(np.abs(ku)))
-    if np.count_nonzero(on_wall) > limit:  # a large contact set: the primal CG from the guess
-        return stall(u_hat, 0, np.inf, fft.pairs, "",  # not run: no label
+    if np.count_nonzero(on_wall) > settings.dual_contact_limit * model.nodes:  # the primal CG from the guess
+        return stall(start, 0, np.inf, fft.pairs, "",  # not run: no label
                      f"contact set of the guess above {settings.dual_contact_limit:g} of the nodes")
     pressure[~on_wall] = 0.0
-    act = np.flatnonzero(on_wall)
+    return pressure, np.flatnonzero(on_wall), ku
+
+
+def _setup(problem, settings, fft, k, z, band_stiffness, preconditioner):
+    """The fixed part of one step (`_Dual`); calls the algorithm's preconditioner factory once."""
+    model = problem.model
+    n = model.nodes
+    g = np.ascontiguousarray(np.real(stiffness_operator(model).inv_mass[0]))
     k_kernel = stiffness_operator(model).kept(("stiffness kernel", fft.backend), lambda: fft.irfft(k.astype(complex)))
     wrap = preconditioner(fft, g) if preconditioner is not None else None
-    sparse_in, g_d, gap = np.zeros(n), np.empty(n), np.empty(n)
+    limit = settings.dual_contact_limit * n
+    return _Dual(model=model, settings=settings, fft=fft, k=k, g=g, z=z, wall_tolerance=problem.wall_tolerance,
+                 tol=settings.tolerance * model.reference_traction, gamma2=settings.proportioning**2,
+                 transient_limit=min(TRANSIENT_FACTOR * limit, n - 2), k_kernel=k_kernel,
+                 band_stiffness=band_stiffness, wrap=wrap, sparse_in=np.zeros(n), g_d=np.empty(n))
 
-    def g_times(values, out):  # out ← G χ_A values: one FFT pair
-        sparse_in[act] = values
-        fft.apply_to(g, sparse_in, out)
-        sparse_in[act] = 0.0
-        return out
 
-    def recompute_gap():
-        g_times(pressure[act], gap)
-        np.add(gap, z, out=gap)
+def _init(dual, pressure, act, ku):
+    """The first iterate: the guess's gaps and the band on its contact set."""
+    state = DualState(pressure=pressure, act=act, gap=np.empty(dual.model.nodes), ku=ku, band_nodes=act,
+                      d=np.zeros(act.size))
+    _recompute_gap(dual, state)
+    _rebuild_band(dual, state)
+    return state
 
-    def primal_state():
-        u_new = z - np.maximum(gap, 0.0)
-        u_new[act] = z[act]
-        return u_new
 
-    recompute_gap()
-    # the band on a superset U ⊇ A, rebuilt only when nodes outside U join A (leaving A needs no rebuild:
-    # rows and columns of U \ A meet zeros and are not read)
-    band_nodes = act
-    k_band = band_stiffness(k_kernel, band_nodes)
-    band_in = np.zeros(band_nodes.size)
+def _g_times(dual, act, values, out):
+    """out ← G χ_A values: one FFT pair."""
+    dual.sparse_in[act] = values
+    dual.fft.apply_to(dual.g, dual.sparse_in, out)
+    dual.sparse_in[act] = 0.0
+    return out
 
-    def band(r):  # K_band restricted to A, times r
-        at = np.searchsorted(band_nodes, act)
-        band_in[at] = r
-        out = (k_band @ band_in)[at]
-        band_in[at] = 0.0
-        return out
 
-    def precondition(r):
-        return band(r) if wrap is None else wrap(r, band, act)
+def _recompute_gap(dual, state):
+    """Δ = z_ind + G P, from the pressures on A."""
+    _g_times(dual, state.act, state.pressure[state.act], state.gap)
+    np.add(state.gap, dual.z, out=state.gap)
 
-    d = np.zeros(act.size)
-    rz_old, restart, stop = 1.0, True, 0.5
-    residual, converged, message, hand_over = np.inf, False, "", False
-    it = 0
-    while not hand_over and it < settings.max_iterations:
-        r = -gap[act]
-        s = precondition(r)
-        worst = float(np.max(np.abs(s))) if act.size else 0.0
-        # penetration off A, counted once its force (≈ K(0)_jj |Δ_j|) is not negligible
-        enter = np.empty(0, np.int64)
-        penetration_tol = 0.1 * stop * tol / k_kernel[0]
-        if float(np.min(gap)) < -penetration_tol:
-            off = gap < -penetration_tol
-            off[act] = False
-            enter = np.flatnonzero(off)
-        if enter.size:
-            g_enter = gap[enter]
-            if dot(g_enter, g_enter) > gamma2 * dot(r, r) or worst < stop * tol:
-                act = np.union1d(act, enter)
-                hand_over = act.size > transient_limit
-                if not np.isin(enter, band_nodes, assume_unique=True).all():
-                    band_nodes = act
-                    k_band = band_stiffness(k_kernel, band_nodes)
-                    band_in = np.zeros(band_nodes.size)
-                restart = True
-                continue
-        if worst < stop * tol:  # candidate: the primal residual with a fresh K u
-            u = primal_state()
-            residual, converged, message = wall_check(model, fft, k, u, ku, z, wall_tolerance, settings.tolerance)
-            if converged or message:
-                break
-            stop *= 0.1
-            hand_over = stop < 1e-4
-            continue
-        it += 1
-        rz = dot(r, s)
-        if restart or rz_old <= 0:
-            d = s.copy()
-            restart = False
-        else:
-            d = s + (rz / rz_old) * d
-        rz_old = rz
-        g_times(d, g_d)
-        curvature = dot(d, g_d[act])
-        if not curvature > 0:
-            message = "diverged: non-positive curvature along the search direction"
-            break
-        alpha = rz / curvature
-        if not np.isfinite(alpha):
-            message = "diverged: non-finite step"
-            break
-        p_act = pressure[act] + alpha * d
-        g_d *= alpha
-        gap += g_d
-        negative = p_act < 0
-        if negative.any():  # Polonsky–Keer: keep the step, project, those nodes leave A
-            p_act[negative] = 0.0
-            pressure[act] = p_act
-            act = act[~negative]
-            recompute_gap()
-            restart = True
-        else:
-            pressure[act] = p_act
-    u = primal_state()
-    if hand_over and not message:  # the primal CG from here, with the iterations left (`gfmd.chains`)
-        return stall(fft.rfft(u)[None, :], it, residual, fft.pairs + 0.5, label,
+
+def _primal_state(dual, state):
+    """u = z_ind on A, z_ind − max(Δ, 0) off A."""
+    u_new = dual.z - np.maximum(state.gap, 0.0)
+    u_new[state.act] = dual.z[state.act]
+    return u_new
+
+
+def _rebuild_band(dual, state):
+    """The band on U = A. It is rebuilt only when nodes outside U join A (leaving A needs no rebuild:
+    rows and columns of U \\ A meet zeros and are not read)."""
+    state.band_nodes = state.act
+    state.k_band = dual.band_stiffness(dual.k_kernel, state.band_nodes)
+    state.band_in = np.zeros(state.band_nodes.size)
+
+
+def _band(state, r):
+    """K_band restricted to A, times r."""
+    at = np.searchsorted(state.band_nodes, state.act)
+    state.band_in[at] = r
+    out = (state.k_band @ state.band_in)[at]
+    state.band_in[at] = 0.0
+    return out
+
+
+def _precondition(dual, state, r):
+    return _band(state, r) if dual.wrap is None else dual.wrap(r, partial(_band, state), state.act)
+
+
+def _step(dual, state):
+    """One pass of the loop: admit penetrating nodes to A, or test a candidate, or take one CG iteration."""
+    r = -state.gap[state.act]
+    s = _precondition(dual, state, r)
+    worst = float(np.max(np.abs(s))) if state.act.size else 0.0
+    if _admit(dual, state, r, worst):
+        return
+    if worst < state.stop * dual.tol:
+        _candidate(dual, state)
+        return
+    _cg_iteration(dual, state, r, s)
+
+
+def _admit(dual, state, r, worst):
+    """Nodes off A that penetrate join A with P = 0 (restart) once the norm of their gaps exceeds
+    `proportioning` × that of Δ_A or the CG has settled; True if any joined."""
+    gap, tol = state.gap, dual.tol
+    # penetration off A, counted once its force (≈ K(0)_jj |Δ_j|) is not negligible
+    enter = np.empty(0, np.int64)
+    penetration_tol = 0.1 * state.stop * tol / dual.k_kernel[0]
+    if float(np.min(gap)) < -penetration_tol:
+        off = gap < -penetration_tol
+        off[state.act] = False
+        enter = np.flatnonzero(off)
+    if not enter.size:
+        return False
+    g_enter = gap[enter]
+    if not (dot(g_enter, g_enter) > dual.gamma2 * dot(r, r) or worst < state.stop * tol):
+        return False
+    state.act = np.union1d(state.act, enter)
+    state.hand_over = state.act.size > dual.transient_limit
+    if not np.isin(enter, state.band_nodes, assume_unique=True).all():
+        _rebuild_band(dual, state)
+    state.restart = True
+    return True
+
+
+def _candidate(dual, state):
+    """The primal residual with a fresh K u; not passing, the next test waits for a tenfold smaller max |s|."""
+    u = _primal_state(dual, state)
+    state.residual, state.converged, state.message = wall_check(
+        dual.model, dual.fft, dual.k, u, state.ku, dual.z, dual.wall_tolerance, dual.settings.tolerance)
+    if state.converged or state.message:
+        return
+    state.stop *= 0.1
+    state.hand_over = state.stop < 1e-4
+
+
+def _cg_iteration(dual, state, r, s):
+    """One preconditioned CG step on A; pressures it drives negative are projected to zero and leave A
+    (Polonsky–Keer: the step is kept, Δ recomputed, restart)."""
+    state.it += 1
+    rz = dot(r, s)
+    if state.restart or state.rz_old <= 0:
+        state.d = s.copy()
+        state.restart = False
+    else:
+        state.d = s + (rz / state.rz_old) * state.d
+    state.rz_old = rz
+    act, d, g_d = state.act, state.d, dual.g_d
+    _g_times(dual, act, d, g_d)
+    curvature = dot(d, g_d[act])
+    if not curvature > 0:
+        state.message = "diverged: non-positive curvature along the search direction"
+        return
+    alpha = rz / curvature
+    if not np.isfinite(alpha):
+        state.message = "diverged: non-finite step"
+        return
+    p_act = state.pressure[act] + alpha * d
+    g_d *= alpha
+    state.gap += g_d
+    negative = p_act < 0
+    if negative.any():
+        p_act[negative] = 0.0
+        state.pressure[act] = p_act
+        state.act = act[~negative]
+        _recompute_gap(dual, state)
+        state.restart = True
+    else:
+        state.pressure[act] = p_act
+
+
+def _result(problem, dual, state, label):
+    """The step's `Relaxed`: handed over to the primal CG (with the iterations left, `gfmd.chains`), or finished."""
+    fft = dual.fft
+    u = _primal_state(dual, state)
+    if state.hand_over and not state.message:
+        return stall(fft.rfft(u)[None, :], state.it, state.residual, fft.pairs + 0.5, label,
                      "contact set too large for the dual")
-    if not converged and not message:
-        message = not_converged(settings.max_iterations, residual)
-    state = (u, ku) if converged else None  # converged: K u of this very u was the last check's
-    out = finish(problem, fft.rfft(u)[None, :], it, residual, converged, message, state)
-    out.fft_pairs = fft.pairs + (0.0 if converged else 1.0)  # finish otherwise: irfft of u_hat and of K û
+    message = state.message
+    if not state.converged and not message:
+        message = not_converged(dual.settings.max_iterations, state.residual)
+    wall_state = (u, state.ku) if state.converged else None  # converged: K u of this very u was the last check's
+    out = finish(problem, fft.rfft(u)[None, :], state.it, state.residual, state.converged, message, wall_state)
+    out.fft_pairs = fft.pairs + (0.0 if state.converged else 1.0)  # finish otherwise: irfft of u_hat and of K û
     out.method = label
     return out
