@@ -1,4 +1,4 @@
-"""Figures of a run whose loading has a path (issue 23 §5): the p̄–δ and a_rel–p̄ loops.
+"""Figures of a run whose loading has a path: the p̄–δ and a_rel–p̄ loops.
 
 Units: p̄/E*, δ in nm, a_rel. Each figure draws the mean over realizations per step (realizations
 share the steps of the path) as a line per branch (loading: tab:blue, unloading: tab:orange), an arrow

@@ -1,4 +1,4 @@
-"""Pull-off and hysteresis of a study of load paths against one study axis (issue 23 §5).
+"""Pull-off and hysteresis of a study of load paths against one study axis.
 
 Read from DIR/cycles.csv (`gfmd_contact.app.cycles.write_study_cycles`: one row per task and cycle). Every
 point is the mean over a set's realizations with ± 1 standard error bars

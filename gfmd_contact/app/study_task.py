@@ -30,7 +30,7 @@ STEP_TOPIC = "gfmd-study-step"
 
 #: a task reports its finished load steps in batches, at most one event per REPORT_SECONDS (and its last step at
 #: once): an event per step cost a worker ≈ 3 ms of its task's time each (the worker's event loop takes the GIL from
-#: the solver), measured session 44 on 10 hard-wall tasks at 2^17 (H = 0.2, 30 nm, 2 workers, 2 cores): task times
+#: the solver), measured on 10 hard-wall tasks at 2^17 (H = 0.2, 30 nm, 2 workers, 2 cores): task times
 #: 30.9 s in all with an event per step, 24.3 s with none, the study's wall time 19.9 s against 16.1 s
 REPORT_SECONDS = 1.0
 _reported = {"steps": 0, "since": None}

@@ -1,4 +1,4 @@
-"""Maps of a saved step of a 2+1-D run: the contact map and the pressure map (issue 25).
+"""Maps of a saved step of a 2+1-D run: the contact map and the pressure map.
 
 Units: SI in, plotted in µm (positions) and units of E* (pressure). They stand in for the 1+1-D
 interface snapshot (`gfmd_contact.app.plots`): a surface has no single cut to draw. The contact set is the

@@ -1,4 +1,4 @@
-"""Observables of a load–unload cycle under displacement control (issue 23 §3), from one realization's curve.
+"""Observables of a load–unload cycle under displacement control, from one realization's curve.
 
 Units: SI (see `gfmd_contact.core.conventions`): δ in m, p̄ in Pa (> 0 compressive, < 0 tensile), energies per
 unit nominal area in J/m². The branch and cycle of a step come from `gfmd_contact.core.loading.step_branches`.

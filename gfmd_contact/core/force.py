@@ -1,4 +1,4 @@
-"""Force control (issue 23 §2): one load step p̄ = P by an outer search on the indenter displacement U.
+"""Force control: one load step p̄ = P by an outer search on the indenter displacement U.
 
 Units: SI (see `gfmd_contact.core.conventions`). Method: every trial is a displacement-controlled equilibrium that
 the method's own cell solves (warm-started from the nearest accepted state), and the outer search moves U

@@ -196,7 +196,7 @@ def check_force_path_below_full_contact(scene, h, realization=0):
 
 
 def check_step_in_law_range(scene, steps, realization=0):
-    """Refuse (SceneError naming loading.steps) a cohesive ramp that presses beyond the law's range (issue 26).
+    """Refuse (SceneError naming loading.steps) a cohesive ramp that presses beyond the law's range.
 
     The cohesive law is evaluated for Δn ≥ −MAX_COMPRESSION δn only (`gfmd_contact.core.laws`: e^600 is finite,
     e^710 is not). A step starts from the last equilibrium, whose contact nodes sit within a few δn of

@@ -182,7 +182,7 @@ def build_model(scene, h=None):
 
 
 def _build_model_2d(scene, h=None):
-    """The 2+1-D model (issue 25): normal-only, K_zz of `halfplane_normal` / `layer_normal` at |q| of the
+    """The 2+1-D model: normal-only, K_zz of `halfplane_normal` / `layer_normal` at |q| of the
     rfft2 half-spectrum (`kernels.wavevector_magnitudes`); the scene has refused laws that need u_x."""
     s, m = scene.surface, scene.material
     nx, ny = s.nodes, s.nodes_y

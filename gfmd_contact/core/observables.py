@@ -8,7 +8,7 @@ fields u_z, u_x, t_z, t_x and the normal gap Δn on the same N nodes; `step_obse
 turns them into p, a_rel, ḡ_r (what `gfmd_contact.core.ramp` records unless the method's cell
 brings its own `observe`). The FE reference does: `reference.fem.observables` is an
 independent implementation of the same definitions, so that GFMD–FE comparisons check
-this module too (issue 12).
+this module too.
 
 Contact rule: the law's `in_contact` (`gfmd_contact.core.laws`), chosen by interface.contact_rule:
 "traction-tolerance" (default, the seed's §2 rule): hard wall — nodes carrying compressive

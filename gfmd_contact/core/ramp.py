@@ -78,9 +78,8 @@ class StepSolution:
 
 def _extrapolated(state, previous):
     """The linear warm start 2 u_k − u_{k−1}. Quadratic through three states (3 u_k − 3 u_{k−1} + u_{k−2}) was measured
-    and dropped (session 45, whole study tasks at 2^17, benchmarks/results/bench_versions_quadratic-guess.md): NCG
-    iterations +8 %, coupled +44 %, hard wall +4 %; CPU × 1.10, × 1.12, × 1.03, and the adhesive ramps on other
-    branches after jumps: the states are smooth in δ only between contact events."""
+    and dropped (docs/design/solvers.md): more iterations for every law, and the adhesive ramps on other branches
+    after jumps: the states are smooth in δ only between contact events."""
     return 2 * state - previous
 
 

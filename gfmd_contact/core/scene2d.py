@@ -1,9 +1,9 @@
 """2+1-D surfaces in a scene: the keys [surface] nodes_y, length_y and what a 2+1-D scene refuses.
 
 Units: SI (see `gfmd_contact.core.conventions`). nodes_y = 0 (the default, omitted from the TOML) is a
-1+1-D profile, exactly as before; nodes_y ≥ 2 is a surface of Nx × Ny = nodes × nodes_y nodes on a
+1+1-D profile; nodes_y ≥ 2 is a surface of Nx × Ny = nodes × nodes_y nodes on a
 periodic Lx × Ly = length × length_y cell (length_y defaults to length). Axis 0 of every 2-D array
-is x, axis 1 is y (issue 25, the 2+1-D contract).
+is x, axis 1 is y (the 2+1-D contract).
 
 Refused, each naming its key and saying why:
 

@@ -1,4 +1,4 @@
-"""Stickiness diagnostics of a scene, before any run (issue 23 §4; derivations: docs/stickiness.rst).
+"""Stickiness diagnostics of a scene, before any run (derivations: docs/stickiness.rst).
 
 Units: SI (see `gfmd_contact.core.conventions`), per unit length of the line contact. w = φn (J/m²) is the
 work of adhesion of the exponential CZ law (seed Eq. 3), σ_max = φn/(e δn) (Pa) its peak

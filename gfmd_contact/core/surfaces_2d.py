@@ -1,4 +1,4 @@
-"""Rigid indenter surfaces h(x, y) on the periodic Nx × Ny grid (m), 2+1-D (issue 25).
+"""Rigid indenter surfaces h(x, y) on the periodic Nx × Ny grid (m), 2+1-D.
 
 Units: SI (see `gfmd_contact.core.conventions`). Axis 0 is x, axis 1 is y. Node (i, j) sits at (i lx, j ly),
 lx = Lx/Nx, ly = Ly/Ny (the 2+1-D contract); the positions written with a result (`positions`, Result.x

@@ -1,4 +1,4 @@
-"""Measured topographies in instrument formats, read through SurfaceTopography (optional extra, issue 25).
+"""Measured topographies in instrument formats, read through SurfaceTopography (optional extra).
 
 `gfmd_contact.core.surfaces.from_file` (1+1-D) and `gfmd_contact.core.surfaces_2d.from_file_2d` (2+1-D) read .npy and text
 themselves; a file with any other suffix comes here: `SurfaceTopography.read_topography` detects the

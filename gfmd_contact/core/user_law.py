@@ -1,6 +1,6 @@
 """A user-defined normal interface law: energy, traction and tangent given as Python callables.
 
-The extension point of issue 22 (the peers': Tamaas' ``Functional``, ContactMechanics' ``Potential``).
+The extension point for laws of one's own (the peers': Tamaas' ``Functional``, ContactMechanics' ``Potential``).
 The user gives, vectorised over numpy arrays of normal gaps Δn (m; Δ = indenter − body,
 `gfmd_contact.core.conventions`):
 
