@@ -1,4 +1,4 @@
-"""One BLAS thread while GFMD relaxes a load step (issue 24), through threadpoolctl.
+"""One BLAS thread while GFMD relaxes a load step, through threadpoolctl.
 
 GFMD's dense linear algebra is small: GMRES's Gram–Schmidt over ≤ 60 basis vectors, coarse spaces of a few hundred
 unknowns factored by LU. Threaded OpenBLAS (numpy's and scipy's start one thread per core) gains nothing there and

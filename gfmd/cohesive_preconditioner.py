@@ -1,4 +1,4 @@
-"""Preconditioners of the cohesive NCG (`gfmd.algorithms.ncg`) beyond its default K⁻¹ (issue 24).
+"""Preconditioners of the cohesive NCG (`gfmd.algorithms.ncg`) beyond its default K⁻¹.
 
 The NCG's Hessian is A = K + D, K diagonal on the modes (K(q) ∝ q E*/2), D = diag(k_loc) on the nodes
 (k_loc = V''(Δn), the law's curvature, ≈ φn/δn² in and near contact). Under K⁻¹ the spectrum is
@@ -10,7 +10,7 @@ crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.c
   seed 2, δn = 0.25 nm −36 % FFT pairs, −33 % CPU; seed 7, δn = 1 nm (the seed's figures) −13 % pairs, −13 % CPU
   (with STIFF_FRACTION 0.25; 0.01 saves another 17–21 % of the pairs); the same states
   (benchmarks/results/bench_cohesive_preconditioner.md);
-* "stiffness": K⁻¹ (the NCG's own fused path, no object of this module; the default before session 25);
+* "stiffness": K⁻¹ (the NCG's own fused path, no object of this module; the earlier default);
 * "two-level": K⁻¹ balanced by a coarse space (the BNN form of `gfmd.algorithms.hard_wall_two_level_cg`),
   (I − P A) K⁻¹ (I − A P) + P, P = Z E⁻¹ Zᵀ, E = Zᵀ A Z, Z piecewise constant on blocks of consecutive
   stiff nodes (max(k_loc, 0) ≥ STIFF_FRACTION φn/δn²) of about half the crossover wavelength, so that
@@ -28,9 +28,8 @@ crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.c
 
 The deflated form A-DEF2 (Tang, Nabben, Vuik & Erlangga 2009), s = P f + (I − P A) K⁻¹ f, 1 FFT pair per application
 to the balanced form's 2 (the balanced one on restarts and wherever f·s strays from f·K⁻¹f by more than half), was
-measured and dropped (session 44, whole 201-step ramps at 2^17, seed 2, pinned simultaneous pairs with the cores
-swapped): −15 % FFT pairs but +9 % iterations, CPU × 0.98 ± 0.01 (φn* = 0.15, ν = 0.45, two rounds), × 1.02 ± 0.04
-(ν = 0.1), × 0.98 (φn* = 0.05), × 0.94 (H = 0.2); without the f·s check a step started far from equilibrium stalls.
+measured and dropped (fewer FFT pairs, more iterations, no CPU gain: docs/design/solvers.md); without the f·s check
+a step started far from equilibrium stalls.
 (K(q) + ⟨max(k_loc, 0)⟩)⁻¹ on the modes was measured and dropped (more iterations than K⁻¹,
 benchmarks/results/bench_cohesive_preconditioner.md). A step starts with K⁻¹; after ENGAGE_AFTER iterations,
 or after ENGAGE_EARLY where its convergence rate predicts more than ENGAGE_AFTER (`slow_step`), the NCG builds the
@@ -47,48 +46,35 @@ import scipy.linalg
 from . import coarse_kernels
 
 CHOICES = ("auto", "stiffness", "two-level")
-#: a step runs its first ENGAGE_AFTER iterations with K⁻¹ (the easy steps never pay for the coarse level). Swept in
-#: session 34 (whole 2^15 ramp, seed 2, δn = 1 nm, φn* = 0.15; iterations / FFT pairs): 40: 8 369 / 13 340; 20: 6 360 /
-#: 12 393; 10: 5 315 / 11 986; 0: 5 763 / 15 387; 10 and 20 settle one jump-in step on another branch (5 % of max p),
-#: 0 one by 71 % (the two-level pass costs ≈ 2.5 FFT pairs to K⁻¹'s ≈ 1.1): kept at 40
+#: a step runs its first ENGAGE_AFTER iterations with K⁻¹ (the easy steps never pay for the coarse level). Swept
+#: (docs/design/solvers.md): 10 and 20 save pairs but settle a jump-in step on another branch, 0 costs more pairs
+#: (the two-level pass costs ≈ 2.5 FFT pairs to K⁻¹'s ≈ 1.1): kept at 40
 ENGAGE_AFTER = 40
 #: ... but a step whose NCG, at its ENGAGE_EARLY-th iteration, converges too slowly to finish within ENGAGE_AFTER (its
-#: rate since iteration ENGAGE_EARLY // 2: `slow_step`) engages it from the next iteration on. Measured (session 36,
-#: whole 201-step ramps at 2^17, seed 2, against 40 alone, pinned simultaneous pairs with the cores swapped,
-#: benchmarks/results/bench_cohesive_engage_*.md): CPU × 0.80 (φn* = 0.15, ν = 0.1), 0.93 (0.15, ν = 0.45, δn = 1 and
-#: 0.25 nm), 0.89 (0.05 and 0.01), 1.01 ± 0.05 (0.001); iterations −28 to −32 % on the strong ramps; one step on another
-#: branch of a jump-in in two of the six ramps. Engaging at 10 on every step costs the weak ramps 31–44 % more FFT pairs.
+#: rate since iteration ENGAGE_EARLY // 2: `slow_step`) engages it from the next iteration on. Measured
+#: against ENGAGE_AFTER alone (docs/design/solvers.md): CPU × 0.80–0.93 on the strong ramps, unchanged on the weak
+#: ones. Engaging at 10 on every step costs the weak ramps 31–44 % more FFT pairs.
 ENGAGE_EARLY = 10
 #: then the NCG rebuilds the preconditioner every this many iterations, restarting its direction where it changed.
-#: Measured (session 41, whole 201-step ramp at 2^17, seed 2, φn* = 0.15, ν = 0.45, pinned simultaneous pairs with the
-#: cores swapped, benchmarks/results/bench_cohesive_rebuild_e17.md): 10 −1.0 % iterations, −1.2 % FFT pairs but CPU
-#: × 1.09 ± 0.03 (a rebuild's setup), 40 +1.9 %, +2.3 %, CPU × 1.00 ± 0.02; the same states
+#: Measured (docs/design/solvers.md): 10 costs more CPU in rebuilds than it saves in iterations, 40 gains nothing
 REBUILD_EVERY = 20
-#: "two-level": a node is stiff (in the coarse space) where max(k_loc, 0) ≥ this × φn/δn². Measured (whole 201-step
-#: ramps at N = 2^17, φn* = 0.15, benchmarks/results/bench_cohesive_preconditioner.md §6): 0.01 against 0.25 −17 % FFT
-#: pairs and −15 % CPU (seed 2, δn = 0.25 nm), −21 % and −18 % (seed 7, δn = 1 nm), the same states; at 2^14 0.05 and
-#: 0.1 lie between, 0 (every node) cuts the pairs further but its coarse matrix grows to N/block (δn = 0.25 nm:
-#: 20× the CPU)
+#: "two-level": a node is stiff (in the coarse space) where max(k_loc, 0) ≥ this × φn/δn². Measured
+#: (docs/design/solvers.md): 0.01 against 0.25 −15 to −18 % CPU, the same states; 0 (every node) grows the coarse
+#: matrix to N/block
 STIFF_FRACTION = 0.01
 #: "two-level": the coarse space also holds each run of soft nodes between the stiff blocks as one block (the gaps
 #: between the adhered patches; `cover`), so that it spans the cell. Measured (whole 201-step ramps at N = 2^17,
 #: φn* = 0.15, benchmarks/results/bench_cohesive_preconditioner.md §7): −33 % FFT pairs and −28 % CPU (seed 2,
 #: δn = 0.25 nm), −26 % and −23 % (seed 7, δn = 1 nm), the same states
 COARSE_GAPS = True
-#: "two-level": a stiff block spans this fraction of the crossover wavelength. Measured (session 42, the NCG steps of a
-#: whole 201-step ramp at 2^17, seed 2, φn* = 0.15, replayed from their captured guesses, pinned simultaneous pairs with
-#: the cores swapped): 0.25 −7 % iterations, −8 % FFT pairs, CPU × 0.97 (its coarse matrix twice as large): kept 0.5
+#: "two-level": a stiff block spans this fraction of the crossover wavelength. Measured
+#: (docs/design/solvers.md): 0.25 saves 8 % of the FFT pairs but only 3 % CPU for a coarse matrix twice as large:
+#: kept 0.5
 BLOCK_WAVELENGTHS = 0.5
 #: "two-level": D = diag(k_loc) with its sign, the softening tail's negative curvature (Δn > δn, most of the nodes out
 #: of contact) included, in the coarse matrix and the balancing; max(k_loc, 0) where False, or where E is not definite
-#: with it. On the Hessian at converged states (2^15, linear PCG to 1e-6): 19–28 iterations against 21–35. Whole
-#: 201-step ramps at 2^17 (seed 2, against max(k_loc, 0), with E's numba assembly; pinned simultaneous pairs with the
-#: cores swapped, benchmarks/results/bench_versions_signed-curvature*.md): φn* = 0.15, ν = 0.1 −7.3 % iterations,
-#: −8.5 % FFT pairs, CPU × 0.85 ± 0.03, the same states; ν = 0.45 −6.3 %, −7.4 %, CPU × 0.98 ± 0.12 (the NCG steps
-#: alone, replayed from their guesses: × 0.90), one jump-in (step 161) settles on its other equilibrium, the ramp on
-#: that branch for 5 steps; φn* = 0.01 −0.4 %, −0.7 %, × 1.01 ± 0.05. Cutting the gaps into blocks as well (every 1–2
-#: block lengths, a coarse matrix of ≈ 800 at any N) −16 % FFT pairs on top but CPU × 1.05 at 2^17 (its Cholesky and
-#: solves): not kept
+#: with it. Measured (docs/design/solvers.md): −6 to −7 % iterations on the strong ramps at 2^17, CPU × 0.85 to
+#: 0.98, unchanged on weak ones. Cutting the gaps into blocks as well: fewer FFT pairs, more CPU: not kept
 SIGNED_CURVATURE = True
 
 

@@ -1,4 +1,4 @@
-"""The coupled Newton's two-level right preconditioner (issue 24): K⁻¹ with a coarse space of block constants.
+"""The coupled Newton's two-level right preconditioner: K⁻¹ with a coarse space of block constants.
 
 The Newton step solves A δu = f, A = K + D on the nodes (`gfmd.coupled_krylov.newton_step`): K the half-plane's
 (or layer's) 2×2 stiffness on the modes, D the nodal 2×2 tangent of seed Eq. 2 (x, z rows and columns). Under K⁻¹
@@ -29,7 +29,7 @@ from .cohesive_preconditioner import cover, kernel_sums
 from .coupled_kernels import coarse_passes
 
 #: which right preconditioner the coupled Newton's GMRES runs (`gfmd.coupled_krylov.newton_step`): "two-level"
-#: (this module) or "stiffness" (K⁻¹ on the spectrum, the solver before session 33)
+#: (this module) or "stiffness" (K⁻¹ on the spectrum, the earlier preconditioner)
 CHOICE = "two-level"
 #: a node is in the coarse space's stiff blocks where D_nn ≥ STIFF_FRACTION φn/δn² or D_tt ≥ STIFF_FRACTION 2φt/δt²
 #: (the cohesive NCG's measured choice, `gfmd.cohesive_preconditioner.STIFF_FRACTION`)

@@ -51,16 +51,12 @@ COUPLED_HANDOVER_MOVE = 0.1
 #: another equilibrium, locally stable as FIRE's (benchmarks/results/bench_coupled_frictionless.md)
 COUPLED_PREDICTION_MOVE = 1.0
 #: ``coupled = "auto"`` runs "frictionless-first" where `gfmd.problem.elastic_coupling` (a half-plane's β =
-#: (1 − 2ν)/(2(1 − ν))) is at most this, else "handover-near". Measured on whole coupled ramps at 2^15 (φn* = 0.15,
-#: c = 0.5, δt = 1 nm, 201 steps, seeds 2 and 3; benchmarks/results/bench_coupled_frictionless.md), FFT pairs and CPU
-#: against "handover-near": β = 0.091 (ν = 0.45) −21 %, −23 % pairs, CPU −1 %, −34 %; β = 0.167 (ν = 0.4) −19 %, −13 %
-#: pairs, CPU −26 %, −16 % (most predictions kept); β = 0.286 (ν = 0.3) +23 %, +53 % pairs, CPU +17 %, +37 %; β = 0.444
-#: (ν = 0.1) +55 %, +69 % pairs, CPU +46 %, +83 % (the Newton from the prediction rejected on most events: the
-#: tangential law moves the state more than a law length from the frictionless one). Between the last win and the
-#: first loss:
+#: (1 − 2ν)/(2(1 − ν))) is at most this, else "handover-near". Measured on whole coupled ramps at 2^15
+#: (docs/design/solvers.md): fewer FFT pairs than "handover-near" at β ≤ 0.167 (ν ≥ 0.4), more at β ≥ 0.286
+#: (ν ≤ 0.3: the Newton from the prediction rejected on most events, the tangential law moves the state more than a
+#: law length from the frictionless one). Between the last win and the first loss:
 COUPLED_FRICTIONLESS_COUPLING = 0.2
 # Above it (the "handover-near" chain), FIRE from the frictionless prediction instead of the guess, then Newton near
-# FIRE's state, was measured and dropped (session 45, ν = 0.1, 2^15, seed 2,
-# benchmarks/results/bench_versions_frictionless-fire.md): iterations 7 905 → 4 920, FFT pairs −14 %, CPU × 0.95 ± 0.11,
-# but 59 of 201 steps on other branches, up to 24 % of max p̄: the prediction carries u_z through the snap without the
-# tangential law's resistance, and the slip history follows it.
+# FIRE's state, was measured and dropped (docs/design/solvers.md): slightly cheaper, but many steps end on other
+# branches: the prediction carries u_z through the snap without the tangential law's resistance, and the slip history
+# follows it.

@@ -8,10 +8,9 @@ solve J x = b is the coupled Newton's (`gfmd.coupled_krylov.newton_step`: GMRES 
 by the coarse space on the stiff nodes, one FFT pair per product, `gfmd.gmres`) to a relative tolerance
 STABILITY_RTOL.
 
-`SOLVER` = "scipy" runs each solve as before session 37: scipy's GMRES (restart STABILITY_GMRES_RESTART, its
-Gram–Schmidt a Python loop over 2N-vectors) preconditioned by the FIRE mass M⁻¹ alone. Measured at 2^17 on Fig. 8's
-seed-7 task (ν = 0.1, c = 0.5, steps 199 and 200, states deep in the slip regime that Ψtc and Newton reached):
-302 and 356 s for 21 solves each against 39 and 45 s (benchmarks/results/bench_coupled_stability.md). Each solve
+`SOLVER` = "scipy" runs each solve with the earlier solver: scipy's GMRES (restart STABILITY_GMRES_RESTART, its
+Gram–Schmidt a Python loop over 2N-vectors) preconditioned by the FIRE mass M⁻¹ alone, about 8× slower at 2^17
+(docs/design/solvers.md). Each solve
 builds the Newton's coarse space anew (≈ 0.02 s at 2^17, 1 % of the test: not worth a second entry point).
 """
 
@@ -32,7 +31,7 @@ STABILITY_RTOL = 1e-8
 STABILITY_GMRES_RESTART = 120
 STABILITY_GMRES_CYCLES = 20
 #: "newton": the coupled Newton's two-level GMRES (`gfmd.coupled_krylov.newton_step`); "scipy": scipy's GMRES
-#: preconditioned by M⁻¹ (the test before session 37)
+#: preconditioned by M⁻¹ (the earlier test)
 SOLVER = "newton"
 
 

@@ -48,10 +48,8 @@ except ImportError:  # pragma: no cover - depends on the environment
 #: took 0.84× ducc0's CPU time with the NCG, 0.79× with the hard wall, 0.88× coupled, benchmarks/bench_fft.py), their
 #: plans kept as FFTW wisdom in `wisdom_path` under a file lock, so every later process on this machine makes the same
 #: plan (the same results bit for bit) at once; smaller ones (and all where no wisdom file can be made) FFTW_ESTIMATE:
-#: a plan by heuristics, the same in every process. FFTW_PATIENT instead was measured and dropped (session 45, 2^17):
-#: a pair 0.449 → 0.416 ms (N,) and 0.934 → 0.796 ms (2, N) alone, but whole ramps as two simultaneous processes only
-#: × 0.952 ± 0.002 (hard wall), × 0.953 ± 0.066 (φn* = 0.15), × 0.985 ± 0.004 (coupled, ν = 0.1), for 45–53 s of
-#: planning per shape on each machine's first run (benchmarks/results/bench_versions_fftw-patient.md)
+#: a plan by heuristics, the same in every process. FFTW_PATIENT instead was measured and dropped:
+#: whole ramps only ≈ 5 % faster for ≈ 50 s of planning per shape on each machine's first run (docs/design/solvers.md)
 FFTW_MEASURE_FROM = 1 << 14
 _FFTW_LOCAL = threading.local()  # {(real shape, axes): _FftwPair}, per thread: a plan's buffers are its own
 

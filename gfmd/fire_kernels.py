@@ -20,7 +20,7 @@ import numpy as np
 from .coupled_kernels import float_views
 from .kernels import jit_backend, numba
 
-#: the fused kernels where they apply (False: numpy's passes everywhere, the FIRE before session 33; for benchmarks)
+#: the fused kernels where they apply (False: numpy's passes everywhere, the earlier FIRE; for benchmarks)
 FUSED = True
 
 

@@ -4,7 +4,7 @@ The coupled law's Newton steps solve their linearised balance with it (`gfmd.cou
 a relative tolerance ≥ 1e-3 (the inexact Newton's forcing, `gfmd.coupled_krylov.forcing`). scipy's
 `scipy.sparse.linalg.gmres` (1.17) orthogonalises by modified Gram–Schmidt in a Python loop (a dot and an axpy
 with a temporary per basis vector) in double precision; at N = 2^17 its basis (up to 61 vectors of 2N floats)
-streams from memory twice on every iteration, 62 % of a Newton solve (README, session 28). Here the same modified
+streams from memory twice on every iteration, 62 % of a Newton solve (measured at 2^17). Here the same modified
 Gram–Schmidt runs as one numba kernel (double sums), and for rtol ≥ SINGLE_BASIS_RTOL the basis is stored in
 float32: half the traffic (mixed-precision GMRES: the Arnoldi relation holds to ≈ 1e-7, far below the tolerance,
 and w, the Hessenberg matrix, x and the verdict's true residual stay double). Measured on whole coupled ramps:

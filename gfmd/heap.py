@@ -1,4 +1,4 @@
-"""glibc's malloc told to keep a load step's arrays on its heap (issue 24), set once when `gfmd` is imported.
+"""glibc's malloc told to keep a load step's arrays on its heap, set once when `gfmd` is imported.
 
 A step allocates and frees arrays of one field's size many times (a coupled Newton at N = 2^17: 2 MB per (u_x, u_z)
 field, a few per GMRES product). glibc serves an allocation above its mmap threshold (128 kB at start, raised

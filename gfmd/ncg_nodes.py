@@ -6,8 +6,8 @@ gap s = Δn/δn, e^{−s}, dE/dα's law term Σ_j T_n,j d_j and d²E/dα²'s Σ_
     T_n = (φn/δn) s e^{−s},   k_loc = dT_n/dΔn = (φn/δn²)(1 − s) e^{−s}.
 
 numpy needs 7 passes over the nodes per trial (a temporary each); numba two, into reused arrays: the state
-(Δn − α d, s, e^{−s}) with `gfmd.vector_exp.exp`, which LLVM vectorizes (libm's exp, a scalar call, kept the one
-fused pass before session 37 from it), then the two sums (reassociated). Measured
+(Δn − α d, s, e^{−s}) with `gfmd.vector_exp.exp`, which LLVM vectorizes (libm's exp, a scalar call, keeps a single
+fused pass from vectorizing), then the two sums (reassociated). Measured
 (benchmarks/results/bench_ncg_nodes.md, N = 2^17): a trial 0.53 ms against 0.97 ms with libm's exp in one pass and
 5.4 ms in numpy. Both backends give the same sums up to round-off; ``GFMD_JIT`` chooses, as for the spectral algebra
 (`gfmd.kernels.jit_backend`).

@@ -1,6 +1,6 @@
 """Static equilibrium of one load step: the names other code imports, from the modules that own them.
 
-The solver is split (issue 22) into the problem (`gfmd.problem`: energy, force, Hessian product,
+The solver is split into the problem (`gfmd.problem`: energy, force, Hessian product,
 the hard wall and its dual), one module per algorithm (`gfmd.algorithms`), their shared stopping
 test (`gfmd.stopping`), FFT (`gfmd.fft`), steppers (`gfmd.integrators`) and the chain that picks
 and falls back between them per law (`gfmd.chains`, whose `relax` this is).

@@ -1,7 +1,7 @@
 """Newton–Krylov on the coupled law's nodal balance (seed Eq. 2; no dynamics, no potential needed).
 
-The coupled chain's first algorithm (issue 24: 3× fewer FFT pairs per step than FIRE on the Fig. 8 ramp,
-benchmarks/results/bench_adhesion_scaling_full.md) and its fallback where FIRE stalls (`gfmd.chains`): deep in
+The coupled chain's first algorithm (3× fewer FFT pairs per step than FIRE on the Fig. 8 ramp,
+docs/design/solvers.md) and its fallback where FIRE stalls (`gfmd.chains`): deep in
 the slip regime the equilibria are flutter points of any damped dynamics (tests/test_solver_coupled.py).
 """
 
@@ -27,8 +27,8 @@ COUPLED_GMRES_CYCLES = GMRES_CYCLES
 COUPLED_NEWTON_MAX_MOVE = 2.0
 #: GMRES preconditioner: the FIRE mass M_q = K(q) + ⟨k_loc⟩ (True) or K(q) alone (False)
 COUPLED_NEWTON_SHIFTED = False
-#: GMRES's relative tolerance `gfmd.coupled_krylov.forcing` with Eisenstat–Walker's η (True, since session 28) or
-#: its floor alone (False, the rule before: every solve but the last to 1e-3 at 2^17)
+#: GMRES's relative tolerance `gfmd.coupled_krylov.forcing` with Eisenstat–Walker's η (True) or
+#: its floor alone (False, the earlier rule: every solve but the last to 1e-3 at 2^17)
 COUPLED_NEWTON_EISENSTAT_WALKER = True
 #: GMRES on the spectrum, right-preconditioned by K⁻¹: one FFT pair per product (False: nodal, two)
 COUPLED_NEWTON_SPECTRAL = True
@@ -48,7 +48,7 @@ def solve(problem, start, settings):
     Each iteration solves (K + D) δu = f by GMRES, D the nodal 2×2 tangent of Eq. 2
     (`gfmd_contact.core.laws.jacobian_coupled`, ∂t/∂u = −D since Δn = z_ind − u_z, Δt = −u_x), K applied
     by FFT: right-preconditioned by K⁻¹ balanced by a coarse space on the stiff nodes (`gfmd.coupled_krylov.newton_direction`,
-    `gfmd.coupled_preconditioner`, since session 33: 3× fewer GMRES products; K⁻¹ alone on the spectrum where no node
+    `gfmd.coupled_preconditioner`: 3× fewer GMRES products than K⁻¹ alone; K⁻¹ alone on the spectrum where no node
     is stiff, `spectral_step`), one FFT pair per product; with
     COUPLED_NEWTON_SPECTRAL = False on the nodes, preconditioned by K⁻¹ or, COUPLED_NEWTON_SHIFTED, the inverse
     FIRE mass M_q = K(q) + ⟨k_loc⟩, two pairs per product), to the relative tolerance
@@ -58,7 +58,7 @@ def solve(problem, start, settings):
     converges linearly, tight once quadratically; COUPLED_NEWTON_EISENSTAT_WALKER; measured in
     benchmarks/results/bench_coupled_forcing_*.md); the step is capped so that no node moves more than
     COUPLED_NEWTON_MAX_MOVE·min(δn, δt) and halved until ‖f‖₂ decreases (a step into the law's overflow range
-    counts as no decrease). The iterations run on the nodes (session 50): u and K u are updated by δu and K δu,
+    counts as no decrease). The iterations run on the nodes: u and K u are updated by δu and K δu,
     which GMRES sums from its products' parts (`newton_direction`: no transform after the solve, none for a trial
     of the line search; before, 3.5 FFT pairs per iteration beyond the products); where that bookkeeping says
     converged, the state's own force from its spectrum (one pair and a half) decides, and the iterations go on

@@ -1,13 +1,11 @@
-"""Pseudo-transient continuation (Ψtc) on the coupled law's nodal balance (seed Eq. 2; issue 24's event steps).
+"""Pseudo-transient continuation (Ψtc) on the coupled law's nodal balance (seed Eq. 2; the snap and slip event steps).
 
 Ψtc (Kelley & Keyes 1998; Coffey, Kelley & Keyes 2003) follows the overdamped flow M du/dτ = f(u) by
 implicit Euler steps with a pseudo-time step Δτ grown as the residual falls (switched evolution relaxation):
 small Δτ follows the flow through a snap or slip event, large Δτ is Newton's step. `gfmd.chains`' "ptc" chain
 runs it after the continuation Newton gives a step up, before FIRE (measured: benchmarks/results/bench_coupled_ptc.md).
-As the default chain's handover link in FIRE's place, each iteration solved with the coupled Newton's two-level
-preconditioner ((σM + K + D) = (1 + σ)(K + D'), D' the tangent shifted by σ⟨k_loc⟩: session 34, whole Fig. 8 ramp at
-2^15, ν = 0.1, seed 2, two simultaneous processes): the same states (p within 5.3e-9 of max p), but 83.3 CPU s on the
-28 event steps against FIRE's 38.5 (26 104 FFT pairs against 17 666); not kept.
+As the default chain's handover link in FIRE's place it reached the same states at twice FIRE's CPU time on the
+event steps, so it is not there (docs/design/solvers.md).
 """
 
 from __future__ import annotations
