@@ -7,6 +7,9 @@ the slip regime the equilibria are flutter points of any damped dynamics (tests/
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import NamedTuple
+
 import numpy as np
 from scipy.sparse.linalg import gmres
 
@@ -16,6 +19,7 @@ from ..coupled_krylov import (GMRES_CYCLES, GMRES_RESTART, balance_state, eisens
                               newton_direction, nodal_force, nodes_and_stiffness)
 from ..fft import Fft
 from ..problem import coupled_operators, stiffness_operator
+from ..settings import Relaxed
 from ..stopping import finish
 
 #: Newton iterations a coupled-law step gets after FIRE stalls; each solves the linearised balance by GMRES
@@ -81,117 +85,205 @@ def solve(problem, start, settings):
     the step from the guess in ~600–700 iterations. The solves of kept continuations took ≤ 104 products (Fig. 8,
     seed 7, steps 161–198 at 2^17; `gfmd.chains.COUPLED_CONTINUATION_GMRES_CYCLES`).
     """
-    model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
-    u_hat = start  # the step's initial displacements (c, N//2+1), rfft
-    n, c = model.nodes, model.components
-    fft = Fft(n, grid=model.grid)
-    p_ref = model.reference_traction
-    u_hat = np.array(u_hat, dtype=complex, copy=True)
-    clamp = model.half_plane
-    if clamp:
+    newton = _setup(problem, settings)
+    state = _init(problem, newton, start)
+    if isinstance(state, Relaxed):
+        return state
+    while not state.message:
+        _confirm(newton, state)
+        if state.converged:
+            break
+        if state.it >= newton.limit:
+            state.message = f"not converged after {state.it} Newton iterations (residual {state.residual:.3g} p_ref)"
+            break
+        _iterate(newton, state)
+    return _result(problem, newton, state)
+
+
+class _Newton(NamedTuple):
+    """What one step's Newton holds fixed."""
+
+    model: object
+    law: object
+    z_ind: np.ndarray
+    settings: object
+    fft: Fft
+    stiff: object  # `gfmd.problem.stiffness_operator`
+    clamp: bool  # half-plane: the q = 0 modes stay 0
+    p_ref: float
+    max_move: float  # the largest nodal move of one step (m)
+    jump: float  # the continuation's break-off distance (m); 0: none
+    limit: int  # Newton iterations
+    cycles: int  # GMRES cycles per solve
+
+
+@dataclass
+class NewtonState:
+    """The Newton iterate on the nodes, its force and the counters of the stopping and break-off tests."""
+
+    u_hat: np.ndarray  # the spectrum of u, where not `moved`
+    f: np.ndarray  # the nodal force t(u) − K u
+    u: np.ndarray
+    ku: np.ndarray
+    origin: np.ndarray  # the nodal start, for the continuation's break-off
+    residual: float
+    converged: bool
+    it: int = 0
+    moved: bool = False  # u (and K u) moved on the nodes since u_hat was last their spectrum
+    previous: float | None = None  # the last iteration's residual (Eisenstat–Walker's η)
+    slow: int = 0  # iterations in a row that left more than `coupled_continuation_stagnation` of it
+    message: str = ""
+
+
+def _setup(problem, settings):
+    model, law = problem.model, problem.law
+    return _Newton(model=model, law=law, z_ind=problem.z_ind, settings=settings,
+                   fft=Fft(model.nodes, grid=model.grid), stiff=stiffness_operator(model), clamp=model.half_plane,
+                   p_ref=model.reference_traction, max_move=COUPLED_NEWTON_MAX_MOVE * law.law.length_scale,
+                   jump=settings.coupled_continuation_jump * law.law.length_scale,
+                   limit=settings.coupled_continuation_iterations or COUPLED_NEWTON_ITERATIONS,
+                   cycles=settings.coupled_continuation_gmres_cycles or COUPLED_GMRES_CYCLES)
+
+
+def _init(problem, newton, start):
+    """The clamped start's state; or its `Relaxed` where the law overflows on it."""
+    u_hat = np.array(start, dtype=complex, copy=True)  # the step's initial displacements (c, N//2+1), rfft
+    if newton.clamp:
         u_hat[:, 0] = 0.0
-    stiff = stiffness_operator(model)
-    max_move = COUPLED_NEWTON_MAX_MOVE * law.law.length_scale
-    jump = settings.coupled_continuation_jump * law.law.length_scale
-
-    def spectrum(x):
-        """rfft of nodal fields (the clamped q = 0 mode 0)."""
-        x_hat = fft.rfft(x)
-        if clamp:
-            x_hat[:, 0] = 0.0
-        return x_hat
-
-    def project(x):
-        return x - x.mean(axis=1, keepdims=True) if clamp else x
-
     known = problem.start_state
     try:
         taken = known is not None and known[0] is start  # the chain evaluated this very start (`better_start`)
-        f, u, ku = known[1] if taken else balance_state(model, law, z_ind, u_hat, fft, stiff)
+        f, u, ku = known[1] if taken else balance_state(newton.model, newton.law, newton.z_ind, u_hat, newton.fft,
+                                                        newton.stiff)
     except laws.CompressionOverflowError as exc:
         out = finish(problem, u_hat, 0, np.inf, False, f"diverged: {exc}")
         out.method, out.stalled = "newton", out.message
         return out
-    origin = u  # the nodal start, for the continuation's break-off
-    residual = float(np.max(np.abs(f))) / p_ref
-    message, converged, it = "", residual < settings.tolerance, 0
-    moved = False  # u (and K u) moved on the nodes since u_hat was last their spectrum
-    limit = settings.coupled_continuation_iterations or COUPLED_NEWTON_ITERATIONS
-    cycles = settings.coupled_continuation_gmres_cycles or COUPLED_GMRES_CYCLES
-    previous = None  # the last iteration's residual (Eisenstat–Walker's η)
-    stagnation, slow = settings.coupled_continuation_stagnation, 0  # iterations in a row that left > stagnation of it
-    while True:
-        if converged and moved:  # the nodal bookkeeping says so: the state's own force, from its spectrum, decides
-            u_hat, moved = spectrum(u), False
-            f, u, ku = balance_state(model, law, z_ind, u_hat, fft, stiff)
-            residual = float(np.max(np.abs(f))) / p_ref
-            converged = residual < settings.tolerance
-        if converged:
-            break
-        if it >= limit:
-            message = f"not converged after {it} Newton iterations (residual {residual:.3g} p_ref)"
-            break
-        it += 1
-        eta = eisenstat_walker(residual, previous) if COUPLED_NEWTON_EISENSTAT_WALKER else 0.0
-        previous = residual
-        rtol = forcing(settings.tolerance, residual, eta)
-        before = fft.pairs
-        if COUPLED_NEWTON_SPECTRAL:
-            du, kdu, info = newton_direction(model, law, z_ind, u, f, stiff, fft, rtol, COUPLED_GMRES_RESTART, cycles)
-        else:
-            a_op, m_op, _ = coupled_operators(model, law, z_ind, u, fft, COUPLED_NEWTON_SHIFTED)
-            du, info = gmres(a_op, f.ravel(), M=m_op, rtol=rtol, restart=COUPLED_GMRES_RESTART, maxiter=cycles)
-            du, kdu = nodes_and_stiffness(spectrum(project(du.reshape(c, n))), stiff, fft)
-        if settings.coupled_gmres_give_up and info != 0:
-            message = (f"GMRES missed its tolerance {rtol:.2g} in {fft.pairs - before:.0f} FFT pairs (Newton iteration "
-                       f"{it}, residual {residual:.3g} p_ref): the tangent is near-singular or indefinite along the "
-                       "step, no continuation")
-            if cycles < COUPLED_GMRES_CYCLES:  # the continuation's shorter solve: resumable as a jump's break-off
-                message += f" within {cycles} of {COUPLED_GMRES_CYCLES} cycles: {BROKE_OFF}"
-            break
-        largest = float(np.max(np.abs(du)))
-        if not np.isfinite(largest) or largest == 0.0:
-            message = f"Newton step not finite or zero (residual {residual:.3g} p_ref)"
-            break
-        norm0 = float(np.sqrt(np.einsum("ij,ij->", f, f)))
-        step = min(1.0, max_move / largest)
-        accepted = False
-        while step > 1e-3:  # on the nodes: u + step δu and K u + step K δu, no transform
-            u_trial, ku_trial = u + step * du, ku + step * kdu
-            try:
-                f_trial = nodal_force(law, z_ind, u_trial, ku_trial, clamp)
-            except laws.CompressionOverflowError:
-                step *= 0.5
-                continue
-            if np.sqrt(np.einsum("ij,ij->", f_trial, f_trial)) <= (1.0 - 1e-4 * step) * norm0:
-                accepted = True
-                break
+    residual = float(np.max(np.abs(f))) / newton.p_ref
+    return NewtonState(u_hat=u_hat, f=f, u=u, ku=ku, origin=u, residual=residual,
+                       converged=residual < newton.settings.tolerance)
+
+
+def _spectrum(newton, x):
+    """rfft of nodal fields (the clamped q = 0 mode 0)."""
+    x_hat = newton.fft.rfft(x)
+    if newton.clamp:
+        x_hat[:, 0] = 0.0
+    return x_hat
+
+
+def _project(newton, x):
+    return x - x.mean(axis=1, keepdims=True) if newton.clamp else x
+
+
+def _confirm(newton, state):
+    """Where the nodal bookkeeping says converged, the state's own force, from its spectrum, decides."""
+    if not (state.converged and state.moved):
+        return
+    state.u_hat, state.moved = _spectrum(newton, state.u), False
+    state.f, state.u, state.ku = balance_state(newton.model, newton.law, newton.z_ind, state.u_hat, newton.fft,
+                                               newton.stiff)
+    state.residual = float(np.max(np.abs(state.f))) / newton.p_ref
+    state.converged = state.residual < newton.settings.tolerance
+
+
+def _iterate(newton, state):
+    """One Newton iteration: the GMRES direction, the line search, the break-off tests (a stop sets the message)."""
+    state.it += 1
+    residual = state.residual
+    eta = eisenstat_walker(residual, state.previous) if COUPLED_NEWTON_EISENSTAT_WALKER else 0.0
+    state.previous = residual
+    rtol = forcing(newton.settings.tolerance, residual, eta)
+    direction = _direction(newton, state, rtol)
+    if direction is None:
+        return
+    trial = _line_search(newton, state, *direction)
+    if trial is None:
+        state.message = (f"Newton line search found no decrease of |f| (iteration {state.it}, "
+                         f"residual {residual:.3g} p_ref)")
+        return
+    state.f, state.u, state.ku = trial
+    state.moved = True
+    state.residual = float(np.max(np.abs(state.f))) / newton.p_ref
+    if not np.isfinite(state.residual):
+        state.message = "diverged: non-finite force residual"
+        return
+    state.message = _break_off(newton, state)
+    if not state.message:
+        state.converged = state.residual < newton.settings.tolerance
+
+
+def _direction(newton, state, rtol):
+    """(δu, K δu, max |δu|) of GMRES on (K + D) δu = f; None (the message set) where GMRES misses its
+    tolerance and the settings give up, or where the step is not finite or zero."""
+    model, law, z_ind, fft = newton.model, newton.law, newton.z_ind, newton.fft
+    before = fft.pairs
+    if COUPLED_NEWTON_SPECTRAL:
+        du, kdu, info = newton_direction(model, law, z_ind, state.u, state.f, newton.stiff, fft, rtol,
+                                         COUPLED_GMRES_RESTART, newton.cycles)
+    else:
+        a_op, m_op, _ = coupled_operators(model, law, z_ind, state.u, fft, COUPLED_NEWTON_SHIFTED)
+        du, info = gmres(a_op, state.f.ravel(), M=m_op, rtol=rtol, restart=COUPLED_GMRES_RESTART,
+                         maxiter=newton.cycles)
+        du, kdu = nodes_and_stiffness(_spectrum(newton, _project(newton, du.reshape(model.components, model.nodes))),
+                                      newton.stiff, fft)
+    if newton.settings.coupled_gmres_give_up and info != 0:
+        message = (f"GMRES missed its tolerance {rtol:.2g} in {fft.pairs - before:.0f} FFT pairs (Newton iteration "
+                   f"{state.it}, residual {state.residual:.3g} p_ref): the tangent is near-singular or indefinite "
+                   "along the step, no continuation")
+        if newton.cycles < COUPLED_GMRES_CYCLES:  # the continuation's shorter solve: resumable as a jump's break-off
+            message += f" within {newton.cycles} of {COUPLED_GMRES_CYCLES} cycles: {BROKE_OFF}"
+        state.message = message
+        return None
+    largest = float(np.max(np.abs(du)))
+    if not np.isfinite(largest) or largest == 0.0:
+        state.message = f"Newton step not finite or zero (residual {state.residual:.3g} p_ref)"
+        return None
+    return du, kdu, largest
+
+
+def _line_search(newton, state, du, kdu, largest):
+    """(f, u, K u) of the step capped so that no node moves more than max_move and halved until ‖f‖₂ decreases
+    (a step into the law's overflow range counts as no decrease); None where no step > 1e-3 does."""
+    f, u, ku = state.f, state.u, state.ku
+    norm0 = float(np.sqrt(np.einsum("ij,ij->", f, f)))
+    step = min(1.0, newton.max_move / largest)
+    while step > 1e-3:  # on the nodes: u + step δu and K u + step K δu, no transform
+        u_trial, ku_trial = u + step * du, ku + step * kdu
+        try:
+            f_trial = nodal_force(newton.law, newton.z_ind, u_trial, ku_trial, newton.clamp)
+        except laws.CompressionOverflowError:
             step *= 0.5
-        if not accepted:
-            message = f"Newton line search found no decrease of |f| (iteration {it}, residual {residual:.3g} p_ref)"
-            break
-        f, u, ku, moved = f_trial, u_trial, ku_trial, True
-        residual = float(np.max(np.abs(f))) / p_ref
-        if not np.isfinite(residual):
-            message = "diverged: non-finite force residual"
-            break
-        if jump > 0 and residual >= settings.tolerance and it >= JUMP_FROM_ITERATION:
-            distance = float(np.max(np.abs(u - origin)))
-            if distance >= jump:
-                message = (f"a node moved {distance / law.law.length_scale:.3g} law lengths from the start at Newton "
-                           f"iteration {it} (residual {residual:.3g} p_ref): {BROKE_OFF}")
-                break
-        if stagnation > 0 and residual >= settings.tolerance:
-            slow = slow + 1 if residual > stagnation * previous else 0
-            if slow == 2:
-                message = (f"the residual stagnated: two Newton iterations in a row each left more than {stagnation:g} "
-                           f"of it (iteration {it}, residual {residual:.3g} p_ref): {BROKE_OFF}")
-                break
-        converged = residual < settings.tolerance
-    if moved:  # a stop before convergence: the state the nodes reached (its residual the nodal one)
-        u_hat = spectrum(u)
-    pairs = fft.pairs
-    out = finish(problem, u_hat, it, residual, converged, message)
+            continue
+        if np.sqrt(np.einsum("ij,ij->", f_trial, f_trial)) <= (1.0 - 1e-4 * step) * norm0:
+            return f_trial, u_trial, ku_trial
+        step *= 0.5
+    return None
+
+
+def _break_off(newton, state):
+    """The continuation's break-off (BROKE_OFF) after an unconverged iterate: a node moved `jump` from the start,
+    or two iterations in a row each left more than the stagnation fraction of the residual; "" otherwise."""
+    settings, residual, it, length = newton.settings, state.residual, state.it, newton.law.law.length_scale
+    if newton.jump > 0 and residual >= settings.tolerance and it >= JUMP_FROM_ITERATION:
+        distance = float(np.max(np.abs(state.u - state.origin)))
+        if distance >= newton.jump:
+            return (f"a node moved {distance / length:.3g} law lengths from the start at Newton "
+                    f"iteration {it} (residual {residual:.3g} p_ref): {BROKE_OFF}")
+    stagnation = settings.coupled_continuation_stagnation
+    if stagnation > 0 and residual >= settings.tolerance:
+        state.slow = state.slow + 1 if residual > stagnation * state.previous else 0
+        if state.slow == 2:
+            return (f"the residual stagnated: two Newton iterations in a row each left more than {stagnation:g} "
+                    f"of it (iteration {it}, residual {residual:.3g} p_ref): {BROKE_OFF}")
+    return ""
+
+
+def _result(problem, newton, state):
+    if state.moved:  # a stop before convergence: the state the nodes reached (its residual the nodal one)
+        state.u_hat = _spectrum(newton, state.u)
+    pairs = newton.fft.pairs
+    out = finish(problem, state.u_hat, state.it, state.residual, state.converged, state.message)
     out.fft_pairs = pairs + 0.5
     out.method = "newton"
     out.stalled = "" if out.converged else out.message  # the chain may go on (`gfmd.chains`)
