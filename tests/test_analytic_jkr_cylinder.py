@@ -130,7 +130,7 @@ def test_bad_input_raises(call):
 
 @pytest.mark.parametrize("ulps", [-12, -3, -1, 1, 3, 12])
 def test_half_width_accepts_pull_off_load_within_round_off(ulps):
-    """Issue 26: on an AVX2 machine numpy's cbrt put load(a_c) one ulp below pull_off_load, and
+    """On an AVX2 machine numpy's cbrt put load(a_c) one ulp below pull_off_load, and
     half_width raised "below the pull-off load". A load a few ulps either side of F_c is F_c."""
     F_c = jkr.pull_off_load(R, E_STAR, W)
     F = F_c

@@ -119,8 +119,8 @@ def test_the_check_sees_a_violation(tmp_path, monkeypatch):
         fake.unlink()
 
 
-#: what reference.fem may import from the core. The FE is an independent cross-check of GFMD
-#: (issue 12): it shares the inputs (the scene; the profile heights of gfmd_contact.core.surfaces), the
+#: what reference.fem may import from the core. The FE is an independent cross-check of GFMD:
+#: it shares the inputs (the scene; the profile heights of gfmd_contact.core.surfaces), the
 #: model choice and its checks (gfmd_contact.core.model), the one load ramp (gfmd_contact.core.ramp) and the result
 #: and error types, and nothing it checks. Not gfmd_contact.core.laws nor gfmd_contact.core.law_equations (the FE has reference.fem.law),
 #: gfmd_contact.core.observables (reference.fem.observables, through Cell.observe), gfmd_contact.core.loading
@@ -172,7 +172,7 @@ def test_the_fe_check_sees_a_violation(source, package):
         fake.unlink()
 
 
-#: one module per GFMD algorithm (issue 22): each is `solve(problem, start, settings) -> Relaxed` over the
+#: one module per GFMD algorithm: each is `solve(problem, start, settings) -> Relaxed` over the
 #: problem of gfmd.problem, and none imports another: a fallback is a link of its law's chain (gfmd.chains)
 ALGORITHMS = ROOT / "gfmd" / "algorithms"
 
@@ -265,7 +265,7 @@ def test_gfmd_modules_stay_small():
 
 
 def test_ramp_records_check_uses_its_own_code():
-    """verification/ramp_records.py recomputes what the shared ramp records (issue 23): it imports no
+    """verification/ramp_records.py recomputes what the shared ramp records: it imports no
     project package (gfmd, reference, gfmd_contact), only the standard library and numpy."""
     tree = ast.parse((ROOT / "verification" / "ramp_records.py").read_text(encoding="utf-8"))
     names = {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}

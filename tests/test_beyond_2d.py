@@ -1,4 +1,4 @@
-"""studies/beyond/fig3_2d*.toml (issue 25 item 6): the seed's Fig. 3 study in 2+1-D loads and validates,
+"""studies/beyond/fig3_2d*.toml: the seed's Fig. 3 study in 2+1-D loads and validates,
 varies what studies/seed/fig3.toml varies, and the committed 1+1-D vs 2+1-D claims table is what
 studies/beyond/compare_dims.py makes of the committed study tables."""
 

@@ -1,4 +1,4 @@
-"""studies/beyond/ (issue 23 §6): the study files load and validate, and the committed table is what
+"""studies/beyond/: the study files load and validate, and the committed table is what
 studies/beyond/report.py makes of the committed csvs."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Every claim's effect size and standard error recomputed by brute force from study.csv (issue 22 §3).
+"""Every claim's effect size and standard error recomputed by brute force from study.csv.
 
 Each fixture is a synthetic complete study (study.json, base_scene.toml, study.csv, as `gfmd study run`
 writes them) with several parameter sets, per-realization values whose scatter differs from set to set

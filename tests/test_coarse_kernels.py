@@ -1,4 +1,4 @@
-"""The two-level preconditioner's fused nodal passes (`gfmd.coarse_kernels`, issue 24).
+"""The two-level preconditioner's fused nodal passes (`gfmd.coarse_kernels`).
 
 `TwoLevel.apply` with blocks covering the nodes (`cover`, the default `COARSE_GAPS`) runs three fused passes; the
 same operator through the generic path (the coarse nodes as an index array: spread by np.repeat, mean removal by a

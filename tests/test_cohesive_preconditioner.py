@@ -1,4 +1,4 @@
-"""The cohesive NCG's preconditioners (`gfmd.cohesive_preconditioner`, issue 24).
+"""The cohesive NCG's preconditioners (`gfmd.cohesive_preconditioner`).
 
 * "two-level": its coarse matrix is Zᵀ(K + D)Z computed by FFT (the double cumulative sums of K's kernel);
   the balancing operator is symmetric positive definite and exact on the coarse space (M A z = z for z in

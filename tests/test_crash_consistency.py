@@ -1,4 +1,4 @@
-"""Crash consistency: SIGKILL at many seeded random moments, resume each time, same final files (issue 26).
+"""Crash consistency: SIGKILL at many seeded random moments, resume each time, same final files.
 
 tests/crash_driver.py kills `gfmd run` (GFMD and the FE method, figures included) and
 `gfmd study run` at random write events: before a write, half-way through one (a temporary

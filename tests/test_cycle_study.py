@@ -1,4 +1,4 @@
-"""Studies of load paths (issue 23 §3, §5): summaries keep the branches apart, cycle figures over an axis."""
+"""Studies of load paths: summaries keep the branches apart, cycle figures over an axis."""
 
 import csv
 import json

@@ -1,4 +1,4 @@
-"""3-D FE surface stiffness of the periodic bonded cell against reference-formulas §1.3 (issue 25 item 4).
+"""3-D FE surface stiffness of the periodic bonded cell against reference-formulas §1.3.
 
 The FE's mode stiffness Ŝ(m, n)/W (Pa/m, `reference.fem3d.assembly`) for single Fourier modes
 against the layer's normal-only stiffness k_zz^eff(|q|) (§1.3, `gfmd_contact.core.kernels.layer_normal`: a

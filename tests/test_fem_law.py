@@ -1,6 +1,6 @@
 """The FE reference's own CZ law (reference.fem.law) against the seed's Eqs. 2–3 and GFMD's law.
 
-The FE evaluates the law with its own code (issue 12: an independent check); here its
+The FE evaluates the law with its own code (an independent check); here its
 values are checked at hand-computed points, its tangents by central differences, and the
 two implementations pointwise against each other (a test may import both).
 """

@@ -1,6 +1,6 @@
 """The FE reference's own observables (reference.fem.observables) on hand-computed cases.
 
-The FE computes p, a_rel, ḡ_r, ḡ with its own code (issue 12: an independent check of
+The FE computes p, a_rel, ḡ_r, ḡ with its own code (an independent check of
 gfmd_contact.core.observables); the numbers below are worked out by hand from seed Eqs. 5–6 and the
 contact rule, and the two implementations are compared on a random case.
 """

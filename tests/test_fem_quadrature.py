@@ -1,4 +1,4 @@
-"""Gauss–Legendre boundary quadrature of the FE reference (`reference.fem.quadrature`, issue #4).
+"""Gauss–Legendre boundary quadrature of the FE reference (`reference.fem.quadrature`).
 
 Units: x, L, gaps in m; weights in m; tractions Pa; nodal forces N/m; tangents Pa.
 Exactness checks are at round-off (rtol 1e-12 relative to the values' scale).

@@ -15,7 +15,7 @@ every recorded field u_z, u_x, gap, t_n, t_t, dense vs sparse / sparse-lagged):
     coupled CZ, c = 0.5, ν = 0.3        16   7.0e-14        1.0e-13        none             39
     jump-in, φn* = 0.15, 5 steps         8   (not run)      1.8e-14        [3] (PTC)        1029
 
-Bound: RELATIVE = 1e-8, the acceptance level of issue #4 ("to solver
+Bound: RELATIVE = 1e-8, the FE reference's acceptance level ("to solver
 tolerance", 1e-10 in max |R/W|/p_ref, times a margin of 100 for the tangent's
 conditioning: cond(S + B) = 46 (normal) and 230 (coupled) at a random state of
 these scenes, measured); the measured differences are 10⁵× below it. A wrong

@@ -1,4 +1,4 @@
-"""GFMD on 2+1-D surfaces (issue 25 item 2; /work/notes/SPEC2D.md's contract): Model.shape = (Nx, Ny),
+"""GFMD on 2+1-D surfaces (the 2+1-D contract): Model.shape = (Nx, Ny),
 û of shape (1, Nx, Ny//2 + 1), real fields (Nx, Ny), normal-only.
 
 The 2-D models are built by hand here (`surface_model`: `gfmd_contact.core.kernels.wavevector_magnitudes` and

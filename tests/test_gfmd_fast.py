@@ -1,4 +1,4 @@
-"""The fast hard-wall solvers (projected preconditioned CG, primal and dual) and the FFT backends (issue 13).
+"""The fast hard-wall solvers (projected preconditioned CG, primal and dual) and the FFT backends.
 
 * CG and FIRE reach the same hard-wall equilibrium (half-plane and layer), and the CG state
   passes an independent KKT check (elastic force recomputed with numpy.fft: no penetration,

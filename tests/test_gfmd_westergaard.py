@@ -15,8 +15,7 @@ the exact inverse of ḡ = h0[1 − P + P ln P] (p̄ = p* P, p* = πE*h0/λ). Wh
   clamps (the imposed ḡ = ⟨z_ind⟩ is tested separately in
   `test_displacement_control_keeps_mean_plane`).
 
-Measured (FIRE, tolerance 1e-10, max over the six loads of |p̄ − p̄_exact|/p*,
-solver 13e5ae4):
+Measured (FIRE, tolerance 1e-10, max over the six loads of |p̄ − p̄_exact|/p*):
 
     N       64      128     256     512     1024    2048    4096    8192
     error   5.2e-4  4.8e-5  1.6e-5  6.4e-6  1.0e-6  2.9e-7  8.1e-8  2.3e-8
@@ -24,7 +23,7 @@ solver 13e5ae4):
 Least-squares order: 2.09 over 64…1024, 2.02 over 64…4096, 1.99 over 64…8192
 (local orders 1.3…3.5: the error jumps irregularly as the contact edges move
 across the grid). Second order is what a √-singular edge pressure integrated into
-the mean gap gives. (An earlier solver, b734122, whose mean plane drifted,
+the mean gap gives. (An earlier solver, whose mean plane drifted,
 gave 3.6e-4 … 5.5e-7, order 2.37 over 64…1024, at slightly different loads.)
 """
 

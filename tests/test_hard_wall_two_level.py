@@ -1,4 +1,4 @@
-"""The two-level dual hard-wall CG (`gfmd.algorithms.hard_wall_two_level_cg`, issue 24).
+"""The two-level dual hard-wall CG (`gfmd.algorithms.hard_wall_two_level_cg`).
 
 * its coarse blocks never span a gap of the contact set and hold ≤ the block size;
 * G_AA Z from G's real-space kernel sums (no FFT) equals the dense product, and the two-level

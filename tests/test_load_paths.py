@@ -1,4 +1,4 @@
-"""Load paths and cycle observables (issue 23 §1–3): scene keys, steps, warm starts, run files."""
+"""Load paths and cycle observables: scene keys, steps, warm starts, run files."""
 
 import json
 

@@ -1,4 +1,4 @@
-"""Node counts in verification/data are stored as integers (issue 22 §3).
+"""Node counts in verification/data are stored as integers.
 
 A bound "stored + k nodes" (verification/test_fe_selfaffine.py, test_reduced_models.py,
 test_contact_rules.py) needs the stored difference as the whole count it is: |Δa_rel| = 1/256 rounded

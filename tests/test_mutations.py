@@ -33,7 +33,7 @@ def test_representative_mutations_are_caught():
 
 def test_shared_ramp_mutations_are_caught_by_the_ramp_records_case():
     """Bugs in the code every method shares (the ramp's δ bookkeeping, the whole-profile ḡ, the hysteresis
-    sign): the ramp-records case alone fails on each (issue 23 "the shared ramp is checked, not trusted")."""
+    sign): the ramp-records case alone fails on each (the shared ramp is checked, not trusted)."""
     ids = ["ramp-delta-off-by-one", "g-spacing", "hysteresis-sign"]
     rows = mu.run(ids, pytest_args=("-k", "ramp_records"), progress=lambda line: None)
     assert {r["id"]: r["caught"] for r in rows} == dict.fromkeys(ids, True), rows

@@ -1,4 +1,4 @@
-"""2+1-D observables (gfmd_contact.core.observables on (Nx, Ny) arrays, issue 25): the four-neighbour local gradient,
+"""2+1-D observables (gfmd_contact.core.observables on (Nx, Ny) arrays): the four-neighbour local gradient,
 ḡ, ḡ_r, p, a_rel of the embedded sinusoid against 1+1-D, and the periodic contact patch statistics."""
 
 import math

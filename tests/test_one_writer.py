@@ -1,4 +1,4 @@
-"""One writer per directory, and damage repaired instead of thrown away (issue 26; gfmd_contact.app.safe_files, .io).
+"""One writer per directory, and damage repaired instead of thrown away (gfmd_contact.app.safe_files, .io).
 
 The three reproductions of the issue as they were measured (two `gfmd run` at once, two
 `gfmd study run` at once, kill -9 of a pooled `gfmd run` then --resume at once) run real
@@ -54,7 +54,7 @@ def wait_until_saved(out, proc, step, timeout=120):
 
 
 def test_second_run_is_refused_at_once_naming_the_first(tmp_path):
-    """Issue 26, reproduction 1: `gfmd run` and four seconds later the same with --resume. Before:
+    """Reproduced: `gfmd run` and four seconds later the same with --resume. Before:
     both ended exit 2, "partial files are damaged". Now the second is refused at once, exit 2, one
     line naming the first (host, pid, start, command); the first ends 0; --wait waits for it."""
     path = write_scene(tmp_path, scene(**LONG))
@@ -94,7 +94,7 @@ output = {{ field_steps = 1 }}
 
 
 def test_second_study_run_is_refused_at_once(tmp_path):
-    """Issue 26, reproduction 2: the same `gfmd study run` twice at once. Before: both exit 1 with
+    """Reproduced: the same `gfmd study run` twice at once. Before: both exit 1 with
     every task damaged. Now the second is refused at once (exit 2, the holder named) and the first
     completes; the study then reruns as all-reused."""
     study = tmp_path / "s.toml"
@@ -121,7 +121,7 @@ def test_second_study_run_is_refused_at_once(tmp_path):
 
 
 def test_kill_9_of_a_pooled_run_then_resume_at_once(tmp_path):
-    """Issue 26, reproduction 3: kill -9 of `gfmd run --workers 2`, then --resume at once. Before:
+    """Reproduced: kill -9 of `gfmd run --workers 2`, then --resume at once. Before:
     the pool's workers outlived the main process and went on appending rows, and the resume failed
     at its end ("realization 0 has N rows for M saved steps"). Now the workers die with it (or the
     resume waits for the lock they inherited), twice in a row, and the result equals an

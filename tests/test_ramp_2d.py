@@ -1,4 +1,4 @@
-"""A 2+1-D scene through the one ramp, the run directory and the plots (issue 25), method-neutral.
+"""A 2+1-D scene through the one ramp, the run directory and the plots, method-neutral.
 
 GFMD's 2+1-D cell is built elsewhere (gfmd/); here a tiny local method stands in for it: a Winkler bed of
 independent springs t_n = k u_z under a hard wall (u_z = min(z_ind, 0), gap = max(z_ind, 0)), whose step

@@ -1,4 +1,4 @@
-"""Every accepted scene ends the documented way (issue 26), property-based.
+"""Every accepted scene ends the documented way, property-based.
 
 Scenes are drawn over the ranges the scene check accepts (log-uniform lengths, moduli, φn*,
 δn; every surface kind and law; 1–12 load steps; small N so that an example is fast) and run
@@ -83,7 +83,7 @@ def scenes(draw, method="gfmd"):
         nu = 0.49
     laws = ("hard-wall", "cohesive") if fe else ("hard-wall", "cohesive", "cohesive-wall")
     law = draw(st.sampled_from(laws))
-    dn = draw(log_uniform(1e-5, 1e2)) * spacing  # far below the spacing too (issue 26: δn/l = 0.0024 crashed)
+    dn = draw(log_uniform(1e-5, 1e2)) * spacing  # far below the spacing too (δn/l = 0.0024 once crashed)
     interface = {"law": law, "phi_n_star": draw(log_uniform(1e-3, 2.0)), "length_normal": dn}
     if law == "cohesive" and draw(st.booleans()):  # the coupled law
         interface.update(tangential_ratio=draw(log_uniform(0.05, 3.0)),
@@ -224,7 +224,7 @@ def _example_scene(tmp, **changes):
 
 @pytest.mark.parametrize("steps", ["200", "5"])
 def test_tiny_length_normal_is_refused_before_compute(tmp_path, steps):
-    """Issue 26: δn = 1e-15 m in the example scene at 1,024 nodes ended in `KeyError: 'u_z is not a file
+    """δn = 1e-15 m in the example scene at 1,024 nodes ended in `KeyError: 'u_z is not a file
     in the archive'`. Every load step presses past the law's range there: refused, naming the key."""
     path = _example_scene(tmp_path, **{"length_normal = 1e-9": "length_normal = 1e-15",
                                        "steps = 200 ": f"steps = {steps} "})
@@ -265,7 +265,7 @@ def test_gfmd_step_without_state_is_marked_not_a_crash(tmp_path, monkeypatch):
 
 
 def test_fe_diverged_iterate_is_a_non_converged_step(tmp_path, monkeypatch):
-    """Issue 26: `[method] name = "fe"` with coupled cohesive laws ended in a traceback
+    """`[method] name = "fe"` with coupled cohesive laws ended in a traceback
     `reference.fem.law.LawRangeError: normal gap down to -984.4 δn … the iterate diverged`. A diverged
     Newton iterate (here: injected from step 3 on, 1,000 δn deep) is a non-converged step: exit 1."""
     from test_cli_fe import fe_scene

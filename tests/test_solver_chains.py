@@ -1,4 +1,4 @@
-"""The GFMD solver as algorithms over one problem (issue 22): the problem's energy, gradient and
+"""The GFMD solver as algorithms over one problem: the problem's energy, gradient and
 Hessian product agree with each other, the chains are data that `relax` walks, and the labels
 (`Relaxed.method`, the Result's method, its per-step algorithms) name what ran.
 

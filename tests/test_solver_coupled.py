@@ -122,7 +122,7 @@ def test_newton_equilibrium_is_locally_stable(fig8_step):
 
 def test_stability_solvers_agree(fig8_step, monkeypatch):
     """The stability test's solves by the Newton's two-level GMRES (the default) and by scipy's GMRES under M⁻¹ (the
-    test before session 37) give the same lowest Re λ, within ARPACK's requested relative tolerance (1e-4); an
+    earlier test) give the same lowest Re λ, within ARPACK's requested relative tolerance (1e-4); an
     unknown solver is refused by name."""
     from gfmd import coupled_stability as stability
 
@@ -258,7 +258,7 @@ def test_coupled_chain_starts_from_the_last_state_where_the_extrapolation_oversh
 def test_newton_forcing_is_eisenstat_walker(fig8_step, monkeypatch):
     """Each GMRES solve of the coupled Newton gets forcing(tolerance, r_k, η_k), η_k by Eisenstat–Walker from the
     residuals r_k, r_k−1 at the solve (η_0 = FORCING, the first solve loose); with the rule off
-    (COUPLED_NEWTON_EISENSTAT_WALKER False, the rule before session 28) the floor alone, the first solve at
+    (COUPLED_NEWTON_EISENSTAT_WALKER False, the earlier rule) the floor alone, the first solve at
     FORCING_MIN. Both reach the same equilibrium, within the tolerance's bound."""
     cell, previous, _current, (z99, _) = fig8_step
     problem = Problem(cell.physics, cell.law, z99)

@@ -1,4 +1,4 @@
-"""The cohesive-law NCG solver (issue 13): nonlinear preconditioned CG, FIRE as fallback.
+"""The cohesive-law NCG solver: nonlinear preconditioned CG, FIRE as fallback.
 
 * NCG and FIRE reach the same equilibrium on a cohesive ramp (half-plane and layer; δn = 0.25
   and 1 nm), within a bound derived from the stopping tolerance: two states with max nodal

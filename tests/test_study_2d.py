@@ -1,4 +1,4 @@
-"""Studies on 2+1-D scenes (issue 25 item 5): `gfmd study run` unchanged on a surface of Nx × Ny nodes.
+"""Studies on 2+1-D scenes: `gfmd study run` unchanged on a surface of Nx × Ny nodes.
 
 A tiny study (32 × 32 nodes, 8 load steps, hard wall + cohesive, 2 realizations: 4 tasks) on a local
 Dask cluster: study.csv / summary.csv / summary.nc with one row per (task, step) and the means over

@@ -1,4 +1,4 @@
-"""Tests of 2+1-D surfaces: gfmd_contact.core.surfaces_2d and the [surface] nodes_y / length_y keys (issue 25).
+"""Tests of 2+1-D surfaces: gfmd_contact.core.surfaces_2d and the [surface] nodes_y / length_y keys.
 
 Eq. 4 read radially is transcribed here independently (`_eq4_radial`); the PSD checks compare the
 rfft2 of a surface with it mode by mode, to an FFT round-off bound.

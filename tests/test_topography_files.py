@@ -1,4 +1,4 @@
-"""Measured topographies through SurfaceTopography, the optional extra (gfmd_contact.core.topography_files, issue 25).
+"""Measured topographies through SurfaceTopography, the optional extra (gfmd_contact.core.topography_files).
 
 The files are written by SurfaceTopography itself (netCDF, its container format, round-trips heights, unit
 and physical size exactly) and read back through a scene; tests that need the package skip without it,

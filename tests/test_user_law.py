@@ -1,4 +1,4 @@
-"""The user-defined interface law (gfmd_contact.core.user_law; issue 22 §2): its consistency check, the numbers it
+"""The user-defined interface law (gfmd_contact.core.user_law): its consistency check, the numbers it
 derives, GFMD and the FE on it, the chain that runs it, and the Python API around it.
 
 The built-in law re-expressed through it (seed Eq. 3 as callables, written here from the formula)

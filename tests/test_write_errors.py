@@ -1,5 +1,5 @@
 """A full disk, a file-size limit, a read-only or unwritable directory: one line naming the path, exit 2,
-nothing written before damaged, and --resume completes (issue 26; gfmd_contact.app.safe_files).
+nothing written before damaged, and --resume completes (gfmd_contact.app.safe_files).
 
 The error is injected at every write of a run in turn (the k-th write of `safe_files`: a
 temporary file or a CSV row half-written, then OSError), cycling through ENOSPC, EFBIG,
