@@ -1,7 +1,8 @@
 """Tests of 2+1-D surfaces: gfmd_contact.core.surfaces_2d and the [surface] nodes_y / length_y keys.
 
-Eq. 4 read radially is transcribed here independently (`_eq4_radial`); the PSD checks compare the
-rfft2 of a surface with it mode by mode, to an FFT round-off bound.
+The isotropic spectrum in seed Eq. 4's bands, C^iso(|q|) ∝ |q|^−2(1+H), is transcribed here independently
+(`_eq4_radial`); the PSD checks compare the rfft2 of a surface with it mode by mode, to an FFT round-off
+bound. tests/test_hurst_measured.py measures H from the heights.
 """
 
 import math
@@ -19,13 +20,13 @@ EPS = np.finfo(float).eps
 
 
 def _eq4_radial(qx, qy, hurst, lr, ls, longest):
-    """Seed Eq. 4 / C(q_r) at |q| = √(qx² + qy²): 1 on the plateau 2π/longest ≤ |q| < q_r, (|q|/q_r)^−(1+2H) up
-    to q_s = 2π/λs, 0 above and at q = 0."""
+    """Seed Eq. 4's bands / C(q_r) at |q| = √(qx² + qy²): 1 on the plateau 2π/longest ≤ |q| < q_r,
+    (|q|/q_r)^−2(1+H) up to q_s = 2π/λs, 0 above and at q = 0."""
     q = np.hypot(qx[:, None], qy[None, :])
     qr, qs, ql = 2 * np.pi / lr, 2 * np.pi / ls, 2 * np.pi / longest
     out = np.where((q >= ql * (1 - 1e-12)) & (q < qr), 1.0, 0.0)
     power = (q >= qr) & (q <= qs * (1 + 1e-12))
-    out[power] = (q[power] / qr) ** (-(1 + 2 * hurst))
+    out[power] = (q[power] / qr) ** (-2 * (1 + hurst))
     return out
 
 

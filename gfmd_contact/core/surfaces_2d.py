@@ -8,8 +8,12 @@ profile. Heights follow the
 sign convention of 1+1-D (reference-formulas §0): the same `indenter_surface`, first contact at the
 minimum of h.
 
-Random surfaces read the seed's Eq. 4 radially: the PSD shape C(|q|)/C(q_r) of
-`gfmd_contact.core.surfaces.psd_self_affine` at |q| = (q_x² + q_y²)^½, deterministic amplitudes √C, random
+Random surfaces are isotropic and self-affine with the seed's Eq. 4 bands (plateau from the longest wave of
+the cell to λr, power law to λs,H, nothing above): the areal PSD shape C^iso(|q|)/C(q_r) of
+`gfmd_contact.core.psd.psd_self_affine` (dimension 2) at |q| = (q_x² + q_y²)^½, ∝ |q|^−2(1+H) in the
+self-affine band, so that a line scan has the seed's profile exponent −(1+2H) and H is the Hurst
+exponent of the heights (Jacobs, Junge & Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001 (2017)); the
+1-D exponent read radially would give line scans of Hurst exponent H − ½. Deterministic amplitudes √C, random
 phases from the explicit seed that are Hermitian-symmetric by construction (the phases of the rfft2 of
 white noise drawn with numpy's default_rng(seed)), zero mean (q = 0 empty), the Nyquist lines empty
 (as the 1-D Nyquist mode), and h_rms exact over the surface after a final rescaling.
@@ -21,8 +25,9 @@ import numpy as np
 import scipy.fft
 from pathlib import Path
 
-from .errors import SceneError, first_line
+from .errors import SceneError
 from .psd import grid, psd_self_affine
+from .surface_files import check_regular_file, read_npy
 from .topography_files import TEXT_SUFFIXES
 
 
@@ -32,7 +37,8 @@ def positions(nodes_x, length_x, nodes_y, length_y):
 
 
 def self_affine(nodes_x, length_x, nodes_y, length_y, hurst, h_rms, rolloff_wavelength, rollon_wavelength, seed):
-    """Random isotropic self-affine surface (m), shape (Nx, Ny): seed Eq. 4 in |q|, exact h_rms (module docstring).
+    """Random isotropic self-affine surface (m), shape (Nx, Ny): C^iso(|q|) ∝ |q|^−2(1+H) in seed Eq. 4's
+    bands, exact h_rms (module docstring).
 
     The plateau starts at the longest wave of the cell, 2π/max(Lx, Ly). Equal arguments give identical
     surfaces.
@@ -40,7 +46,8 @@ def self_affine(nodes_x, length_x, nodes_y, length_y, hurst, h_rms, rolloff_wave
     qx = 2 * np.pi * np.fft.fftfreq(nodes_x, d=length_x / nodes_x)
     qy = 2 * np.pi * np.fft.rfftfreq(nodes_y, d=length_y / nodes_y)
     q = np.hypot(qx[:, None], qy[None, :])
-    amplitude = np.sqrt(psd_self_affine(q, hurst, rolloff_wavelength, rollon_wavelength, max(length_x, length_y)))
+    amplitude = np.sqrt(psd_self_affine(q, hurst, rolloff_wavelength, rollon_wavelength, max(length_x, length_y),
+                                        dimension=2))
     if nodes_x % 2 == 0:
         amplitude[nodes_x // 2, :] = 0.0
     if nodes_y % 2 == 0:
@@ -92,24 +99,15 @@ def from_file_2d(path, nodes_x, nodes_y, lengths=None):
     def fail(problem):
         raise SceneError(f"surface.path = {str(path)!r}: {problem}; {expected}")
 
-    if not path.is_file():
-        fail("is a directory, not a file" if path.is_dir() else "no such file")
+    check_regular_file(path, fail)
     if path.suffix.lower() not in (".npy",) + TEXT_SUFFIXES:
         from .topography_files import read_topography_file
         return read_topography_file(path, (nodes_x, nodes_y), lengths)
     if path.suffix.lower() != ".npy":
         fail("a 2+1-D surface is read from a .npy file only (text files hold 1+1-D profiles)")
-    try:
-        h = np.load(path, allow_pickle=False)
-    except (ValueError, EOFError, OSError) as exc:
-        fail(f"not a valid .npy file ({first_line(exc)})")
-    if not isinstance(h, np.ndarray):
-        getattr(h, "close", lambda: None)()
-        fail(f"holds a {type(h).__name__}, not an array")
-    if h.dtype.kind not in "iuf":
-        fail(f"holds values of dtype {h.dtype}, not real numbers")
-    if h.shape != (nodes_x, nodes_y):
-        raise SceneError(f"surface.path = {str(path)!r} holds an array of shape {h.shape}, but (surface.nodes, "
+    h, shape = read_npy(path, (nodes_x, nodes_y), fail)  # the header first: the shape before any value
+    if h is None:
+        raise SceneError(f"surface.path = {str(path)!r} holds an array of shape {shape}, but (surface.nodes, "
                          f"surface.nodes_y) = ({nodes_x}, {nodes_y}); {expected}")
     h = np.asarray(h, dtype=float)
     if not np.all(np.isfinite(h)):
