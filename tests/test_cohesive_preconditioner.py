@@ -205,7 +205,7 @@ def test_two_level_ramp_reaches_the_default_states(monkeypatch):
 def test_two_level_is_built_only_by_steps_that_engage_it(monkeypatch):
     """Its setup (an irfft and cumulative sums over 2N) is paid only by a step that reaches ENGAGE_AFTER
     iterations, once (that the iterates equal the eager build's, the preconditioner being unused before, was
-    measured bit for bit on a 2^17 ramp: benchmarks/results/bench_cohesive_preconditioner.md §5)."""
+    measured bit for bit on a 2^17 ramp: docs/design/performance.md)."""
     monkeypatch.setattr(cp, "ENGAGE_EARLY", cp.ENGAGE_AFTER)  # no early engagement: a step engages past ENGAGE_AFTER
     built = []
     plain = cp.build

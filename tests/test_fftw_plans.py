@@ -1,11 +1,9 @@
 """The FFTW backend (`gfmd.fft`): the transforms numpy's, the callers' arrays untouched, and measured plans kept as
 wisdom so that another process makes the same plan (the same bits)."""
 
-import json
 import os
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -107,22 +105,12 @@ def test_no_wisdom_file_means_estimated_plans(fresh_plans, monkeypatch, where):
     np.testing.assert_allclose(y, np.fft.rfft(x), rtol=0, atol=1e-12 * np.max(np.abs(y)))
 
 
-BENCH = Path(__file__).resolve().parents[1] / "benchmarks" / "results" / "bench_fft.json"
-
-
-def test_the_default_fft_is_the_one_measured_fastest():
-    """benchmarks/bench_fft.py (regenerate it there): on every whole ramp measured FFTW, the default where pyfftw is
-    installed, took less CPU than ducc0 beyond the noise of its two core placements, and less time per pair at the
-    seed's N = 2^17 on both shapes."""
-    data = json.loads(BENCH.read_text())
+def test_the_default_fft_is_fftw():
+    """Where pyfftw is installed (a default dependency) the default backend is FFTW, measured the fastest: 0.79–0.88×
+    ducc0's CPU on whole 2^17 ramps of each law and less time per pair at 2^17 on both shapes (docs/design/performance.md;
+    `python -m pytest benchmarks` times the default's pair)."""
+    pytest.importorskip("pyfftw")
     assert gfft.fft_backend("auto") == "fftw"
-    assert {"cohesive", "hard-wall"} <= set(data["ramps"])
-    for cls, r in data["ramps"].items():
-        assert r["fftw_over_ducc0"] + r["noise"] < 1.0, cls
-    at_seed = [row for row in data["pairs"] if row["size"] == 17]
-    assert len(at_seed) == 2
-    for row in at_seed:
-        assert row["pair_ms"]["fftw measure"] < row["pair_ms"]["ducc0"], row["shape"]
 
 
 @pytest.mark.skipif(gfft.fcntl is None, reason="no fcntl (not POSIX)")
