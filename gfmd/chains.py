@@ -57,14 +57,13 @@ converges to unstable equilibria as well, hence the acceptance test.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from gfmd_contact.core import laws
 
-from .algorithms import (cohesive_wall, coupled_ncg, coupled_newton, coupled_ptc, dynamics, hard_wall_dual_cg,
-                         hard_wall_dynamics, hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
+from .algorithms import coupled_newton
 from .blas import on_one_thread
 from .coupled_krylov import balance_residual, better_start
 from .coupled_rules import (COUPLED_BETTER_START, COUPLED_CONTINUATION_GMRES_CYCLES,  # read (and patched by the
@@ -72,130 +71,79 @@ from .coupled_rules import (COUPLED_BETTER_START, COUPLED_CONTINUATION_GMRES_CYC
                             COUPLED_FIRE_BUDGET, COUPLED_FIRE_CRAWL, COUPLED_FRICTIONLESS_COUPLING, COUPLED_HANDOVER_MOVE,
                             COUPLED_JUMP, COUPLED_PREDICTION_MOVE, COUPLED_START_MARGIN)
 from .coupled_stability import coupled_stability
+from .links import ALGORITHMS, Accept, Budget, Link, Start
 from .problem import Problem, elastic_coupling, flat_problem, frictionless
 from .stopping import finish
 
-#: the algorithms by name (gfmd.algorithms: one module each, `solve(problem, start, settings) -> Relaxed`)
-ALGORITHMS = {"hard_wall_two_level_cg": hard_wall_two_level_cg.solve, "hard_wall_dual_cg": hard_wall_dual_cg.solve,
-              "hard_wall_primal_cg": hard_wall_primal_cg.solve, "hard_wall_dynamics": hard_wall_dynamics.solve,
-              "ncg": ncg.solve, "dynamics": dynamics.solve, "coupled_newton": coupled_newton.solve,
-              "coupled_ptc": coupled_ptc.solve, "coupled_ncg": coupled_ncg.solve, "cohesive_wall": cohesive_wall.solve}
-
-@dataclass(frozen=True)
-class Link:
-    """One algorithm of a chain.
-
-    options: Settings fields this link sets, e.g. (("method", "verlet"),); starts: where it starts,
-    tried in turn until one is kept: "guess" (the step's), "end" (where the link before stopped),
-    "finite end" (that, unless its residual was not finite), "stalled end" (where the chain's first link, the
-    continuation Newton, stopped without converging at a finite residual, resumed to its stall where it broke off
-    at a jump: never a converged state the chain rejected, `_stall_point`; skipped where that is the guess itself,
-    which every chain's FIRE has started from before); budget: its iterations, "all"
-    (max_iterations), "left" (what the links before left), "rest" (that, at least 1), "coupled fire"
-    (min(COUPLED_FIRE_BUDGET, max_iterations // 2)), "coupled crawl" (min(COUPLED_FIRE_CRAWL, max_iterations // 2)
-    less the handover link's iterations, at least 1); accept: "locally stable" keeps a converged state only where
-    the tangent's eigenvalues nearest 0 have Re λ > 0, "near" only where no node moved COUPLED_HANDOVER_MOVE law
-    lengths from its start, "near, locally stable" both, "predicted" only where none moved COUPLED_PREDICTION_MOVE;
-    tolerance: "handover" runs the link to the looser residual `Settings.coupled_handover` and hands the state it
-    reaches to the links after it (start "handover": the last such link's state; the link is skipped where that link
-    did not reach the handover residual); reduced: "frictionless" runs the algorithm on the frictionless reduction
-    (`_run`).
-    """
-
-    algorithm: str
-    options: tuple = ()
-    starts: tuple = ("guess",)
-    budget: str = "all"
-    accept: str = ""
-    tolerance: str = ""
-    reduced: str = ""
-
-
 _VERLET = (("method", "verlet"),)
-#: the Newton-first chains' last resort before damped Verlet: Ψtc, kept only where locally stable (deep in the slip
-#: regime FIRE's dynamics circulate and Newton's line search stalls: Fig. 8 at 2^17, ν = 0.1, seed 7, step 199: Ψtc
-#: converged in 24 iterations, 1 672 FFT pairs, ≈ 3.4 min with its stability test; Verlet: 58 min, not converged)
-_LAST_RESORT = (Link("coupled_ptc", accept="locally stable"), Link("dynamics", options=_VERLET, budget="rest"))
 _GIVE_UP = (("coupled_gmres_give_up", True),)  # Newton stops at a missed GMRES solve
 #: the continuation Newton: stops at a GMRES solve missed within COUPLED_CONTINUATION_GMRES_CYCLES, once an iterate
 #: moved COUPLED_JUMP law lengths, once its residual stagnates (COUPLED_CONTINUATION_STAGNATION) and after
-#: COUPLED_CONTINUATION_ITERATIONS iterations
-_CONTINUATION = _GIVE_UP + (("coupled_continuation_jump", COUPLED_JUMP),
-                            ("coupled_continuation_iterations", COUPLED_CONTINUATION_ITERATIONS),
-                            ("coupled_continuation_gmres_cycles", COUPLED_CONTINUATION_GMRES_CYCLES),
-                            ("coupled_continuation_stagnation", COUPLED_CONTINUATION_STAGNATION))
+#: COUPLED_CONTINUATION_ITERATIONS iterations; its state kept only as a continuation of the ramp's branch
+_CONTINUATION = Link("coupled_newton", accept=Accept.CONTINUATION,
+                     options=_GIVE_UP + (("coupled_continuation_jump", COUPLED_JUMP),
+                                         ("coupled_continuation_iterations", COUPLED_CONTINUATION_ITERATIONS),
+                                         ("coupled_continuation_gmres_cycles", COUPLED_CONTINUATION_GMRES_CYCLES),
+                                         ("coupled_continuation_stagnation", COUPLED_CONTINUATION_STAGNATION)))
+#: Newton from the guess, then from where the link before stopped, kept only where locally stable
+_STABLE_NEWTON = Link("coupled_newton", starts=(Start.GUESS, Start.FINITE_END), accept=Accept.LOCALLY_STABLE)
+_LAST_VERLET = Link("dynamics", options=_VERLET, budget=Budget.REST)
+#: the Newton-first chains' last resort before damped Verlet: Ψtc, kept only where locally stable (deep in the slip
+#: regime FIRE's dynamics circulate and Newton's line search stalls: Fig. 8 at 2^17, ν = 0.1, seed 7, step 199: Ψtc
+#: converged in 24 iterations, 1 672 FFT pairs, ≈ 3.4 min with its stability test; Verlet: 58 min, not converged)
+_LAST_RESORT = (Link("coupled_ptc", accept=Accept.LOCALLY_STABLE), _LAST_VERLET)
+_FIRE_TO_HANDOVER = Link("dynamics", budget=Budget.COUPLED_FIRE, handover=True)
+_NEWTON_NEAR = Link("coupled_newton", options=_GIVE_UP, starts=(Start.HANDOVER,), accept=Accept.NEAR)
+#: FIRE to the handover residual, Newton from there (kept near FIRE's state: the same equilibrium), else FIRE goes on
+#: from its handover state (up to COUPLED_FIRE_CRAWL in all); FIRE from where the continuation stalled (a fold); then
+#: the stability-tested Newton, Ψtc and Verlet
+_HANDOVER_NEAR = (_FIRE_TO_HANDOVER, _NEWTON_NEAR, Link("dynamics", starts=(Start.HANDOVER,), budget=Budget.COUPLED_CRAWL),
+                  Link("dynamics", starts=(Start.STALLED_END,), budget=Budget.COUPLED_FIRE), _STABLE_NEWTON,
+                  *_LAST_RESORT)
+_FIRE = (Link("dynamics"),)
 #: {(law kind, key): chain}: the law kinds of `gfmd.problem.Problem.kind`, the keys of `chain_key`
 CHAINS = {
-    ("hard-wall", "cg"): (Link("hard_wall_two_level_cg"), Link("hard_wall_primal_cg", starts=("end",), budget="left")),
-    ("hard-wall", "cg-band"): (Link("hard_wall_dual_cg"), Link("hard_wall_primal_cg", starts=("end",), budget="left")),
+    ("hard-wall", "cg"): (Link("hard_wall_two_level_cg"),
+                          Link("hard_wall_primal_cg", starts=(Start.END,), budget=Budget.LEFT)),
+    ("hard-wall", "cg-band"): (Link("hard_wall_dual_cg"),
+                               Link("hard_wall_primal_cg", starts=(Start.END,), budget=Budget.LEFT)),
     ("hard-wall", "cg-primal"): (Link("hard_wall_primal_cg"),),
     ("hard-wall", "fire"): (Link("hard_wall_dynamics"),),
     ("hard-wall", "verlet"): (Link("hard_wall_dynamics"),),
-    ("cohesive", "ncg"): (Link("ncg"), Link("dynamics", budget="rest")),
-    ("cohesive", "fire"): (Link("dynamics"),),
-    ("cohesive", "verlet"): (Link("dynamics"),),
-    ("coupled", "fire"): (Link("dynamics", budget="coupled fire"),
-                          Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
-                          Link("dynamics", options=_VERLET, budget="rest")),
-    ("coupled", "newton"): (Link("coupled_newton", options=_CONTINUATION, accept="continuation"),
-                            Link("dynamics", budget="coupled fire", starts=("guess", "stalled end")),
-                            Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
-                            *_LAST_RESORT),
-    ("coupled", "ptc"): (Link("coupled_newton", options=_CONTINUATION, accept="continuation"),
-                         Link("coupled_ptc", accept="locally stable"),
-                         Link("dynamics", budget="coupled fire"),
-                         Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
-                         Link("dynamics", options=_VERLET, budget="rest")),
-    # FIRE to the handover residual, Newton from there (kept near FIRE's state: the same equilibrium), else FIRE
-    # goes on from its handover state (up to COUPLED_FIRE_CRAWL in all); FIRE from where the continuation stalled
-    # (a fold); then as the "fire" chain
-    ("coupled", "handover"): (Link("coupled_newton", options=_CONTINUATION, accept="continuation"),
-                              Link("dynamics", budget="coupled fire", tolerance="handover"),
-                              Link("coupled_newton", options=_GIVE_UP, starts=("handover",),
-                                   accept="near, locally stable"),
-                              Link("dynamics", starts=("handover",), budget="coupled crawl"),
-                              Link("dynamics", starts=("stalled end",), budget="coupled fire"),
-                              Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
-                              *_LAST_RESORT),
-    ("coupled", "handover-near"): (Link("coupled_newton", options=_CONTINUATION, accept="continuation"),
-                                   Link("dynamics", budget="coupled fire", tolerance="handover"),
-                                   Link("coupled_newton", options=_GIVE_UP, starts=("handover",), accept="near"),
-                                   Link("dynamics", starts=("handover",), budget="coupled crawl"),
-                                   Link("dynamics", starts=("stalled end",), budget="coupled fire"),
-                                   Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
-                                   *_LAST_RESORT),
+    ("cohesive", "ncg"): (Link("ncg"), Link("dynamics", budget=Budget.REST)),
+    ("cohesive", "fire"): _FIRE,
+    ("cohesive", "verlet"): _FIRE,
+    ("coupled", "fire"): (Link("dynamics", budget=Budget.COUPLED_FIRE), _STABLE_NEWTON, _LAST_VERLET),
+    ("coupled", "newton"): (_CONTINUATION, Link("dynamics", budget=Budget.COUPLED_FIRE,
+                                                starts=(Start.GUESS, Start.STALLED_END)),
+                            _STABLE_NEWTON, *_LAST_RESORT),
+    ("coupled", "ptc"): (_CONTINUATION, Link("coupled_ptc", accept=Accept.LOCALLY_STABLE),
+                         Link("dynamics", budget=Budget.COUPLED_FIRE), _STABLE_NEWTON, _LAST_VERLET),
+    ("coupled", "handover"): (_CONTINUATION, _FIRE_TO_HANDOVER,
+                              Link("coupled_newton", options=_GIVE_UP, starts=(Start.HANDOVER,),
+                                   accept=Accept.NEAR_STABLE), *_HANDOVER_NEAR[2:]),
+    ("coupled", "handover-near"): (_CONTINUATION, *_HANDOVER_NEAR),
     # the frictionless reduction's NCG through the event (its energy minimum, u_x of the guess), Newton from there kept
-    # near it; else on as "handover-near"
-    ("coupled", "frictionless-first"): (Link("coupled_newton", options=_CONTINUATION, accept="continuation"),
-                                        Link("ncg", reduced="frictionless", tolerance="handover"),
-                                        Link("coupled_newton", options=_GIVE_UP, starts=("handover",),
-                                             accept="predicted"),
-                                        Link("dynamics", budget="coupled fire", tolerance="handover"),
-                                        Link("coupled_newton", options=_GIVE_UP, starts=("handover",), accept="near"),
-                                        Link("dynamics", starts=("handover",), budget="coupled crawl"),
-                                        Link("dynamics", starts=("stalled end",), budget="coupled fire"),
-                                        Link("coupled_newton", starts=("guess", "finite end"), accept="locally stable"),
-                                        *_LAST_RESORT),
-    ("coupled", "verlet"): (Link("dynamics"),),
-    ("user", "ncg"): (Link("ncg"), Link("dynamics", budget="rest")),
-    ("user", "fire"): (Link("dynamics"),),
-    ("user", "verlet"): (Link("dynamics"),),
+    # where it polished that prediction; else on as "handover-near"
+    ("coupled", "frictionless-first"): (_CONTINUATION, Link("ncg", frictionless=True, handover=True),
+                                        Link("coupled_newton", options=_GIVE_UP, starts=(Start.HANDOVER,),
+                                             accept=Accept.PREDICTED), *_HANDOVER_NEAR),
+    # the coupled NCG to the handover residual, Newton from there kept near it; else on as "handover-near"
+    ("coupled", "ncg-first"): (_CONTINUATION, Link("coupled_ncg", handover=True), _NEWTON_NEAR, *_HANDOVER_NEAR),
+    ("coupled", "verlet"): _FIRE,
+    ("user", "ncg"): (Link("ncg"), Link("dynamics", budget=Budget.REST)),
+    ("user", "fire"): _FIRE,
+    ("user", "verlet"): _FIRE,
     ("cohesive-wall", "fire"): (Link("cohesive_wall"),),
     ("cohesive-wall", "verlet"): (Link("cohesive_wall"),),
 }
-# "ncg-first": the coupled NCG to the handover residual, Newton from there kept near it; else on as "handover-near"
-_NEAR = CHAINS["coupled", "handover-near"]  # (continuation, FIRE to the handover, Newton kept near it, …)
-CHAINS["coupled", "ncg-first"] = (_NEAR[0], Link("coupled_ncg", tolerance="handover"), _NEAR[2], *_NEAR[1:])
 
-#: the algorithms' labels (`Relaxed.method`) and the start names in words, for messages and reports
+#: the algorithms' labels (`Relaxed.method`) in words, for messages and reports
 WORDS = {"hard_wall_two_level_cg": "the two-level dual CG", "cg-dual2": "the two-level dual CG",
          "hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG",
          "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov",
          "ptc": "pseudo-transient continuation", "ncg-frictionless": "NCG on the frictionless reduction",
          "coupled-ncg": "the coupled NCG"}
-STARTS = {"guess": "the step's guess", "end": "the end state of the one before",
-          "finite end": "the end state of the one before", "handover": "FIRE's handover state",
-          "stalled end": "where the continuation Newton stalled", "coupled_ncg": "the coupled NCG's handover state"}
 #: Settings.coupled's chains (`chain_key`)
 COUPLED_KEYS = ("auto", "newton", "ptc", "fire", "handover", "handover-near", "frictionless-first", "ncg-first")
 
@@ -265,7 +213,7 @@ def labels(key, settings):
     fixed = {"hard_wall_two_level_cg": "cg-dual2", "hard_wall_dual_cg": "cg-dual", "hard_wall_primal_cg": "cg", "ncg": "ncg",
              "coupled_newton": "newton", "coupled_ptc": "ptc", "coupled_ncg": "coupled-ncg"}
     return tuple((fixed.get(link.algorithm) or ("verlet" if dict(link.options).get("method", settings.method) == "verlet"
-                                                else "fire")) + (f"-{link.reduced}" if link.reduced else "")
+                                                else "fire")) + ("-frictionless" if link.frictionless else "")
                  for link in CHAINS[key])
 
 
@@ -276,14 +224,15 @@ def describe(key, settings):
 
 
 def _budget(link, settings, used, handover_used=0):
-    if link.budget == "all":
+    """The link's iterations, `used` by the links before it, `handover_used` by the last handover link."""
+    if link.budget is Budget.ALL:
         return settings.max_iterations
-    if link.budget == "coupled fire":
+    if link.budget is Budget.COUPLED_FIRE:
         return min(COUPLED_FIRE_BUDGET, settings.max_iterations // 2)
-    if link.budget == "coupled crawl":  # with the handover link's iterations
+    if link.budget is Budget.COUPLED_CRAWL:  # with the handover link's iterations
         return max(min(COUPLED_FIRE_CRAWL, settings.max_iterations // 2) - handover_used, 1)
     left = settings.max_iterations - used
-    return left if link.budget == "left" else max(left, 1)
+    return left if link.budget is Budget.LEFT else max(left, 1)
 
 
 def _move(problem, r, origin):
@@ -315,7 +264,7 @@ def _stall_point(problem, link, before, settings):
 
 
 def _progressed(problem, end, origin, count_pairs):
-    """Whether a run's end state is a start (``"finite end"``): its residual finite and below that of the state it
+    """Whether a run's end state is a start (`Start.FINITE_END`): its residual finite and below that of the state it
     started from (a FIRE run that blew up, Fig. 8 at 2^17, seed 7, step 199: 0.21 → 2.3e7 p_ref, is none; Newton
     from there ran 47 iterations, 131 s, to 2.1e3 p_ref). The start's residual costs one FFT pair, counted."""
     if not np.isfinite(end.residual):
@@ -325,21 +274,21 @@ def _progressed(problem, end, origin, count_pairs):
     return end.residual < start
 
 
-def _rejected(problem, link, r, origin, handed="FIRE's handover state"):
+def _rejected(problem, link, r, origin, handed=Start.HANDOVER.words):
     """Why a converged state fails the link's acceptance test ("" if it passes); handed: the handover state in words."""
-    if link.accept == "continuation":  # kept only where no node moved COUPLED_JUMP law lengths from the start
+    if link.accept is Accept.CONTINUATION:  # kept only where no node moved COUPLED_JUMP law lengths from the start
         move = _move(problem, r, origin)
         return (f"a node moved {move:.3g} law lengths from the step's start (a snap or slip event: left to the "
                 "chain that tests stability)") if move >= COUPLED_JUMP else ""
-    if link.accept == "predicted":  # Newton polished the predicted state, it did not leave it for another
+    if link.accept is Accept.PREDICTED:  # Newton polished the predicted state, it did not leave it for another
         move = _move(problem, r, origin)
         return (f"a node moved {move:.3g} law lengths from the frictionless prediction (another equilibrium), "
                 "rejected") if move >= COUPLED_PREDICTION_MOVE else ""
-    if link.accept.startswith("near"):  # the equilibrium the handover state was approaching, not another one
+    if link.accept in (Accept.NEAR, Accept.NEAR_STABLE):  # the equilibrium the handover state was approaching, not another one
         move = _move(problem, r, origin)
         if move >= COUPLED_HANDOVER_MOVE:
             return f"a node moved {move:.3g} law lengths from {handed} (another equilibrium), rejected"
-    if not link.accept.endswith("locally stable"):
+    if not link.accept.stability:
         return ""
     lowest = coupled_stability(problem.model, problem.law, problem.z_ind, r.u_hat)
     if lowest is not None and lowest <= 0.0:  # not the state damped dynamics would settle in
@@ -401,9 +350,9 @@ def _on_grid(result, model):
 
 
 def _run(problem, link, origin, settings):
-    """The link's algorithm from `origin`; for reduced = "frictionless" on `gfmd.problem.frictionless`'s reduction,
-    its u_z with origin's u_x returned as the coupled state."""
-    if not link.reduced:
+    """The link's algorithm from `origin`; a frictionless link's on `gfmd.problem.frictionless`'s reduction, its u_z
+    with origin's u_x returned as the coupled state."""
+    if not link.frictionless:
         return ALGORITHMS[link.algorithm](problem, origin, settings)
     r = ALGORITHMS[link.algorithm](frictionless(problem), origin[-1:], settings)
     r.u_hat = np.concatenate([origin[:-1], r.u_hat[-1:]])
@@ -411,90 +360,133 @@ def _run(problem, link, origin, settings):
     return r
 
 
+@dataclass
+class _Walk:
+    """What the walk along a chain carries from link to link."""
+
+    problem: Problem
+    chain: tuple
+    guess: np.ndarray  # the step's guess (Start.GUESS)
+    settings: object
+    used: int = 0  # the iterations of every run
+    pairs: float = 0.0  # and their FFT pairs
+    names: list = field(default_factory=list)  # the labels that ran, in order
+    notes: list = field(default_factory=list)  # why runs were not kept
+    run: object = None  # the last run and the state it started from
+    origin: object = None
+    before: object = None  # the link before's last run (Start.END) and the state it started from
+    before_origin: object = None
+    first: object = None  # the first link's last run
+    stall: tuple = None  # (where the first link stalled, or None,): Start.STALLED_END, found once per step
+    handed: object = None  # the run of the last handover link that reached its residual (Start.HANDOVER)
+    handover_used: int = 0  # its iterations
+    handed_words: str = Start.HANDOVER.words  # its state in words
+
+    def count(self, r):
+        """Every run adds its iterations, FFT pairs and label."""
+        self.used += r.iterations
+        self.pairs += r.fft_pairs
+        if r.method and (not self.names or self.names[-1] != r.method):
+            self.names.append(r.method)
+
+    def count_pairs(self, more):
+        self.pairs += more
+
+
 def _relax(problem, chain, u_hat, settings):
     """`relax` along `chain` on a 1+1-D problem or a surface's flat view."""
-    used, pairs, names, notes = 0, 0.0, [], []
-
-    def count(r):  # every algorithm run adds its iterations, FFT pairs and label
-        nonlocal used, pairs
-        used += r.iterations
-        pairs += r.fft_pairs
-        if r.method and (not names or names[-1] != r.method):
-            names.append(r.method)
-
-    def count_pairs(more):
-        nonlocal pairs
-        pairs += more
-
-    before, before_origin = None, None  # the last link's final result ("end" starts from it) and its start
-    first, stall = None, None  # the first link's final result; (where it stalled,) for "stalled end", found once
-    handed, handover_used = None, 0  # the state a "handover" link reached (start "handover") and its iterations
-    handed_words = STARTS["handover"]  # that state in words
+    walk = _Walk(problem, chain, u_hat, settings)
     for i, link in enumerate(chain):
-        options = dict(link.options)
-        budget = _budget(link, settings, used, handover_used)
-        if budget != settings.max_iterations:
-            options["max_iterations"] = budget
-        if link.tolerance == "handover":
-            options["tolerance"] = settings.coupled_handover
-        run = replace(settings, **options) if options else settings
-        last_link = i == len(chain) - 1
-        if link.tolerance == "handover":  # a later Newton from "handover" starts from this link's state or none
-            handed = None
-        result = None
-        for start in link.starts:
-            if start == "guess":
-                origin = u_hat
-            elif start == "handover":
-                if handed is None:
-                    continue
-                origin = handed.u_hat
-            elif start == "stalled end":  # a fold's neighbourhood, where Newton stalled: FIRE carries the snap
-                if stall is None:  # found once per step
-                    stop, resumed = _stall_point(problem, chain[0], first, settings)
-                    if resumed is not None:
-                        count(resumed)
-                        notes.append(f"{WORDS[resumed.method]} resumed without the break-off "
-                                     f"({resumed.stalled or 'converged: another equilibrium, not a start'})")
-                    if stop is not None and np.array_equal(stop.u_hat, u_hat):  # e.g. GMRES missed at iteration 1
-                        notes.append("the continuation stalled at the guess, where FIRE ran already: not run again")
-                        stop = None
-                    stall = (stop,)
-                if stall[0] is None:
-                    continue
-                origin = stall[0].u_hat
-            elif start == "end" or _progressed(problem, before, before_origin, count_pairs):
-                origin = before.u_hat
-            else:
-                continue
-            r = _run(problem, link, origin, run)
-            count(r)
-            label = WORDS.get(r.method) or WORDS.get(link.algorithm, link.algorithm)
-            if link.tolerance == "handover" and r.converged:  # the looser residual: handed on, not the answer
-                handed, handover_used = r, r.iterations
-                handed_words = "the frictionless prediction" if link.reduced else STARTS.get(link.algorithm, STARTS["handover"])
-                notes.append(f"{label} handed over at residual {r.residual:.3g} p_ref")
-                break
-            why = _rejected(problem, link, r, origin, handed_words) if r.converged else ""
-            words = handed_words if start == "handover" else STARTS[start]
-            where = "" if start == "guess" or i == 0 else f" from {words}"
-            if r.converged and not why or not r.converged and (last_link or not r.stalled):
-                result = r
-                break
-            notes.append(f"{label}{where} stopped ({why or r.stalled})")
-            result = None
+        result = _walk_link(walk, i, link)
         if result is not None:
-            break
-        before, before_origin = r, origin
-        first = r if i == 0 else first
-    else:  # every link stalled or was rejected: the last state is the answer, not converged
-        result = r
-        result.converged = False
+            return _answer(walk, result)
+        walk.before, walk.before_origin = walk.run, walk.origin
+        if i == 0:
+            walk.first = walk.run
+    walk.run.converged = False  # every link stalled or was rejected: the last state is the answer, not converged
+    return _answer(walk, walk.run)
+
+
+def _walk_link(walk, i, link):
+    """The chain's i-th link from its starts in turn: the run kept (the step's answer), or None (on to the next)."""
+    run = _link_settings(link, walk.settings, walk.used, walk.handover_used)
+    if link.handover:  # a later Start.HANDOVER starts from this link's state or not at all
+        walk.handed = None
+    for start in link.starts:
+        origin = _origin(walk, start)
+        if origin is None:
+            continue
+        r = _run(walk.problem, link, origin, run)
+        walk.count(r)
+        walk.run, walk.origin = r, origin
+        label = WORDS.get(r.method) or WORDS.get(link.algorithm, link.algorithm)
+        if link.handover and r.converged:  # the looser residual: handed on, not the answer
+            walk.handed, walk.handover_used, walk.handed_words = r, r.iterations, _handed_words(link)
+            walk.notes.append(f"{label} handed over at residual {r.residual:.3g} p_ref")
+            return None
+        why = _rejected(walk.problem, link, r, origin, walk.handed_words) if r.converged else ""
+        if r.converged and not why or not r.converged and (i == len(walk.chain) - 1 or not r.stalled):
+            return r
+        words = walk.handed_words if start is Start.HANDOVER else start.words
+        where = "" if start is Start.GUESS or i == 0 else f" from {words}"
+        walk.notes.append(f"{label}{where} stopped ({why or r.stalled})")
+    return None
+
+
+def _link_settings(link, settings, used, handover_used):
+    """The Settings the link's algorithm runs with: its options, its budget, a handover link's residual."""
+    options = dict(link.options)
+    budget = _budget(link, settings, used, handover_used)
+    if budget != settings.max_iterations:
+        options["max_iterations"] = budget
+    if link.handover:
+        options["tolerance"] = settings.coupled_handover
+    return replace(settings, **options) if options else settings
+
+
+def _origin(walk, start):
+    """The state `start` names, or None where it names none (the start is skipped)."""
+    if start is Start.GUESS:
+        return walk.guess
+    if start is Start.HANDOVER:
+        return None if walk.handed is None else walk.handed.u_hat
+    if start is Start.STALLED_END:  # a fold's neighbourhood, where Newton stalled: FIRE carries the snap
+        if walk.stall is None:
+            walk.stall = (_stalled_end(walk),)
+        return None if walk.stall[0] is None else walk.stall[0].u_hat
+    if start is Start.END or _progressed(walk.problem, walk.before, walk.before_origin, walk.count_pairs):
+        return walk.before.u_hat
+    return None
+
+
+def _stalled_end(walk):
+    """Where the chain's first link stalled (`_stall_point`), or None; its resumed run counts and is noted."""
+    stop, resumed = _stall_point(walk.problem, walk.chain[0], walk.first, walk.settings)
+    if resumed is not None:
+        walk.count(resumed)
+        walk.notes.append(f"{WORDS[resumed.method]} resumed without the break-off "
+                          f"({resumed.stalled or 'converged: another equilibrium, not a start'})")
+    if stop is not None and np.array_equal(stop.u_hat, walk.guess):  # e.g. GMRES missed at iteration 1
+        walk.notes.append("the continuation stalled at the guess, where FIRE ran already: not run again")
+        stop = None
+    return stop
+
+
+def _handed_words(link):
+    """A handover link's state in words."""
+    if link.frictionless:
+        return "the frictionless prediction"
+    return "the coupled NCG's handover state" if link.algorithm == "coupled_ncg" else Start.HANDOVER.words
+
+
+def _answer(walk, result):
+    """The step's `Relaxed`: `result` with its fields, every run's iterations and FFT pairs, the labels that ran and
+    why the runs before it were not kept."""
     if result.u_z is None:  # a stall has no fields yet
-        result = finish(problem, result.u_hat, result.iterations, result.residual, False, result.stalled)
-    if notes:
-        result.message = "; ".join(notes) + f"; restarted with {WORDS.get(names[-1], names[-1])}: " + (
+        result = finish(walk.problem, result.u_hat, result.iterations, result.residual, False, result.stalled)
+    if walk.notes:
+        result.message = "; ".join(walk.notes) + f"; restarted with {WORDS.get(walk.names[-1], walk.names[-1])}: " + (
             result.message or "converged")
-    result.iterations, result.fft_pairs = used, pairs
-    result.method, result.stalled = "→".join(names), ""
+    result.iterations, result.fft_pairs = walk.used, walk.pairs
+    result.method, result.stalled = "→".join(walk.names), ""
     return result

@@ -222,7 +222,8 @@ def test_coupled_fire_restarts_where_newton_stalled_never_from_a_rejected_state(
 
     monkeypatch.setitem(chains.ALGORITHMS, "coupled_newton", newton)
     monkeypatch.setitem(chains.ALGORITHMS, "dynamics", fire)
-    monkeypatch.setattr(chains, "_rejected", lambda problem, link, r, origin, *words: "a jump" if link.accept else "")
+    monkeypatch.setattr(chains, "_rejected", lambda problem, link, r, origin, *words:
+                        "" if link.accept is chains.Accept.ANY else "a jump")
     r = chains.relax(p.model, p.law, p.z_ind, guess, settings, p.wall_tolerance)
     fires = [s for s in starts if s[0] == "fire"]
     if newton_converged:  # rejected: FIRE and then Verlet from the guess, never from the rejected state
@@ -410,3 +411,12 @@ def test_fire_from_the_handover_state_gets_the_crawl_budget(monkeypatch):
         r = chains.relax(p.model, p.law, p.z_ind, guess, settings, p.wall_tolerance)
         assert r.converged and r.method == "newton→fire→newton→fire", r.method
         assert budgets == [(False, min(chains.COUPLED_FIRE_BUDGET, settings.max_iterations // 2)), (True, crawl - 7)]
+
+
+@pytest.mark.parametrize("bad", [{"algorithm": "cg-dual9"}, {"starts": ("guess",)}, {"starts": ()},
+                                 {"budget": "rest"}, {"accept": "near"}, {"handover": "yes"},
+                                 {"options": (("no_such_field", 1),)}])
+def test_a_link_outside_the_vocabulary_is_refused_where_it_is_built(bad):
+    """Strings where the chain's types belong, an unknown algorithm or Settings field: refused by `Link` itself."""
+    with pytest.raises(ValueError, match=f"Link.{next(iter(bad))}"):
+        chains.Link(**{"algorithm": "ncg", **bad})

@@ -202,10 +202,10 @@ def test_continuation_breaks_off_where_an_iterate_jumps(fig8_step, monkeypatch):
     cut = coupled_newton.solve(problem, previous, replace(cell.settings, coupled_continuation_jump=0.1 * moved))
     assert not cut.converged and "law lengths from the start" in cut.stalled, cut.message
     assert cut.iterations == coupled_newton.JUMP_FROM_ITERATION == 2
-    assert dict(chains._CONTINUATION)["coupled_continuation_jump"] == chains.COUPLED_JUMP
+    assert dict(chains._CONTINUATION.options)["coupled_continuation_jump"] == chains.COUPLED_JUMP
     capped = coupled_newton.solve(problem, previous, replace(cell.settings, coupled_continuation_iterations=1))
     assert not capped.converged and capped.iterations == 1 and "after 1 Newton iterations" in capped.stalled
-    assert dict(chains._CONTINUATION)["coupled_continuation_iterations"] == chains.COUPLED_CONTINUATION_ITERATIONS
+    assert dict(chains._CONTINUATION.options)["coupled_continuation_iterations"] == chains.COUPLED_CONTINUATION_ITERATIONS
 
 
 def test_continuation_breaks_off_where_its_residual_stagnates(fig8_step, monkeypatch):
@@ -217,7 +217,7 @@ def test_continuation_breaks_off_where_its_residual_stagnates(fig8_step, monkeyp
     cell, previous, _current, (z99, _) = fig8_step
     problem = Problem(cell.physics, cell.law, z99)
     threshold = chains.COUPLED_CONTINUATION_STAGNATION
-    assert dict(chains._CONTINUATION)["coupled_continuation_stagnation"] == threshold and 0 < threshold < 1
+    assert dict(chains._CONTINUATION.options)["coupled_continuation_stagnation"] == threshold and 0 < threshold < 1
     plain = coupled_newton.solve(problem, previous, cell.settings)
     tested = coupled_newton.solve(problem, previous, replace(cell.settings, coupled_continuation_stagnation=threshold))
     assert plain.converged and tested.converged and tested.iterations == plain.iterations, tested.message
@@ -325,7 +325,7 @@ def test_continuation_gmres_cycles_break_off_a_solve_that_needs_more(fig8_step, 
     one = coupled_newton.solve(problem, previous, replace(cont, coupled_continuation_gmres_cycles=1))
     assert not one.converged and one.iterations == 1 and coupled_newton.BROKE_OFF in one.stalled, one.message
     assert one.fft_pairs < 0.5 * whole.fft_pairs
-    assert dict(chains._CONTINUATION)["coupled_continuation_gmres_cycles"] == chains.COUPLED_CONTINUATION_GMRES_CYCLES
+    assert dict(chains._CONTINUATION.options)["coupled_continuation_gmres_cycles"] == chains.COUPLED_CONTINUATION_GMRES_CYCLES
 
 
 def test_missed_gmres_hands_the_step_to_fire_with_the_same_state(fig8_step, monkeypatch):

@@ -1,0 +1,106 @@
+"""A chain's vocabulary as typed data: the algorithms by name and `Link`, one algorithm of a chain.
+
+A link says which algorithm runs (a key of `ALGORITHMS`), with which `Settings` fields changed, from
+which states (`Start`, tried in turn until a run is kept), with how many iterations (`Budget`) and
+which converged state it keeps (`Accept`). `gfmd.chains` declares the chains and walks them; a link
+with a value outside this vocabulary is refused where it is built, not where a chain runs it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+from enum import Enum
+
+from .algorithms import (cohesive_wall, coupled_ncg, coupled_newton, coupled_ptc, dynamics, hard_wall_dual_cg,
+                         hard_wall_dynamics, hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
+from .settings import Settings
+
+#: the algorithms by name (gfmd.algorithms: one module each, `solve(problem, start, settings) -> Relaxed`)
+ALGORITHMS = {"hard_wall_two_level_cg": hard_wall_two_level_cg.solve, "hard_wall_dual_cg": hard_wall_dual_cg.solve,
+              "hard_wall_primal_cg": hard_wall_primal_cg.solve, "hard_wall_dynamics": hard_wall_dynamics.solve,
+              "ncg": ncg.solve, "dynamics": dynamics.solve, "coupled_newton": coupled_newton.solve,
+              "coupled_ptc": coupled_ptc.solve, "coupled_ncg": coupled_ncg.solve, "cohesive_wall": cohesive_wall.solve}
+
+
+class Start(Enum):
+    """Where a link starts."""
+
+    GUESS = "guess"  # the step's guess
+    END = "end"  # where the link before stopped
+    FINITE_END = "finite end"  # that, where its residual is finite and below that of the state it started from
+    #: where the chain's first link, the continuation Newton, stopped without converging at a finite residual,
+    #: resumed to its stall where it broke off at a jump (never a converged state the chain rejected); skipped
+    #: where that is the guess itself, from which FIRE ran already
+    STALLED_END = "stalled end"
+    HANDOVER = "handover"  # the state the last handover link reached; skipped where it reached none
+
+    @property
+    def words(self):
+        return {"guess": "the step's guess", "end": "the end state of the one before",
+                "finite end": "the end state of the one before", "stalled end": "where the continuation Newton stalled",
+                "handover": "FIRE's handover state"}[self.value]
+
+
+class Budget(Enum):
+    """A link's iterations."""
+
+    ALL = "all"  # Settings.max_iterations
+    LEFT = "left"  # what the links before left
+    REST = "rest"  # that, at least 1
+    COUPLED_FIRE = "coupled fire"  # min(COUPLED_FIRE_BUDGET, max_iterations // 2)
+    #: min(COUPLED_FIRE_CRAWL, max_iterations // 2) less the handover link's iterations, at least 1
+    COUPLED_CRAWL = "coupled crawl"
+
+
+class Accept(Enum):
+    """Which converged state a link keeps (the distances in law lengths, `gfmd.coupled_rules`)."""
+
+    ANY = "any"
+    CONTINUATION = "continuation"  # no node moved COUPLED_JUMP from the step's start
+    PREDICTED = "predicted"  # none moved COUPLED_PREDICTION_MOVE from the frictionless prediction
+    NEAR = "near"  # none moved COUPLED_HANDOVER_MOVE from the handover state
+    NEAR_STABLE = "near, locally stable"  # that, and locally stable
+    LOCALLY_STABLE = "locally stable"  # the tangent's eigenvalues nearest 0 have Re λ > 0
+
+    @property
+    def stability(self):
+        """Whether the kept state must be locally stable (`gfmd.coupled_stability`)."""
+        return self in (Accept.LOCALLY_STABLE, Accept.NEAR_STABLE)
+
+
+_SETTINGS_FIELDS = frozenset(f.name for f in fields(Settings))
+
+
+@dataclass(frozen=True)
+class Link:
+    """One algorithm of a chain.
+
+    algorithm: a key of `ALGORITHMS`; options: the Settings fields this link sets, e.g. (("method", "verlet"),);
+    starts: where it starts, tried in turn until a run is kept; budget: its iterations; accept: which converged state
+    it keeps; handover: it runs to the looser residual `Settings.coupled_handover` and hands the state it reaches to
+    the links after it (start `Start.HANDOVER`); frictionless: it runs on the frictionless reduction of the coupled
+    problem (`gfmd.problem.frictionless`), its u_z returned with the start's u_x.
+    """
+
+    algorithm: str
+    options: tuple = ()
+    starts: tuple = (Start.GUESS,)
+    budget: Budget = Budget.ALL
+    accept: Accept = Accept.ANY
+    handover: bool = False
+    frictionless: bool = False
+
+    def __post_init__(self):
+        if self.algorithm not in ALGORITHMS:
+            raise ValueError(f"Link.algorithm = {self.algorithm!r}: expected one of {', '.join(ALGORITHMS)}")
+        if not (isinstance(self.starts, tuple) and self.starts and all(isinstance(s, Start) for s in self.starts)):
+            raise ValueError(f"Link.starts = {self.starts!r}: expected a non-empty tuple of gfmd.links.Start")
+        for name, kind in (("budget", Budget), ("accept", Accept)):
+            if not isinstance(getattr(self, name), kind):
+                raise ValueError(f"Link.{name} = {getattr(self, name)!r}: expected a gfmd.links.{kind.__name__}")
+        for name in ("handover", "frictionless"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"Link.{name} = {getattr(self, name)!r}: expected True or False")
+        bad = [o for o in self.options if not (isinstance(o, tuple) and len(o) == 2 and o[0] in _SETTINGS_FIELDS)]
+        if bad:
+            raise ValueError(f"Link.options: {bad!r} are not (Settings field, value) pairs")
