@@ -8,11 +8,15 @@ wall's chain runs it beyond `Settings.dual_contact_limit` (`gfmd.chains`).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import NamedTuple
+
 import numpy as np
 
 from ..fft import Fft, dot
 from ..problem import mean_shift, stiffness_operator
 from ..stopping import finish, wall_check
+
 
 def solve(problem, start, settings):
     """Hard wall by projected preconditioned conjugate gradients (active set; normal only).
@@ -39,109 +43,180 @@ def solve(problem, start, settings):
     no penetration). Cost: two FFT pairs per iteration (K d and M⁻¹ r), one more per
     projection; K u is updated with the step instead of recomputed.
     """
-    model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
-    u_hat = start  # the step's initial displacements (c, N//2+1), rfft
-    n = model.nodes
-    fft = Fft(n, grid=model.grid)
-    clamp = model.half_plane
-    k = np.ascontiguousarray(np.real(model.k_zz))
-    g = np.ascontiguousarray(np.real(stiffness_operator(model).inv_mass[0]))  # M⁻¹ = K⁻¹, 0 at q = 0 (half-plane)
-    p_ref = model.reference_traction
-    tol = settings.tolerance * p_ref
-    gamma2 = settings.proportioning**2
-    z_ind = np.ascontiguousarray(z_ind, dtype=float)
-
-    u = fft.irfft(np.ascontiguousarray(u_hat[-1]))
-    shift = mean_shift(u, z_ind) if clamp else 0.0
-    u = np.minimum(u + shift, z_ind)
-    # work arrays, allocated once; the active set A (a few % of the nodes at most) is kept as indices,
-    # so that everything it touches costs O(|A|) and the loop makes no boolean-mask copies of length N
-    ku, r, s, d, kd, tmp = (np.empty(n) for _ in range(6))
-    d[:] = 0.0
-    through = np.empty(n, bool)
-    fft.apply_to(k, u, ku)
-    act = np.flatnonzero(z_ind - u <= wall_tolerance)
-    rz_old = 1.0
-    restart, checked = True, False
-    residual, converged, message = np.inf, False, ""
-    it = 0
-    while it < settings.max_iterations:
-        n_free = n - act.size
-        p_far = (float(np.sum(ku)) - float(np.sum(ku[act]))) / n_free if clamp and n_free else 0.0
-        np.subtract(p_far, ku, out=r)  # force (`gfmd.problem.wall_balance`); on A, the wall's load
-        force_act = r[act]
-        r[act] = 0.0
-        pull = force_act < 0
-        r_free2 = dot(r, r)
-        if pull.any():
-            f_pull = force_act[pull]
-            pull2 = dot(f_pull, f_pull)
-            if pull2 > gamma2 * r_free2 or r_free2 < tol * tol:  # proportioning: release them
-                act = act[~pull]
-                restart = True
-                continue
-        # max |r| < tol needs Σ r² < n_free·tol²: only then is the max worth a pass over r
-        worst = max(float(np.max(r)), -float(np.min(r))) if n_free and r_free2 < n_free * tol * tol else np.inf
-        if n_free == 0:
-            worst = 0.0
-        if worst < tol and not checked:  # candidate: the solver's residual with a fresh K u
-            residual, converged, message = wall_check(model, fft, k, u, ku, z_ind, wall_tolerance, settings.tolerance)
-            if converged or message:
-                break
-            restart, checked = True, True  # next: a CG iteration (or a release) before checking again
-            continue
-        it += 1
-        checked = False
-        fft.apply_to(g, r, s)
-        s[act] = 0.0
-        if clamp:  # mean zero over F (A stays 0)
-            s -= float(np.sum(s)) / n_free
-            s[act] = 0.0
-        rz = dot(r, s)
-        if restart or rz_old <= 0:
-            np.copyto(d, s)
-            restart = False
-        else:
-            d *= rz / rz_old
-            d += s
-        rz_old = rz
-        fft.apply_to(k, d, kd)
-        curvature = dot(d, kd)
-        if not curvature > 0:
-            message = "diverged: non-positive curvature along the search direction"
-            break
-        alpha = rz / curvature
-        np.multiply(d, alpha, out=tmp)
-        u += tmp
-        np.multiply(kd, alpha, out=tmp)
-        ku += tmp
-        np.greater(u, z_ind, out=through)
-        if through.any():  # Polonsky–Keer: keep the step, put the nodes onto the wall, restart
-            if clamp:
-                active = np.zeros(n, bool)
-                active[act] = True
-                active |= through
-                shift = mean_shift(u, z_ind, active)
-                u = np.where(active, z_ind, np.minimum(u + shift, z_ind))
-                act = np.flatnonzero(u >= z_ind)
-            else:
-                np.minimum(u, z_ind, out=u)
-                act = np.union1d(act, np.flatnonzero(through))
-            fft.apply_to(k, u, ku)
-            restart = True
-        if not np.isfinite(alpha):
-            message = "diverged: non-finite step"
-            break
-    else:
-        message = f"not converged after {settings.max_iterations} iterations (residual {residual:.3g} p_ref)"
-    if not converged and not message:
-        message = f"not converged after {settings.max_iterations} iterations (residual {residual:.3g} p_ref)"
-    u_hat = fft.rfft(u)[None, :]
-    pairs = fft.pairs
-    out = finish(problem, u_hat, it, residual, converged, message)
+    primal = _setup(problem, settings)
+    state = _init(primal, start)
+    while state.it < settings.max_iterations and not (state.converged or state.message):
+        _step(primal, state)
+    if not state.converged and not state.message:
+        state.message = (f"not converged after {settings.max_iterations} iterations "
+                         f"(residual {state.residual:.3g} p_ref)")
+    u_hat = primal.fft.rfft(state.u)[None, :]
+    pairs = primal.fft.pairs
+    out = finish(problem, u_hat, state.it, state.residual, state.converged, state.message)
     out.fft_pairs = pairs + 1.5  # finish: one irfft of u_hat and one pair for K u
     out.method = "cg"
     return out
 
 
-#: Half-width (nodes) of the band of K_AA that preconditions the dual hard-wall CG (`_band_stiffness`).
+class _Primal(NamedTuple):
+    """What one step's primal CG holds fixed."""
+
+    model: object
+    settings: object
+    fft: Fft
+    k: np.ndarray  # K's rfft coefficients (Pa/m)
+    g: np.ndarray  # M⁻¹ = K⁻¹, 0 at q = 0 (half-plane)
+    z: np.ndarray  # z_ind
+    wall_tolerance: float
+    clamp: bool  # half-plane: ⟨u⟩ = 0
+    n: int
+    tol: float  # tolerance · p_ref (Pa)
+    gamma2: float  # proportioning²
+
+
+@dataclass
+class PrimalState:
+    """The primal CG's iterate: u and K u, the active set A, work arrays and the CG recurrence."""
+
+    u: np.ndarray
+    ku: np.ndarray
+    r: np.ndarray  # the force on F (zero on A)
+    s: np.ndarray  # the preconditioned force
+    d: np.ndarray  # the search direction
+    kd: np.ndarray
+    tmp: np.ndarray
+    through: np.ndarray  # nodes a step took through the wall
+    act: np.ndarray  # A: the node indices on the wall
+    rz_old: float = 1.0
+    restart: bool = True
+    checked: bool = False  # a candidate was tested since the last CG iteration
+    it: int = 0
+    residual: float = np.inf
+    converged: bool = False
+    message: str = ""
+
+
+def _setup(problem, settings):
+    model = problem.model
+    n = model.nodes
+    return _Primal(model=model, settings=settings, fft=Fft(n, grid=model.grid),
+                   k=np.ascontiguousarray(np.real(model.k_zz)),
+                   g=np.ascontiguousarray(np.real(stiffness_operator(model).inv_mass[0])),
+                   z=np.ascontiguousarray(problem.z_ind, dtype=float), wall_tolerance=problem.wall_tolerance,
+                   clamp=model.half_plane, n=n, tol=settings.tolerance * model.reference_traction,
+                   gamma2=settings.proportioning**2)
+
+
+def _init(primal, start):
+    """The start projected below the wall (half-plane: ⟨u⟩ = 0 first), its K u and its wall nodes."""
+    fft, z, n = primal.fft, primal.z, primal.n
+    u = fft.irfft(np.ascontiguousarray(start[-1]))
+    shift = mean_shift(u, z) if primal.clamp else 0.0
+    u = np.minimum(u + shift, z)
+    # work arrays, allocated once; the active set A (a few % of the nodes at most) is kept as indices,
+    # so that everything it touches costs O(|A|) and the loop makes no boolean-mask copies of length N
+    ku, r, s, d, kd, tmp = (np.empty(n) for _ in range(6))
+    d[:] = 0.0
+    through = np.empty(n, bool)
+    fft.apply_to(primal.k, u, ku)
+    act = np.flatnonzero(z - u <= primal.wall_tolerance)
+    return PrimalState(u=u, ku=ku, r=r, s=s, d=d, kd=kd, tmp=tmp, through=through, act=act)
+
+
+def _step(primal, state):
+    """One pass of the loop: release pulling wall nodes, or test a candidate, or take one CG iteration."""
+    act, ku, r, tol = state.act, state.ku, state.r, primal.tol
+    n_free = primal.n - act.size
+    p_far = (float(np.sum(ku)) - float(np.sum(ku[act]))) / n_free if primal.clamp and n_free else 0.0
+    np.subtract(p_far, ku, out=r)  # force (`gfmd.problem.wall_balance`); on A, the wall's load
+    force_act = r[act]
+    r[act] = 0.0
+    r_free2 = dot(r, r)
+    if _release(primal, state, force_act, r_free2):
+        return
+    # max |r| < tol needs Σ r² < n_free·tol²: only then is the max worth a pass over r
+    worst = max(float(np.max(r)), -float(np.min(r))) if n_free and r_free2 < n_free * tol * tol else np.inf
+    if n_free == 0:
+        worst = 0.0
+    if worst < tol and not state.checked:
+        _candidate(primal, state)
+        return
+    _cg_iteration(primal, state, n_free)
+
+
+def _release(primal, state, force_act, r_free2):
+    """Proportioning: the wall nodes whose force pulls them off leave A (restart) once the norm of those forces
+    exceeds `proportioning` × that of r on F, or r on F is negligible; True if they did."""
+    pull = force_act < 0
+    if not pull.any():
+        return False
+    f_pull = force_act[pull]
+    pull2 = dot(f_pull, f_pull)
+    if not (pull2 > primal.gamma2 * r_free2 or r_free2 < primal.tol * primal.tol):
+        return False
+    state.act = state.act[~pull]
+    state.restart = True
+    return True
+
+
+def _candidate(primal, state):
+    """The solver's residual with a fresh K u; not passing, a CG iteration (or a release) comes before the next."""
+    state.residual, state.converged, state.message = wall_check(
+        primal.model, primal.fft, primal.k, state.u, state.ku, primal.z, primal.wall_tolerance,
+        primal.settings.tolerance)
+    if state.converged or state.message:
+        return
+    state.restart, state.checked = True, True
+
+
+def _cg_iteration(primal, state, n_free):
+    """One preconditioned CG step on F; K u updated with the step; nodes taken through the wall: `_project`."""
+    fft, r, s, d, kd, tmp = primal.fft, state.r, state.s, state.d, state.kd, state.tmp
+    state.it += 1
+    state.checked = False
+    fft.apply_to(primal.g, r, s)
+    s[state.act] = 0.0
+    if primal.clamp:  # mean zero over F (A stays 0)
+        s -= float(np.sum(s)) / n_free
+        s[state.act] = 0.0
+    rz = dot(r, s)
+    if state.restart or state.rz_old <= 0:
+        np.copyto(d, s)
+        state.restart = False
+    else:
+        d *= rz / state.rz_old
+        d += s
+    state.rz_old = rz
+    fft.apply_to(primal.k, d, kd)
+    curvature = dot(d, kd)
+    if not curvature > 0:
+        state.message = "diverged: non-positive curvature along the search direction"
+        return
+    alpha = rz / curvature
+    np.multiply(d, alpha, out=tmp)
+    state.u += tmp
+    np.multiply(kd, alpha, out=tmp)
+    state.ku += tmp
+    np.greater(state.u, primal.z, out=state.through)
+    if state.through.any():
+        _project(primal, state)
+    if not np.isfinite(alpha):
+        state.message = "diverged: non-finite step"
+
+
+def _project(primal, state):
+    """Polonsky–Keer: keep the step, put the nodes through the wall onto it and into A (half-plane: ⟨u⟩ restored
+    with A pinned), K u recomputed exactly, restart."""
+    z, u, through = primal.z, state.u, state.through
+    if primal.clamp:
+        active = np.zeros(primal.n, bool)
+        active[state.act] = True
+        active |= through
+        shift = mean_shift(u, z, active)
+        state.u = np.where(active, z, np.minimum(u + shift, z))
+        state.act = np.flatnonzero(state.u >= z)
+    else:
+        np.minimum(u, z, out=u)
+        state.act = np.union1d(state.act, np.flatnonzero(through))
+    primal.fft.apply_to(primal.k, state.u, state.ku)
+    state.restart = True
