@@ -93,7 +93,7 @@ def test_study_task(benchmark, sizes, table, request, monkeypatch, where):
         benchmark.pedantic(run, setup=lambda: ((scene, next(dirs), None), {}), rounds=sizes["rounds"],
                            iterations=1, warmup_rounds=1)
     base = table.extra.get("study task")
-    seconds = benchmark.stats.stats.median if benchmark.stats else None
+    seconds = benchmark.stats.stats.min if benchmark.stats else None
     if where == "in process":
         table.extra["study task"] = seconds
     note = f"{steps}-step task" + (f", × {seconds / base:.3f} in process" if base and seconds else "")
