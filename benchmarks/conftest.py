@@ -33,7 +33,10 @@ SIZES = {
 
 
 def pytest_addoption(parser):
-    parser.addoption("--full", action="store_true", default=False, help="the paper's sizes (2^14 and 2^17, 512²)")
+    try:
+        parser.addoption("--full", action="store_true", default=False, help="the paper's sizes (2^14 and 2^17, 512²)")
+    except ValueError:  # run together with the repository's tests: its conftest's --full (a flag too) serves
+        pass
     parser.addoption("--exponents", default=None,
                      help="comma-separated exponents e of the 1+1-D sizes N = 2^e (default: of the size option)")
 

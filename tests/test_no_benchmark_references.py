@@ -93,3 +93,15 @@ def test_the_scans_catch_a_violation():
     assert code_references(clean) == []
     assert text_references(clean) == ["<text>:2: " + f'"""Measured with {DIR}/x.py."""']
     assert text_references(f"# the result records under studies/ and {DIR}/).") == []
+
+
+def test_the_repository_pytest_never_runs_a_benchmark():
+    """`pytest` runs testpaths with pytest's default file pattern: the benchmark directory is not among them and holds
+    no file that pattern would collect (its own root, benchmarks/pytest.ini, collects bench_*.py)."""
+    import tomllib
+
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["pytest"]["ini_options"]
+    assert DIR not in {Path(p).parts[0] for p in config["testpaths"]}
+    assert "python_files" not in config
+    assert not [p.name for p in (ROOT / DIR).rglob("*.py") if p.name.startswith("test_") or p.stem.endswith("_test")]
+    assert "python_files = bench_*.py" in (ROOT / DIR / "pytest.ini").read_text(encoding="utf-8")
