@@ -97,7 +97,7 @@ def test_the_scans_catch_a_violation():
 
 def test_the_repository_pytest_never_runs_a_benchmark():
     """`pytest` runs testpaths with pytest's default file pattern: the benchmark directory is not among them and holds
-    no file that pattern would collect (its own root, benchmarks/pytest.ini, collects bench_*.py)."""
+    no file that pattern would collect (the directory is its own pytest root, whose pytest.ini collects bench_*.py)."""
     import tomllib
 
     config = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["pytest"]["ini_options"]
