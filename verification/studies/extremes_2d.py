@@ -1,7 +1,8 @@
 """Stability at the extremes in 2+1-D (the 1+1-D cells: `verification.studies.extremes`): near full
 contact, strong adhesion φn* = 0.15 … 1, small δn, δ0 in the law's range, the refused coupled law.
 
-Base scene: `verification.scenes.extremes_base` made a surface — self-affine (seed Eq. 4 read radially), 128 × 128
+Base scene: `verification.scenes.extremes_base` made a surface — self-affine (C^iso ∝ |q|^−2(1+H) in seed
+Eq. 4's bands), 128 × 128
 nodes on L = Ly = 64 nm (l = 0.5 nm, δn = 2 l), H = 0.8, h_rms = 2 nm, λr = 16 nm, λs,H = 2 nm, seed 1, half-space
 ν = 0.45, normal-only CZ φn* = 0.15, δn = 1 nm, δ0 = 8 δn, δ from −8 nm to 4 nm in 24 steps, FIRE at 1e-8 p_ref.
 Each cell (CELLS) changes a few keys. A cell runs through the one ramp (`gfmd_contact.app.methods.run_realization`) and

@@ -1,8 +1,8 @@
 """κ for hard-wall self-affine surfaces in 2+1-D vs N, against published 2+1-D values.
 
-Scene: a 2+1-D hard-wall contact of an isotropic self-affine surface (seed Eq. 4 read radially, H = 0.8,
-h_rms = 10 nm, E = 70 GPa, ν = 0.45, half-space) on a periodic L × L cell, L = 1.28 µm, λr = L/2,
-λs = L/16 fixed in physical length (λr/λs = 8), so N × N = 64² … 512² resolves λs with 4 … 32 nodes:
+Scene: a 2+1-D hard-wall contact of an isotropic self-affine surface (C^iso ∝ |q|^−2(1+H) in seed Eq. 4's
+bands, H = 0.8, h_rms = 10 nm, E = 70 GPa, ν = 0.45, half-space) on a periodic L × L cell, L = 1.28 µm,
+λr = L/2, λs = L/16 fixed in physical length (λr/λs = 8), so N × N = 64² … 512² resolves λs with 4 … 32 nodes:
 κ(N) is a discretisation convergence of the same surfaces (realizations 0 … 3, seeds 1 … 4). δ from first
 contact (initial_separation 0) to 1.5 h_rms in STEPS steps.
 
