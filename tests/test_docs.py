@@ -40,7 +40,8 @@ def _public_callables():
         obj = getattr(gfmd_contact, name)
         if inspect.isfunction(obj):
             yield name, obj
-        elif inspect.isclass(obj) and obj.__module__.startswith("gfmd_contact"):
+        elif (inspect.isclass(obj) and obj.__module__.startswith("gfmd_contact")
+              and not obj.__module__.startswith(("gfmd_contact.core.", "gfmd_contact.app."))):  # the API's own
             for member, fn in vars(obj).items():
                 if inspect.isfunction(fn) and not member.startswith("_"):
                     yield f"{name}.{member}", fn
