@@ -6,7 +6,7 @@ Usage:
 
 Every law (hard wall, normal cohesive, cohesive wall, coupled) on both bodies (half-plane and a
 finite layer D = L/4), each with the integrators and fallbacks `gfmd.chains.relax` can run: the
-hard wall's dual CG (and its hand-over to the primal), primal CG, FIRE and Verlet; the cohesive
+hard wall's dual CGs and their hand-over to the primal CG, FIRE and Verlet; the cohesive
 NCG, its FIRE fallback (a budget of 3 NCG iterations), FIRE and Verlet; the cohesive wall's FIRE
 and Verlet; the coupled law's FIRE, its Newton–Krylov fallback (a budget of 20 FIRE iterations)
 and Verlet, with the Newton–Krylov stage failing (0 iterations) or its states rejected as not locally
@@ -58,7 +58,6 @@ CASES = {
     "hard-wall-dual": ("hard-wall", {}, {}),
     "hard-wall-dual-handover": ("hard-wall", {}, {"dual_contact_limit": 0.02}),
     "hard-wall-dual-primal": ("hard-wall", {}, {"dual_contact_limit": 0.002}),
-    "hard-wall-primal": ("hard-wall", {}, {"dual_contact_limit": 0.0}),
     "hard-wall-band": ("hard-wall", {}, {"dual_coarse_block": 0}),
     "hard-wall-band-handover": ("hard-wall", {}, {"dual_coarse_block": 0, "dual_contact_limit": 0.02}),
     "hard-wall-fire": ("hard-wall", {}, {"hard_wall": "fire"}),

@@ -1,58 +1,47 @@
-"""Which GFMD algorithms relax a load step: one chain per law and solver key, declared once as data.
+"""Which GFMD algorithms relax a load step: one chain per law kind and key, declared once as typed data.
 
-A chain is a tuple of `Link`s: the first algorithm relaxes the step; where it stalls (`Relaxed.stalled`),
-the next one runs, from the step's guess or from where the one before stopped, with the iterations
-left. `relax` walks the chain; `Relaxed.method` names the algorithms that ran, joined by "→"
-("ncg→fire": the NCG stalled, FIRE finished the step). The key is `chain_key`'s reading of
-`Settings.method` (the scene's solver.method), `hard_wall`, `cohesive` and `dual_contact_limit`:
+A chain is a tuple of `gfmd.links.Link`s: the first algorithm relaxes the step; where it stalls
+(`Relaxed.stalled`) or its converged state fails the link's acceptance test, the next one runs, from
+the step's guess or from where the one before stopped, with the iterations left. `relax` walks the
+chain; `Relaxed.method` names the algorithms that ran, joined by "→" ("ncg→fire": the NCG stalled,
+FIRE finished the step). `chain_key` reads the key from `Settings.method` (the scene's
+solver.method), `hard_wall`, `cohesive`, `coupled` and `dual_coarse_block`. Only chains a scene or
+the verification suite reaches are here; a test or benchmark walks a chain of its own with
+`relax(..., chain=...)`. The measurements that chose them: docs/design/solvers.md.
 
-* hard wall, method "fire" (default): the two-level dual CG (`hard_wall_two_level_cg`, label "cg-dual2")
-  while the contact set holds at most `dual_contact_limit` (15 %) of the nodes, then the primal CG
-  (`dual_contact_limit = 0`: the primal alone; `dual_coarse_block = 0`: the dual CG with the band
-  preconditioner alone, label "cg-dual", the default before issue 24); ``hard_wall = "fire"``: projected FIRE; method "verlet": projected Verlet.
-* normal-only cohesive law (a potential), method "fire": the NCG, FIRE after a stall
-  (``cohesive = "fire"``: FIRE alone); "verlet": Verlet. (A trust-region Newton–CG was measured against the
-  NCG for issue 24 and dropped: 49.7 vs 44.2 FFT pairs per step at 2^17, benchmarks/results/bench_adhesion_scaling_full.md.)
-* coupled law (seed Eq. 2, no potential), method "fire", ``coupled = "auto"`` (the default): "frictionless-first" on a
-  body that barely couples u_x and u_z (`gfmd.problem.elastic_coupling` ≤ `COUPLED_FRICTIONLESS_COUPLING`), else
-  "handover-near" (the default of sessions 26–39). Both start from the better of the step's guess and the last state
-  (`relax`'s `previous`, `COUPLED_BETTER_START`) with the continuation Newton–Krylov, its converged state kept only as
-  a continuation of the ramp's branch (no node moved `COUPLED_JUMP` law lengths from the step's start); it gives up
-  at the first GMRES solve that misses its tolerance within `COUPLED_CONTINUATION_GMRES_CYCLES`, once an iterate
-  moved a node `COUPLED_JUMP` law lengths, once two iterations in a row each left more than
-  `COUPLED_CONTINUATION_STAGNATION` of the residual and after `COUPLED_CONTINUATION_ITERATIONS`. On such an event
-  step "frictionless-first" runs the NCG on the frictionless reduction (`gfmd.problem.frictionless`: a potential,
-  whose line searches cross the snap) from the start's u_z to `Settings.coupled_handover`, then Newton–Krylov from
-  its u_z and the start's u_x, kept where no node moved `COUPLED_PREDICTION_MOVE` law lengths from it (link
-  reduced "frictionless", accept "predicted"); otherwise, and in "handover-near" at once, FIRE from the guess to
-  `Settings.coupled_handover` (link tolerance "handover"), Newton–Krylov from the state it hands over, kept where no
-  node moved `COUPLED_HANDOVER_MOVE` law lengths from it (the equilibrium FIRE was approaching), else FIRE goes on
-  from its handover state for up to `COUPLED_FIRE_CRAWL` iterations in all (through a fold's ghost); FIRE from where
-  the continuation Newton stalled (start "stalled end", resumed without the break-off: a jump-in fold, Fig. 8 at
-  2^17, seed 2, step 176); then the stability-tested Newton of ``coupled = "fire"``, Ψtc (kept where locally stable,
-  `_LAST_RESORT`) and Verlet. Measurements: README, issue 24, benchmarks/results/bench_coupled_*.md.
-  ``coupled = "ncg-first"`` (measured, not the default): "handover-near" with the coupled NCG
-  (`gfmd.algorithms.coupled_ncg`) to `Settings.coupled_handover` before FIRE, Newton from its state kept near it.
-  ``coupled = "newton"`` (the default of issue 24 until session 26): the continuation, then FIRE from the guess (and
-  from the continuation's stall), then as ``coupled = "fire"``: FIRE; after a stall (`COUPLED_FIRE_BUDGET`) Newton from
-  the guess, then from FIRE's end where it lowered the residual (`_progressed`), kept only where locally stable
-  (`gfmd.coupled_stability`, the FE reference's criterion); then Ψtc and Verlet. Measured, not the default:
-  ``coupled = "ptc"`` (Ψtc before FIRE), "handover" (the handed-over Newton state also stability-tested).
+* hard wall, method "fire": the two-level dual CG (`hard_wall_two_level_cg`, label "cg-dual2") while
+  the contact set holds at most `Settings.dual_contact_limit` of the nodes, then the primal CG
+  ("cg"); on a 2+1-D surface, or with `dual_coarse_block = 0`, the dual CG with its band or window
+  preconditioner ("cg-dual") in its place; ``hard_wall = "fire"``: projected FIRE; method "verlet":
+  projected Verlet.
+* a normal-only law with a potential (seed Eq. 3, a user law), method "fire": the NCG, FIRE after a
+  stall (``cohesive = "fire"``: FIRE alone); "verlet": Verlet.
+* coupled law (seed Eq. 2, no potential), method "fire", ``coupled = "auto"``: "frictionless-first"
+  on a body that barely couples u_x and u_z (`gfmd.problem.elastic_coupling` ≤
+  `COUPLED_FRICTIONLESS_COUPLING`), else "handover-near". Both start from the better of the step's
+  guess and the last state (`relax`'s `previous`) with the continuation Newton–Krylov, kept only as
+  a continuation of the ramp's branch; it gives up early (a missed GMRES solve, a jump, a stagnating
+  residual, `gfmd.coupled_rules`). On such an event step "frictionless-first" runs the NCG on the
+  frictionless reduction (a potential, whose line searches cross the snap) to
+  `Settings.coupled_handover`, then Newton from that prediction, kept where it polished it;
+  otherwise, and in "handover-near" at once, FIRE to `Settings.coupled_handover`, Newton from the
+  state it hands over, kept near it (the equilibrium FIRE was approaching), else FIRE goes on from
+  there (through a fold's ghost, `COUPLED_FIRE_CRAWL`); FIRE from where the continuation stalled (a
+  jump-in fold); Newton from the guess and from FIRE's end, kept where locally stable; Ψtc, kept
+  where locally stable; Verlet. ``coupled = "fire"``: FIRE, then the stability-tested Newton, then
+  Verlet (what the verification suite runs as FIRE itself).
 * cohesive wall: projected FIRE, or Verlet (method "verlet").
-* user law (`gfmd_contact.core.user_law`, normal-only, a potential): as the normal-only cohesive law, the NCG (its
-  generic nodal path: the user's traction and tangent on every node) and FIRE after a stall; the labels are
-  the same ("ncg", "ncg→fire"), the law's name is in the model description and meta.json.
 
-Why the coupled chain: FIRE's restarts test the power f·v, a descent test only for forces f = −∇E; the coupled law
-has no potential, and at strongly non-symmetric states (large slip under compression) FIRE's weakly damped inertia
-circulates: started at the FE equilibrium of such a state it drifts away (residual 8e-3 → 0.19 p_ref in 3e4
-iterations) while per-mode critically damped Verlet converges in 410. Deeper in the slip regime Verlet fails the same way: fig8_small (ν = 0.1,
-c = 0.5, φn* = 0.15, seed 2, N = 4096) at δ = 20 nm has a static equilibrium (Newton: 8
-iterations) whose eigenvalues of J nearest 0 all have Re λ > 0, but damped inertial dynamics
-started on it drift off: the tangent's antisymmetric part (circulatory forces at the slipping,
-compressed contact edge) makes the equilibrium a flutter point of second-order dynamics, which no
-mass weighting or damping of the diagonal modes removes (tests/test_solver_coupled.py). Newton
-converges to unstable equilibria as well, hence the acceptance test.
+Why the coupled chain: FIRE's restarts test the power f·v, a descent test only for forces f = −∇E;
+the coupled law has no potential, and at strongly non-symmetric states (large slip under
+compression) FIRE's weakly damped inertia circulates: started at the FE equilibrium of such a state
+it drifts away (residual 8e-3 → 0.19 p_ref in 3e4 iterations) while per-mode critically damped
+Verlet converges in 410. Deeper in the slip regime Verlet fails the same way: fig8_small (ν = 0.1,
+c = 0.5, φn* = 0.15, seed 2, N = 4096) at δ = 20 nm has a static equilibrium (Newton: 8 iterations)
+whose eigenvalues of J nearest 0 all have Re λ > 0, but damped inertial dynamics started on it drift
+off: the tangent's antisymmetric part (circulatory forces at the slipping, compressed contact edge)
+makes the equilibrium a flutter point of second-order dynamics (tests/test_solver_coupled.py).
+Newton converges to unstable equilibria as well, hence the acceptance test.
 """
 
 from __future__ import annotations
@@ -88,16 +77,15 @@ _CONTINUATION = Link("coupled_newton", accept=Accept.CONTINUATION,
 #: Newton from the guess, then from where the link before stopped, kept only where locally stable
 _STABLE_NEWTON = Link("coupled_newton", starts=(Start.GUESS, Start.FINITE_END), accept=Accept.LOCALLY_STABLE)
 _LAST_VERLET = Link("dynamics", options=_VERLET, budget=Budget.REST)
-#: the Newton-first chains' last resort before damped Verlet: Ψtc, kept only where locally stable (deep in the slip
+#: the coupled chains' last resort before damped Verlet: Ψtc, kept only where locally stable (deep in the slip
 #: regime FIRE's dynamics circulate and Newton's line search stalls: Fig. 8 at 2^17, ν = 0.1, seed 7, step 199: Ψtc
 #: converged in 24 iterations, 1 672 FFT pairs, ≈ 3.4 min with its stability test; Verlet: 58 min, not converged)
 _LAST_RESORT = (Link("coupled_ptc", accept=Accept.LOCALLY_STABLE), _LAST_VERLET)
-_FIRE_TO_HANDOVER = Link("dynamics", budget=Budget.COUPLED_FIRE, handover=True)
-_NEWTON_NEAR = Link("coupled_newton", options=_GIVE_UP, starts=(Start.HANDOVER,), accept=Accept.NEAR)
 #: FIRE to the handover residual, Newton from there (kept near FIRE's state: the same equilibrium), else FIRE goes on
 #: from its handover state (up to COUPLED_FIRE_CRAWL in all); FIRE from where the continuation stalled (a fold); then
 #: the stability-tested Newton, Ψtc and Verlet
-_HANDOVER_NEAR = (_FIRE_TO_HANDOVER, _NEWTON_NEAR, Link("dynamics", starts=(Start.HANDOVER,), budget=Budget.COUPLED_CRAWL),
+_HANDOVER_NEAR = (Link("dynamics", budget=Budget.COUPLED_FIRE, handover=True),
+                  Link("coupled_newton", options=_GIVE_UP, starts=(Start.HANDOVER,), accept=Accept.NEAR), Link("dynamics", starts=(Start.HANDOVER,), budget=Budget.COUPLED_CRAWL),
                   Link("dynamics", starts=(Start.STALLED_END,), budget=Budget.COUPLED_FIRE), _STABLE_NEWTON,
                   *_LAST_RESORT)
 _FIRE = (Link("dynamics"),)
@@ -107,29 +95,18 @@ CHAINS = {
                           Link("hard_wall_primal_cg", starts=(Start.END,), budget=Budget.LEFT)),
     ("hard-wall", "cg-band"): (Link("hard_wall_dual_cg"),
                                Link("hard_wall_primal_cg", starts=(Start.END,), budget=Budget.LEFT)),
-    ("hard-wall", "cg-primal"): (Link("hard_wall_primal_cg"),),
     ("hard-wall", "fire"): (Link("hard_wall_dynamics"),),
     ("hard-wall", "verlet"): (Link("hard_wall_dynamics"),),
     ("cohesive", "ncg"): (Link("ncg"), Link("dynamics", budget=Budget.REST)),
     ("cohesive", "fire"): _FIRE,
     ("cohesive", "verlet"): _FIRE,
     ("coupled", "fire"): (Link("dynamics", budget=Budget.COUPLED_FIRE), _STABLE_NEWTON, _LAST_VERLET),
-    ("coupled", "newton"): (_CONTINUATION, Link("dynamics", budget=Budget.COUPLED_FIRE,
-                                                starts=(Start.GUESS, Start.STALLED_END)),
-                            _STABLE_NEWTON, *_LAST_RESORT),
-    ("coupled", "ptc"): (_CONTINUATION, Link("coupled_ptc", accept=Accept.LOCALLY_STABLE),
-                         Link("dynamics", budget=Budget.COUPLED_FIRE), _STABLE_NEWTON, _LAST_VERLET),
-    ("coupled", "handover"): (_CONTINUATION, _FIRE_TO_HANDOVER,
-                              Link("coupled_newton", options=_GIVE_UP, starts=(Start.HANDOVER,),
-                                   accept=Accept.NEAR_STABLE), *_HANDOVER_NEAR[2:]),
     ("coupled", "handover-near"): (_CONTINUATION, *_HANDOVER_NEAR),
     # the frictionless reduction's NCG through the event (its energy minimum, u_x of the guess), Newton from there kept
     # where it polished that prediction; else on as "handover-near"
     ("coupled", "frictionless-first"): (_CONTINUATION, Link("ncg", frictionless=True, handover=True),
                                         Link("coupled_newton", options=_GIVE_UP, starts=(Start.HANDOVER,),
                                              accept=Accept.PREDICTED), *_HANDOVER_NEAR),
-    # the coupled NCG to the handover residual, Newton from there kept near it; else on as "handover-near"
-    ("coupled", "ncg-first"): (_CONTINUATION, Link("coupled_ncg", handover=True), _NEWTON_NEAR, *_HANDOVER_NEAR),
     ("coupled", "verlet"): _FIRE,
     ("user", "ncg"): (Link("ncg"), Link("dynamics", budget=Budget.REST)),
     ("user", "fire"): _FIRE,
@@ -142,10 +119,9 @@ CHAINS = {
 WORDS = {"hard_wall_two_level_cg": "the two-level dual CG", "cg-dual2": "the two-level dual CG",
          "hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG",
          "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov",
-         "ptc": "pseudo-transient continuation", "ncg-frictionless": "NCG on the frictionless reduction",
-         "coupled-ncg": "the coupled NCG"}
+         "ptc": "pseudo-transient continuation", "ncg-frictionless": "NCG on the frictionless reduction"}
 #: Settings.coupled's chains (`chain_key`)
-COUPLED_KEYS = ("auto", "newton", "ptc", "fire", "handover", "handover-near", "frictionless-first", "ncg-first")
+COUPLED_KEYS = ("auto", "fire", "handover-near", "frictionless-first")
 
 
 #: why a 2+1-D surface is normal-only (`refuse_tangential_surface`)
@@ -171,14 +147,12 @@ def chain_key(problem, settings):
         return kind, "verlet" if settings.method == "verlet" else "fire"
     if kind == "hard-wall":
         if settings.method == "fire" and settings.hard_wall == "cg":
-            if not 0.0 <= settings.dual_contact_limit <= 1.0:
+            if not 0.0 < settings.dual_contact_limit <= 1.0:
                 raise ValueError(f"Settings.dual_contact_limit = {settings.dual_contact_limit!r}: expected a fraction "
-                                 "of the nodes in [0, 1] (0: the primal CG only)")
+                                 "of the nodes in (0, 1] (the primal CG alone: relax's chain (Link('hard_wall_primal_cg'),))")
             if not (isinstance(settings.dual_coarse_block, (int, np.integer)) and settings.dual_coarse_block >= 0):
                 raise ValueError(f"Settings.dual_coarse_block = {settings.dual_coarse_block!r}: expected a whole "
                                  "number of nodes ≥ 0 (0: the dual CG with the band preconditioner alone)")
-            if settings.dual_contact_limit == 0:
-                return kind, "cg-primal"
             # the two-level coarse blocks are runs of consecutive nodes of a profile; a 2+1-D surface
             # keeps the dual CG with its periodic window preconditioner (`hard_wall_dual_cg`)
             return kind, "cg" if settings.dual_coarse_block > 0 and not problem.surface else "cg-band"
@@ -194,7 +168,7 @@ def chain_key(problem, settings):
         if key == "auto":  # the frictionless predictor where the body barely couples u_x and u_z
             weak = elastic_coupling(problem.model) <= COUPLED_FRICTIONLESS_COUPLING
             key = "frictionless-first" if weak else "handover-near"
-        if key in ("handover", "handover-near", "frictionless-first", "ncg-first"):
+        if key in ("handover-near", "frictionless-first"):
             h = settings.coupled_handover
             if not (isinstance(h, (float, int)) and settings.tolerance < h < 1.0):
                 raise ValueError(f"Settings.coupled_handover = {h!r}: expected a residual (× p_ref) between "
@@ -211,7 +185,7 @@ def chain_key(problem, settings):
 def labels(key, settings):
     """The `Relaxed.method` labels of the chain `CHAINS[key]`'s algorithms in order, e.g. ("ncg", "fire")."""
     fixed = {"hard_wall_two_level_cg": "cg-dual2", "hard_wall_dual_cg": "cg-dual", "hard_wall_primal_cg": "cg", "ncg": "ncg",
-             "coupled_newton": "newton", "coupled_ptc": "ptc", "coupled_ncg": "coupled-ncg"}
+             "coupled_newton": "newton", "coupled_ptc": "ptc"}
     return tuple((fixed.get(link.algorithm) or ("verlet" if dict(link.options).get("method", settings.method) == "verlet"
                                                 else "fire")) + ("-frictionless" if link.frictionless else "")
                  for link in CHAINS[key])
@@ -284,7 +258,7 @@ def _rejected(problem, link, r, origin, handed=Start.HANDOVER.words):
         move = _move(problem, r, origin)
         return (f"a node moved {move:.3g} law lengths from the frictionless prediction (another equilibrium), "
                 "rejected") if move >= COUPLED_PREDICTION_MOVE else ""
-    if link.accept in (Accept.NEAR, Accept.NEAR_STABLE):  # the equilibrium the handover state was approaching, not another one
+    if link.accept is Accept.NEAR:  # the equilibrium the handover state was approaching, not another one
         move = _move(problem, r, origin)
         if move >= COUPLED_HANDOVER_MOVE:
             return f"a node moved {move:.3g} law lengths from {handed} (another equilibrium), rejected"
@@ -298,7 +272,7 @@ def _rejected(problem, link, r, origin, handed=Start.HANDOVER.words):
 
 
 @on_one_thread
-def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0, previous=None):
+def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0, previous=None, chain=None):
     """Relax one load step from the initial guess `u_hat` (c, N//2+1) along its chain; returns `Relaxed`.
 
     z_ind: indenter surface z_ind(x) (m) at this step; wall_tolerance (m): gap below which a wall node
@@ -307,20 +281,24 @@ def relax(model, law, z_ind, u_hat, settings, wall_tolerance=0.0, previous=None)
     residual is more than COUPLED_START_MARGIN times its own (COUPLED_BETTER_START; the message then says so).
     2+1-D surface (model.shape (Nx, Ny)): u_hat (c, Nx, Ny//2+1), z_ind (Nx, Ny); the algorithms run on the
     flat view (`gfmd.problem.flat_problem`) and the result's spectra and fields come back on the grid.
-    Runs with one BLAS thread (`gfmd.blas.one_thread`).
+    Runs with one BLAS thread (`gfmd.blas.one_thread`). chain: a tuple of `Link`s walked in place of the table's
+    (a test's or benchmark's own, e.g. the primal CG alone); the settings are checked as for the table's.
     """
     problem = Problem(model, law, z_ind, wall_tolerance)
     key = chain_key(problem, settings)
+    if chain is not None and not (isinstance(chain, tuple) and chain and all(isinstance(k, Link) for k in chain)):
+        raise ValueError(f"chain = {chain!r}: expected a non-empty tuple of gfmd.links.Link")
+    chain = CHAINS[key] if chain is None else chain
     if problem.surface:
         _check_surface_shapes(model, z_ind, u_hat)
         flat = flat_problem(problem)
-        result = _relax(flat, CHAINS[key], np.reshape(u_hat, (u_hat.shape[0], -1)), settings)
+        result = _relax(flat, chain, np.reshape(u_hat, (u_hat.shape[0], -1)), settings)
         return _on_grid(result, model)
     if previous is None or not COUPLED_BETTER_START or problem.kind != "coupled":
-        return _relax(problem, CHAINS[key], u_hat, settings)
+        return _relax(problem, chain, u_hat, settings)
     start, residuals, pairs, state = better_start(problem, u_hat, previous, COUPLED_START_MARGIN)
-    result = _relax(replace(problem, start_state=(start, state)) if state is not None else problem, CHAINS[key],
-                    start, settings)
+    result = _relax(replace(problem, start_state=(start, state)) if state is not None else problem, chain, start,
+                    settings)
     result.fft_pairs += pairs
     if start is previous:
         note = (f"started from the last state (force residual {residuals[1]:.3g} p_ref; the extrapolated guess's "
@@ -474,9 +452,7 @@ def _stalled_end(walk):
 
 def _handed_words(link):
     """A handover link's state in words."""
-    if link.frictionless:
-        return "the frictionless prediction"
-    return "the coupled NCG's handover state" if link.algorithm == "coupled_ncg" else Start.HANDOVER.words
+    return "the frictionless prediction" if link.frictionless else Start.HANDOVER.words
 
 
 def _answer(walk, result):

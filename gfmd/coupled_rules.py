@@ -41,7 +41,7 @@ COUPLED_CONTINUATION_STAGNATION = 0.5
 #: (benchmarks/results/bench_coupled_start_*.md)
 COUPLED_BETTER_START = True
 COUPLED_START_MARGIN = 2.0
-#: handover chains (``coupled = "handover"``): Newton's state from FIRE's handover state is kept only where no node
+#: handover chains ("handover-near", "frictionless-first"): Newton's state from FIRE's handover state is kept only where no node
 #: moved COUPLED_HANDOVER_MOVE · min(δn, δt) or more from it (the equilibrium FIRE was approaching, not another)
 COUPLED_HANDOVER_MOVE = 0.1
 #: "frictionless-first": Newton's state from the frictionless prediction is kept only where no node moved

@@ -11,15 +11,15 @@ from __future__ import annotations
 from dataclasses import dataclass, fields
 from enum import Enum
 
-from .algorithms import (cohesive_wall, coupled_ncg, coupled_newton, coupled_ptc, dynamics, hard_wall_dual_cg,
-                         hard_wall_dynamics, hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
+from .algorithms import (cohesive_wall, coupled_newton, coupled_ptc, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
+                         hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
 from .settings import Settings
 
 #: the algorithms by name (gfmd.algorithms: one module each, `solve(problem, start, settings) -> Relaxed`)
 ALGORITHMS = {"hard_wall_two_level_cg": hard_wall_two_level_cg.solve, "hard_wall_dual_cg": hard_wall_dual_cg.solve,
               "hard_wall_primal_cg": hard_wall_primal_cg.solve, "hard_wall_dynamics": hard_wall_dynamics.solve,
               "ncg": ncg.solve, "dynamics": dynamics.solve, "coupled_newton": coupled_newton.solve,
-              "coupled_ptc": coupled_ptc.solve, "coupled_ncg": coupled_ncg.solve, "cohesive_wall": cohesive_wall.solve}
+              "coupled_ptc": coupled_ptc.solve, "cohesive_wall": cohesive_wall.solve}
 
 
 class Start(Enum):
@@ -59,13 +59,12 @@ class Accept(Enum):
     CONTINUATION = "continuation"  # no node moved COUPLED_JUMP from the step's start
     PREDICTED = "predicted"  # none moved COUPLED_PREDICTION_MOVE from the frictionless prediction
     NEAR = "near"  # none moved COUPLED_HANDOVER_MOVE from the handover state
-    NEAR_STABLE = "near, locally stable"  # that, and locally stable
     LOCALLY_STABLE = "locally stable"  # the tangent's eigenvalues nearest 0 have Re λ > 0
 
     @property
     def stability(self):
         """Whether the kept state must be locally stable (`gfmd.coupled_stability`)."""
-        return self in (Accept.LOCALLY_STABLE, Accept.NEAR_STABLE)
+        return self is Accept.LOCALLY_STABLE
 
 
 _SETTINGS_FIELDS = frozenset(f.name for f in fields(Settings))

@@ -1,4 +1,4 @@
-"""Pseudo-transient continuation on the coupled law (`gfmd.algorithms.coupled_ptc`, chain Settings.coupled = "ptc").
+"""Pseudo-transient continuation on the coupled law (`gfmd.algorithms.coupled_ptc`, the coupled chains' last resort).
 
 The steps are test_solver_coupled's fig8_small steps (ν = 0.1, c = 0.5, seed 2, N = 4096): step 99 from step
 98's state (FIRE's ramp converged it) and the last step, 100, from the extrapolated guess, an event step where
@@ -10,7 +10,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from gfmd import chains, solver as gs
+from gfmd import solver as gs
 from gfmd.algorithms import coupled_newton, coupled_ptc
 from gfmd.problem import Problem
 from gfmd.stopping import finish
@@ -65,22 +65,7 @@ def test_ptc_stalls_cleanly(fig8_step, monkeypatch):
     assert short.residual > cell.settings.tolerance and np.all(np.isfinite(short.u_hat)) and short.fft_pairs > 2
 
 
-def test_ptc_chain_tests_stability_and_falls_through_to_fire(fig8_step, monkeypatch):
-    """Settings.coupled = "ptc": where the continuation Newton gives the step up, Ψtc's state is kept only where
-    locally stable; an unstable one (the test made to say so) goes on to FIRE as in the default chain."""
-    cell, previous, current, (_, z100) = fig8_step
-    s, guess = replace(cell.settings, coupled="ptc"), 2 * current - previous
-    tested = []
-    monkeypatch.setattr(chains, "coupled_stability", lambda *a: tested.append(1) or cell.law.k_int_z)
-    r = gs.relax(cell.physics, cell.law, z100, guess, s)
-    assert r.converged and r.method == "newton→ptc" and tested, (r.method, r.message)
-    monkeypatch.setattr(chains, "coupled_stability", lambda *a: -1.0 * cell.law.k_int_z)
-    fell = gs.relax(cell.physics, cell.law, z100, guess, replace(s, max_iterations=4000))
-    assert fell.method.startswith("newton→ptc→fire"), fell.method
-    assert "not locally stable" in fell.message
-
-
-@pytest.mark.parametrize("value", ["PTC", "psi"])
+@pytest.mark.parametrize("value", ["PTC", "psi", "ptc", "newton", "handover", "ncg-first"])
 def test_unknown_coupled_setting_is_refused_by_name(fig8_step, value):
     cell, _previous, current, (_, z100) = fig8_step
     with pytest.raises(ValueError, match="Settings.coupled"):

@@ -25,9 +25,11 @@ from gfmd_contact.core.model import build_model
 from gfmd_contact.core.scene import default_scene
 from gfmd import fft as gfft
 from gfmd.algorithms import hard_wall_dual_cg
+from gfmd.links import Link
 from gfmd.solver import InterfaceLaw, Settings, relax
 
 TOL = 1e-10
+PRIMAL = (Link("hard_wall_primal_cg"),)  # the primal CG alone (`relax`'s chain): the dual CGs' reference
 
 
 def case(nodes=2048, thickness=None):
@@ -58,20 +60,21 @@ def kkt_violation(model, z, u_z):
                penetration * float(np.max(np.real(model.k_zz))) / p_ref)
 
 
-def ramp(model, law, z_of, deltas, settings, wall_tol):
+def ramp(model, law, z_of, deltas, settings, wall_tol, chain=None):
     u = prev = np.zeros((1, model.nodes // 2 + 1), complex)
     out = []
     for k, d in enumerate(deltas):
         guess = 2 * u - prev if k >= 2 else u
-        r = relax(model, law, z_of(d), guess, settings, wall_tol)
+        r = relax(model, law, z_of(d), guess, settings, wall_tol, chain=chain)
         assert r.converged, r.message
         out.append(r)
         prev, u = u, r.u_hat
     return out
 
 
-def two_ramps(first, second, thickness=None, nodes=2048, steps=5):
-    """The same ramp of `steps` steps of 1.5 nm under two Settings: (model, z_of, deltas, h, runs, runs)."""
+def two_ramps(first, second, thickness=None, nodes=2048, steps=5, second_chain=None):
+    """The same ramp of `steps` steps of 1.5 nm under two Settings (the second on `relax`'s chain `second_chain`
+    where given): (model, z_of, deltas, h, runs, runs)."""
     sc, h, model, law, wall_tol = case(nodes=nodes, thickness=thickness)
     d0 = sc.loading.initial_separation
 
@@ -80,7 +83,7 @@ def two_ramps(first, second, thickness=None, nodes=2048, steps=5):
 
     deltas = 1.5e-9 * np.arange(1, steps + 1)
     return (model, z_of, deltas, h, ramp(model, law, z_of, deltas, first, wall_tol),
-            ramp(model, law, z_of, deltas, second, wall_tol))
+            ramp(model, law, z_of, deltas, second, wall_tol, second_chain))
 
 
 def assert_same_kkt_equilibria(model, z_of, deltas, h, runs, reference):
@@ -101,20 +104,20 @@ def test_cg_equals_fire_and_is_kkt(thickness):
     assert_same_kkt_equilibria(model, z_of, deltas, h, cg, fire)
 
 
-#: (dual_contact_limit, dual_coarse_block, label): the primal CG; the band dual CG and the two-level dual CG
-#: however large the set
-CGS = [(0.0, 16, "cg"), (1.0, 0, "cg-dual"), (1.0, 16, "cg-dual2")]
+#: (dual_contact_limit, dual_coarse_block, relax's chain, label): the primal CG alone; the band dual CG and the
+#: two-level dual CG however large the set
+CGS = [(1.0, 16, PRIMAL, "cg"), (1.0, 0, None, "cg-dual"), (1.0, 16, None, "cg-dual2")]
 
 
-@pytest.mark.parametrize("dual_limit, block, label", CGS)
-def test_cg_releases_pulling_wall_nodes(dual_limit, block, label):
+@pytest.mark.parametrize("dual_limit, block, chain, label", CGS)
+def test_cg_releases_pulling_wall_nodes(dual_limit, block, chain, label):
     """Start with every node on the wall (u = z − ⟨z⟩): almost all of them pull away."""
     sc, h, model, law, wall_tol = case()
     d0 = sc.loading.initial_separation
     z = indenter_surface(h, d0, d0 + 5e-9)
     guess = np.fft.rfft(z - np.mean(z))[None, :]
     r = relax(model, law, z, guess, Settings(tolerance=TOL, dual_contact_limit=dual_limit, dual_coarse_block=block),
-              wall_tol)
+              wall_tol, chain=chain)
     assert r.method == label
     ref = relax(model, law, z, np.zeros_like(guess), Settings(tolerance=TOL, hard_wall="fire"), wall_tol)
     assert r.converged, r.message
@@ -123,24 +126,25 @@ def test_cg_releases_pulling_wall_nodes(dual_limit, block, label):
     assert np.max(np.abs(r.u_z - ref.u_z)) < 1e-9 * float(np.std(h))
 
 
-@pytest.mark.parametrize("dual_limit, block, label", CGS)
-def test_cg_fixed_point_is_the_kkt_point(dual_limit, block, label):
+@pytest.mark.parametrize("dual_limit, block, chain, label", CGS)
+def test_cg_fixed_point_is_the_kkt_point(dual_limit, block, chain, label):
     sc, h, model, law, wall_tol = case()
     d0 = sc.loading.initial_separation
     z = indenter_surface(h, d0, d0 + 8e-9)
     settings = Settings(tolerance=TOL, dual_contact_limit=dual_limit, dual_coarse_block=block)
-    first = relax(model, law, z, np.zeros((1, model.nodes // 2 + 1), complex), settings, wall_tol)
-    again = relax(model, law, z, first.u_hat, settings, wall_tol)
+    first = relax(model, law, z, np.zeros((1, model.nodes // 2 + 1), complex), settings, wall_tol, chain=chain)
+    again = relax(model, law, z, first.u_hat, settings, wall_tol, chain=chain)
     assert again.converged and again.iterations == 0
     assert np.max(np.abs(again.u_z - first.u_z)) < 1e-15 * float(np.std(h))
 
 
-@pytest.mark.parametrize("dual_limit, block, label", CGS)
-def test_cg_unconverged_is_reported(dual_limit, block, label):
+@pytest.mark.parametrize("dual_limit, block, chain, label", CGS)
+def test_cg_unconverged_is_reported(dual_limit, block, chain, label):
     sc, h, model, law, wall_tol = case()
     d0 = sc.loading.initial_separation
     r = relax(model, law, indenter_surface(h, d0, d0 + 8e-9), np.zeros((1, model.nodes // 2 + 1), complex),
-              Settings(tolerance=TOL, max_iterations=2, dual_contact_limit=dual_limit, dual_coarse_block=block), wall_tol)
+              Settings(tolerance=TOL, max_iterations=2, dual_contact_limit=dual_limit, dual_coarse_block=block), wall_tol,
+              chain=chain)
     assert not r.converged and "not converged" in r.message and r.iterations == 2
 
 
@@ -156,7 +160,7 @@ def test_cg_needs_far_fewer_fft_pairs_than_fire():
 def test_dual_equals_primal_and_is_kkt(thickness, block, label):
     model, z_of, deltas, h, dual, primal = two_ramps(Settings(tolerance=TOL, dual_contact_limit=1.0,
                                                               dual_coarse_block=block),
-                                                     Settings(tolerance=TOL, dual_contact_limit=0.0), thickness)
+                                                     Settings(tolerance=TOL), thickness, second_chain=PRIMAL)
     assert {r.method for r in dual} == {label} and {r.method for r in primal} == {"cg"}
     assert_same_kkt_equilibria(model, z_of, deltas, h, dual, primal)
 
@@ -183,7 +187,7 @@ def test_dual_hands_over_to_the_primal_past_its_contact_limit(block, label):
         assert kkt_violation(model, z_of(d), r.u_z) < TOL * (1 + 1e-3)
 
 
-@pytest.mark.parametrize("limit", [-0.1, 1.5, float("nan")])
+@pytest.mark.parametrize("limit", [-0.1, 0.0, 1.5, float("nan")])
 def test_dual_contact_limit_outside_0_1_is_refused(limit):
     sc, h, model, law, wall_tol = case()
     with pytest.raises(ValueError, match="Settings.dual_contact_limit"):
@@ -193,7 +197,7 @@ def test_dual_contact_limit_outside_0_1_is_refused(limit):
 
 def test_dual_needs_fewer_fft_pairs_than_the_primal():
     *_, dual, primal = two_ramps(Settings(tolerance=TOL, dual_contact_limit=1.0),
-                                 Settings(tolerance=TOL, dual_contact_limit=0.0), nodes=8192)
+                                 Settings(tolerance=TOL), nodes=8192, second_chain=PRIMAL)
     assert np.median([r.fft_pairs for r in dual]) < np.median([r.fft_pairs for r in primal])
 
 

@@ -7,7 +7,8 @@ Hessian product agree with each other, the chains are data that `relax` walks, a
   `Problem.tangent_times` the derivative of −force (the same test one order up), and
   `Problem.dual_gap` the gap z_ind − u of u = −G P;
 * every chain key is reachable from some Settings and names only algorithm modules; replacing a
-  chain in `gfmd.chains.CHAINS` changes what `relax` runs (the dispatch reads the data);
+  chain in `gfmd.chains.CHAINS` changes what `relax` runs (the dispatch reads the data), and so does
+  `relax`'s own chain; a `Link` outside the chain vocabulary is refused where it is built;
 * a default cohesive ramp reports "gfmd-ncg" and one label per step, and the hard-wall FIRE and the
   cohesive wall now say "fire" where `Relaxed.method` used to be empty.
 """
@@ -120,11 +121,10 @@ def test_energy_is_infinite_through_the_wall_and_undefined_for_the_coupled_law()
         coupled.energy(np.zeros((2, coupled.model.nodes // 2 + 1), complex))
 
 
-SETTINGS_OF_KEY = {"cg": Settings(), "cg-band": Settings(dual_coarse_block=0), "cg-primal": Settings(dual_contact_limit=0.0),
+SETTINGS_OF_KEY = {"cg": Settings(), "cg-band": Settings(dual_coarse_block=0),
                    "fire": Settings(hard_wall="fire", cohesive="fire", coupled="fire"), "verlet": Settings(method="verlet"),
-                   "ncg": Settings(), "newton": Settings(coupled="newton"), "ptc": Settings(coupled="ptc"),
-                   "handover": Settings(coupled="handover"), "handover-near": Settings(),  # "auto" at ν = 0.3
-                   "frictionless-first": Settings(coupled="frictionless-first"), "ncg-first": Settings(coupled="ncg-first")}
+                   "ncg": Settings(), "handover-near": Settings(),  # "auto" at ν = 0.3
+                   "frictionless-first": Settings(coupled="frictionless-first")}
 LAW_OF_KIND = {"hard-wall": ("hard-wall", {}), "cohesive": ("cohesive", {}), "cohesive-wall": ("cohesive-wall", {}),
                "coupled": ("cohesive", {"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3}),
                "user": ("user", {})}
@@ -149,6 +149,13 @@ def test_relax_walks_the_chain_it_is_given(monkeypatch):
     assert converged_state(p).method == "ncg"
     monkeypatch.setitem(chains.CHAINS, ("cohesive", "ncg"), (chains.Link("dynamics"),))
     assert converged_state(p).method == "fire"
+    monkeypatch.undo()
+    guess = np.zeros((p.model.components, p.model.nodes // 2 + 1), complex)
+    own = relax(p.model, p.law, p.z_ind, guess, Settings(tolerance=1e-10), p.wall_tolerance,
+                chain=(chains.Link("dynamics"),))
+    assert own.converged and own.method == "fire"
+    with pytest.raises(ValueError, match="chain = "):
+        relax(p.model, p.law, p.z_ind, guess, Settings(), p.wall_tolerance, chain=("dynamics",))
 
 
 def test_a_stall_passes_the_step_on_and_every_iteration_counts(monkeypatch):
@@ -199,12 +206,12 @@ def fake_result(p, u_hat, converged, method, iterations, fft_pairs=0.0, residual
 
 @pytest.mark.parametrize("newton_converged", [False, True])
 def test_coupled_fire_restarts_where_newton_stalled_never_from_a_rejected_state(monkeypatch, newton_converged):
-    """The "newton" coupled chain: FIRE stalled from the guess runs again from the state where the continuation
-    Newton stalled (a fold: Fig. 8 at 2^17, seed 2, step 176); a converged Newton state the chain rejected (a jump)
-    is never a start (FIRE would keep it without the stability test)."""
+    """The coupled chain: FIRE stalled from the guess runs again from the state where the continuation Newton
+    stalled (a fold: Fig. 8 at 2^17, seed 2, step 176); a converged Newton state the chain rejected (a jump) is
+    never a start (FIRE would keep it without the stability test)."""
     p = problem("cohesive", **{"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3})
-    settings = Settings(tolerance=1e-8, coupled="newton")
-    assert chains.chain_key(p, settings) == ("coupled", "newton")
+    settings = Settings(tolerance=1e-8, coupled="handover-near")
+    assert chains.chain_key(p, settings) == ("coupled", "handover-near")
     shape = (p.model.components, p.model.nodes // 2 + 1)
     guess, newton_end = np.zeros(shape, complex), np.full(shape, 1e-12 + 0j)
     starts = []
@@ -222,6 +229,7 @@ def test_coupled_fire_restarts_where_newton_stalled_never_from_a_rejected_state(
 
     monkeypatch.setitem(chains.ALGORITHMS, "coupled_newton", newton)
     monkeypatch.setitem(chains.ALGORITHMS, "dynamics", fire)
+    monkeypatch.setitem(chains.ALGORITHMS, "coupled_ptc", lambda problem, start, run: record(start, False, "ptc"))
     monkeypatch.setattr(chains, "_rejected", lambda problem, link, r, origin, *words:
                         "" if link.accept is chains.Accept.ANY else "a jump")
     r = chains.relax(p.model, p.law, p.z_ind, guess, settings, p.wall_tolerance)
@@ -241,7 +249,7 @@ def test_a_broken_off_continuation_is_resumed_to_its_stall_before_fire_restarts(
     fold of Fig. 8 at 2^17, seed 2, step 176); a resumed run that converges is never a start. Its iterations count,
     the label and the message name it."""
     p = problem("cohesive", **{"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3})
-    settings = Settings(tolerance=1e-8, coupled="newton")
+    settings = Settings(tolerance=1e-8, coupled="handover-near")
     shape = (p.model.components, p.model.nodes // 2 + 1)
     guess, broken, stalled = (np.full(shape, v + 0j) for v in (0.0, 1e-12, 2e-12))
     calls = []
@@ -266,6 +274,7 @@ def test_a_broken_off_continuation_is_resumed_to_its_stall_before_fire_restarts(
 
     monkeypatch.setitem(chains.ALGORITHMS, "coupled_newton", newton)
     monkeypatch.setitem(chains.ALGORITHMS, "dynamics", fire)
+    monkeypatch.setitem(chains.ALGORITHMS, "coupled_ptc", lambda problem, start, run: record(start, False, "ptc", "x"))
     r = chains.relax(p.model, p.law, p.z_ind, guess, settings, p.wall_tolerance)
     assert calls[:3] == [("newton", "guess", chains.COUPLED_JUMP), ("fire", "guess"), ("newton", "broken", 0.0)]
     if resumed_converges:  # another equilibrium: not a start; the chain goes on to its stability-tested Newton
@@ -276,7 +285,7 @@ def test_a_broken_off_continuation_is_resumed_to_its_stall_before_fire_restarts(
         assert r.fft_pairs == 4 * 11.0 and "resumed without the break-off" in r.message
 
 
-@pytest.mark.parametrize("coupled", ["newton", "handover-near"])
+@pytest.mark.parametrize("coupled", ["handover-near"])
 def test_a_continuation_stalled_at_the_guess_does_not_start_fire_twice(monkeypatch, coupled):
     """Where the continuation Newton stalls at the guess itself (GMRES missed at its first iteration: Fig. 8 at
     2^17, seed 7, step 199), its "stalled end" is the guess, where FIRE ran already: the chain goes on to its
@@ -312,7 +321,7 @@ def test_a_continuation_stalled_at_the_guess_does_not_start_fire_twice(monkeypat
     assert r.converged and "stalled at the guess" in r.message and r.fft_pairs == 6 * 5.0 + 1.5
 
 
-@pytest.mark.parametrize("coupled", ["newton", "handover-near"])
+@pytest.mark.parametrize("coupled", ["handover-near"])
 @pytest.mark.parametrize("blew_up", [True, False])
 def test_a_fire_run_that_blew_up_is_no_start(monkeypatch, coupled, blew_up):
     """The fallback Newton starts from the guess, then from FIRE's end ("finite end") only where FIRE lowered the
@@ -346,10 +355,10 @@ def test_a_fire_run_that_blew_up_is_no_start(monkeypatch, coupled, blew_up):
 
 
 @pytest.mark.parametrize("stable", [True, False])
-@pytest.mark.parametrize("coupled", ["newton", "handover", "handover-near"])
+@pytest.mark.parametrize("coupled", ["handover-near"])
 def test_ptc_runs_before_verlet_where_fire_and_newton_gave_up(monkeypatch, coupled, stable):
     """Where FIRE and the stability-tested Newton gave up (Fig. 8 at 2^17, ν = 0.1, seed 7, step 199: FIRE's dynamics
-    circulate, Newton's line search stalls, damped Verlet then ran 58 min unconverged), the Newton-first chains run
+    circulate, Newton's line search stalls, damped Verlet then ran 58 min unconverged), the coupled chains run
     Ψtc from the guess before Verlet; its converged state is kept only where locally stable, else Verlet runs."""
     p = problem("cohesive", **{"interface.tangential_ratio": 0.5, "material.poisson_ratio": 0.3})
     shape = (p.model.components, p.model.nodes // 2 + 1)

@@ -2,10 +2,9 @@
 
 Ψtc (Kelley & Keyes 1998; Coffey, Kelley & Keyes 2003) follows the overdamped flow M du/dτ = f(u) by
 implicit Euler steps with a pseudo-time step Δτ grown as the residual falls (switched evolution relaxation):
-small Δτ follows the flow through a snap or slip event, large Δτ is Newton's step. `gfmd.chains`' "ptc" chain
-runs it after the continuation Newton gives a step up, before FIRE (measured: benchmarks/results/bench_coupled_ptc.md).
-As the default chain's handover link in FIRE's place it reached the same states at twice FIRE's CPU time on the
-event steps, so it is not there (docs/design/solvers.md).
+small Δτ follows the flow through a snap or slip event, large Δτ is Newton's step. The coupled chains
+(`gfmd.chains`) run it as their last resort before damped Verlet, its state kept where locally stable; before FIRE,
+or in FIRE's place as the handover link, it reached the same states at more cost (docs/design/solvers.md).
 """
 
 from __future__ import annotations
