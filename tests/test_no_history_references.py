@@ -1,0 +1,102 @@
+"""Code, docstrings, comments and docs say what and why, not when: no history references.
+
+History lives in git; a measurement that chose a design is kept, condensed, in docs/design/. Scanned: every .py
+file under gfmd/, gfmd_contact/, reference/ and verification/, plus docs/*.rst and docs/design/*.md (not the
+verification data files nor the result records under studies/ and benchmarks/). A hit fails the test with its
+file:line. False positives are kept out by the patterns, not by exempting files.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("gfmd", "gfmd_contact", "reference", "verification")
+DOCS = ("docs/*.rst", "docs/design/*.md")
+
+#: a commit hash: 7–40 hex digits with at least one digit and one letter a–f, a token of its own (not part of a word,
+#: a path, a hex colour "#rrggbb" or a "0x" literal)
+_HASH = r"(?<![\w#./-])(?=[0-9a-f]*[0-9])(?=[0-9a-f]*[a-f])[0-9a-f]{7,40}(?![\w/-]|\.\w)"
+#: name → pattern of one kind of history reference
+PATTERNS = {
+    "issue number": re.compile(r"\bissues?\s*#?\d+", re.IGNORECASE),
+    "session number": re.compile(r"\bsessions?\s*#?\d+", re.IGNORECASE),
+    "work-log entry": re.compile(r"\b(?:work[- ]?log|log entry)\s*(?:entry\s*)?#?\d+"
+                                 r"|(?<![A-Za-z0-9])s\d{2,3}(?![A-Za-z0-9])", re.IGNORECASE),
+    "GitHub reference": re.compile(r"(?:(?<=\s)|(?<=\())#\d+\b|\b(?:PR|pull request)\s*#?\d+", re.IGNORECASE),
+    "dated entry": re.compile(r"\b(?:19|20)\d{2}-[01]\d-[0-3]\d\b"),
+    "commit hash": re.compile(_HASH),
+}
+#: tokens the hash pattern matches that are numbers, not hashes: a float's mantissa and exponent (1e1000)
+_NUMBER = re.compile(r"\d+e\d+")
+
+
+def scanned_files(root=ROOT):
+    """The files under the rule: every .py of the packages, the docs' .rst and the design notes."""
+    files = [p for pkg in PACKAGES for p in sorted((root / pkg).rglob("*.py"))]
+    files += [p for pattern in DOCS for p in sorted(root.glob(pattern))]
+    return files
+
+
+def references(line):
+    """The history references in one line of text: [(kind, matched text)]."""
+    found = []
+    for kind, pattern in PATTERNS.items():
+        for m in pattern.finditer(line):
+            if kind == "commit hash" and _NUMBER.fullmatch(m.group(0)):
+                continue
+            found.append((kind, m.group(0)))
+    return found
+
+
+def violations(files, root=ROOT):
+    """'file:line: kind "text"' for every history reference in `files`."""
+    out = []
+    for path in files:
+        lines = path.read_text(encoding="utf-8", errors="replace").splitlines()
+        for number, line in enumerate(lines, 1):
+            for kind, text in references(line):
+                out.append(f"{path.relative_to(root)}:{number}: {kind} {text!r}")
+    return out
+
+
+def test_no_history_references():
+    files = scanned_files()
+    assert len(files) > 100, "the scan found too few files: is ROOT right?"
+    found = violations(files)
+    assert not found, ("history references (say what and why; history lives in git, measurements in "
+                       "docs/design/):\n" + "\n".join(found))
+
+
+def test_scan_catches_a_planted_violation(tmp_path):
+    """Each kind planted in a copy of the layout is reported with its file:line; a clean line is not."""
+    module = tmp_path / "gfmd" / "algorithms" / "planted.py"
+    module.parent.mkdir(parents=True)
+    planted = [
+        '"""Relax a step (issue 24)."""',
+        "x = 1  # the default of sessions 26–39",
+        "# measured in Session 47, see the work-log entry 12",
+        "# recorded in suite_s47/ and (#5)",
+        "# Measured (2026-11-25): 3 % faster",
+        "# as at b56a595, before e1f001c.",
+    ]
+    clean = [
+        "# Eq. 3 at 2^17: 1e10000 overflows; colour #a1b2c3, 0x1f2e3d4c, tolerance 1e-12",
+        "# φn* = 0.15, δn = 0.25 nm, 201 steps, Fig. 8, §4.2, item 4, s = Δn/δn, gh-8400",
+        "# decade, facade, 1234567, data/run_3f2a.csv",
+    ]
+    module.write_text("\n".join(planted + clean) + "\n", encoding="utf-8")
+    (tmp_path / "docs" / "design").mkdir(parents=True)
+    (tmp_path / "docs" / "design" / "note.md").write_text("Kept since issue #63.\n", encoding="utf-8")
+    for pkg in ("gfmd_contact", "reference", "verification"):
+        (tmp_path / pkg).mkdir()
+
+    found = violations(scanned_files(tmp_path), root=tmp_path)
+    lines = {int(v.split(":")[1]) for v in found if v.startswith("gfmd/algorithms/planted.py:")}
+    assert lines == set(range(1, len(planted) + 1)), found
+    kinds = {v.split(": ", 1)[1].rsplit(" '", 1)[0] for v in found}
+    assert kinds == set(PATTERNS), kinds
+    assert any(v.startswith("docs/design/note.md:1: issue number") for v in found), found
+    assert "gfmd/algorithms/planted.py:6: commit hash 'b56a595'" in found, found
+    assert "gfmd/algorithms/planted.py:6: commit hash 'e1f001c'" in found, found
