@@ -3,9 +3,9 @@
 The scene is the seed study's (studies/seed/seed_base.toml: L = 10.24 µm, H = 0.8, h_rms = 10 nm, ν = 0.45, the
 200-step ramp to δ = 20 nm, realization 0) at N = 2^e, its short cut-off raised to 4 node spacings where the grid is
 coarser than the seed's. A case relaxes, untimed, a few steps of the ramp up to step STEP (near the ramp's end, the
-deepest contact: a_rel printed in the table's note), then the timed call relaxes STEP from the ramp's warm start (the extrapolation
-2u_k − u_{k−1}, `previous` the last state), as a study task does, with the scene's solver settings (the default
-chain of each law): the hard wall's dual CG, the cohesive law's NCG, the coupled law's chain.
+deepest contact: a_rel in the table's note), then the timed call relaxes STEP from the ramp's warm start (the
+extrapolation 2u_k − u_{k−1}, `previous` the last state), as a study task does, with the scene's solver settings
+(the default chain of each law): the hard wall's dual CG, the cohesive law's NCG, the coupled law's chain.
 """
 
 from __future__ import annotations
@@ -59,7 +59,7 @@ class StepCase:
             state = self._converged(steps[j], state)
         previous = state
         current = self._converged(steps[k - 1], previous)
-        self.z = self._z(steps[k])
+        self.z, self.z_previous = self._z(steps[k]), self._z(steps[k - 1])
         self.guess, self.previous = 2 * current - previous, current
 
     def _z(self, displacement):
@@ -123,22 +123,27 @@ def test_load_step_2d(benchmark, sizes, table):
 
 
 def test_tamaas_hard_wall(benchmark, sizes, table, exponent):
-    """Tamaas' PolonskyKeerRey on the hard wall's step (the mean pressure GFMD finds there), warm-started from the
-    previous step's pressure as GFMD is from its state; skipped where tamaas is not installed (the `bench` extra)."""
+    """Tamaas' PolonskyKeerRey on the hard wall's step (the mean pressure GFMD finds there), warm-started by a solve
+    at the previous step's mean pressure as GFMD is from its states; skipped where tamaas is not installed (the `bench`
+    extra)."""
     tm = pytest.importorskip("tamaas", reason="tamaas is not installed (pip install '.[bench]'): no Tamaas column")
     n = 2**exponent
     case = step_case("hard wall", n)
     args, kw = case.args()
     p = -float(np.mean(relax(*args, **kw).t_z))
+    previous = relax(case.cell.physics, case.cell.law, case.z_previous, case.previous.copy(), case.cell.settings,
+                     case.wall_tolerance)
+    p_previous = -float(np.mean(previous.t_z))
     s, m = case.scene.surface, case.scene.material
 
     solvers = {}
 
-    def setup():  # a fresh solver with its warm start: the field of a lighter load
+    def setup():  # a fresh solver with its warm start: the field of the previous step's load
         model = tm.ModelFactory.createModel(tm.model_type.basic_1d, [s.length], [n])
         model.E, model.nu = m.youngs_modulus, m.poisson_ratio
-        solvers["pkr"] = tm.PolonskyKeerRey(model, np.ascontiguousarray(-case.h), case.cell.settings.tolerance)  # GFMD's (as the comparisons always ran them)
-        solvers["pkr"].solve(0.9 * p)
+        tolerance = case.cell.settings.tolerance  # GFMD's, as the comparisons always ran them
+        solvers["pkr"] = tm.PolonskyKeerRey(model, np.ascontiguousarray(-case.h), tolerance)
+        solvers["pkr"].solve(p_previous)
         return (p,), {}
 
     benchmark.pedantic(lambda load: solvers["pkr"].solve(load), setup=setup, rounds=sizes["rounds"], iterations=1)

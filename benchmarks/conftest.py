@@ -4,8 +4,8 @@ Run from the repository root: ``python -m pytest benchmarks`` (small sizes, a fe
 ``python -m pytest benchmarks --full`` (the paper's sizes). ``benchmarks/pytest.ini`` makes this directory its
 own pytest root, so the repository's ``pytest`` (testpaths tests, verification) never runs a benchmark.
 
-After the run a table prints one row per benchmark: the time per load step (the fastest round), the FFT pairs the step used,
-the step's time in units of one rfft+irfft pair at the same size (measured in the same process: the number to
+After the run a table prints one row per benchmark: the time per load step (the fastest round), the FFT pairs the
+step used, the step's time in units of one rfft+irfft pair at the same size (measured in the same process: the number to
 compare between machines and runs on a shared, noisy one) and, for the hard wall, the ratio to Tamaas on the same
 load where Tamaas is installed.
 """
@@ -114,7 +114,8 @@ class Table:
         benchmark.extra_info.update({k: v for k, v in kw.items() if v is not None})
 
     def lines(self):
-        head = ("| benchmark | size | ms per step (fastest) | FFT pairs per step | step / FFT pair | GFMD / Tamaas | note |",
+        head = ("| benchmark | size | ms per step (fastest) | FFT pairs per step | step / FFT pair | GFMD / Tamaas "
+                "| note |",
                 "|---|---|---|---|---|---|---|")
         return [*head, *(self._line(r) for r in self.rows)]
 

@@ -16,8 +16,9 @@ from gfmd.loading import run_realization, settings_of
 from gfmd.settings import Settings
 from tests.test_fire_dt_cap import _fig8_small, _one_step
 
-#: (f_dec, n_min) of milder restarts: of the pairs swept on whole coupled ramps (2^13 and 2^15, ν = 0.1 and 0.45, seed
-#: 2, every pair reaching the same states) the one with the fewest event-step FFT pairs, 7.8–8.9 % fewer than the default
+#: (f_dec, n_min) of milder restarts: of the pairs swept on whole coupled ramps (2^13 and 2^15, ν = 0.1 and 0.45,
+#: seed 2, every pair reaching the same states) the one with the fewest event-step FFT pairs, 7.8–8.9 % fewer than the
+#: default
 MILDER = (0.8, 1)
 
 

@@ -107,8 +107,8 @@ def test_no_wisdom_file_means_estimated_plans(fresh_plans, monkeypatch, where):
 
 def test_the_default_fft_is_fftw():
     """Where pyfftw is installed (a default dependency) the default backend is FFTW, measured the fastest: 0.79–0.88×
-    ducc0's CPU on whole 2^17 ramps of each law and less time per pair at 2^17 on both shapes (docs/design/performance.md;
-    `python -m pytest benchmarks` times the default's pair)."""
+    ducc0's CPU on whole 2^17 ramps of each law and less time per pair at 2^17 on both shapes
+    (docs/design/performance.md; `python -m pytest benchmarks` times the default's pair)."""
     pytest.importorskip("pyfftw")
     assert gfft.fft_backend("auto") == "fftw"
 
