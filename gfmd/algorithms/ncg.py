@@ -84,7 +84,7 @@ def solve(problem, start, settings):
     measured max-norm/energy-norm ratio predicts it passes: the converged states and their
     residuals mean what FIRE's do.
 
-    Cost per iteration (issue 13): the nodal law work (exp, the line search's sums) runs on the near
+    Cost per iteration: the nodal law work (exp, the line search's sums) runs on the near
     set only, the nodes with Δn < (s_c + NCG_NEAR_MARGIN) δn, where s_c e^{−s_c} (φn/δn) =
     NCG_FAR_FRACTION · tolerance · p_ref (`_attraction_cut`): a far node's attraction is below a
     thousandth of the stopping test. The set is rebuilt from a fresh irfft when a step could have
@@ -101,21 +101,14 @@ def solve(problem, start, settings):
     is never formed as f̂: `TwoLevel.apply_split` takes T_n on the nodes and û, gives s and the force as
     irfft(r̂) + D w (f·s, f_old·s, f·d_old as spectral plus nodal sums; the stopping test's irfft of r̂ plus D w),
     and keeps Zᵀ K u on the coarse level, so an iteration costs 3 transforms instead of 5 (the force's rfft and the
-    balanced form's two pairs). Measured (session 46, whole study tasks at 2^17, realization 2, pinned simultaneous
-    pairs with the cores swapped, benchmarks/results/bench_versions_split-force*.md): CPU × 0.914 ± 0.034 (φn* = 0.15,
-    ν = 0.45, three rounds), × 0.917 ± 0.017 (ν = 0.1), × 0.926 ± 0.051 (δn = 0.25 nm), × 0.901 ± 0.032 (φn* = 0.05),
-    × 0.924 ± 0.086 (H = 0.2), × 1.015 ± 0.047 (φn* = 0.001, whose steps never engage it); the same iterations
-    (δn = 0.25 nm: 6 052 → 6 055), p̄ within 1e-12 of max p̄. Since session 48 the third transform, the rfft of s's
-    coarse correction Π Z c₂, is never made: û is kept as a spectral part and a coarse tail, û_s + rfft(Π Z e_u), s and
-    d likewise (x̂' and e_s, d̂_s and e_d; `TwoLevel.apply_split`, `move`), and f·s, f_old·s, f·d_old and d·Kd come
-    from the parts (`gfmd.cohesive_preconditioner.split_products`, `split_energy`): K-products of the spectral parts
-    plus coarse sums with E_K = Zᵀ Π K Π Z, whose products the coarse level already holds. 2 transforms per iteration;
-    the tail is folded into û_s (one rfft, `TwoLevel.fold`) before a force residual test, where the coarse space
-    changes, where the near set is rebuilt and at least every FOLD_EVERY iterations. Measured (whole 201-step ramps
-    at 2^17, realization 2, φn* = 0.15): the same iterations, states within 1e-14 of max |û|, FFT pairs per step
-    41.2 → 33.9 (benchmarks/results/bench_split_tail_*.md); study tasks against session 47's, pinned simultaneous
-    pairs with the cores swapped (benchmarks/results/bench_versions_split-tail*.md): CPU × 0.96 ± 0.03 (ν = 0.45),
-    × 0.95 ± 0.01 (ν = 0.1).
+    balanced form's two pairs). The third transform, the rfft of s's coarse correction Π Z c₂, is never made
+    either: û is kept as a spectral part and a coarse tail, û_s + rfft(Π Z e_u), s and d likewise (x̂' and e_s, d̂_s
+    and e_d; `TwoLevel.apply_split`, `move`), and f·s, f_old·s, f·d_old and d·Kd come from the parts
+    (`gfmd.cohesive_preconditioner.split_products`, `split_energy`): K-products of the spectral parts plus coarse
+    sums with E_K = Zᵀ Π K Π Z, whose products the coarse level already holds. 2 transforms per iteration; the tail
+    is folded into û_s (one rfft, `TwoLevel.fold`) before a force residual test, where the coarse space changes,
+    where the near set is rebuilt and at least every FOLD_EVERY iterations. Both keep the iterations and the
+    states; their CPU gains at 2^17 are in docs/design/solvers.md.
 
     Stall: a step NCG does not finish within min(NCG_BUDGET, max_iterations / 2) iterations, or
     whose line search finds no descent, is handed over (`Relaxed.stalled`; `gfmd.chains` restarts it
@@ -152,7 +145,7 @@ def solve(problem, start, settings):
         raise ValueError("Settings.cohesive_preconditioner = 'two-level' needs seed Eq. 3's law, not a user law")
     preconditioner_name = cohesive_preconditioner.resolve(settings.cohesive_preconditioner, model.grid, user)
     # built when a step first engages it (ENGAGE_AFTER iterations): the steps that finish before never pay its setup
-    # (an irfft and two cumulative sums over 2N: ≈ 6 ms at 2^17, once per task since session 44, K's sums kept on the
+    # (an irfft and two cumulative sums over 2N: ≈ 6 ms at 2^17, once per task, K's sums kept on the
     # model's `stiffness_operator`; a φn* = 0.001 task −6 to −11 % CPU)
     two_level = preconditioner_name != "stiffness"
     other = None
