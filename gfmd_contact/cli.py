@@ -147,8 +147,11 @@ def _run_locked(args, scene, out, warnings, notes):
     for n in notes:
         print(f"note: {n}", file=sys.stderr)
     method = "FE" if scene.method.name == "fe" else _gfmd_description(scene)
+    from gfmd_contact.core.cost import describe, estimate_peak_memory
+
     print(f"scene {scene.name!r}: {scene.surface.realizations} realization(s), {scene.loading.steps} load steps, "
-          f"method {method}; results go to {out}/ as they are computed", file=sys.stderr)
+          f"method {method}, {describe(estimate_peak_memory(scene, args.workers))}; results go to {out}/ as they "
+          "are computed", file=sys.stderr)
     try:
         from gfmd_contact.runs import compute  # the one path of gfmd run and gfmd_contact.run
 
@@ -245,7 +248,8 @@ def _cmd_study_run(args):
     if len(args.study) > 1:
         return _cmd_study_suite(args)
     args.study = args.study[0]
-    study = load_study(args.study)  # every parameter set is validated here, before any compute
+    # its size first (refused above the limit unless --yes), then every parameter set validated, before any compute
+    study = load_study(args.study, yes=args.yes, note=None if args.quiet else _note)
     out = Path(args.out or f"results/{study.name}")
     n_tasks = len(study.tasks)
     where = _where(args)
@@ -305,7 +309,8 @@ def _cmd_study_suite(args):
 
     if not args.out:
         raise ValueError("several study files need --out DIR (each study goes to DIR/<study name>/)")
-    studies = [load_study(path) for path in args.study]  # every file validated before any compute
+    studies = [load_study(path, yes=args.yes, note=None if args.quiet else _note)  # validated before any compute
+               for path in args.study]
     check_names(studies)
     out = Path(args.out)
     distinct = len({t.key for s in studies for t in s.tasks})
@@ -444,6 +449,8 @@ def build_parser():
                       help="send the tasks to an existing Dask cluster (e.g. tcp://HOST:8786) instead; --out must "
                            "be on a file system every worker sees")
     srun.add_argument("--quiet", action="store_true", help="no progress bar")
+    srun.add_argument("--yes", action="store_true", help="run a study of more tasks than the limit "
+                      "(gfmd_contact.app.study_file.MAX_TASKS) without being refused")
     _wait_option(srun, "study directory")
     srun.set_defaults(func=_cmd_study_run)
     splot = study_sub.add_parser("plot", help="seed-style figures of a study directory (into DIR/figures/): "

@@ -40,7 +40,8 @@ class RunResult:
         The resolved scene of the run (its scene.toml).
     meta : dict
         meta.json: "complete", "method" (what ran), "model", "messages" (non-converged
-        steps), "notes", "timings" (s), "code_version", ...
+        steps), "notes", "timings" (s; with the preflight's "estimated_peak_memory_bytes",
+        `gfmd_contact.core.cost`), "code_version", ...
     """
 
     def __init__(self, directory):
@@ -254,11 +255,14 @@ def compute(scene, out, workers=None, progress=True, note=None):
     """
     from gfmd_contact.app import io
     from gfmd_contact.app.ensemble import run_to_directory
+    from gfmd_contact.core.cost import estimate_peak_memory
 
     start = time.perf_counter()
     results, resume = run_to_directory(scene, out, workers=workers, progress=progress, note=note)
     elapsed = time.perf_counter() - start
-    io.write_run(out, scene, results, timings={"total_s": elapsed, "workers": workers}, resume=resume)
+    io.write_run(out, scene, results, resume=resume, timings={
+        "total_s": elapsed, "workers": workers,
+        "estimated_peak_memory_bytes": estimate_peak_memory(scene, workers)})  # gfmd_contact.core.cost
     return results, resume, elapsed
 
 

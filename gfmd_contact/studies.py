@@ -62,7 +62,7 @@ def study_text(scene, axes=None, zip=None, name=None):
     return "\n".join(lines) + "\n"
 
 
-def make_study(scene, axes=None, zip=None, name=None):
+def make_study(scene, axes=None, zip=None, name=None, *, yes=False):
     """A validated study: `scene` varied over `axes` (a product) and `zip` (together).
 
     Parameters
@@ -74,6 +74,8 @@ def make_study(scene, axes=None, zip=None, name=None):
         ``axes={"interface.phi_n_star": [0.01, 0.05, 0.15]}``.
     name : str, optional
         The study's name (default: the scene's).
+    yes : bool
+        Accept more than ``gfmd_contact.app.study_file.MAX_TASKS`` tasks (refused otherwise, naming the count).
 
     Returns
     -------
@@ -93,10 +95,10 @@ def make_study(scene, axes=None, zip=None, name=None):
         raise StudyError("interface.law = \"user\": a study runs its tasks from scene files, which cannot hold the "
                          "user law's Python functions; run each scene with gfmd_contact.run(scene, law=...) instead")
     text = study_text(scene, axes, zip, name)
-    return study_from_dict(tomllib.loads(text), text=text, name=name or scene.name)
+    return study_from_dict(tomllib.loads(text), text=text, name=name or scene.name, yes=yes)
 
 
-def load_study(source):
+def load_study(source, *, yes=False):
     """A validated study from a study TOML file.
 
     Parameters
@@ -104,6 +106,8 @@ def load_study(source):
     source : str, pathlib.Path or gfmd_contact.app.study.Study
         A study file (``gfmd study run`` reads the same; base scene and [axes], optional
         [zip]), or a `make_study` result (returned as it is).
+    yes : bool
+        Accept more than ``gfmd_contact.app.study_file.MAX_TASKS`` tasks (refused otherwise, naming the count).
 
     Returns
     -------
@@ -111,7 +115,7 @@ def load_study(source):
     """
     from gfmd_contact.app.study import Study, load_study as read
 
-    return source if isinstance(source, Study) else read(source)
+    return source if isinstance(source, Study) else read(source, yes=yes)
 
 
 class StudyResult:
@@ -216,7 +220,7 @@ class StudyResult:
         return study_figures(self, over=over)
 
 
-def run_study(study, out, *, workers=None, scheduler=None, progress=True):
+def run_study(study, out, *, workers=None, scheduler=None, progress=True, yes=False):
     """Run (or continue) every task of a study into a study directory.
 
     Parameters
@@ -232,6 +236,8 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True):
         must then be on a file system every worker sees.
     progress : bool
         A progress bar over tasks.
+    yes : bool
+        Accept a study file of more than ``gfmd_contact.app.study_file.MAX_TASKS`` tasks (`load_study`).
 
     Returns
     -------
@@ -246,7 +252,7 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True):
 
     from gfmd_contact.app.study import failure_summary, run_study as execute
 
-    study = load_study(study)
+    study = load_study(study, yes=yes)
     record = execute(study, out, workers=workers, scheduler=scheduler, progress=progress,
                      command=f"gfmd_contact.run_study(out={out})")
     if record["tasks_failed"]:

@@ -142,19 +142,26 @@ def assert_documented_end(code, err, out, scene):
         lines = [ln for ln in err.splitlines() if ln.startswith("gfmd: error:")]
         assert lines, err
         assert KEY.search(lines[0]), f"a refusal must name the scene key: {lines[0]}"
-        assert not out.exists() or not any(out.iterdir()), f"refused after writing: {sorted(out.iterdir())}"
+        # the one refusal while running (README, force control): a load the ramp finds beyond full contact
+        running = scene["loading"].get("control") == "force" and lines[0].startswith("gfmd: error: loading.path: "
+                                                                                     "the load p̄ = ")
+        assert running or not out.exists() or not any(out.iterdir()), f"refused after writing: {sorted(out.iterdir())}"
         return
     meta = json.loads((out / "meta.json").read_text())
     assert meta["complete"] is True
     curve = pd.read_csv(out / "curve.csv")
     gfmd = scene.get("method", {}).get("name", "gfmd") == "gfmd"  # GFMD labels each step's algorithm
-    assert list(curve.columns) == ["realization", "seed", *CURVE_COLUMNS, *(["algorithm"] if gfmd else [])]
+    path = "path" in scene["loading"]  # a load path adds branch, cycle, event (and force control: load)
+    force = scene["loading"].get("control") == "force"
+    assert list(curve.columns) == ["realization", "seed", *CURVE_COLUMNS, *(["algorithm"] if gfmd else []),
+                                   *(["branch", "cycle", "event"] if path else []), *(["load"] if path and force else [])]
     realizations = scene["surface"].get("realizations", 1)
     assert sorted(curve["realization"].unique()) == list(range(realizations))
-    numbers = curve.drop(columns=["realization", "seed", "algorithm"], errors="ignore").to_numpy(float)
+    numbers = curve.drop(columns=["realization", "seed", "algorithm", "branch", "event"], errors="ignore").to_numpy(float)
     assert not np.isinf(numbers).any(), "an infinite number in curve.csv"
     assert not (np.abs(numbers) >= 1e300).any(), "a sentinel number (1e300) in curve.csv"
     steps = scene["loading"]["steps"]
+    steps = sum(steps) if isinstance(steps, list) else steps  # a load path: steps per segment
     bad = curve["converged"] == 0
     for r, rows in curve.groupby("realization"):
         assert list(rows["step"]) == list(range(len(rows))) and 1 <= len(rows) <= steps + 1
@@ -166,10 +173,10 @@ def assert_documented_end(code, err, out, scene):
     for _, row in curve[bad].iterrows():
         assert f"step {int(row['step'])} " in err, f"non-converged step {int(row['step'])} not named:\n{err}"
     fields = np.load(out / "fields.npz")
-    n = scene["surface"]["nodes"]
+    n = (scene["surface"]["nodes"],) + ((scene["surface"]["nodes_y"],) if scene["surface"].get("nodes_y") else ())
     for key in fields.files:
         if key[0] == "r" and key.split("_", 2)[-1] in FIELD_NAMES:
-            assert fields[key].shape == (n,), (key, fields[key].shape)
+            assert fields[key].shape == n, (key, fields[key].shape)
     assert (out / "mean_curve.csv").is_file()
 
 
@@ -203,6 +210,155 @@ def test_every_gfmd_scene_ends_the_documented_way_many(drawn, tmp_path_factory):
 @given(drawn=scenes("fe"))
 def test_every_fe_scene_ends_the_documented_way_many(drawn, tmp_path_factory):
     test_every_fe_scene_ends_the_documented_way.hypothesis.inner_test(drawn, tmp_path_factory)
+
+
+# -- the ground beyond a ramp: load paths, force control, 2+1-D grids, hostile files, user laws ----------------
+#: draws per test in CI (each a small run); `--full` runs SLOW_FACTOR × as many
+GROUND_EXAMPLES = 6
+
+
+@st.composite
+def path_scenes(draw):
+    """Load paths with several reversals under displacement or force control (targets beyond pull-off and
+    beyond full contact included), on 1+1-D profiles and on 2+1-D grids (odd, tiny, non-square)."""
+    two_d = draw(st.booleans())
+    nodes = draw(st.sampled_from((8, 9, 12, 16) if two_d else (16, 33, 64)))
+    length = draw(log_uniform(1e-8, 1e-5))
+    surface = {"length": length, "nodes": nodes, "realizations": 1}
+    if two_d:
+        surface.update(nodes_y=draw(st.sampled_from((2, 3, 4, 7, 16))),
+                       length_y=draw(log_uniform(0.3, 3.0)) * length)
+    kind = draw(st.sampled_from(("sinusoid", "egg-box", "sphere", "flat") if two_d else ("sinusoid", "cylinder", "flat")))
+    surface["kind"] = kind
+    scale = draw(log_uniform(1e-3, 0.1)) * length
+    if kind in ("sinusoid", "egg-box"):
+        surface["amplitude"] = scale
+    elif kind in ("sphere", "cylinder"):
+        surface["radius"] = draw(log_uniform(0.5, 50.0)) * length
+    youngs = draw(log_uniform(1e7, 1e11))
+    law = draw(st.sampled_from(("hard-wall", "cohesive")))
+    dn = draw(log_uniform(0.3, 10.0)) * length / nodes
+    force = draw(st.booleans())
+    corners = draw(st.integers(3, 5))  # two reversals or more
+    if force:  # p̄ corners (Pa): 0, then alternating compressive and tensile loads over decades of E* slope
+        p_scale = youngs * scale / length
+        path = [0.0] + [(1 if i % 2 == 0 else -1) * draw(log_uniform(1e-4, 3.0)) * p_scale for i in range(corners - 1)]
+    else:  # δ corners (m), starting out of contact
+        d0 = draw(log_uniform(0.5, 5.0)) * dn
+        path = [-d0] + [(1 if i % 2 == 0 else -0.5) * draw(log_uniform(0.1, 3.0)) * max(scale, dn)
+                        for i in range(corners - 1)]
+    loading = {"path": path, "steps": [draw(st.integers(1, 3)) for _ in range(corners - 1)]}
+    if force:
+        loading.update(control="force", initial_separation=draw(log_uniform(0.5, 5.0)) * dn)
+    scene = {"surface": surface,
+             "material": {"youngs_modulus": youngs, "poisson_ratio": draw(st.floats(0.0, 0.49)),
+                          "thickness": draw(st.sampled_from(("inf", 2 * length)))},
+             "interface": {"law": law, "phi_n_star": draw(log_uniform(1e-3, 0.3)), "length_normal": dn},
+             "loading": loading, "solver": {"max_iterations": 3000},
+             "output": {"field_steps": draw(st.integers(0, 3)), "workers": 1}}
+    return scene, None
+
+
+@settings(max_examples=GROUND_EXAMPLES, deadline=None, suppress_health_check=list(HealthCheck))
+@given(drawn=path_scenes())
+def test_every_path_scene_ends_the_documented_way(drawn, tmp_path_factory):
+    scene, heights = drawn
+    tmp = tmp_path_factory.mktemp("path")
+    code, err = run_cli(scene, heights, tmp / "s")
+    assert_documented_end(code, err, tmp / "s" / "out", scene)
+
+
+@pytest.mark.slow
+@settings(max_examples=GROUND_EXAMPLES * SLOW_FACTOR, deadline=None, suppress_health_check=list(HealthCheck))
+@given(drawn=path_scenes())
+def test_every_path_scene_ends_the_documented_way_many(drawn, tmp_path_factory):
+    test_every_path_scene_ends_the_documented_way.hypothesis.inner_test(drawn, tmp_path_factory)
+
+
+def _hostile(kind, nodes, data, tmp):
+    """Write a hostile surface file of `kind` in tmp; returns its name."""
+    if kind == "lying header":
+        with open(tmp / "h.npy", "wb") as f:
+            np.lib.format.write_array_header_1_0(f, {"descr": "<f8", "fortran_order": False,
+                                                     "shape": (data.draw(st.integers(nodes + 1, 10**15)),)})
+        return "h.npy"
+    if kind == "random bytes":
+        (tmp / "h.npy").write_bytes(data.draw(st.binary(min_size=0, max_size=256)))
+        return "h.npy"
+    if kind == "nul text":
+        with open(tmp / "h.txt", "wb") as f:
+            f.truncate(data.draw(st.integers(1, 2**24)))
+        return "h.txt"
+    if kind == "junk text":
+        (tmp / "h.txt").write_text(data.draw(st.text(max_size=200)))
+        return "h.txt"
+    (tmp / "h.npy").symlink_to("/dev/zero")
+    return "h.npy"
+
+
+@settings(max_examples=GROUND_EXAMPLES * 2, deadline=None, suppress_health_check=list(HealthCheck))
+@given(kind=st.sampled_from(("lying header", "random bytes", "nul text", "junk text", "device")),
+       nodes=st.sampled_from((8, 16, 64)), data=st.data())
+def test_every_hostile_surface_file_is_refused_naming_surface_path(kind, nodes, data, tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("hostile")
+    name = _hostile(kind, nodes, data, tmp)
+    scene = {"surface": {"kind": "file", "path": name, "nodes": nodes, "length": 1e-7, "realizations": 1},
+             "interface": {"law": "hard-wall"}, "loading": {"initial_separation": 1e-9, "final_penetration": 1e-9,
+                                                            "steps": 1}, "output": {"workers": 1}}
+    (tmp / "s").mkdir()
+    (tmp / "s" / "scene.toml").write_text(_toml(scene))
+    code, err = run_cli_file(tmp / "s" / "scene.toml", tmp / "s" / "out")
+    if currently_in_test_context():
+        event(f"{kind}: exit {code}")
+    if code == 2:
+        assert err.startswith("gfmd: error: surface.path"), err
+    else:  # junk text that happens to be `nodes` numbers is a profile
+        assert_documented_end(code, err, tmp / "s" / "out", scene)
+
+
+@settings(max_examples=GROUND_EXAMPLES, deadline=None, suppress_health_check=list(HealthCheck))
+@given(mode=st.sampled_from(("raise", "nan")), after=st.integers(0, 400), steps=st.integers(1, 4))
+def test_every_user_law_that_fails_ends_the_documented_way(mode, after, steps, tmp_path_factory):
+    """A user law that raises after `after` calls ends in gc.UserLawError naming the law and the step; one that
+    returns NaN ends with its non-converged steps named (or converged where the NaN never mattered)."""
+    import warnings
+
+    import gfmd_contact as gc
+
+    dn, phi = 1e-9, 0.05
+    calls = [0]
+
+    def broken(f):
+        def g(x):
+            calls[0] += 1
+            if calls[0] > after and armed[0]:
+                if mode == "raise":
+                    raise ArithmeticError("broken on purpose")
+                return np.full(np.shape(x), np.nan)
+            return f(x)
+        return g
+
+    armed = [False]
+    law = gc.user_law(broken(lambda g: -phi * (1 + g / dn) * np.exp(-g / dn)),
+                      broken(lambda g: phi / dn * (g / dn) * np.exp(-g / dn)),
+                      broken(lambda g: phi / dn**2 * (1 - g / dn) * np.exp(-g / dn)), dn, name="broken")
+    armed[0] = True
+    scene = gc.change(gc.default_scene(), {"surface.kind": "sinusoid", "surface.amplitude": 2e-9,
+                                           "surface.nodes": 32, "surface.length": 1.28e-7, "surface.realizations": 1,
+                                           "loading.steps": steps, "output.workers": 1})
+    try:
+        with warnings.catch_warnings(record=True):
+            warnings.simplefilter("always")
+            res = gc.run(scene, out=tmp_path_factory.mktemp("law") / "run", law=law, progress=False)
+    except gc.UserLawError as exc:
+        event(f"{mode}: UserLawError")
+        # in a load step: which realization and step; before one (the cell's set-up, the check): the law alone
+        assert mode == "raise" and re.match(r"(realization 0\b.*, step \d+ \(U = .*\): )?user law 'broken': "
+                                            r"(energy|traction|tangent)\(Δn\) raised ArithmeticError", str(exc)), exc
+        return
+    event(f"{mode}: {'converged' if res.converged else 'not converged'}")
+    for k in res.curve.loc[res.curve["converged"] == 0, "step"]:
+        assert any(f"step {k} " in m for m in res.meta["messages"]), (k, res.meta["messages"])
 
 
 # -- the issue's reproductions, deterministic ------------------------------------------------------

@@ -60,6 +60,10 @@ class LockHeld(OSError):
     """Another live process holds the directory's lock: the message names it and what to do."""
 
 
+class DanglingLink(OSError):
+    """The directory to write is a symbolic link to a path that does not exist: the message says which."""
+
+
 def _why(exc):
     return _WHY.get(exc.errno, exc.strerror or str(exc))
 
@@ -215,6 +219,10 @@ class DirLock:
         """Take the lock; wait: 0 refuse at once (LockHeld), seconds, or None / a negative number: for ever."""
         if fcntl is None:
             return self
+        if self.directory.is_symlink() and not self.directory.exists():
+            target = os.readlink(self.directory)
+            raise DanglingLink(f"{self.directory}: the {self.what} is a symbolic link to {target!r}, which does not "
+                               f"exist: create {target!r} (a directory), or choose another directory")
         with writing(self.path):
             self.directory.mkdir(parents=True, exist_ok=True)
         deadline = None if wait is None or wait < 0 else time.monotonic() + wait

@@ -42,6 +42,10 @@ from .methods import solve_key
 
 STUDY_KEYS = ("name", "description", "base", "scene", "axes", "zip")
 
+#: the most tasks a study runs without being told to (`gfmd study run --yes`, `yes=True` in Python): loading
+#: (validating) 10^4 tasks takes about 13 s and each task writes a directory; more is refused, naming the count
+MAX_TASKS = 10_000
+
 TASK_NAME = "task"
 
 
@@ -185,8 +189,11 @@ def _check_key(where, key):
         raise StudyError(f"{where} key {key!r}: must be a dotted scene key like \"interface.phi_n_star\"")
 
 
-def study_from_dict(d, *, path=None, text="", name=None):
-    """Parse and validate a study (dict of the TOML); every parameter set is built and checked."""
+def study_from_dict(d, *, path=None, text="", name=None, yes=False, note=None):
+    """Parse and validate a study (dict of the TOML); every parameter set is built and checked.
+
+    Before that, the task count and estimated cost (`study_size`) go to note(line), and a study of more than
+    MAX_TASKS tasks is refused unless `yes`."""
     label = f"study {str(path)!r}" if path else "study"
     if not isinstance(d, dict):
         raise StudyError(f"{label}: must be a TOML table")
@@ -230,6 +237,7 @@ def study_from_dict(d, *, path=None, text="", name=None):
     if zipped and len({len(v) for v in zipped.values()}) > 1:
         lengths = ", ".join(f"{k!r}: {len(v)}" for k, v in zipped.items())
         raise StudyError(f"{label}: [zip] lists must have equal lengths (they vary together); got {lengths}")
+    _check_size(label, study_name, base, axes, zipped, yes, note)
     entries = list(zip(*([(type(x), x) for x in v] for v in zipped.values())))
     if len(set(entries)) != len(entries):
         raise StudyError(f"{label}: [zip] keys {', '.join(map(repr, zipped))}: an entry appears twice")
@@ -264,6 +272,40 @@ def study_from_dict(d, *, path=None, text="", name=None):
     return study
 
 
+def study_size(base, axes, zipped):
+    """(sets, tasks, node-steps, peak memory of one task (bytes)) of a study, from its axes' lengths and the base
+    scene (the realizations, nodes and steps the axes give at most), without building a set."""
+    import math
+
+    from gfmd_contact.core.cost import estimate_peak_memory
+
+    sets = math.prod(len(v) for v in axes.values()) * (len(next(iter(zipped.values()))) if zipped else 1)
+
+    def most(key, default):
+        values = [v for table in (axes, zipped) for v in table.get(key, []) if isinstance(v, (int, float))]
+        return max([default] + values)
+
+    realizations = int(most("surface.realizations", base.surface.realizations))
+    s = base.surface
+    nodes = int(most("surface.nodes", s.nodes)) * max(int(most("surface.nodes_y", s.nodes_y)), 1)
+    steps = int(most("loading.steps", base.loading.steps)) if not base.loading.path else base.loading.steps
+    memory = estimate_peak_memory(task_scene(base, 0))
+    return sets, sets * realizations, sets * realizations * nodes * (steps + 1), memory
+
+
+def _check_size(label, name, base, axes, zipped, yes, note):
+    """Say the study's size before validating its sets; refuse above MAX_TASKS unless `yes`."""
+    sets, tasks, work, memory = study_size(base, axes, zipped)
+    size = (f"{sets} parameter set(s), {tasks} task(s), estimated cost {work:.3g} node-steps (nodes × load steps, "
+            f"summed), peak memory about {memory / 2**20:.0f} MiB per worker")
+    if tasks > MAX_TASKS and not yes:
+        raise StudyError(f"{label}: [axes] / [zip] give {size}: more than MAX_TASKS = {MAX_TASKS} "
+                         "(gfmd_contact.app.study_file); shorten the axes or surface.realizations, or confirm with "
+                         "`gfmd study run --yes` (Python: yes=True)")
+    if note is not None:
+        note(f"study {name!r}: {size}; validating every set before any compute")
+
+
 def _run_checks(scene):
     """The refusals `gfmd run` makes before compute (the method's, gfmd_contact.core.loading.preflight)."""
     from gfmd_contact.core.loading import preflight
@@ -278,8 +320,8 @@ def _describe(params):
     return ", ".join(f"{k} = {v!r}" for k, v in params.items()) or "the base scene"
 
 
-def load_study(path):
-    """Read and validate a study file (module docstring)."""
+def load_study(path, *, yes=False, note=None):
+    """Read and validate a study file (module docstring); yes, note: `study_from_dict`'s."""
     path = Path(path)
     try:
         text = path.read_text()
@@ -291,4 +333,4 @@ def load_study(path):
         d = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise StudyError(f"study file {str(path)!r} is not valid TOML: {exc}") from None
-    return study_from_dict(d, path=path, text=text, name=path.stem)
+    return study_from_dict(d, path=path, text=text, name=path.stem, yes=yes, note=note)

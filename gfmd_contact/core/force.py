@@ -28,6 +28,7 @@ wall on a half-plane the loads ≥ p̄_fc are refused before the run: `gfmd_cont
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -70,7 +71,7 @@ def solve_load(solve, observe, target, base, *, step, tolerance, u_max):
     s = 1.0 if target > obs0["p"] else -1.0
     if abs(obs0["p"] - target) <= tolerance and sol0 is not None:
         return LoadStep(sol0, U0, obs0, 0, True)
-    iterations, h, unstable, slope = 0, PROBE * step, False, None
+    iterations, h, unstable, slope, last = 0, PROBE * step, False, None, None
     cur, prev = (U0, state0, obs0, sol0), None
     for _ in range(MAX_TRIALS):
         d = h if slope is None else min(h, abs(target - cur[2]["p"]) / slope)  # not past the secant's P
@@ -89,15 +90,18 @@ def solve_load(solve, observe, target, base, *, step, tolerance, u_max):
                 event = _event(target, base, (0.0, obs)) if U0 > 0 else None  # not again once detached
                 if event is not None:
                     event.update(detached=True)
-                return LoadStep(sol, 0.0, obs, iterations, bool(sol.converged), event, detached=True)
+                loaded = LoadStep(sol, 0.0, obs, iterations, bool(sol.converged), event, detached=True)
+                return loaded if sol.converged else _gave_up(loaded, target, "solve", "at the start U = 0")
             U1 = 0.0
         else:
             sol = solve(U1, cur[1], cur[1])
             iterations += sol.iterations
+            last = (U1, sol)
             if not sol.converged:
                 h = 0.5 * d
                 if h < 1e-6 * step:
-                    return LoadStep(sol, U1, observe(sol), iterations, False)
+                    return _gave_up(LoadStep(sol, U1, observe(sol), iterations, False), target, "solve",
+                                    "at every shorter trial step")
                 continue
             obs = observe(sol)
         d = abs(U1 - cur[0])
@@ -106,7 +110,7 @@ def solve_load(solve, observe, target, base, *, step, tolerance, u_max):
             found = _refine(solve, observe, target, cur, (U1, sol.state, obs, sol), tolerance)
             U, sol, obs, its, ok = found
             event = _event(target, base, (U, obs)) if unstable else None
-            return LoadStep(sol, U, obs, iterations + its, ok, event)
+            return _refined(LoadStep(sol, U, obs, iterations + its, ok, event), target)
         if (p1 - cur[2]["p"]) * s < 0 and not unstable:  # p̄ turned away from P: a step too long, or the branch ends
             if d > MIN_STEP * step:
                 h = 0.5 * d  # retry shorter from the last state: the branch may reach P before it turns
@@ -116,7 +120,7 @@ def solve_load(solve, observe, target, base, *, step, tolerance, u_max):
                 iterations += its
                 if ext is not None and (ext[2]["p"] - target) * s >= 0:  # it reaches P: bracketed
                     U, sol, obs, its, ok = _refine(solve, observe, target, prev, ext, tolerance)
-                    return LoadStep(sol, U, obs, iterations + its, ok)
+                    return _refined(LoadStep(sol, U, obs, iterations + its, ok), target)
             unstable, slope = True, None  # past an extremum of p̄(U) within MIN_STEP·step: no equilibrium near the previous one
             h = step  # then march on, growing, to the branch it jumps to
         else:
@@ -124,7 +128,32 @@ def solve_load(solve, observe, target, base, *, step, tolerance, u_max):
             slope = rise if rise > 0 else None
             h = 1.5 * max(d, h if unstable else 0.0)  # grows ×1.5 from the last step (beyond an event: from h)
         prev, cur = (cur if not unstable else None), (U1, sol.state, obs, sol)
-    return LoadStep(cur[3], cur[0], cur[2], iterations, False)
+    if cur[3] is None and last is not None:  # no trial accepted: the step records the last one tried
+        cur = (last[0], last[1].state, observe(last[1]), last[1])
+    return _gave_up(LoadStep(cur[3], cur[0], cur[2], iterations, False), target, "search",
+                    f"after MAX_TRIALS = {MAX_TRIALS} displacement solves")
+
+
+def _refined(loaded, target):
+    """A bracketed step: given up if regula falsi stopped on a solve that failed, or on its iteration budget."""
+    if loaded.converged:
+        return loaded
+    if not loaded.solved.converged:
+        return _gave_up(loaded, target, "solve", "while the load was bracketed")
+    return _gave_up(loaded, target, "search", "in the bracket's regula falsi")
+
+
+def _gave_up(loaded, target, what, when):
+    """`loaded`, not converged, with a message that names what failed: the outer `search` on U (every solve
+    converged, the load was not reached) or a displacement `solve`, and the load the step reached."""
+    if loaded.solved is None:
+        return loaded
+    why = ("the outer search on U gave up " + when + " (each solve converged)" if what == "search"
+           else "a displacement solve did not converge " + when)
+    message = (f"force control did not reach the load P = {target:.6g} Pa: {why}; the step records p̄ = "
+               f"{loaded.obs['p']:.6g} Pa at U = {loaded.U:.6g} m (not converged)")
+    loaded.solved = dataclasses.replace(loaded.solved, messages=tuple(loaded.solved.messages) + (message,))
+    return loaded
 
 
 def _refine(solve, observe, target, a, b, tolerance, max_iter=80):

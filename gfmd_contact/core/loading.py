@@ -132,10 +132,16 @@ def realization_steps(scene, h, realization=0):
 def preflight(scene):
     """Every check made before a run: (warnings, notes), the same for `gfmd run` and `gfmd scene --check`.
 
+    First the memory the run needs (`gfmd_contact.core.cost.check_memory`, refused above what the machine allows);
     warnings: the model's check findings (gfmd_contact.core.model.scene_warnings; with
-    solver.checks = "error" build_model raises ModelCheckError instead); notes: the
+    solver.checks = "error" build_model raises ModelCheckError instead), then the unit-slip warnings
+    (`gfmd_contact.core.plausibility`, never a refusal); notes: the
     realizations that stop early below their full-contact limit (`realization_steps`).
     """
+    from .cost import check_memory
+    from .plausibility import unit_slip_warnings
+
+    check_memory(scene)  # before any profile or solver array is allocated
     warnings, notes = [], []
     for i in range(scene.surface.realizations):
         h = surfaces.profile(scene.surface, i)
@@ -146,12 +152,13 @@ def preflight(scene):
             notes.append(note)
         check_step_in_law_range(scene, steps, i)
         check_force_path_below_full_contact(scene, h, i)
-    return warnings, notes
+    return warnings + unit_slip_warnings(scene), notes
 
 
-def full_contact_pressure(h, length, youngs_modulus, poisson_ratio):
+def full_contact_pressure(h, length, youngs_modulus, poisson_ratio, length_y=None):
     """p̄_fc (Pa): the least mean pressure at which a hard wall with profile h (m) is in full contact
-    with a frictionless half-plane (reference-formulas §1.1, k(q) = E*|q|/2).
+    with a frictionless half-plane (reference-formulas §1.1, k(q) = E*|q|/2); a 2+1-D surface h of shape
+    (Nx, Ny) with cell length × length_y on a half-space, k(q) = E*|q|/2 at |q| of the rfft2 half-spectrum.
 
     In full contact the surface follows the indenter, û_q = −ĥ_q on every q ≠ 0, so the contact pressure is
     p(x) = p̄ + p_h(x) with p_h = −F⁻¹[k(q) ĥ_q] (zero mean, largest under the lowest points of h); a hard
@@ -159,9 +166,13 @@ def full_contact_pressure(h, length, youngs_modulus, poisson_ratio):
     amplitude a, wavelength λ: p̄_fc = π E* a/λ = p* (Westergaard). On the grid the discrete transform is
     exact for the nodal problem GFMD solves.
     """
-    from .kernels import halfplane_normal
+    from .kernels import halfplane_normal, wavevector_magnitudes
 
     h = np.asarray(h, float)
+    if h.ndim == 2:
+        q = wavevector_magnitudes(h.shape[0], length, h.shape[1], length_y)
+        k = halfplane_normal(q, youngs_modulus, poisson_ratio)
+        return float(np.max(np.fft.irfft2(k * np.fft.rfft2(h), s=h.shape)))
     q = 2 * np.pi * np.fft.rfftfreq(h.size, d=length / h.size)
     return float(np.max(np.fft.irfft(halfplane_normal(q, youngs_modulus, poisson_ratio) * np.fft.rfft(h),
                                      n=h.size)))
@@ -185,7 +196,8 @@ def check_force_path_below_full_contact(scene, h, realization=0):
     if lo.control != "force" or not scene.material.half_plane or scene.interface.law != "hard-wall":
         return
     m = scene.material
-    p_fc = full_contact_pressure(h, scene.surface.length, m.youngs_modulus, m.poisson_ratio)
+    p_fc = full_contact_pressure(h, scene.surface.length, m.youngs_modulus, m.poisson_ratio,
+                                 scene.surface.length_y if scene.surface.two_d else None)
     top = float(np.max(lo.path))
     if top >= p_fc:
         raise SceneError(

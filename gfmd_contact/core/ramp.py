@@ -170,16 +170,18 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
     d0 = scene.loading.initial_separation
     current, previous = state.current, state.previous
     force = scene.loading.control == "force"  # steps are loads p̄_k (Pa): gfmd_contact.core.force finds U for each
+    at = [0]  # the step being solved, for a user law's error
+    solve = _naming_step(cell.solve, label, at)
     observe = getattr(cell, "observe", None)  # the cell's own observables if it has them
     if observe is None:  # the profile's gradients (ḡ, and ḡ_r's g_i²) once per ramp, not per step
         observe = functools.partial(step_observables, gradients=profile_gradients(scene, h))
     for k in range(state.step + 1, steps.size):
         t0 = time.perf_counter()
-        event = None
+        event, at[0] = None, k
         if force and k > 0:
             base = (float(result.curve["U"][-1]), current, {"p": float(result.curve["p"][-1]),
                                                             "a_rel": float(result.curve["a_rel"][-1])}, None)
-            loaded = solve_load(cell.solve, lambda sol: observe(scene, h, sol.gap, sol.t_n), float(steps[k]), base,
+            loaded = solve_load(solve, lambda sol: observe(scene, h, sol.gap, sol.t_n), float(steps[k]), base,
                                 step=first_step(scene.loading), tolerance=load_tolerance(scene.loading),
                                 u_max=_force_u_max(scene, h))
             solved, displacement, iterations, event = loaded.solved, loaded.U, loaded.iterations, loaded.event
@@ -188,10 +190,10 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
             displacement = 0.0 if force else steps[k]
             extrapolate = cell.extrapolate and extrapolation_allowed(scene.loading, k)  # not across a turning point
             guess = _extrapolated(current, previous) if extrapolate else current
-            solved = cell.solve(displacement, guess, current)
+            solved = solve(displacement, guess, current)
             iterations = solved.iterations
             if not solved.converged and extrapolate:  # retry from the last converged state
-                solved = cell.solve(displacement, current, current)
+                solved = solve(displacement, current, current)
                 iterations += solved.iterations
         wall = time.perf_counter() - t0
         where = f"{label}, step {k} (δ = {displacement - d0:.4g} m)"
@@ -221,6 +223,19 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
     for v, (_, target, _, _) in zip(variants, targets[1:]):
         v.result = target.finalize()
     return result.finalize()
+
+
+def _naming_step(solve, label, at):
+    """The cell's solve; a user law's error (`gfmd_contact.core.user_law.UserLawError`: which law, callable and
+    gaps) raised in it also names the realization, the step at[0] and the displacement U."""
+    from .user_law import UserLawError
+
+    def solve_naming(U, guess, fallback):
+        try:
+            return solve(U, guess, fallback)
+        except UserLawError as exc:
+            raise UserLawError(f"{label}, step {at[0]} (U = {U:.4g} m): {exc}") from exc
+    return solve_naming
 
 
 def _record_step(result, state, k, solved, event, where, warning, slipped, d0, displacement, iterations, wall, obs,

@@ -15,6 +15,7 @@ import numpy as np
 import scipy.fft
 
 from .errors import SceneError, first_line
+from .surface_files import check_regular_file, read_npy, read_text
 from .topography_files import TEXT_SUFFIXES  # read as text here; other suffixes: instrument files
 from .psd import grid, psd_self_affine  # noqa: F401 (the grid and Eq. 4's shape, shared with gfmd_contact.core.surfaces_2d)
 
@@ -75,23 +76,23 @@ def from_file(path, nodes, length=None):
     def fail(problem):
         raise SceneError(f"surface.path = {str(path)!r}: {problem}; {expected}")
 
-    if not path.is_file():
-        fail("is a directory, not a file" if path.is_dir() else "no such file")
+    check_regular_file(path, fail)
     if path.suffix.lower() not in (".npy",) + TEXT_SUFFIXES:
         from .topography_files import read_topography_file
         return read_topography_file(path, (nodes,), (length,))
     try:
         if path.suffix.lower() == ".npy":
-            try:
-                h = np.load(path, allow_pickle=False)
-            except (ValueError, EOFError) as exc:
-                fail(f"not a valid .npy file ({first_line(exc)})")
+            h, shape = read_npy(path, (nodes,), fail)  # the header first: the shape before any value
+            if h is None and shape == (0,):
+                fail("the file holds no numbers (empty)")
+            if h is None and len(shape) != 1:
+                fail(f"holds an array of shape {shape} ({len(shape)}-D), not one column of heights")
+            if h is None:
+                raise SceneError(f"surface.path = {str(path)!r} holds {shape[0]} heights, but surface.nodes = "
+                                 f"{nodes}; {expected}")
         else:
-            try:
-                text = path.read_text()
-            except UnicodeDecodeError:
-                fail("not a text file (binary content; a NumPy array must have the suffix .npy, an instrument "
-                     "file its own suffix)")
+            text = read_text(path, nodes, fail, "; a NumPy array must have the suffix .npy, an instrument file "
+                                                 "its own suffix")
             body = [line.split("#", 1)[0] for line in text.splitlines()]
             if not any(line.strip() for line in body):
                 fail("the file holds no numbers (empty)")

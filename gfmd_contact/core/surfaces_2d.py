@@ -25,8 +25,9 @@ import numpy as np
 import scipy.fft
 from pathlib import Path
 
-from .errors import SceneError, first_line
+from .errors import SceneError
 from .psd import grid, psd_self_affine
+from .surface_files import check_regular_file, read_npy
 from .topography_files import TEXT_SUFFIXES
 
 
@@ -98,24 +99,15 @@ def from_file_2d(path, nodes_x, nodes_y, lengths=None):
     def fail(problem):
         raise SceneError(f"surface.path = {str(path)!r}: {problem}; {expected}")
 
-    if not path.is_file():
-        fail("is a directory, not a file" if path.is_dir() else "no such file")
+    check_regular_file(path, fail)
     if path.suffix.lower() not in (".npy",) + TEXT_SUFFIXES:
         from .topography_files import read_topography_file
         return read_topography_file(path, (nodes_x, nodes_y), lengths)
     if path.suffix.lower() != ".npy":
         fail("a 2+1-D surface is read from a .npy file only (text files hold 1+1-D profiles)")
-    try:
-        h = np.load(path, allow_pickle=False)
-    except (ValueError, EOFError, OSError) as exc:
-        fail(f"not a valid .npy file ({first_line(exc)})")
-    if not isinstance(h, np.ndarray):
-        getattr(h, "close", lambda: None)()
-        fail(f"holds a {type(h).__name__}, not an array")
-    if h.dtype.kind not in "iuf":
-        fail(f"holds values of dtype {h.dtype}, not real numbers")
-    if h.shape != (nodes_x, nodes_y):
-        raise SceneError(f"surface.path = {str(path)!r} holds an array of shape {h.shape}, but (surface.nodes, "
+    h, shape = read_npy(path, (nodes_x, nodes_y), fail)  # the header first: the shape before any value
+    if h is None:
+        raise SceneError(f"surface.path = {str(path)!r} holds an array of shape {shape}, but (surface.nodes, "
                          f"surface.nodes_y) = ({nodes_x}, {nodes_y}); {expected}")
     h = np.asarray(h, dtype=float)
     if not np.all(np.isfinite(h)):

@@ -129,7 +129,12 @@ class UserLaw:
 
     # -- calling the user's functions -----------------------------------------------------------------------
     def _call(self, key, gap):
-        out = np.asarray(getattr(self, key)(gap), dtype=float)
+        try:
+            out = np.asarray(getattr(self, key)(gap), dtype=float)
+        except Exception as exc:  # noqa: BLE001 - the user's code: say which law, callable and gaps
+            g = np.asarray(gap, dtype=float)
+            raise UserLawError(f"user law {self.name!r}: {_ARG[key]}(Δn) raised {type(exc).__name__}: {exc} on "
+                               f"{g.size} gap(s) Δn in [{np.min(g):.4g}, {np.max(g):.4g}] m") from exc
         return np.broadcast_to(out, np.shape(gap)) if out.ndim == 0 else out
 
     def _tolerance_gap(self, s, t, i):

@@ -1,0 +1,142 @@
+"""What a run will cost before it starts: an estimate of its peak memory, and the memory this process may use.
+
+Units: bytes. The estimate is what `gfmd_contact.core.loading.preflight` compares, before any profile or
+solver array is allocated, with the least of: the memory the machine has available (MemAvailable), the
+cgroup's limit less its usage, and the address-space limit (`ulimit -v`, RLIMIT_AS) less what this process
+has mapped. Above it the scene is refused (`check_memory`), naming both numbers and the keys that reduce it.
+
+Model: peak = IMPORTS + workers × (nodes × per-node bytes of the law) + realizations × saved fields, where
+nodes = Nx (× Ny), the per-node bytes are the solver's arrays (measured peak RSS in a subprocess, the
+largest per-node cost over 2^16 … 2^20 nodes, rounded up: docs/design/preflight.md) and a saved field step
+keeps FIELD_ARRAYS arrays of 8 bytes per node until the run's files are written.
+"""
+
+from __future__ import annotations
+
+import os
+import resource
+
+from .errors import SceneError
+
+#: resident memory of the imported solver stack (numpy, scipy, the method), measured 237 MiB; rounded up
+IMPORTS = 256 * 2**20
+#: solver bytes per node: hard wall (dual CG), normal laws, a coupled law (u_x and u_z), the FE reference
+PER_NODE = {"hard-wall": 1400, "normal": 800, "coupled": 1600, "fe": 40000}
+#: arrays kept per saved field step (u_z, u_x, gap, t_n, t_t and the profile), 8 bytes per node each
+FIELD_ARRAYS = 6
+#: the keys that reduce the estimate, named in a refusal
+REDUCING_KEYS = ("surface.nodes", "surface.nodes_y", "output.workers", "output.field_steps")
+
+
+def _law_kind(scene):
+    if scene.method.name == "fe":
+        return "fe"
+    if scene.interface.law == "hard-wall":
+        return "hard-wall"
+    return "coupled" if scene.interface.tangential_ratio > 0 else "normal"
+
+
+def processes(scene, workers=None):
+    """How many realizations run at once: `workers` (None: output.workers; 0: the CPU cores), at most the realizations."""
+    w = scene.output.workers if workers is None else workers
+    w = w or os.cpu_count() or 1
+    return max(1, min(int(w), scene.surface.realizations))
+
+
+def estimate_peak_memory(scene, workers=None):
+    """Estimated peak memory (bytes) of a run of `scene` with `workers` processes (module docstring)."""
+    s = scene.surface
+    nodes = s.nodes * max(s.nodes_y, 1)
+    solver = nodes * PER_NODE[_law_kind(scene)]
+    fields = s.realizations * min(scene.output.field_steps, scene.loading.steps + 1) * FIELD_ARRAYS * 8 * nodes
+    return IMPORTS + processes(scene, workers) * solver + fields
+
+
+def _meminfo_available():
+    try:
+        with open("/proc/meminfo", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024, "available memory (MemAvailable)"
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"), "available memory"
+    except (OSError, ValueError, AttributeError):
+        return None
+
+
+def _read_int(path):
+    try:
+        with open(path, encoding="ascii") as f:
+            text = f.read().strip()
+    except OSError:
+        return None
+    return int(text) if text.isdigit() else None
+
+
+def _cgroup_free():
+    """The cgroup's memory limit less its usage (v2, else v1), or None without a limit."""
+    for limit_file, usage_file in (("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),
+                                   ("/sys/fs/cgroup/memory/memory.limit_in_bytes",
+                                    "/sys/fs/cgroup/memory/memory.usage_in_bytes")):
+        limit = _read_int(limit_file)
+        if limit is not None and limit < 2**60:
+            usage = _read_int(usage_file) or 0
+            return max(limit - usage, 0), f"the cgroup's memory limit {limit / 2**30:.3g} GiB less its usage"
+    return None
+
+
+def _mapped_bytes():
+    try:
+        with open("/proc/self/status", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("VmSize:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return 0
+
+
+def _address_space_free():
+    """RLIMIT_AS (`ulimit -v`) less what this process has mapped, or None without a limit."""
+    soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+    if soft == resource.RLIM_INFINITY:
+        return None
+    return (max(soft - _mapped_bytes(), 0),
+            f"the address-space limit (ulimit -v) {soft / 2**30:.3g} GiB less the {_mapped_bytes() / 2**30:.3g} GiB "
+            "this process has mapped")
+
+
+def memory_allowed():
+    """(bytes, what limits them): the least of the available memory, the cgroup's and `ulimit -v`'s room;
+    (None, "") where none can be read."""
+    found = [x for x in (_meminfo_available(), _cgroup_free(), _address_space_free()) if x is not None]
+    if not found:
+        return None, ""
+    return min(found, key=lambda x: x[0])
+
+
+def _size(n):
+    return f"{n / 2**30:.3g} GiB" if n >= 2**30 else f"{n / 2**20:.3g} MiB"
+
+
+def check_memory(scene, workers=None):
+    """The estimated peak memory (bytes); refuses (SceneError naming surface.nodes and the keys that reduce it)
+    a scene whose estimate exceeds `memory_allowed`, before anything is allocated."""
+    need = estimate_peak_memory(scene, workers)
+    allowed, what = memory_allowed()
+    if allowed is not None and need - IMPORTS > allowed:  # the imports are in memory already
+        s = scene.surface
+        grid = f"surface.nodes = {s.nodes}" + (f", surface.nodes_y = {s.nodes_y}" if s.two_d else "")
+        raise SceneError(
+            f"{grid}: the run needs an estimated {_size(need)} of memory at its peak "
+            f"({processes(scene, workers)} process(es) × {_law_kind(scene)} solver, {scene.output.field_steps} saved "
+            f"field step(s) × {s.realizations} realization(s); gfmd_contact.core.cost), {_size(need - IMPORTS)} more "
+            f"than this process holds now, but it may use {_size(allowed)} more ({what}); reduce {', '.join(REDUCING_KEYS)}, or run where more memory is free")
+    return need
+
+
+def describe(need):
+    """The estimate in words for the progress line."""
+    return f"estimated peak memory {_size(need)}"
