@@ -5,8 +5,8 @@ The NCG's Hessian is A = K + D, K diagonal on the modes (K(q) ∝ q E*/2), D = d
 I + K⁻¹D: its largest eigenvalues grow with the width of the stiff patches (the modes longer than the
 crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.cohesive_preconditioner`:
 
-* "auto" (the default): "two-level" on a profile with seed Eq. 3's law, "stiffness" elsewhere (2+1-D
-  surfaces, user laws), `resolve`; measured at N = 2^17 on whole strong-adhesion ramps (φn* = 0.15) against K⁻¹:
+* "auto" (the default): "two-level" on a profile with a law that gives a curvature scale (seed Eq. 3's), "stiffness"
+  elsewhere (2+1-D surfaces, laws without one), `resolve`; measured at N = 2^17 on whole strong-adhesion ramps (φn* = 0.15) against K⁻¹:
   seed 2, δn = 0.25 nm −36 % FFT pairs, −33 % CPU; seed 7, δn = 1 nm (the seed's figures) −13 % pairs, −13 % CPU
   (with STIFF_FRACTION 0.25; 0.01 saves another 17–21 % of the pairs); the same states
   (benchmarks/results/bench_cohesive_preconditioner.md);
@@ -159,17 +159,18 @@ def check(settings, grid=None):
         raise ValueError("Settings.cohesive_preconditioner = 'two-level' is for profiles (1+1-D) only")
 
 
-def resolve(name, grid=None, user=False):
+def resolve(name, grid=None, unscaled=False):
     """The preconditioner a `Settings.cohesive_preconditioner` value runs: "auto" is "two-level" on a profile
-    with seed Eq. 3's law, "stiffness" on a 2+1-D surface or for a user law (`user`)."""
+    with a law that gives a curvature scale (the law protocol's `curvature_scale`: seed Eq. 3's φn/δn²),
+    "stiffness" on a 2+1-D surface or for a law without one (`unscaled`: a user law, the LJ 9-3 wall)."""
     if name != "auto":
         return name
-    return "stiffness" if _surface(grid) or user else "two-level"
+    return "stiffness" if _surface(grid) or unscaled else "two-level"
 
 
 def build(name, fft, k, clamp, n, kn_scale, keep=None):
     """The preconditioner `name` ("two-level") for K(q) = k on the modes (q = 0 clamped
-    where `clamp`), or None for "stiffness" (the NCG's own K⁻¹). keep: an object of the model that outlives the step
+    where `clamp`) and the law's curvature scale kn_scale (Pa/m, `curvature_scale`), or None for "stiffness" (the NCG's own K⁻¹). keep: an object of the model that outlives the step
     (`gfmd.problem.stiffness_operator`), on which K's kernel sums are kept for the task's later steps."""
     if name == "stiffness":
         return None

@@ -105,7 +105,7 @@ def integrator(physics, settings):
     key = chain(physics, settings)
     preconditioner = ""
     if key[1] == "ncg":  # which preconditioner the NCG runs (`gfmd.cohesive_preconditioner`)
-        name = resolve_preconditioner(settings.cohesive_preconditioner, physics.grid, key[0] == "user")
+        name = resolve_preconditioner(settings.cohesive_preconditioner, physics.grid, physics.law.curvature_scale is None)
         preconditioner = f"; NCG preconditioner {name!r} (Settings.cohesive_preconditioner = " \
                          f"{settings.cohesive_preconditioner!r})"
     return (f"integrator: {describe(key, settings)} (gfmd.chains {key[0]} / {key[1]}: solver.method = "

@@ -8,10 +8,11 @@ gap s = Δn/δn, e^{−s}, dE/dα's law term Σ_j T_n,j d_j and d²E/dα²'s Σ_
 numpy needs 7 passes over the nodes per trial (a temporary each); numba two, into reused arrays: the state
 (Δn − α d, s, e^{−s}) with `gfmd.vector_exp.exp`, which LLVM vectorizes (libm's exp, a scalar call, keeps a single
 fused pass from vectorizing), then the two sums (reassociated). Measured
-(benchmarks/results/bench_ncg_nodes.md, N = 2^17): a trial 0.53 ms against 0.97 ms with libm's exp in one pass and
+(docs/design/performance.md, N = 2^17): a trial 0.53 ms against 0.97 ms with libm's exp in one pass and
 5.4 ms in numpy. Both backends give the same sums up to round-off; ``GFMD_JIT`` chooses, as for the spectral algebra
 (`gfmd.kernels.jit_backend`).
-A user law (`gfmd_contact.core.user_law`) evaluates its own callables (`UserNodes`).
+Any other law (a user law, `gfmd_contact.core.user_law`; the LJ 9-3 wall) is evaluated through its tractions and
+tangent (`LawNodes`); `nodes_for` chooses by the law's `nodal_form`.
 """
 
 from __future__ import annotations
@@ -107,8 +108,18 @@ class Eq3Nodes:
         return self.kn_scale * (dot(x, d) - float(np.einsum("i,i,i->", s, x, d)))
 
 
-class UserNodes:
-    """A user law (`gfmd_contact.core.user_law`): state (T_n, dT_n/dΔn) from its callables."""
+def nodes_for(law, backend=None):
+    """The nodal work of `law` (the law protocol, `gfmd_contact.core.law_protocol`): `Eq3Nodes` for its
+    "exponential" nodal form (seed Eq. 3, fused), `LawNodes` (its tractions and tangent) for any other law."""
+    form = law.nodal_form
+    if form is not None and form[0] == "exponential":
+        return Eq3Nodes(*form[1:], backend=backend)
+    return LawNodes(law)
+
+
+class LawNodes:
+    """Any normal law with a potential (a user law, the LJ 9-3 wall, ...): state (T_n, dT_n/dΔn) from its
+    tractions and tangent."""
 
     def __init__(self, law):
         self.law = law

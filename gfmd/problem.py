@@ -30,8 +30,6 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse
 
-from gfmd_contact.core import laws
-
 from .coupled_kernels import coupled_kernels, float_views, hermitian_blocks, split_block_times
 from .fft import Fft, irfft_nodes, rfft_nodes
 
@@ -52,11 +50,12 @@ class InterfaceLaw:
         # a constraint (the hard wall) has no traction function: the algorithms project instead
         self.constraint = self.law.constraint
         # Eq. 2 on (x, z) fused in one pass (`gfmd.coupled_kernels`, the same as the law's formula to round-off)
-        self._fused = (type(self.law) is laws.CoupledCohesive and model.tangential and model.components == 2)
+        form = self.law.nodal_form
+        self._fused = (form is not None and form[0] == "coupled exponential" and model.tangential
+                       and model.components == 2)
         if self._fused:
             self._tractions = coupled_kernels()[2]
-            self._params = (self.law.work_normal, self.law.length_normal, self.law.work_tangential,
-                            self.law.length_tangential)
+            self._params = form[1]  # (φn, δn, φt, δt)
         # initial slopes of the law (Pa/m): the interface stiffness in Verlet's mode frequencies
         self.k_int_x, self.k_int_z = (0.0, 0.0) if self.constraint else self.law.initial_stiffness
 
@@ -185,11 +184,10 @@ class Problem:
 
     @property
     def kind(self):
-        """The law's kind, the key of `gfmd.chains.CHAINS`' first level ("user": `gfmd_contact.core.user_law`)."""
+        """The law's kind, the key of `gfmd.chains.CHAINS`' first level, from the law protocol: a wall (a constraint)
+        with or without attraction, the coupled law on (u_x, u_z), or a normal law ("cohesive": Eq. 3, a user law, ...)."""
         if self.law.constraint:
             return "cohesive-wall" if self.law.law.adhesive else "hard-wall"
-        if getattr(self.law.law, "user", False):
-            return "user"
         return "coupled" if self.model.tangential else "cohesive"
 
     @property
@@ -282,9 +280,7 @@ def frictionless(problem):
     sheared = k_xx > 0  # a half-plane's q = 0: no stiffness, nothing to condense
     k_free = k_zz.copy()
     k_free[sheared] -= np.abs(model.k_xz[sheared]) ** 2 / k_xx[sheared]
-    normal = laws.NormalCohesive(work_normal=cz.work_normal, length_normal=cz.length_normal,
-                                 contact_tolerance=cz.contact_tolerance, contact_rule=cz.contact_rule,
-                                 rule_gap=cz.rule_gap)
+    normal = cz.normal_only()
     reduced = dataclasses.replace(model, law=normal, tangential=False, k_xx=None, k_xz=None, k_zz=k_free,
                                   description=f"{normal.name}, frictionless reduction of {model.description}")
     return Problem(reduced, InterfaceLaw(reduced), problem.z_ind, problem.wall_tolerance)

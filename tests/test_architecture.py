@@ -127,11 +127,13 @@ def test_the_check_sees_a_violation(tmp_path, monkeypatch):
 #: (z_ind: reference.fem.geometry), nor gfmd_contact.core.kernels: the elastic kernels are what
 #: verification/test_fe_linear checks against the FE, so the FE solver must not use them (the
 #: verification tests may). gfmd_contact.core.user_law: a user-defined law is an input (the user's callables), with
-#: nothing to be independent from; the FE's built-in laws stay its own. The scene is gfmd_contact.core.scene and
+#: nothing to be independent from; the FE's built-in laws stay its own. gfmd_contact.core.law_registry: a law the FE has
+#: no implementation of (the user law, a newly added law) is built there and consumed through the law protocol
+#: (reference.fem.law.LawZone), as the user law is. The scene is gfmd_contact.core.scene and
 #: the modules it is split into (scene_sections, scene_validation, scene_toml): input, as it.
 FE_MAY_IMPORT = {"gfmd_contact.core", "gfmd_contact.core.scene", "gfmd_contact.core.scene_sections", "gfmd_contact.core.scene_validation", "gfmd_contact.core.scene_toml",
                  "gfmd_contact.core.surfaces", "gfmd_contact.core.model", "gfmd_contact.core.ramp", "gfmd_contact.core.result", "gfmd_contact.core.errors",
-                 "gfmd_contact.core.user_law"}
+                 "gfmd_contact.core.user_law", "gfmd_contact.core.law_registry"}
 
 
 def fe_core_imports(root=ROOT, package="fem"):

@@ -233,11 +233,11 @@ def test_two_level_kernel_sums_are_computed_once_per_model(monkeypatch):
     assert len(built) == 3 and len(calls) == 1
 
 
-def test_auto_is_two_level_on_profiles_with_eq3_only():
+def test_auto_is_two_level_on_profiles_with_a_curvature_scale_only():
     assert Settings().cohesive_preconditioner == "auto"
     assert cp.resolve("auto", (256,)) == "two-level" and cp.resolve("auto", None) == "two-level"
     assert cp.resolve("auto", (64, 64)) == "stiffness"  # 2+1-D surface
-    assert cp.resolve("auto", (256,), user=True) == "stiffness"  # a user law
+    assert cp.resolve("auto", (256,), unscaled=True) == "stiffness"  # a law without a curvature scale (a user law)
     assert cp.resolve("stiffness", (256,)) == "stiffness" and cp.resolve("two-level", (256,)) == "two-level"
 
 

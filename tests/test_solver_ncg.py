@@ -26,6 +26,7 @@ from gfmd_contact.core.model import build_model
 from gfmd_contact.core.scene import default_scene
 from gfmd import fft as gfft, kernels
 from gfmd.algorithms import ncg as gs
+from gfmd_contact.core.law_equations import EXP_UNDERFLOW, attraction_cut
 from gfmd.solver import InterfaceLaw, Settings, relax
 
 TOL = 1e-10
@@ -164,8 +165,8 @@ def test_near_set_gives_the_state_of_every_node(monkeypatch, far_fraction, margi
     deltas = 1.5e-9 * np.arange(1, 6)
     default = ramp(model, law, z_of, deltas, Settings(tolerance=TOL))
     # the default did take the near-set path: few nodes lie within the cut (+ margin) of the indenter
-    cut = gs._attraction_cut(gs.NCG_FAR_FRACTION * TOL * model.reference_traction * 0.25e-9
-                             / float(law.law.work_normal))
+    cut = attraction_cut(gs.NCG_FAR_FRACTION * TOL * model.reference_traction * 0.25e-9
+                         / float(law.law.work_normal))
     assert np.isfinite(cut)
     near = np.mean(default[-1].gap < (cut + gs.NCG_NEAR_MARGIN) * 0.25e-9)
     assert 0 < near < gs.NCG_NEAR_FULL
@@ -182,15 +183,15 @@ def test_near_set_gives_the_state_of_every_node(monkeypatch, far_fraction, margi
 def test_attraction_cut_solves_the_tail_equation(x):
     """s_c e^{−s_c} = x on the falling branch s_c ≥ 1 (Eq. 3's attraction in units of φn/δn), capped where
     e^{−s} underflows."""
-    s = gs._attraction_cut(x)
-    assert 1.0 <= s <= gs.EXP_UNDERFLOW
+    s = attraction_cut(x)
+    assert 1.0 <= s <= EXP_UNDERFLOW
     assert s * np.exp(-s) == pytest.approx(x, rel=1e-9)
 
 
 def test_attraction_cut_limits():
-    assert gs._attraction_cut(0.0) == np.inf  # tolerance 0: every node counts
-    assert gs._attraction_cut(1.0) == 1.0  # no attraction reaches x: the cut at the law's peak
-    assert gs._attraction_cut(5e-324) <= gs.EXP_UNDERFLOW  # the smallest double: e^{−s} underflows just beyond
+    assert attraction_cut(0.0) == np.inf  # tolerance 0: every node counts
+    assert attraction_cut(1.0) == 1.0  # no attraction reaches x: the cut at the law's peak
+    assert attraction_cut(5e-324) <= EXP_UNDERFLOW  # the smallest double: e^{−s} underflows just beyond
 
 
 JIT_BACKENDS = ["numpy"] + (["numba"] if kernels.numba is not None else [])

@@ -188,13 +188,14 @@ def _problem(scene):
     return Problem(model, InterfaceLaw(model), z)
 
 
-def test_the_user_law_has_its_chain_ncg_then_fire():
+def test_the_user_law_has_the_normal_laws_chain_ncg_then_fire():
+    """A user law is a normal law with a potential (the law protocol): the chains of every such law."""
     problem = _problem(user_scene())
-    assert problem.kind == "user"
-    assert chains.chain_key(problem, Settings()) == ("user", "ncg")
-    assert chains.labels(("user", "ncg"), Settings()) == ("ncg", "fire")
-    assert chains.chain_key(problem, Settings(method="verlet")) == ("user", "verlet")
-    assert chains.chain_key(problem, Settings(cohesive="fire")) == ("user", "fire")
+    assert problem.kind == "cohesive"
+    assert chains.chain_key(problem, Settings()) == ("cohesive", "ncg")
+    assert chains.labels(("cohesive", "ncg"), Settings()) == ("ncg", "fire")
+    assert chains.chain_key(problem, Settings(method="verlet")) == ("cohesive", "verlet")
+    assert chains.chain_key(problem, Settings(cohesive="fire")) == ("cohesive", "fire")
 
 
 def test_a_stalled_user_law_step_is_finished_by_fire_and_labelled_so(monkeypatch):

@@ -26,6 +26,9 @@ PURPOSE = {
     "gfmd_contact.core.errors": "the error types",
     "gfmd_contact.core.user_law": "a user-defined law (interface.law = \"user\") only: the user's own functions, an input with "
                         "nothing to be independent from; the built-in laws stay reference.fem.law's",
+    "gfmd_contact.core.law_registry": "a law the FE has no implementation of (the user law, a newly added law such as "
+                                      "the LJ 9-3 wall) only: built there and evaluated through the law protocol "
+                                      "(reference.fem.law.LawZone); the built-in laws stay reference.fem.law's",
 }
 
 #: what the FE computes with its own code (module of reference.fem), not shared

@@ -2,20 +2,19 @@
 
 Polak–Ribière+ CG, preconditioner K⁻¹ as the hard-wall CG, an FFT-free Newton line search on the
 elastic + CZ energy (`gfmd.problem`); 5–10× fewer FFT pairs per step than FIRE
-(benchmarks/results/bench_vs_tamaas.md). The law's nodal work runs on the nodes near the indenter
+(docs/design/performance.md). The law's nodal work runs on the nodes near the indenter
 only, the spectral algebra in `gfmd.kernels` (numpy, or fused numba kernels where installed).
 The nodal law work is `gfmd.ncg_nodes`'s: seed Eq. 3's (numpy, or one fused numba pass per line-search trial), or
-a user law's (`gfmd_contact.core.user_law`: its traction and tangent on the near set, whose cut is the law's `far_gap`).
+any other law's traction and tangent on the near set, whose cut is the law's `far_reach` (the law protocol,
+`gfmd_contact.core.law_protocol`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from gfmd_contact.core import laws
-
 from .. import cohesive_preconditioner, kernels
-from ..ncg_nodes import Eq3Nodes, UserNodes
+from ..ncg_nodes import nodes_for
 from ..problem import stiffness_operator
 from ..fft import Fft
 from ..settings import stall
@@ -37,35 +36,12 @@ NCG_NEAR_FULL = 0.5
 #: the residual tests fold every `Settings.check_every` iterations anyway). Swept on a whole 2^17 ramp
 #: (benchmarks/bench_split_tail.py): 1, 4, 8, 16 and never give the same iterations and states within 1e-14
 FOLD_EVERY = 16
-#: e^{−s} is exactly 0 in double precision beyond this s
-EXP_UNDERFLOW = 746.0
-
-
-def _attraction_cut(x):
-    """s_c ≥ 1 with s_c e^{−s_c} = x: beyond Δn = s_c δn, |T_n| < x φn/δn (Eq. 3; s e^{−s} falls for s > 1).
-
-    inf for x ≤ 0 (every node counts); 1 for x ≥ 1/e; at most EXP_UNDERFLOW, where T_n is exactly 0.
-    Newton on s − ln s = ln(1/x), convex and rising for s > 1, from s = 2 ln(1/x) + 1 above the root:
-    the iterates fall monotonically onto it.
-    """
-    if not x > 0:
-        return np.inf
-    if x >= np.exp(-1.0):
-        return 1.0
-    rhs = -np.log(x)
-    s = 2.0 * rhs + 1.0
-    for _ in range(200):
-        step = (s - np.log(s) - rhs) / (1.0 - 1.0 / s)
-        s -= step
-        if step <= 1e-13 * s:
-            break
-    return float(min(max(s, 1.0), EXP_UNDERFLOW))
 
 
 def solve(problem, start, settings):
     """Normal-only cohesive law by nonlinear preconditioned conjugate gradients, FIRE as fallback.
 
-    The law has a potential (`gfmd_contact.core.laws.potential_normal`): the step minimises
+    The law has a potential (the law protocol's `has_potential`, `potential`): the step minimises
     E(u) = ½ uᵀKu + Σ_j V(Δn_j), Δn = z_ind − u, whose negative gradient is the force
     f = T_n(Δn) − K u of `gfmd.algorithms.dynamics` (mean removed on a half-plane, ⟨u⟩ = 0).
     Polak–Ribière+ CG on the nodal displacements preconditioned as the hard-wall CG, s = K⁻¹ f
@@ -84,18 +60,19 @@ def solve(problem, start, settings):
     measured max-norm/energy-norm ratio predicts it passes: the converged states and their
     residuals mean what FIRE's do.
 
-    Cost per iteration: the nodal law work (exp, the line search's sums) runs on the near
-    set only, the nodes with Δn < (s_c + NCG_NEAR_MARGIN) δn, where s_c e^{−s_c} (φn/δn) =
-    NCG_FAR_FRACTION · tolerance · p_ref (`_attraction_cut`): a far node's attraction is below a
-    thousandth of the stopping test. The set is rebuilt from a fresh irfft when a step could have
-    brought a far node (Δn falls by α max_j d_j) within s_c δn, and a state that passes the test is
+    Cost per iteration: the nodal law work (the law's tractions, the line search's sums) runs on the near
+    set only, the nodes with Δn < (s_c + NCG_NEAR_MARGIN) dn, where beyond s_c dn every |T_n| is below
+    NCG_FAR_FRACTION · tolerance · p_ref (the law protocol's `far_reach`; dn its `length_scale`): a far node's
+    attraction is below a thousandth of the stopping test. The set is rebuilt from a fresh irfft when a step could
+    have brought a far node (Δn falls by α max_j d_j) within s_c dn, and a state that passes the test is
     checked again with every node's attraction (if that fails, every node stays in from then on),
     so the converged states are those of the plain NCG. The spectral algebra is one pass per
     product: d·Ku = Σ_j d_j T_n,j − f·d (f = T_n − K u − ⟨T_n⟩, Σ_j d_j = 0 on a half-plane) and,
-    with K s = f, d·Kd = f·s + 2β f·d_old + β² d_old·K d_old: no K d.
+    with K s = f, d·Kd = f·s + 2β f·d_old + β² d_old·K d_old: no K d. The nodal work is `gfmd.ncg_nodes.nodes_for`'s:
+    a fused kernel for a law whose `nodal_form` names one (seed Eq. 3), the law's tractions and tangent otherwise.
 
-    `Settings.cohesive_preconditioner` = "two-level" (the default "auto" on a profile with Eq. 3's law) replaces
-    K⁻¹ after the step's first iterations by K⁻¹
+    `Settings.cohesive_preconditioner` = "two-level" (the default "auto" on a profile with a law that gives a
+    `curvature_scale`) replaces K⁻¹ after the step's first iterations by K⁻¹
     balanced by a coarse space on the stiff patches (`gfmd.cohesive_preconditioner`); K s ≠ f then, so d·Kd
     is a sum over the modes, and the direction restarts where the preconditioner is rebuilt. Under it the force
     is never formed as f̂: `TwoLevel.apply_split` takes T_n on the nodes and û, gives s and the force as
@@ -121,12 +98,8 @@ def solve(problem, start, settings):
     clamp = model.half_plane
     cz = law.law
     p_ref = model.reference_traction
-    if getattr(cz, "user", False):  # a user law (gfmd_contact.core.user_law): its callables on the near set (`far_gap`)
-        dn, nodal, user = float(cz.length_scale), UserNodes(cz), True
-    else:
-        phi, dn = float(cz.work_normal), float(cz.length_normal)
-        tn_scale, kn_scale = phi / dn, phi / dn**2
-        nodal, user = Eq3Nodes(dn, tn_scale, kn_scale), False
+    dn = float(cz.length_scale)  # the law's length (m): the near set's margins and the line search's first step
+    nodal = nodes_for(cz)  # the law's nodal work: a fused kernel for its closed form, else its tractions and tangent
     budget = min(NCG_BUDGET, settings.max_iterations // 2) if settings.max_iterations > 1 else 1
     k = np.ascontiguousarray(np.real(model.k_zz), dtype=float)
 
@@ -141,17 +114,19 @@ def solve(problem, start, settings):
     products, direction, advance = kernels.ncg_kernels(grid=model.grid)  # the spectral algebra (numpy or fused)
     products_m, direction_m, combine_m, stiffness_m = kernels.preconditioned_kernels()  # under the two-level one
     cohesive_preconditioner.check(settings, model.grid)
-    if user and settings.cohesive_preconditioner == "two-level":
-        raise ValueError("Settings.cohesive_preconditioner = 'two-level' needs seed Eq. 3's law, not a user law")
-    preconditioner_name = cohesive_preconditioner.resolve(settings.cohesive_preconditioner, model.grid, user)
+    if cz.curvature_scale is None and settings.cohesive_preconditioner == "two-level":
+        raise ValueError(f"Settings.cohesive_preconditioner = 'two-level' needs a law with a curvature scale "
+                         f"(seed Eq. 3's φn/δn²); the {cz.name} gives none")
+    preconditioner_name = cohesive_preconditioner.resolve(settings.cohesive_preconditioner, model.grid,
+                                                          cz.curvature_scale is None)
     # built when a step first engages it (ENGAGE_AFTER iterations): the steps that finish before never pay its setup
     # (an irfft and two cumulative sums over 2N: ≈ 6 ms at 2^17, once per task, K's sums kept on the
     # model's `stiffness_operator`; a φn* = 0.001 task −6 to −11 % CPU)
     two_level = preconditioner_name != "stiffness"
     other = None
     far = NCG_FAR_FRACTION * settings.tolerance * p_ref  # a far node's |T_n| is below this (Pa)
-    cut = cz.far_gap(far) / dn if user else _attraction_cut(far / tn_scale)  # s_c
-    scaled_gap = nodal.state  # Eq. 3: (s, e^{−s}); a user law: (T_n, dT_n/dΔn)
+    cut = cz.far_reach(far)  # s_c: beyond s_c·dn every node's |T_n| is below `far`
+    scaled_gap = nodal.state  # Eq. 3's fused form: (s, e^{−s}); any other law: (T_n, dT_n/dΔn)
 
     def near(margin, first=False):
         """(near, Δn on it, s, e^{−s}) at the state uh: the nodes with Δn < (s_c + margin) δn
@@ -159,8 +134,8 @@ def solve(problem, start, settings):
         if other is not None:  # û exact (the two-level preconditioner's coarse tail folded in)
             other.fold(uh)
         gap_all = z_ind - fft.irfft(uh)
-        if first and not user:  # an initial guess out of the law's range raises, as FIRE's does
-            laws._check_compression(gap_all, dn)
+        if first:  # an initial guess out of the law's range raises, as FIRE's does
+            cz.check_gaps(gap_all)
         idx = np.flatnonzero(gap_all < (cut + margin) * dn) if np.isfinite(cut) else None
         if idx is None or idx.size > NCG_NEAR_FULL * n:
             return slice(None), gap_all, *scaled_gap(gap_all)
@@ -240,8 +215,8 @@ def solve(problem, start, settings):
     while True:
         engaged = two_level and it >= engage_at
         if engaged and other is None:
-            other = cohesive_preconditioner.build(preconditioner_name, fft, k, clamp, n, float(cz.work_normal)
-                                                  / float(cz.length_normal) ** 2, stiffness_operator(model))
+            other = cohesive_preconditioner.build(preconditioner_name, fft, k, clamp, n, cz.curvature_scale,
+                                                  stiffness_operator(model))
         if not engaged:
             rz, f_old_s, f_d_old = products(f_hat, f_old[0], d_hat, g, n)  # f·s, f_old·s, f·d_old; s = K⁻¹ f
             f_spec, f_dw = f_hat, None
@@ -362,7 +337,7 @@ def solve(problem, start, settings):
 
 
 def _ncg_line_search(nodal, c1, c2, law_curvature, slope0, gap, sv, ev, d, dn, eta, max_move):
-    """Safeguarded Newton on dE/dα along d (`solve`): (α, found, Δn, s, e^{−s} at α; a user law's T_n, k_loc).
+    """Safeguarded Newton on dE/dα along d (`solve`): (α, found, Δn, s, e^{−s} at α; another law's T_n, k_loc).
 
     dE/dα = c1 + α c2 − Σ_j T_n(Δn_j − α d_j) d_j, d²E/dα² = c2 + Σ_j k_loc,j d_j² (`gfmd.ncg_nodes`: `nodal.trial`
     evaluates a trial state, Eq. 3 in one fused pass where numba is installed); stops at |dE/dα| ≤ eta |dE/dα(0)|.

@@ -139,3 +139,28 @@ def jump_in_separation(stiffness, work_normal, length_normal):
         return 0.0
     s = float(1.0 - lambertw(-np.e * ratio, k=-1).real)
     return s * s / (s - 1.0) * length_normal
+
+
+#: e^{−s} is exactly 0 in double precision beyond this s
+EXP_UNDERFLOW = 746.0
+
+
+def attraction_cut(x):
+    """s_c ≥ 1 with s_c e^{−s_c} = x: beyond Δn = s_c δn, |T_n| < x φn/δn (Eq. 3; s e^{−s} falls for s > 1).
+
+    inf for x ≤ 0 (every node counts); 1 for x ≥ 1/e; at most EXP_UNDERFLOW, where T_n is exactly 0.
+    Newton on s − ln s = ln(1/x), convex and rising for s > 1, from s = 2 ln(1/x) + 1 above the root:
+    the iterates fall monotonically onto it.
+    """
+    if not x > 0:
+        return np.inf
+    if x >= np.exp(-1.0):
+        return 1.0
+    rhs = -np.log(x)
+    s = 2.0 * rhs + 1.0
+    for _ in range(200):
+        step = (s - np.log(s) - rhs) / (1.0 - 1.0 / s)
+        s -= step
+        if step <= 1e-13 * s:
+            break
+    return float(min(max(s, 1.0), EXP_UNDERFLOW))

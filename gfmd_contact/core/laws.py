@@ -3,9 +3,10 @@
 The equations are module functions of `gfmd_contact.core.law_equations` (`traction_normal`,
 `traction_coupled`, ...; re-exported here). The laws as a solver or check sees them are
 objects, one per law, built once from the scene by `law_from_scene`: `HardWall`, `NormalCohesive` (Eq. 3),
-`CoupledCohesive` (Eq. 2), `CohesiveWall` (Eq. 3's attraction with a hard-wall repulsion), and for
-interface.law = "user" the `gfmd_contact.core.user_law.UserLaw` the scene carries (the user's V, T_n, dT_n/dΔn). Callers ask the object (its contact rule, peak traction,
-jump-in separation, whether u_x is needed, ...) instead of branching on the law's name.
+`CoupledCohesive` (Eq. 2), `CohesiveWall` (Eq. 3's attraction with a hard-wall repulsion); the other laws
+have their own modules (`gfmd_contact.core.law_registry`). Callers ask the object through the law protocol
+(`gfmd_contact.core.law_protocol`: its contact rule, peak traction, jump-in separation, whether u_x is
+needed, ...) instead of branching on the law's name.
 Units: SI (see `gfmd_contact.core.conventions`).
 """
 
@@ -18,41 +19,17 @@ from typing import ClassVar
 import numpy as np
 
 from .law_equations import (MAX_COMPRESSION, CompressionOverflowError, _check_compression,  # noqa: F401
-                            contact_gap_threshold, jacobian_coupled, jump_in_separation, potential_normal,
-                            stiffness_normal, traction_coupled, traction_normal)
-from .user_law import scene_law
+                            attraction_cut, contact_gap_threshold, jacobian_coupled, jump_in_separation,
+                            potential_normal, stiffness_normal, traction_coupled, traction_normal)
+from . import law_registry
 
 
 # ---------------------------------------------------------------- the laws as objects
 #
-# One object per interface law, built once from the scene (`law_from_scene`). Callers ask the
-# object instead of branching on the law's name; adding a law means a class here, an entry in
-# `_BUILDERS`, and its name and parameters in the scene schema (gfmd_contact.core.scene_validation `_LAWS`,
-# gfmd_contact.core.scene_sections Interface).
-# The objects are frozen dataclasses: equal parameters, equal laws; picklable.
-#
-# Every law answers:
-#   name, description        short name (in the model's description) and a longer one
-#   constraint               True: Δn ≥ 0 is a constraint without a traction function (the
-#                            solver projects); False: tractions(...) and tangent(...) exist
-#   adhesive                 the law carries tension (a cohesive zone): the start and
-#                            resolution checks of its length δn apply
-#   tangential               the law has a tangential traction T_t(Δn, Δt)
-#   peak_traction            largest tensile normal traction (Pa)
-#   reference_traction(E*)   the residual scale p_ref of a flat profile (Pa)
-#   contact_rule             interface.contact_rule: "traction-tolerance" (the seed's, default),
-#                            "compressive" or "gap" (`CONTACT_RULES`)
-#   contact_gap              the rule's gap threshold (m): a node with Δn ≤ it is in contact (None:
-#                            contact is compressive traction instead)
-#   in_contact(gap, t_z)     the contact rule of `gfmd_contact.core.observables` on the nodes
-#   jump_in_separation(k)    δ_jump (m) for a surface of normal stiffness k (Pa/m)
-#   steepest_softening       max −∂T_n/∂Δn (Pa/m) at Δt = 0; 0 if the law never softens
-#   needs_tangential(body)   whether u_x must be solved on this body (`gfmd_contact.core.scene.Material`)
-#   tangential_reason(body)  why (or why not), in words
-# and, where not a constraint: tractions(Δn, Δt) → (T_n, T_t), tangent(Δn, Δt) →
-# (∂Tn/∂Δn, ∂Tn/∂Δt, ∂Tt/∂Δn, ∂Tt/∂Δt), initial_stiffness (k_t, k_n) at Δ = 0,
-# length_scale (the shortest length over which the tractions change), and
-# forced_tangential_reason() (what solving u_x anyway, solver.unknowns = "coupled", means).
+# One object per interface law, built once from the scene (`law_from_scene`), answering the law protocol
+# (`gfmd_contact.core.law_protocol`: its members and what they mean); callers ask the object instead of
+# branching on the law's name or class. The scene names the laws of this module through `SCENE_LAWS`
+# (`gfmd_contact.core.law_registry`). The objects are frozen dataclasses: equal parameters, equal laws; picklable.
 
 
 #: interface.contact_rule → what it counts as contact (README "Modelling assumptions"; seed §2 is the first)
@@ -109,7 +86,11 @@ class HardWall:
     adhesive: ClassVar[bool] = False
     tangential: ClassVar[bool] = False
     peak_traction: ClassVar[float] = 0.0  # no tension
+    work_of_adhesion: ClassVar[float] = 0.0
     steepest_softening: ClassVar[float] = 0.0
+    has_potential: ClassVar[bool] = True  # the constraint's indicator: E is the elastic energy where Δn ≥ 0
+    curvature_scale: ClassVar[None] = None
+    nodal_form: ClassVar[None] = None
 
     @property
     def contact_gap(self):
@@ -133,6 +114,9 @@ class HardWall:
 
     def tangential_reason(self, material):
         return "hard wall: frictionless, no tangential traction, CZ parameters unused"
+
+    def normal_only(self):
+        return self
 
 
 @dataclass(frozen=True)
@@ -159,6 +143,24 @@ class _ExponentialCohesive:
     def peak_traction(self):
         """φn/(e δn) (Pa), at Δn = δn."""
         return self.work_normal / (np.e * self.length_normal)
+
+    @property
+    def work_of_adhesion(self):
+        """φn (J/m²): −V(0), the work to separate the interface from Δn = 0."""
+        return self.work_normal
+
+    @property
+    def curvature_scale(self):
+        """φn/δn² (Pa/m): dT_n/dΔn at Δn = 0, the stiffness of a node in contact."""
+        return float(self.work_normal) / float(self.length_normal) ** 2
+
+    def far_reach(self, traction):
+        """s_c (in units of δn): |T_n| < traction (Pa) for Δn ≥ s_c δn (`attraction_cut`)."""
+        return attraction_cut(traction / (float(self.work_normal) / float(self.length_normal)))
+
+    def check_gaps(self, delta_n):
+        """Raise `CompressionOverflowError` for gaps beyond the repulsive branch's range (Δn < −MAX_COMPRESSION δn)."""
+        _check_compression(delta_n, self.length_normal)
 
     def reference_traction(self, contact_modulus):
         """The peak traction φn/(e δn) (Pa): a flat profile has no elastic pressure scale E* ḡ."""
@@ -200,6 +202,13 @@ class NormalCohesive(_ExponentialCohesive):
     name: ClassVar[str] = "normal-only CZ"
     description: ClassVar[str] = "normal-only CZ (seed Eq. 3)"
     tangential: ClassVar[bool] = False
+    has_potential: ClassVar[bool] = True
+
+    @property
+    def nodal_form(self):
+        """("exponential", δn, φn/δn, φn/δn²): T_n = (φn/δn) s e^{−s}, s = Δn/δn, for a fused nodal kernel."""
+        phi, dn = float(self.work_normal), float(self.length_normal)
+        return "exponential", dn, phi / dn, phi / dn**2
 
     def tractions(self, delta_n, delta_t=None):
         """(T_n, T_t) in Pa: Eq. 3, and 0; delta_t is not used."""
@@ -229,6 +238,9 @@ class NormalCohesive(_ExponentialCohesive):
         """Why u_x solved anyway (solver.unknowns = coupled) means Eq. 2 with φt = 0, not this law."""
         return _FORCED_C0
 
+    def normal_only(self):
+        return self
+
 
 @dataclass(frozen=True)
 class CoupledCohesive(_ExponentialCohesive):
@@ -245,6 +257,19 @@ class CoupledCohesive(_ExponentialCohesive):
     name: ClassVar[str] = "coupled CZ"
     description: ClassVar[str] = "coupled CZ (seed Eq. 2)"
     tangential: ClassVar[bool] = True
+    has_potential: ClassVar[bool] = False  # ∂T_n/∂Δt ≠ ∂T_t/∂Δn
+
+    @property
+    def nodal_form(self):
+        """("coupled exponential", (φn, δn, φt, δt)): seed Eq. 2, for the fused coupled kernels."""
+        return "coupled exponential", (self.work_normal, self.length_normal, self.work_tangential,
+                                       self.length_tangential)
+
+    def normal_only(self):
+        """The frictionless reduction: seed Eq. 3 (Eq. 2 at Δt = 0, T_t ≡ 0) with this law's φn, δn and rule."""
+        return NormalCohesive(work_normal=self.work_normal, length_normal=self.length_normal,
+                              contact_tolerance=self.contact_tolerance, contact_rule=self.contact_rule,
+                              rule_gap=self.rule_gap)
 
     def tractions(self, delta_n, delta_t):
         """(T_n, T_t) in Pa, seed Eq. 2."""
@@ -300,6 +325,7 @@ class CohesiveWall(NormalCohesive):
     description: ClassVar[str] = "cohesive wall (seed Eq. 3 attraction for Δn > 0, hard wall Δn ≥ 0, frictionless)"
     constraint: ClassVar[bool] = True
     tangential: ClassVar[bool] = False
+    nodal_form: ClassVar[None] = None  # Eq. 3 for Δn > 0 only
 
     def tractions(self, delta_n, delta_t=None):
         """(T_n, T_t) in Pa: the attraction Eq. 3 at max(Δn, 0) (tension ≥ 0; 0 on the wall), and 0."""
@@ -326,13 +352,13 @@ def _rule(interface):
                 rule_gap=i.contact_gap * i.length_normal if i.contact_rule == "gap" else None)
 
 
-def _hard_wall(interface, work_normal, work_tangential, tangential):
+def _hard_wall(interface, work_normal, work_tangential, tangential, scene=None):
     if tangential:
         raise ValueError("the hard wall is frictionless and always normal-only: no tangential unknowns")
     return HardWall(**_rule(interface))
 
 
-def _cohesive(interface, work_normal, work_tangential, tangential):
+def _cohesive(interface, work_normal, work_tangential, tangential, scene=None):
     i = interface
     coupled = i.tangential_ratio > 0 if tangential is None else tangential
     if not coupled:
@@ -343,32 +369,31 @@ def _cohesive(interface, work_normal, work_tangential, tangential):
                            length_tangential=i.length_tangential, tangential_ratio=i.tangential_ratio, **_rule(i))
 
 
-def _cohesive_wall(interface, work_normal, work_tangential, tangential):
+def _cohesive_wall(interface, work_normal, work_tangential, tangential, scene=None):
     if tangential:
         raise ValueError("the cohesive wall is frictionless and always normal-only: no tangential unknowns")
     return CohesiveWall(work_normal=work_normal, length_normal=interface.length_normal,
                         contact_tolerance=interface.contact_tolerance, **_rule(interface))
 
 
-#: interface.law (the scene's name of a law) → builder(interface, φn, φt, tangential) of its object
-_BUILDERS = {"hard-wall": _hard_wall, "cohesive": _cohesive, "cohesive-wall": _cohesive_wall}
+#: the laws of this module as the scene names them (`gfmd_contact.core.law_registry`)
+SCENE_LAWS = {"hard-wall": law_registry.SceneLaw(_hard_wall, unused_friction=True),
+              "cohesive": law_registry.SceneLaw(_cohesive, normal_only=False),
+              "cohesive-wall": law_registry.SceneLaw(_cohesive_wall)}
 
 
 def law_from_scene(scene, tangential=None):
-    """The interface law of `scene` as an object (HardWall, NormalCohesive, CoupledCohesive, CohesiveWall, or for
-    interface.law = "user" the `gfmd_contact.core.user_law.UserLaw` the scene carries, with the scene's contact rule).
+    """The interface law of `scene` as an object answering the law protocol (`gfmd_contact.core.law_protocol`),
+    built by the module `gfmd_contact.core.law_registry` names for interface.law.
 
     tangential=None: the law the scene describes (cohesive: c = 0 → Eq. 3, c > 0 → Eq. 2).
     True / False: the law as solved with / without the tangential unknowns u_x, which
     `gfmd_contact.core.model` decides: Eq. 2 with φt = c φn* δt E (also for c = 0, when
     solver.unknowns = "coupled" forces u_x), or Eq. 3 (u_x ≡ 0, so Δt = 0). φn and φt are
-    the scene's (`Scene.work_normal`, `Scene.work_tangential`).
+    the scene's (`Scene.work_normal`, `Scene.work_tangential`). A normal-only law refuses tangential=True.
     """
-    if scene.interface.law == "user":  # the law object the scene carries (`gfmd_contact.core.user_law`), normal-only
-        if tangential:
-            raise ValueError("a user law is normal-only: no tangential unknowns (gfmd_contact.core.user_law)")
-        return scene_law(scene)
-    return _BUILDERS[scene.interface.law](scene.interface, scene.work_normal, scene.work_tangential, tangential)
+    return law_registry.entry(scene.interface.law).build(scene.interface, scene.work_normal, scene.work_tangential,
+                                                          tangential, scene)
 
 
 def law_from_interface(interface):
@@ -377,6 +402,4 @@ def law_from_interface(interface):
 
     φn = φn* δn E needs E, so its works of separation are NaN: use `law_from_scene` for tractions.
     """
-    if interface.law == "user":
-        raise ValueError("interface.law = \"user\": the law object is not in the Interface; use law_from_scene(scene)")
-    return _BUILDERS[interface.law](interface, math.nan, math.nan, None)
+    return law_registry.entry(interface.law).build(interface, math.nan, math.nan, None, None)

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 
-from . import scene2d
+from . import law_registry, scene2d
 from .errors import SceneError
 from .scene_sections import _SECTIONS, Interface, Loading, Material, Method, Output, Solver, Surface
 from .scene_toml import scene_to_dict, scene_to_toml  # noqa: F401
@@ -126,9 +126,9 @@ def scene_from_dict(d, name="scene"):
     material = _material(d.get("material", {}))
     interface = _interface(d.get("interface", {}), material)
     solver = _solver(d.get("solver", {}))
-    if solver.unknowns == "coupled" and interface.law != "cohesive":
-        _fail("solver.unknowns", solver.unknowns, f"needs interface.law = \"cohesive\" (got {interface.law!r}: "
-              "the hard wall, the cohesive wall and a user law are normal-only); use \"auto\"")
+    if solver.unknowns == "coupled" and law_registry.entry(interface.law).normal_only:
+        _fail("solver.unknowns", solver.unknowns, f"needs interface.law = \"cohesive\" (got {interface.law!r}, "
+              "a normal-only law); use \"auto\"")
     scene = Scene(surface=_surface(d.get("surface", {})), material=material, interface=interface,
                   loading=_loading(d.get("loading", {})), solver=solver, output=_output(d.get("output", {})),
                   method=_method(d.get("method", {})), name=name)

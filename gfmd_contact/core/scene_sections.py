@@ -78,6 +78,9 @@ class Interface:
     contact_tolerance: float = 1e-3
     contact_rule: str = "traction-tolerance"
     contact_gap: float = 1.0  # rule "gap": Δn ≤ contact_gap·δn (units of δn)
+    #: a law's own keys ((key, value) pairs, SI), those its module declares (`gfmd_contact.core.law_registry`);
+    #: written to and read from [interface] as keys of their own
+    parameters: tuple = ()
     # φn = φn* δn E (J/m²) needs E: `Scene.work_normal`; the law objects: `gfmd_contact.core.laws.law_from_scene`
 
 

@@ -44,6 +44,7 @@ def scene_to_dict(scene):
     d["interface"] = {k: v for k, v in d["interface"].items()
                       if k == "contact_rule" or not any(k in keys for keys in _RULE_KEYS.values())
                       or k in _RULE_KEYS.get(rule, ())}
+    d["interface"].update(d["interface"].pop("parameters"))  # the law's own keys, as keys of [interface]
     return d
 
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
-from . import scene2d
+from . import law_registry, scene2d
 from .errors import SceneError
 from .scene_sections import Interface, Loading, Material, Method, Output, Solver, Surface
 
@@ -42,7 +42,6 @@ MAX_REALIZATIONS = 10**5
 MIN_SCALE, MAX_SCALE = 1e-30, 1e30
 #: TOML integers are 64-bit signed
 _MAX_INT = 2**63 - 1
-_LAWS = ("hard-wall", "cohesive", "cohesive-wall", "user")  # "user": gfmd_contact.core.user_law, from Python only
 #: interface.contact_rule (which nodes count as contact; `gfmd_contact.core.laws`, README "Modelling assumptions"), and
 #: the [interface] keys that apply to one rule only: a key of another rule is an error, not ignored (as
 #: surface keys of another kind), and `scene_to_dict` writes only the chosen rule's keys
@@ -73,8 +72,8 @@ def _number(d, section, key, default, *, integer=False):
     return value
 
 
-def _check_keys(d, section, cls, also=()):
-    valid = [f.name for f in dataclasses.fields(cls)] + list(also)
+def _check_keys(d, section, cls, also=(), omit=()):
+    valid = [f.name for f in dataclasses.fields(cls) if f.name not in omit] + list(also)
     if not isinstance(d, dict):
         _fail(section, d, f"must be a table with keys {valid}")
     for key in d:
@@ -191,11 +190,21 @@ def _material(d):
 
 
 def _interface(d, material):
-    _check_keys(d, "interface", Interface, also=("work_normal",))  # φn, an input key only: stored as φn*
     i = Interface()
-    law = d.get("law", i.law)
-    if law not in _LAWS:
-        _fail("interface.law", law, f"must be one of {list(_LAWS)}")
+    law = d.get("law", i.law) if isinstance(d, dict) else i.law
+    if not isinstance(law, str) or law not in law_registry.names():
+        _fail("interface.law", law, f"must be one of {list(law_registry.names())}")
+    entry = law_registry.entry(law)
+    own = [k.name for k in entry.keys]  # the law's own keys (`gfmd_contact.core.law_registry`), in Interface.parameters
+    _check_keys(d, "interface", Interface, also=("work_normal", *own), omit=("parameters",))  # work_normal: stored as φn*
+    parameters = []
+    for key in entry.keys:
+        if key.name not in d:
+            raise SceneError(f"interface.{key.name} is missing: interface.law = {law!r} needs it ({key.meaning}, "
+                             f"{key.unit})")
+        value = _number(d, "interface", key.name, 0.0)
+        _positive(f"interface.{key.name}", value)
+        parameters.append((key.name, value))
     dn = _number(d, "interface", "length_normal", i.length_normal)
     _positive("interface.length_normal", dn)
     if "phi_n_star" in d and "work_normal" in d:
@@ -216,12 +225,9 @@ def _interface(d, material):
         _fail("interface.tangential_ratio", c, "must be a finite number ≥ 0 (0 = frictionless)")
     dt = _number(d, "interface", "length_tangential", i.length_tangential)
     _positive("interface.length_tangential", dt)
-    if law == "cohesive-wall" and c != 0:
-        _fail("interface.tangential_ratio", c, "must be 0 for interface.law = \"cohesive-wall\" (the CZ attraction "
-              "with a hard-wall repulsion is frictionless)")
-    if law == "user" and c != 0:
-        _fail("interface.tangential_ratio", c, "must be 0 for interface.law = \"user\" (a user law is normal-only: "
-              "a coupled law has no potential and needs a non-symmetric tangent, gfmd_contact.core.user_law)")
+    if entry.normal_only and not entry.unused_friction and c != 0:
+        _fail("interface.tangential_ratio", c, f"must be 0 for interface.law = {law!r}: the law is normal-only "
+              "(frictionless, no tangential traction)")
     rule = d.get("contact_rule", i.contact_rule)
     if not isinstance(rule, str) or rule not in _RULE_KEYS:
         _fail("interface.contact_rule", rule, f"must be one of {list(_RULE_KEYS)}")
@@ -238,7 +244,7 @@ def _interface(d, material):
         _fail("interface.contact_gap", gap, "must be a finite number > 0 (units of δn = interface.length_normal: "
               "rule \"gap\" counts the nodes with Δn ≤ contact_gap·δn)")
     return Interface(law=law, phi_n_star=phi, length_normal=dn, tangential_ratio=c, length_tangential=dt,
-                     contact_tolerance=tol, contact_rule=rule, contact_gap=gap)
+                     contact_tolerance=tol, contact_rule=rule, contact_gap=gap, parameters=tuple(parameters))
 
 
 _CONTROLS = ("displacement", "force")

@@ -1,8 +1,9 @@
 """Stickiness diagnostics of a scene, before any run (derivations: docs/stickiness.rst).
 
-Units: SI (see `gfmd_contact.core.conventions`), per unit length of the line contact. w = φn (J/m²) is the
-work of adhesion of the exponential CZ law (seed Eq. 3), σ_max = φn/(e δn) (Pa) its peak
-traction, E* = E/(1 − ν²) (Pa), l = L/N the node spacing (m).
+Units: SI (see `gfmd_contact.core.conventions`), per unit length of the line contact. w (J/m²) is the
+law's work of adhesion and σ_max (Pa) its peak traction (the law protocol's `work_of_adhesion` and
+`peak_traction`, `gfmd_contact.core.law_protocol`; seed Eq. 3: w = φn, σ_max = φn/(e δn)),
+E* = E/(1 − ν²) (Pa), l = L/N the node spacing (m).
 
 Every quantity is defined for the 1+1-D (plane-strain line-contact) problem this code solves, and
 only for the surfaces it was derived for; elsewhere the scene-level functions return `NotDefined`
@@ -195,7 +196,7 @@ def diagnostics(scene, h=None):
     if not law.adhesive:
         why = f"interface.law = {scene.interface.law!r} has no adhesion (w = 0)"
         return [_na(k, lbl, u, f, why) for k, lbl, u, f in _SPECS]
-    w, sigma = law.work_normal, law.peak_traction
+    w, sigma = law.work_of_adhesion, law.peak_traction
     lpz = process_zone_size(e_star, w, sigma)
     limit, _ = measured_process_zone_limit()
     out.append(Diagnostic("process_zone", "process zone l_pz", lpz, "m", "E* w/σ_max²"))
@@ -290,7 +291,7 @@ def resolution_warnings(scene):
     if not law.adhesive:
         return []
     s = scene.surface
-    lpz = process_zone_size(scene.material.contact_modulus, law.work_normal, law.peak_traction)
+    lpz = process_zone_size(scene.material.contact_modulus, law.work_of_adhesion, law.peak_traction)
     limit, source = measured_process_zone_limit()
     spacing, key, length = s.spacing, "surface.nodes", s.length
     if s.two_d and s.spacings[1] > spacing:  # 2+1-D: the coarser axis counts

@@ -52,6 +52,7 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 from .errors import SceneError
+from .law_registry import SceneLaw
 
 #: the derived quantities are found on Δn = s·length, s ∈ [0, SAMPLE_REACH], SAMPLE_POINTS points
 SAMPLE_REACH = 50.0
@@ -94,7 +95,10 @@ class UserLaw:
 
     constraint: ClassVar[bool] = False
     tangential: ClassVar[bool] = False
-    user: ClassVar[bool] = True
+    has_potential: ClassVar[bool] = True
+    nodal_form: ClassVar[None] = None  # the NCG evaluates the callables on its near set
+    #: not derived: the two-level preconditioner was measured on seed Eq. 3 only, so the NCG keeps K⁻¹
+    curvature_scale: ClassVar[None] = None
 
     def __post_init__(self):
         for key in ("energy", "traction", "tangent_fn"):
@@ -170,6 +174,21 @@ class UserLaw:
     def length_scale(self):
         """The law's length (m)."""
         return self.length
+
+    @property
+    def work_of_adhesion(self):
+        """w (J/m²), the derived work of separation (`work_normal`)."""
+        return self.work_normal
+
+    def far_reach(self, traction):
+        """s_c = far_gap(traction)/length: |T_n| ≤ traction beyond s_c lengths (inf: not within the sample grid)."""
+        return self.far_gap(traction) / float(self.length)
+
+    def check_gaps(self, delta_n):
+        """Nothing to check: the callables were checked finite at construction, the user owns their range."""
+
+    def normal_only(self):
+        return self
 
     @property
     def initial_stiffness(self):
@@ -341,3 +360,16 @@ def scene_law(scene):
                          "scene cannot run from scene.toml alone (nor with the gfmd command); run it from Python with "
                          "gfmd_contact.run(scene, law=gfmd_contact.user_law(...))")
     return law.for_scene(scene.interface)
+
+
+def _from_scene(interface, work_normal, work_tangential, tangential, scene=None):
+    """The registry's builder (`gfmd_contact.core.law_registry`): the user law the scene carries."""
+    if scene is None:
+        raise ValueError("interface.law = \"user\": the law object is not in the Interface; use law_from_scene(scene)")
+    if tangential:
+        raise ValueError("a user law is normal-only: no tangential unknowns (gfmd_contact.core.user_law)")
+    return scene_law(scene)
+
+
+#: the law of this module as the scene names it (`gfmd_contact.core.law_registry`)
+SCENE_LAWS = {"user": SceneLaw(_from_scene, in_file=False)}

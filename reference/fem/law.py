@@ -14,9 +14,9 @@ the body as t_z = T_n, t_x = T_t (reference-formulas §0).
 
 with φn = φn* δn E and φt = c φn* δt E (seed §2.1: φn* = φn/(δn E), c = φt*/φn*).
 
-A user-defined law (interface.law = "user", `gfmd_contact.core.user_law`) has nothing to be independent from:
-the FE evaluates the user's callables through `UserZone`, which answers what `CohesiveZone` answers
-for the normal law.
+A law the FE has no implementation of (a user-defined law, interface.law = "user"; a law added to the core's
+`gfmd_contact.core.law_registry`) has nothing to be independent from: the FE evaluates it through the law protocol
+(`LawZone`), which answers what `CohesiveZone` answers for the normal law. The FE's built-in laws stay its own.
 """
 
 from __future__ import annotations
@@ -114,35 +114,38 @@ class CohesiveZone:
         return s * self.delta_n
 
 
-class UserZone:
-    """A user law (`gfmd_contact.core.user_law.UserLaw`, normal-only) as the FE's Newton sees a law: T_n, dT_n/dΔn, V.
+class LawZone:
+    """A law the FE has no implementation of (a user law, `gfmd_contact.core.user_law`; a law added to
+    `gfmd_contact.core.law_registry`, such as the LJ 9-3 wall), normal-only with a potential, as the FE's Newton sees
+    a law: T_n, dT_n/dΔn, V, through the law protocol (`gfmd_contact.core.law_protocol`).
 
     delta_n is the law's length (the Newton step limit 0.5 δn), phi_n = e·peak_traction·length so that
     φn/(e δn) is its peak traction and φn/δn² a stiffness scale (pseudo-transient continuation's mass).
     """
 
     def __init__(self, law):
-        if law.tangential:
-            raise ValueError("the FE solves normal-only user laws")
-        self.user = law
-        self.delta_n = law.length
-        self.phi_n = np.e * law.peak_traction * law.length
+        if law.tangential or law.constraint or not law.has_potential:
+            raise ValueError(f"the FE solves normal-only laws with a potential through the law protocol, not the "
+                             f"{law.name}")
+        self.law = law
+        self.delta_n = law.length_scale
+        self.phi_n = np.e * law.peak_traction * law.length_scale
         self.phi_t, self.delta_t = 0.0, 1.0
 
     @property
     def peak_traction(self):
-        return self.user.peak_traction
+        return self.law.peak_traction
 
     def normal(self, gap_n):
-        return self.user.tractions(gap_n)[0]
+        return self.law.tractions(gap_n)[0]
 
     def normal_slope(self, gap_n):
-        return self.user.tangent(gap_n)[0]
+        return self.law.tangent(gap_n)[0]
 
     def normal_potential(self, gap_n):
-        return self.user.potential(gap_n)
+        return self.law.potential(gap_n)
 
     def contact_gap(self, tolerance):
-        """Δtol (m) of the user law at this tolerance (`gfmd_contact.core.user_law`: T_n = tolerance·e·peak_traction)."""
+        """Δtol (m) of the law at this tolerance (its traction-tolerance rule: T_n = tolerance·e·peak_traction)."""
         import dataclasses
-        return dataclasses.replace(self.user, contact_tolerance=tolerance, contact_rule="traction-tolerance").contact_gap
+        return dataclasses.replace(self.law, contact_tolerance=tolerance, contact_rule="traction-tolerance").contact_gap

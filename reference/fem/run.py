@@ -70,7 +70,7 @@ def prepare_cohesive(scene, h, realization=0, order=2, mesh_kw=None, tolerance=N
     setup = time.perf_counter() - t0
     cell = prob.cell
     law = ("coupled CZ (seed Eq. 2)" if prob.tangential else
-           f"{physics.law.name} (user law), u_x free (t_x = 0)" if scene.interface.law == "user" else
+           f"{physics.law.name} (through the law protocol), u_x free (t_x = 0)" if scene.interface.law != "cohesive" else
            "normal-only CZ (seed Eq. 3), u_x free (t_x = 0)")
     model = (f"{_mesh_text(scene, prob, order)}, {law}, "
              + (f"nodal (FacetBasis-weight) quadrature on {prob.ns} surface points" if quadrature == "nodal" else

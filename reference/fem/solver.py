@@ -51,11 +51,11 @@ import scipy.linalg
 import scipy.sparse as sp
 
 from gfmd_contact.core.ramp import StepSolution
-from gfmd_contact.core.user_law import scene_law
+from gfmd_contact.core import law_registry
 
 from .assembly import build_cell
 from .geometry import fourier_interpolate, surface_indenter
-from .law import CohesiveZone, LawRangeError, UserZone
+from .law import CohesiveZone, LawRangeError, LawZone
 from .observables import cohesive_observables, rms_gradient
 from .quadrature import fourier_evaluate, gauss_surface_quadrature
 
@@ -111,9 +111,9 @@ class SurfaceProblem:
                 "the FE reference models a finite layer only: material.thickness = inf (half-plane) cannot be "
                 f"meshed. Use a depth, e.g. material.thickness = {2 * scene.surface.length:g} m (D = 2L: the "
                 "fundamental mode's compliance equals the half-plane's to ~1e-9), and run GFMD with the same depth.")
-        if i.law not in ("cohesive", "user"):
-            raise NotImplementedError(f"interface.law = {i.law!r}: SurfaceProblem solves the cohesive law; the hard "
-                                      "wall is reference.fem.hardwall (run_realization routes it there)")
+        if i.law in ("hard-wall", "cohesive-wall"):
+            raise NotImplementedError(f"interface.law = {i.law!r}: SurfaceProblem solves the cohesive laws; the hard "
+                                      "wall is reference.fem.hardwall (run_realization routes the walls)")
         self.scene = scene
         # u_x solved: the core's model choice (gfmd_contact.core.model) when given, else wherever c > 0
         self.tangential = i.tangential_ratio > 0 if tangential is None else bool(tangential)
@@ -125,8 +125,10 @@ class SurfaceProblem:
         self.ns = self.cell.surface_x.size
         self.h_surface = fourier_interpolate(h, self.ns // h.size)
         self.w = self.cell.weights
-        # the FE's own law (reference.fem.law); a user law's callables (nothing to be independent from)
-        self.law = UserZone(scene_law(scene)) if i.law == "user" else CohesiveZone.from_scene(scene)
+        # the FE's own law (reference.fem.law); a law it has none of through the law protocol (nothing to be
+        # independent from: a user law's callables, a law added to the core's registry)
+        self.law = CohesiveZone.from_scene(scene) if i.law == "cohesive" else LawZone(
+            law_registry.entry(i.law).build(i, float("nan"), float("nan"), False, scene))
         self.phi_n, self.dn = self.law.phi_n, self.law.delta_n
         self.phi_t, self.dt = self.law.phi_t, self.law.delta_t
         g = rms_gradient(h, scene.surface.spacing)
