@@ -50,6 +50,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from gfmd_contact.core import laws
+
 from .algorithms import coupled_newton
 from .blas import on_one_thread
 from .coupled_krylov import balance_residual, better_start
@@ -58,7 +60,7 @@ from .coupled_rules import (COUPLED_BETTER_START, COUPLED_CONTINUATION_GMRES_CYC
                             COUPLED_FIRE_BUDGET, COUPLED_FIRE_CRAWL, COUPLED_FRICTIONLESS_COUPLING, COUPLED_HANDOVER_MOVE,
                             COUPLED_JUMP, COUPLED_PREDICTION_MOVE, COUPLED_START_MARGIN)
 from .coupled_stability import coupled_stability
-from .links import ALGORITHMS, Accept, Budget, Link, Start
+from .links import ALGORITHMS, Accept, Budget, Link, Start, options_for
 from .problem import Problem, elastic_coupling, flat_problem, frictionless
 from .stopping import finish
 
@@ -106,6 +108,9 @@ CHAINS = {
                                         Link("coupled_newton", options=_GIVE_UP, starts=(Start.HANDOVER,),
                                              accept=Accept.PREDICTED), *_HANDOVER_NEAR),
     ("coupled", "verlet"): _FIRE,
+    ("user", "ncg"): (Link("ncg"), Link("dynamics", budget=Budget.REST)),
+    ("user", "fire"): _FIRE,
+    ("user", "verlet"): _FIRE,
     ("cohesive-wall", "fire"): (Link("cohesive_wall"),),
     ("cohesive-wall", "verlet"): (Link("cohesive_wall"),),
 }
@@ -171,7 +176,8 @@ def chain_key(problem, settings):
         return kind, key
     if settings.method == "fire" and settings.cohesive not in ("ncg", "fire"):
         raise ValueError(f"Settings.cohesive = {settings.cohesive!r}: expected 'ncg' or 'fire'")
-    if settings.method == "fire" and settings.cohesive == "ncg" and problem.law.law.has_potential:
+    if settings.method == "fire" and settings.cohesive == "ncg" and (kind == "user" or
+                                                                     type(problem.law.law) is laws.NormalCohesive):
         return kind, "ncg"
     return kind, "verlet" if settings.method == "verlet" else "fire"
 
@@ -226,7 +232,7 @@ def _stall_point(problem, link, before, settings):
                                "coupled_continuation_gmres_cycles": 0,  # and its GMRES cycles
                                "coupled_continuation_stagnation": 0.0,  # without the stagnation test
                                "coupled_continuation_iterations": max(limit - before.iterations, 1)})
-    resumed = ALGORITHMS[link.algorithm](problem, before.u_hat, run)
+    resumed = ALGORITHMS[link.algorithm](problem, before.u_hat, options_for(link.algorithm, run))
     stop = None if resumed.converged or not np.isfinite(resumed.residual) else resumed
     return stop, resumed
 
@@ -324,9 +330,10 @@ def _on_grid(result, model):
 def _run(problem, link, origin, settings):
     """The link's algorithm from `origin`; a frictionless link's on `gfmd.problem.frictionless`'s reduction, its u_z
     with origin's u_x returned as the coupled state."""
+    options = options_for(link.algorithm, settings)
     if not link.frictionless:
-        return ALGORITHMS[link.algorithm](problem, origin, settings)
-    r = ALGORITHMS[link.algorithm](frictionless(problem), origin[-1:], settings)
+        return ALGORITHMS[link.algorithm](problem, origin, options)
+    r = ALGORITHMS[link.algorithm](frictionless(problem), origin[-1:], options)
     r.u_hat = np.concatenate([origin[:-1], r.u_hat[-1:]])
     r.method += "-frictionless"
     return r

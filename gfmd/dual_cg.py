@@ -1,7 +1,8 @@
 """The projected preconditioned CG on the contact pressures (the dual of the hard wall), shared by the dual
 hard-wall algorithms: `gfmd.algorithms.hard_wall_dual_cg` (the band of K_AA) and
 `gfmd.algorithms.hard_wall_two_level_cg` (the band balanced by a coarse space). Not an algorithm itself: each
-algorithm module keeps its preconditioner and `solve(problem, start, settings)`, and calls `solve_dual` with them.
+algorithm module keeps its preconditioner and `solve(problem, start, options)`, and calls `solve_dual` with them
+and its options (`DualOptions`, or one that extends it).
 """
 
 from __future__ import annotations
@@ -24,7 +25,17 @@ from .stopping import finish, wall_check, wall_residual
 TRANSIENT_FACTOR = 2.0
 
 
-def solve_dual(problem, start, settings, *, label, band_stiffness, preconditioner=None):
+@dataclass(frozen=True)
+class DualOptions:
+    """What the dual CG reads: the `gfmd.settings.Settings` fields of these names."""
+
+    tolerance: float  # max nodal force residual / p_ref
+    max_iterations: int
+    proportioning: float  # Dostál's proportioning test: release pulling wall nodes past this × the free residual
+    dual_contact_limit: float  # the fraction of the nodes past which the step goes to the primal CG
+
+
+def solve_dual(problem, start, options, *, label, band_stiffness, preconditioner=None):
     """Hard wall by projected preconditioned CG on the contact pressures (the dual, small contact sets).
 
     With P ≥ 0 the wall's pressure on the nodes (Pa), u = −G P (G = K⁻¹; on a half-plane
@@ -69,12 +80,12 @@ def solve_dual(problem, start, settings, *, label, band_stiffness, preconditione
     fft = Fft(model.nodes, grid=model.grid)
     k = np.ascontiguousarray(np.real(model.k_zz))
     z = np.ascontiguousarray(problem.z_ind, dtype=float)
-    guess = _guess(problem, start, settings, fft, k, z, label)
+    guess = _guess(problem, start, options, fft, k, z, label)
     if isinstance(guess, Relaxed):
         return guess
-    dual = _setup(problem, settings, fft, k, z, band_stiffness, preconditioner)
+    dual = _setup(problem, options, fft, k, z, band_stiffness, preconditioner)
     state = _init(dual, *guess)
-    while not (state.hand_over or state.converged or state.message) and state.it < settings.max_iterations:
+    while not (state.hand_over or state.converged or state.message) and state.it < options.max_iterations:
         _step(dual, state)
     return _result(problem, dual, state, label)
 
@@ -83,7 +94,7 @@ class _Dual(NamedTuple):
     """What one step's dual CG holds fixed: the operators, the targets and two scratch arrays."""
 
     model: object
-    settings: object
+    options: object
     fft: Fft
     k: np.ndarray  # K's rfft coefficients (Pa/m)
     g: np.ndarray  # G = K⁻¹'s rfft coefficients
@@ -121,7 +132,7 @@ class DualState:
     hand_over: bool = False
 
 
-def _guess(problem, start, settings, fft, k, z, label):
+def _guess(problem, start, options, fft, k, z, label):
     """The guess's (pressures, contact set, K u): P = p_far − K u where positive, p_far = K u on the nodes the
     guess leaves free; or its `Relaxed` when it already passes the test or its contact set is too large."""
     model, wall_tolerance = problem.model, problem.wall_tolerance
@@ -130,7 +141,7 @@ def _guess(problem, start, settings, fft, k, z, label):
     ku = fft.irfft(k * u_hat_z)
     if float(np.max(u - z)) <= wall_tolerance:  # feasible up to round-off: already converged?
         residual = wall_residual(model, u, ku, z, wall_tolerance)
-        if residual < settings.tolerance:
+        if residual < options.tolerance:
             out = finish(problem, fft.rfft(np.minimum(u, z))[None, :], 0, residual, True, "", (u, ku))
             out.fft_pairs, out.method = fft.pairs, label  # the fields from the arrays the residual was taken on
             return out
@@ -138,23 +149,23 @@ def _guess(problem, start, settings, fft, k, z, label):
     p_far = float(np.median(ku[free])) if model.half_plane and free.any() else 0.0
     pressure = p_far - ku  # full length; zero off A from here on
     on_wall = pressure > 1e-9 * float(np.max(np.abs(ku)))
-    if np.count_nonzero(on_wall) > settings.dual_contact_limit * model.nodes:  # the primal CG from the guess
+    if np.count_nonzero(on_wall) > options.dual_contact_limit * model.nodes:  # the primal CG from the guess
         return stall(start, 0, np.inf, fft.pairs, "",  # not run: no label
-                     f"contact set of the guess above {settings.dual_contact_limit:g} of the nodes")
+                     f"contact set of the guess above {options.dual_contact_limit:g} of the nodes")
     pressure[~on_wall] = 0.0
     return pressure, np.flatnonzero(on_wall), ku
 
 
-def _setup(problem, settings, fft, k, z, band_stiffness, preconditioner):
+def _setup(problem, options, fft, k, z, band_stiffness, preconditioner):
     """The fixed part of one step (`_Dual`); calls the algorithm's preconditioner factory once."""
     model = problem.model
     n = model.nodes
     g = np.ascontiguousarray(np.real(stiffness_operator(model).inv_mass[0]))
     k_kernel = stiffness_operator(model).kept(("stiffness kernel", fft.backend), lambda: fft.irfft(k.astype(complex)))
     wrap = preconditioner(fft, g) if preconditioner is not None else None
-    limit = settings.dual_contact_limit * n
-    return _Dual(model=model, settings=settings, fft=fft, k=k, g=g, z=z, wall_tolerance=problem.wall_tolerance,
-                 tol=settings.tolerance * model.reference_traction, gamma2=settings.proportioning**2,
+    limit = options.dual_contact_limit * n
+    return _Dual(model=model, options=options, fft=fft, k=k, g=g, z=z, wall_tolerance=problem.wall_tolerance,
+                 tol=options.tolerance * model.reference_traction, gamma2=options.proportioning**2,
                  transient_limit=min(TRANSIENT_FACTOR * limit, n - 2), k_kernel=k_kernel,
                  band_stiffness=band_stiffness, wrap=wrap, sparse_in=np.zeros(n), g_d=np.empty(n))
 
@@ -251,7 +262,7 @@ def _candidate(dual, state):
     """The primal residual with a fresh K u; not passing, the next test waits for a tenfold smaller max |s|."""
     u = _primal_state(dual, state)
     state.residual, state.converged, state.message = wall_check(
-        dual.model, dual.fft, dual.k, u, state.ku, dual.z, dual.wall_tolerance, dual.settings.tolerance)
+        dual.model, dual.fft, dual.k, u, state.ku, dual.z, dual.wall_tolerance, dual.options.tolerance)
     if state.converged or state.message:
         return
     state.stop *= 0.1
@@ -302,7 +313,7 @@ def _result(problem, dual, state, label):
                      "contact set too large for the dual")
     message = state.message
     if not state.converged and not message:
-        message = not_converged(dual.settings.max_iterations, state.residual)
+        message = not_converged(dual.options.max_iterations, state.residual)
     wall_state = (u, state.ku) if state.converged else None  # converged: K u of this very u was the last check's
     out = finish(problem, fft.rfft(u)[None, :], state.it, state.residual, state.converged, message, wall_state)
     out.fft_pairs = fft.pairs + (0.0 if state.converged else 1.0)  # finish otherwise: irfft of u_hat and of K û

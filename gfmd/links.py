@@ -1,9 +1,13 @@
-"""A chain's vocabulary as typed data: the algorithms by name and `Link`, one algorithm of a chain.
+"""A chain's vocabulary as typed data: the algorithms by name, their options and `Link`, one algorithm of a chain.
 
-A link says which algorithm runs (a key of `ALGORITHMS`), with which `Settings` fields changed, from
-which states (`Start`, tried in turn until a run is kept), with how many iterations (`Budget`) and
-which converged state it keeps (`Accept`). `gfmd.chains` declares the chains and walks them; a link
-with a value outside this vocabulary is refused where it is built, not where a chain runs it.
+A link says which algorithm runs (a key of `ALGORITHMS`), with which options changed, from which
+states (`Start`, tried in turn until a run is kept), with how many iterations (`Budget`) and which
+converged state it keeps (`Accept`). `gfmd.chains` declares the chains and walks them; a link with a
+value outside this vocabulary is refused where it is built, not where a chain runs it.
+
+Options, as scipy.optimize's per-method ``options``: an algorithm module that declares a frozen
+dataclass `Options` runs with it (`options_for`: the `Settings` fields of its field names), the others
+with the whole `Settings`.
 """
 
 from __future__ import annotations
@@ -15,11 +19,21 @@ from .algorithms import (cohesive_wall, coupled_newton, coupled_ptc, dynamics, h
                          hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
 from .settings import Settings
 
-#: the algorithms by name (gfmd.algorithms: one module each, `solve(problem, start, settings) -> Relaxed`)
-ALGORITHMS = {"hard_wall_two_level_cg": hard_wall_two_level_cg.solve, "hard_wall_dual_cg": hard_wall_dual_cg.solve,
-              "hard_wall_primal_cg": hard_wall_primal_cg.solve, "hard_wall_dynamics": hard_wall_dynamics.solve,
-              "ncg": ncg.solve, "dynamics": dynamics.solve, "coupled_newton": coupled_newton.solve,
-              "coupled_ptc": coupled_ptc.solve, "cohesive_wall": cohesive_wall.solve}
+#: the algorithm modules by name (gfmd.algorithms: one module each, `solve(problem, start, options) -> Relaxed`)
+MODULES = {"hard_wall_two_level_cg": hard_wall_two_level_cg, "hard_wall_dual_cg": hard_wall_dual_cg,
+           "hard_wall_primal_cg": hard_wall_primal_cg, "hard_wall_dynamics": hard_wall_dynamics, "ncg": ncg,
+           "dynamics": dynamics, "coupled_newton": coupled_newton, "coupled_ptc": coupled_ptc,
+           "cohesive_wall": cohesive_wall}
+#: their `solve` by name (what a chain runs; tests put stand-ins here)
+ALGORITHMS = {name: module.solve for name, module in MODULES.items()}
+#: the options dataclass of each algorithm that declares one
+OPTIONS = {name: module.Options for name, module in MODULES.items() if hasattr(module, "Options")}
+
+
+def options_for(algorithm, settings):
+    """What `algorithm` runs with: its own `Options` with the `settings` fields of those names, else `settings`."""
+    kind = OPTIONS.get(algorithm)
+    return settings if kind is None else kind(**{f.name: getattr(settings, f.name) for f in fields(kind)})
 
 
 class Start(Enum):
@@ -74,7 +88,8 @@ _SETTINGS_FIELDS = frozenset(f.name for f in fields(Settings))
 class Link:
     """One algorithm of a chain.
 
-    algorithm: a key of `ALGORITHMS`; options: the Settings fields this link sets, e.g. (("method", "verlet"),);
+    algorithm: a key of `ALGORITHMS`; options: the fields of the algorithm's options (its `Options`, else `Settings`)
+    this link sets, e.g. (("method", "verlet"),);
     starts: where it starts, tried in turn until a run is kept; budget: its iterations; accept: which converged state
     it keeps; handover: it runs to the looser residual `Settings.coupled_handover` and hands the state it reaches to
     the links after it (start `Start.HANDOVER`); frictionless: it runs on the frictionless reduction of the coupled
@@ -100,6 +115,7 @@ class Link:
         for name in ("handover", "frictionless"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"Link.{name} = {getattr(self, name)!r}: expected True or False")
-        bad = [o for o in self.options if not (isinstance(o, tuple) and len(o) == 2 and o[0] in _SETTINGS_FIELDS)]
+        known = {f.name for f in fields(OPTIONS[self.algorithm])} if self.algorithm in OPTIONS else _SETTINGS_FIELDS
+        bad = [o for o in self.options if not (isinstance(o, tuple) and len(o) == 2 and o[0] in known)]
         if bad:
-            raise ValueError(f"Link.options: {bad!r} are not (Settings field, value) pairs")
+            raise ValueError(f"Link.options: {bad!r} are not (field, value) pairs of {self.algorithm}'s options")

@@ -429,3 +429,19 @@ def test_a_link_outside_the_vocabulary_is_refused_where_it_is_built(bad):
     """Strings where the chain's types belong, an unknown algorithm or Settings field: refused by `Link` itself."""
     with pytest.raises(ValueError, match=f"Link.{next(iter(bad))}"):
         chains.Link(**{"algorithm": "ncg", **bad})
+
+
+def test_an_algorithm_with_options_of_its_own_runs_with_them(monkeypatch):
+    """The two-level dual CG declares `Options` (scipy's per-method options): the chain hands it those fields of the
+    Settings and nothing else; a link setting a field outside them is refused where it is built."""
+    from gfmd.algorithms import hard_wall_two_level_cg
+
+    p = problem("hard-wall")
+    seen, real = [], chains.ALGORITHMS["hard_wall_two_level_cg"]
+    monkeypatch.setitem(chains.ALGORITHMS, "hard_wall_two_level_cg",
+                        lambda problem, start, options: seen.append(options) or real(problem, start, options))
+    r = converged_state(p, Settings(tolerance=1e-9, dual_coarse_block=8))
+    assert r.method.startswith("cg-dual2") and type(seen[0]) is hard_wall_two_level_cg.Options
+    assert (seen[0].tolerance, seen[0].dual_coarse_block, seen[0].max_iterations) == (1e-9, 8, Settings().max_iterations)
+    with pytest.raises(ValueError, match="Link.options"):
+        chains.Link("hard_wall_primal_cg", options=(("method", "verlet"),))

@@ -9,6 +9,8 @@ or in FIRE's place as the handover link, it reached the same states at more cost
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from gfmd_contact.core import laws
@@ -19,6 +21,15 @@ from ..fft import Fft, spectral_weights
 from ..problem import Elastic, stiffness_operator
 from ..settings import stall
 from ..stopping import finish
+
+
+@dataclass(frozen=True)
+class Options:
+    """What Ψtc reads: the `gfmd.settings.Settings` fields of these names."""
+
+    tolerance: float  # max nodal force residual / p_ref
+    max_iterations: int
+
 
 #: Ψtc iterations a step gets (each one GMRES solve and one force)
 PTC_ITERATIONS = 100
@@ -39,7 +50,7 @@ PTC_MAX_MOVE = 2.0
 PTC_MASS = "modes"
 
 
-def solve(problem, start, settings):
+def solve(problem, start, options):
     """Ψtc on f(u) = t(u) − K u = 0 from `start`; `Relaxed` with method "ptc".
 
     Each iteration solves (σM + K + D) δu = f, σ = 1/Δτ, D the law's nodal tangent (as `coupled_newton`), by
@@ -72,8 +83,8 @@ def solve(problem, start, settings):
     residual = float(np.max(np.abs(f))) / p_ref
     norm = float(np.linalg.norm(f))
     dt, it, message = PTC_DT_START, 0, ""
-    budget = min(PTC_ITERATIONS, settings.max_iterations)
-    converged = residual < settings.tolerance
+    budget = min(PTC_ITERATIONS, options.max_iterations)
+    converged = residual < options.tolerance
     while not converged:
         if it >= budget:
             message = f"Ψtc not converged after {it} iterations (residual {residual:.3g} p_ref, Δτ {dt:.3g})"
@@ -82,7 +93,7 @@ def solve(problem, start, settings):
             message = f"Ψtc pseudo-time step fell below {PTC_DT_MIN:g} (iteration {it}, residual {residual:.3g} p_ref)"
             break
         it += 1
-        rtol = forcing(settings.tolerance, residual)
+        rtol = forcing(options.tolerance, residual)
         du_hat, info = spectral_step(model, law, z_ind, u, fh, _shifted(model, k_mean, 1.0 / dt), fft, rtol)
         if info != 0:  # the shifted tangent is near-singular or indefinite along the step: more mass
             dt *= 0.5
@@ -108,7 +119,7 @@ def solve(problem, start, settings):
         ser = dt * norm / max(new_norm, 1e-300)
         dt = min(PTC_DT_MAX, ser if scale == 1.0 else min(ser, dt))
         norm = new_norm
-        converged = residual < settings.tolerance
+        converged = residual < options.tolerance
     return _out(problem, u_hat, it, residual, converged, message, fft)
 
 

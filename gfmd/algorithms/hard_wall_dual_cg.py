@@ -11,8 +11,10 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse
 
-from ..dual_cg import TRANSIENT_FACTOR, solve_dual
+from ..dual_cg import TRANSIENT_FACTOR, DualOptions, solve_dual
 from ..problem import band_stiffness as _band_stiffness
+
+Options = DualOptions  # what it reads: the dual CG's options
 
 DUAL_BAND_HALF_WIDTH = 32
 #: 2+1-D surfaces: the preconditioner keeps K_ij for |x_i − x_j|, |y_i − y_j| ≤ this many nodes (periodic), a
@@ -49,7 +51,7 @@ def _band_stiffness_surface(k_kernel, act, grid, half_width):
     return scipy.sparse.csr_matrix((data, (rows, cols)), shape=(act.size, act.size))
 
 
-def solve(problem, start, settings):
+def solve(problem, start, options):
     """Hard wall by projected CG on the contact pressures (the dual, small contact sets), preconditioned by
     the band of K_AA: |i − j| ≤ DUAL_BAND_HALF_WIDTH on a profile (`gfmd.problem.band_stiffness`), the
     periodic window of DUAL_WINDOW_HALF_WIDTH_2D on a 2+1-D surface (`_band_stiffness_surface`). The loop,
@@ -61,4 +63,4 @@ def solve(problem, start, settings):
     else:
         def band_stiffness(kernel, nodes):
             return _band_stiffness(kernel, nodes, model.nodes, DUAL_BAND_HALF_WIDTH)
-    return solve_dual(problem, start, settings, label="cg-dual", band_stiffness=band_stiffness)
+    return solve_dual(problem, start, options, label="cg-dual", band_stiffness=band_stiffness)

@@ -18,7 +18,16 @@ from ..problem import mean_shift, stiffness_operator
 from ..stopping import finish, wall_check
 
 
-def solve(problem, start, settings):
+@dataclass(frozen=True)
+class Options:
+    """What the primal CG reads: the `gfmd.settings.Settings` fields of these names."""
+
+    tolerance: float  # max nodal force residual / p_ref
+    max_iterations: int
+    proportioning: float  # Dostál's proportioning test: release pulling wall nodes past this × the free residual
+
+
+def solve(problem, start, options):
     """Hard wall by projected preconditioned conjugate gradients (active set; normal only).
 
     The step's problem is min ½ uᵀKu over u ≤ z_ind (half-plane: and ⟨u⟩ = 0, whose
@@ -43,12 +52,12 @@ def solve(problem, start, settings):
     no penetration). Cost: two FFT pairs per iteration (K d and M⁻¹ r), one more per
     projection; K u is updated with the step instead of recomputed.
     """
-    primal = _setup(problem, settings)
+    primal = _setup(problem, options)
     state = _init(primal, start)
-    while state.it < settings.max_iterations and not (state.converged or state.message):
+    while state.it < options.max_iterations and not (state.converged or state.message):
         _step(primal, state)
     if not state.converged and not state.message:
-        state.message = (f"not converged after {settings.max_iterations} iterations "
+        state.message = (f"not converged after {options.max_iterations} iterations "
                          f"(residual {state.residual:.3g} p_ref)")
     u_hat = primal.fft.rfft(state.u)[None, :]
     pairs = primal.fft.pairs
@@ -62,7 +71,7 @@ class _Primal(NamedTuple):
     """What one step's primal CG holds fixed."""
 
     model: object
-    settings: object
+    options: object
     fft: Fft
     k: np.ndarray  # K's rfft coefficients (Pa/m)
     g: np.ndarray  # M⁻¹ = K⁻¹, 0 at q = 0 (half-plane)
@@ -96,15 +105,15 @@ class PrimalState:
     message: str = ""
 
 
-def _setup(problem, settings):
+def _setup(problem, options):
     model = problem.model
     n = model.nodes
-    return _Primal(model=model, settings=settings, fft=Fft(n, grid=model.grid),
+    return _Primal(model=model, options=options, fft=Fft(n, grid=model.grid),
                    k=np.ascontiguousarray(np.real(model.k_zz)),
                    g=np.ascontiguousarray(np.real(stiffness_operator(model).inv_mass[0])),
                    z=np.ascontiguousarray(problem.z_ind, dtype=float), wall_tolerance=problem.wall_tolerance,
-                   clamp=model.half_plane, n=n, tol=settings.tolerance * model.reference_traction,
-                   gamma2=settings.proportioning**2)
+                   clamp=model.half_plane, n=n, tol=options.tolerance * model.reference_traction,
+                   gamma2=options.proportioning**2)
 
 
 def _init(primal, start):
@@ -163,7 +172,7 @@ def _candidate(primal, state):
     """The solver's residual with a fresh K u; not passing, a CG iteration (or a release) comes before the next."""
     state.residual, state.converged, state.message = wall_check(
         primal.model, primal.fft, primal.k, state.u, state.ku, primal.z, primal.wall_tolerance,
-        primal.settings.tolerance)
+        primal.options.tolerance)
     if state.converged or state.message:
         return
     state.restart, state.checked = True, True

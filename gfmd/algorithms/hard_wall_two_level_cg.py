@@ -19,11 +19,21 @@ preconditions alone, as in the dual CG.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import scipy.linalg
 
-from ..dual_cg import solve_dual
+from ..dual_cg import DualOptions, solve_dual
 from ..problem import band_stiffness, stiffness_operator
+
+
+@dataclass(frozen=True)
+class Options(DualOptions):
+    """What it reads: the dual CG's options and the coarse blocks' size (the `Settings` fields of these names)."""
+
+    dual_coarse_block: int  # coarse blocks of at most this many consecutive contact nodes
+
 
 #: half-width (nodes) of the band of K_AA (the fine level; as the dual CG's)
 BAND_HALF_WIDTH = 32
@@ -82,7 +92,7 @@ def two_level(r, fine, coarse):
     return y + np.repeat(c - c2, sizes)
 
 
-def solve(problem, start, settings):
+def solve(problem, start, options):
     """Hard wall by projected two-level-preconditioned CG on the contact pressures (small contact sets).
 
     As `gfmd.algorithms.hard_wall_dual_cg.solve` (the problem min ½ PᵀGP + z_indᵀP over P ≥ 0, the set
@@ -104,8 +114,8 @@ def solve(problem, start, settings):
 
         def precondition(r, band, act):
             if coarse_of[0] is not act:
-                coarse_of[:] = act, coarse_space(g_sum, act, n, settings.dual_coarse_block)
+                coarse_of[:] = act, coarse_space(g_sum, act, n, options.dual_coarse_block)
             return two_level(r, band, coarse_of[1])
         return precondition
 
-    return solve_dual(problem, start, settings, label="cg-dual2", band_stiffness=fine, preconditioner=preconditioner)
+    return solve_dual(problem, start, options, label="cg-dual2", band_stiffness=fine, preconditioner=preconditioner)
