@@ -50,8 +50,6 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from gfmd_contact.core import laws
-
 from .algorithms import coupled_newton
 from .blas import on_one_thread
 from .coupled_krylov import balance_residual, better_start
@@ -108,9 +106,6 @@ CHAINS = {
                                         Link("coupled_newton", options=_GIVE_UP, starts=(Start.HANDOVER,),
                                              accept=Accept.PREDICTED), *_HANDOVER_NEAR),
     ("coupled", "verlet"): _FIRE,
-    ("user", "ncg"): (Link("ncg"), Link("dynamics", budget=Budget.REST)),
-    ("user", "fire"): _FIRE,
-    ("user", "verlet"): _FIRE,
     ("cohesive-wall", "fire"): (Link("cohesive_wall"),),
     ("cohesive-wall", "verlet"): (Link("cohesive_wall"),),
 }
@@ -176,8 +171,7 @@ def chain_key(problem, settings):
         return kind, key
     if settings.method == "fire" and settings.cohesive not in ("ncg", "fire"):
         raise ValueError(f"Settings.cohesive = {settings.cohesive!r}: expected 'ncg' or 'fire'")
-    if settings.method == "fire" and settings.cohesive == "ncg" and (kind == "user" or
-                                                                     type(problem.law.law) is laws.NormalCohesive):
+    if settings.method == "fire" and settings.cohesive == "ncg" and problem.law.law.has_potential:
         return kind, "ncg"
     return kind, "verlet" if settings.method == "verlet" else "fire"
 
