@@ -5,7 +5,7 @@ unknowns factored by LU. Threaded OpenBLAS (numpy's and scipy's start one thread
 spin-waits: on a 2-core machine whose other core is busy, or in `gfmd run --workers 2`'s forked processes (each
 with a thread per core), a step's `ndarray.dot` and `lu_factor` wait for threads that do not come (a profiled coupled
 ramp at 2^15: 19.4 s in `dot` and 12.1 s in `lu_factor` with two threads, against a whole ramp of 18.7 s with one).
-Measured with `gfmd run` at 2^15, 2 realizations (benchmarks/results/bench_blas_threads.md, best wall s of two,
+Measured with `gfmd run` at 2^15, 2 realizations (docs/design/performance.md, best wall s of two,
 OpenBLAS's two threads / one): the coupled law (ν = 0.1) 100.9 / 16.6 s with --workers 2 and 59.3 / 30.4 s with
 one process; the normal cohesive law 13.7 / 6.8 s and 10.4 / 10.2 s; the hard wall 5.6 / 3.9 s and 5.8 / 5.5 s.
 Dask's nannies already start study workers with ``OPENBLAS_NUM_THREADS=1``, and so do our benchmarks: this makes

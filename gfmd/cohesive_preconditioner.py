@@ -9,7 +9,7 @@ crossover wavelength, where K(q) = φn/δn², are held by D, not K). `Settings.c
   elsewhere (2+1-D surfaces, laws without one), `resolve`; measured at N = 2^17 on whole strong-adhesion ramps (φn* = 0.15) against K⁻¹:
   seed 2, δn = 0.25 nm −36 % FFT pairs, −33 % CPU; seed 7, δn = 1 nm (the seed's figures) −13 % pairs, −13 % CPU
   (with STIFF_FRACTION 0.25; 0.01 saves another 17–21 % of the pairs); the same states
-  (benchmarks/results/bench_cohesive_preconditioner.md);
+  (docs/design/performance.md);
 * "stiffness": K⁻¹ (the NCG's own fused path, no object of this module; the earlier default);
 * "two-level": K⁻¹ balanced by a coarse space (the BNN form of `gfmd.algorithms.hard_wall_two_level_cg`),
   (I − P A) K⁻¹ (I − A P) + P, P = Z E⁻¹ Zᵀ, E = Zᵀ A Z, Z piecewise constant on blocks of consecutive
@@ -31,7 +31,7 @@ to the balanced form's 2 (the balanced one on restarts and wherever f·s strays 
 measured and dropped (fewer FFT pairs, more iterations, no CPU gain: docs/design/solvers.md); without the f·s check
 a step started far from equilibrium stalls.
 (K(q) + ⟨max(k_loc, 0)⟩)⁻¹ on the modes was measured and dropped (more iterations than K⁻¹,
-benchmarks/results/bench_cohesive_preconditioner.md). A step starts with K⁻¹; after ENGAGE_AFTER iterations,
+docs/design/performance.md). A step starts with K⁻¹; after ENGAGE_AFTER iterations,
 or after ENGAGE_EARLY where its convergence rate predicts more than ENGAGE_AFTER (`slow_step`), the NCG builds the
 two-level one (a step that finishes before never pays its setup), switches to it, rebuilds it from the state every
 REBUILD_EVERY iterations and restarts its direction where the stiff set changed. Its nodal passes are
@@ -64,7 +64,7 @@ REBUILD_EVERY = 20
 STIFF_FRACTION = 0.01
 #: "two-level": the coarse space also holds each run of soft nodes between the stiff blocks as one block (the gaps
 #: between the adhered patches; `cover`), so that it spans the cell. Measured (whole 201-step ramps at N = 2^17,
-#: φn* = 0.15, benchmarks/results/bench_cohesive_preconditioner.md §7): −33 % FFT pairs and −28 % CPU (seed 2,
+#: φn* = 0.15, docs/design/performance.md §7): −33 % FFT pairs and −28 % CPU (seed 2,
 #: δn = 0.25 nm), −26 % and −23 % (seed 7, δn = 1 nm), the same states
 COARSE_GAPS = True
 #: "two-level": a stiff block spans this fraction of the crossover wavelength. Measured

@@ -23,7 +23,7 @@ from .problem import stiffness_operator
 GMRES_RESTART = 60
 GMRES_CYCLES = 5
 #: which GMRES solves the spectral step: "gfmd" (`gfmd.gmres`: modified Gram–Schmidt in one fused pass, a float32
-#: basis at the Newton steps' tolerances; measured, benchmarks/results/bench_gmres.md) or "scipy"
+#: basis at the Newton steps' tolerances; measured, docs/design/performance.md) or "scipy"
 #: (`scipy.sparse.linalg.gmres`, the earlier solver)
 GMRES = "gfmd"
 #: inexact Newton's forcing rule (`forcing`): GMRES's relative tolerance

@@ -16,7 +16,7 @@ half-plane; I on a layer), M⁻¹ y = K⁻¹ (y − D w) with w = Π Z E⁻¹ Z�
 g = y − D w, s = K⁻¹ g: one FFT pair per product, as K⁻¹ alone. E from K's real-space kernels by double cumulative
 sums (no FFT, `gfmd.coarse_kernels.block_sums`, as the NCG's). Measured on the Fig. 8 class at 2^13 (Newton
 systems sampled along a whole ramp, GMRES products to 0.1 / 1e-2 / 1e-3): 18.9 / 27.2 / 36.0 with K⁻¹, 5.9 / 8.3 / 10.7 with the coarse space (half-wavelength
-blocks), flat as the contact grows where K⁻¹'s grow 2 → 40; whole ramps: benchmarks/results/bench_coupled_preconditioner.md.
+blocks), flat as the contact grows where K⁻¹'s grow 2 → 40; whole ramps: docs/design/performance.md.
 """
 
 from __future__ import annotations

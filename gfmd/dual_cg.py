@@ -62,7 +62,7 @@ def solve_dual(problem, start, options, *, label, band_stiffness, preconditioner
     holds more than `Settings.dual_contact_limit` of the nodes (beyond, the band products and set
     changes cost more than the pair they save; measured on whole Fig. 3 hard-wall study tasks, N = 2^17,
     0.04 nm steps, CPU s for limits 0 / 0.05 / 0.15 / 0.3: 36.9 / 27.5 / 23.5 / 24.7 (a_rel up to
-    0.25) and – / 17.3 / 14.0 / 13.6 (up to 0.083); with 1.8 nm jumps (benchmarks/bench_vs_tamaas.py,
+    0.25) and – / 17.3 / 14.0 / 13.6 (up to 0.083); with 1.8 nm jumps (docs/design/performance.md,
     section 7) the dual is 1.05× the primal at a_rel 0.08 and 1.7× at 0.13), and from
     the current state when A grows past TRANSIENT_FACTOR × that limit (the nodes that join in
     bulk after an extrapolated guess can double A before the projections thin it out: measured

@@ -2,7 +2,7 @@
 
 Backend: FFTW (pyfftw, a default dependency), else ducc0, else scipy.fft; ``GFMD_FFT=scipy|ducc0|fftw|auto``
 (default auto: the fastest installed) chooses (`fft_backend`). Measured per rfft/irfft pair at 2^17
-(benchmarks/bench_fft.py). FFTW runs plans made once per process, shape and thread (`_fftw_plans`; measured plans
+(docs/design/performance.md). FFTW runs plans made once per process, shape and thread (`_fftw_plans`; measured plans
 kept as wisdom, `FFTW_MEASURE_FROM`): the input is copied into the plan's aligned buffer, the output written straight
 into the aligned array returned (`_execute_into`). The hard-wall
 CGs, the cohesive NCG, FIRE on a law with a traction function, Newton–Krylov and the final fields of every step
@@ -39,13 +39,13 @@ try:  # POSIX: the FFTW wisdom file's lock
     import fcntl
 except ImportError:  # pragma: no cover - Windows
     fcntl = None
-try:  # a default dependency: FFTW's plans, faster again than ducc0 (benchmarks/bench_fft.py)
+try:  # a default dependency: FFTW's plans, faster again than ducc0 (docs/design/performance.md)
     import pyfftw as _pyfftw
 except ImportError:  # pragma: no cover - depends on the environment
     _pyfftw = None
 
 #: FFTW transforms of at least this many points are planned with FFTW_MEASURE (candidates timed; whole 2^17 ramps
-#: took 0.84× ducc0's CPU time with the NCG, 0.79× with the hard wall, 0.88× coupled, benchmarks/bench_fft.py), their
+#: took 0.84× ducc0's CPU time with the NCG, 0.79× with the hard wall, 0.88× coupled, docs/design/performance.md), their
 #: plans kept as FFTW wisdom in `wisdom_path` under a file lock, so every later process on this machine makes the same
 #: plan (the same results bit for bit) at once; smaller ones (and all where no wisdom file can be made) FFTW_ESTIMATE:
 #: a plan by heuristics, the same in every process. FFTW_PATIENT instead was measured and dropped:
@@ -180,7 +180,7 @@ def _fftw_plans(shape, axes):
 def _execute_into(plan, source, out, home):
     """Run `plan` from `source` into `out` (aligned as its own output, `home`), then point it back at `home`: the
     caller's array is FFTW's output, no copy of it. Whole 201-step ramps at 2^17 against copying out
-    (benchmarks/results/bench_versions_fft-outputs.md, the same states bit for bit): φn* = 0.15 CPU × 0.92 ± 0.14,
+    (docs/design/performance.md, the same states bit for bit): φn* = 0.15 CPU × 0.92 ± 0.14,
     the hard wall × 0.99 ± 0.12 (± this machine's noise between the two core placements)."""
     plan.update_arrays(source, out)
     try:

@@ -10,7 +10,7 @@ unknowns, one block (m,) for a normal-only law), w_q the rfft weights (Σ_j a_j 
 numpy does each as before (a temporary per operation: ≈ 15 passes over the spectra an iteration); the fused kernels
 (1+1-D coupled profiles, c = 2: the coupled event steps' FIRE) one loop each, on the blocks' real split form
 (`gfmd.coupled_kernels.Blocks.split`: a, d real, b imaginary, as an isotropic body's) where they have one: the same
-numbers bit for bit. ``GFMD_JIT`` chooses (`gfmd.kernels.jit_backend`). Measured: benchmarks/results/bench_fire_kernels.md.
+numbers bit for bit. ``GFMD_JIT`` chooses (`gfmd.kernels.jit_backend`). Measured: docs/design/performance.md.
 """
 
 from __future__ import annotations

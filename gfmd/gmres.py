@@ -8,7 +8,7 @@ streams from memory twice on every iteration, 62 % of a Newton solve (measured a
 Gram–Schmidt runs as one numba kernel (double sums), and for rtol ≥ SINGLE_BASIS_RTOL the basis is stored in
 float32: half the traffic (mixed-precision GMRES: the Arnoldi relation holds to ≈ 1e-7, far below the tolerance,
 and w, the Hessenberg matrix, x and the verdict's true residual stay double). Measured on whole coupled ramps:
-benchmarks/results/bench_gmres.md. (Classical Gram–Schmidt with DGKS reorthogonalisation, two BLAS products per
+docs/design/performance.md. (Classical Gram–Schmidt with DGKS reorthogonalisation, two BLAS products per
 pass, was tried first: the reorthogonalisation ran on 96 % of the Arnoldi steps, which made it as slow as scipy's at
 2^17.) The iteration is scipy's otherwise: x0 = 0, no preconditioner (the caller's operator is preconditioned
 already), the inner loop stops at the estimated residual ptol, each cycle ends with the true residual b − A x,

@@ -6,7 +6,7 @@ to the size of the last such block freed) by a fresh mmap, and gives the top of 
 above the trim threshold (twice that): the pages of such a block are faulted in again, zeroed by the kernel, on
 every use; and where MALLOC_TRIM_THRESHOLD_ is set in the environment (Dask's nannies set 65536 for their workers)
 the threshold stays at 128 kB for good. Measured on whole 201-step ramps at 2^17, ν = 0.45, realization 2
-(benchmarks/results/bench_heap_e17_nu0.45_r2.md; CPU s user + system, page faults): coupled law 47.0 s and 2.7 M
+(docs/design/performance.md; CPU s user + system, page faults): coupled law 47.0 s and 2.7 M
 with glibc's defaults, 105.8 s and 33 M under Dask's setting, 35.4 s and 0.07 M with the heap kept (MMAP_THRESHOLD
 32 MB, TRIM_THRESHOLD 256 MB, TOP_PAD 64 MB); the normal law 19.0, 36.5 and 17.0 s. The cost: a process keeps up to
 TRIM_THRESHOLD of freed memory for reuse instead of returning it.

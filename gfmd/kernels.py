@@ -10,7 +10,7 @@ Per iteration the NCG needs, over the rfft spectra of nodal fields (complex, N/2
 
 numpy needs 10 passes over the spectra for these (a temporary per product); the numba kernels
 (the ``fast`` extra) one pass each, 3 in all: 0.15 ms against 0.57 ms at N = 2^17 on this machine
-(benchmarks/bench_vs_tamaas.py). Both give the same sums up to round-off (the fused sums are
+(docs/design/performance.md). Both give the same sums up to round-off (the fused sums are
 reassociated). ``GFMD_JIT=auto|numba|numpy`` (default auto: numba where installed) chooses.
 
 Under the two-level preconditioner (`gfmd.cohesive_preconditioner`, profiles) s = M⁻¹ f comes from the preconditioner
@@ -238,7 +238,7 @@ def preconditioned_kernels(name=None):
     d·Kx as nodal sums, the spectral parts of the split products, `gfmd.cohesive_preconditioner.split_products`).
     numba: one pass each, as `ncg_kernels` (in place of three
     nodal_dot passes, a direction pass, K d and its dot, and s + β d into a new array: a whole 201-step ramp at 2^17,
-    φn* = 0.15, CPU × 0.969 ± 0.019, the same iterations; benchmarks/results/bench_versions_fused-two-level.md)."""
+    φn* = 0.15, CPU × 0.969 ± 0.019, the same iterations; docs/design/performance.md)."""
     if jit_backend(name) == "numba":
         return (_preconditioned_products_numba, _direction_energy_numba, _combine_numba,
                 _stiffness_products_numba)

@@ -40,7 +40,7 @@ PARTIAL = "partial"
 #: wall seconds between two checkpoints of a realization (`save_step`) but at its first and its saved steps
 #: ($GFMD_CHECKPOINT_SECONDS where set, `checkpoint_seconds`; 0: every step). One every step cost 16–18 % of a
 #: weak-adhesion or hard-wall study task's CPU at N = 2^17 and wrote 2.2 MB a step per task directory (the warm start's
-#: two spectra; 83 GB in the sensitivity study's 33 min): benchmarks/results/bench_checkpoints.md
+#: two spectra; 83 GB in the sensitivity study's 33 min): docs/design/performance.md
 CHECKPOINT_SECONDS = 2.0
 
 
@@ -70,7 +70,7 @@ def _atomic_write(path, data, binary=False):
 
 #: a saved .npz deflates an array only where zlib shrinks its first COMPRESS_PROBE bytes to less than COMPRESS_WORTH of
 #: them (`_worth_deflating`): float fields hardly compress (0.83–0.95 of their size at N = 2^17) and deflating them
-#: cost 1.6 CPU s of a 15 s study task there (benchmarks/results/bench_npz.md); zeros (u_x, t_t of a normal-only
+#: cost 1.6 CPU s of a 15 s study task there (docs/design/performance.md); zeros (u_x, t_t of a normal-only
 #: law), constants and masks shrink to almost nothing
 COMPRESS_PROBE = 1 << 16
 COMPRESS_WORTH = 0.5

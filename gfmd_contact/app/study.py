@@ -103,7 +103,7 @@ def _saved_steps(task_dir, scene):
 #: Dask's defaults, 0.3 % with these.
 #: And the workers start without Dask's MALLOC_TRIM_THRESHOLD_=65536 (its nannies' pre-spawn environment, which also
 #: leaves it in this process's): under it glibc maps every array above 128 kB afresh, and `gfmd.heap` leaves a
-#: setting of the environment alone (a coupled ramp at 2^17: 33 million page faults, 3× the CPU; benchmarks/results/bench_heap*).
+#: setting of the environment alone (a coupled ramp at 2^17: 33 million page faults, 3× the CPU; docs/design/performance.md).
 LOCAL_CLUSTER_CONFIG = {"distributed.worker.profile.enabled": False, "distributed.admin.tick.interval": "1s",
                         "distributed.admin.system-monitor.interval": "10s",
                         "distributed.worker.memory.monitor-interval": "1s",

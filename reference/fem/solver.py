@@ -6,7 +6,7 @@ the top surface (dense Schur complement S from `reference.fem.assembly`);
 "sparse" / "sparse-lagged" (`reference.fem.sparse`) never forms S and solves
 the full reduced system with SuperLU per Newton iteration (optionally a lagged
 factorisation as GMRES preconditioner); "auto" takes dense up to 2048 surface
-unknowns (the measured break-even, benchmarks/results/bench_fe_vs_gfmd.md).
+unknowns (the measured break-even, docs/design/performance.md).
 Both paths share the algorithms below unchanged. Each load step solves the
 surface equilibrium
 

@@ -34,7 +34,7 @@ never forms S:
 `choose_linear("auto", N, components)` (used by `solver.run_realization(linear=...)`)
 picks dense while N·components ≤ DENSE_MAX_NODES = 2048 (components = 2 for the
 coupled law, whose dense system is twice as large) and sparse above. Measured
-(benchmarks/results/bench_fe_vs_gfmd.md, normal law, s per load step, dense /
+(docs/design/performance.md, normal law, s per load step, dense /
 sparse): P2 0.98 / 3.1 at N = 1024, 5.6 / 6.6 at 2048, 34 / 16 at 4096; P1
 0.16 / 0.48, 1.05 / 0.97, 6.0 / 2.3: break-even at N = 2048, where dense also
 needs slightly more memory (P2: 1.3 GB vs 1.2 GB; 3.2 vs 2.3 GB at 4096).

@@ -20,7 +20,7 @@ t_x = t_y = 0): the surface u_x, u_y are free and condensed with the interior, p
 
 and the dense surface stiffness S (N/m per m of u_z, Nx·Ny square) is the doubly circulant matrix
 of the column s(i, j) = ifft2(Ŝ) (`Cell3D.stiffness`). `direct_surface_column` computes the same
-column from the full sparse matrix (SuperLU) for the check (tests/test_fem3d_assembly.py).
+column from the full sparse matrix (SuperLU) for the check (tests/test_fem3d_stiffness.py).
 The boundary term's nodal weights W are the FacetBasis load vector of the constant 1 on the top
 facets (= the node area lx·ly on this uniform grid: nodal quadrature, GFMD's node collocation).
 """
