@@ -6,6 +6,9 @@ only the numbers are shared. Gap Δn = z_ind − u_z (m), T_n > 0 tensile, actin
     T_n(Δn) = (φn/δn) s e^{−s},   s = Δn/δn   (seed Eq. 3),   φn = φn* δn E   (seed §2.1)
     V(Δn)   = −φn (1 + s) e^{−s}  (J/m², dV/dΔn = T_n, V(∞) = 0, V(0) = −φn)
     dT_n/dΔn = (φn/δn²)(1 − s) e^{−s}
+
+A law it has no implementation of (a user law, a law added to `gfmd_contact.core.law_registry` such as the LJ 9-3
+wall) it evaluates through the law protocol (`LawZone`): nothing to be independent from.
 """
 
 from __future__ import annotations
@@ -68,3 +71,36 @@ class NormalCohesiveZone:
         if not 0.0 < tolerance < np.exp(-1.0):
             raise ValueError(f"contact_tolerance = {tolerance!r}: must lie in (0, 1/e), the peak of s e^(-s)")
         return self.delta_n * brentq(lambda s: s * np.exp(-s) - tolerance, 1.0, 800.0, xtol=1e-15)
+
+
+class LawZone:
+    """A law the 3-D FE has no implementation of (a user law, a law added to `gfmd_contact.core.law_registry`),
+    normal-only with a potential, as `NormalCohesiveZone` answers: through the law protocol
+    (`gfmd_contact.core.law_protocol`), nothing to be independent from. delta_n is the law's length, phi_n =
+    e·peak_traction·length (so that φn/(e δn) is its peak traction and φn/δn² a stiffness scale)."""
+
+    def __init__(self, law):
+        if law.tangential or law.constraint or not law.has_potential:
+            raise ValueError(f"the 3-D FE solves normal-only laws with a potential, not the {law.name}")
+        self.law, self.delta_n = law, law.length_scale
+        self.phi_n = np.e * law.peak_traction * law.length_scale
+
+    def _gap(self, gap):
+        gap = np.asarray(gap, dtype=float)
+        if gap.size and not np.all(np.isfinite(gap)):
+            raise GapRangeError("non-finite gap: the iterate diverged")
+        return gap
+
+    def traction(self, gap):
+        return self.law.tractions(self._gap(gap))[0]
+
+    def slope(self, gap):
+        return self.law.tangent(self._gap(gap))[0]
+
+    def potential(self, gap):
+        return self.law.potential(self._gap(gap))
+
+    def contact_gap(self, tolerance):
+        """Δtol (m) of the law's traction-tolerance rule at this tolerance."""
+        import dataclasses
+        return dataclasses.replace(self.law, contact_tolerance=tolerance, contact_rule="traction-tolerance").contact_gap

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from gfmd_contact.core import law_registry
 from gfmd_contact.core.model import build_model
 from gfmd_contact.core.ramp import StepSolution, run_ramp
 
@@ -20,12 +21,19 @@ from .._blas import single_thread
 from .assembly import build_cell
 from .cohesive import CohesiveSurface
 from .hardwall import HardWall
-from .law import NormalCohesiveZone
+from .law import LawZone, NormalCohesiveZone
 from .observables import contact_mask, observables, rms_gradient
 
 #: the largest surface the dense condensed solve is meant for (Nx·Ny ≤ 64²: S is 4096² doubles, 128 MiB)
 MAX_NODES = 64 * 64
 LAWS = ("hard-wall", "cohesive")
+
+
+def _protocol_law(name):
+    """Whether the 3-D FE takes interface.law = name through the law protocol (`LawZone`): a registered
+    normal-only law that is not a wall (it has no implementation of its own of any)."""
+    return name in law_registry.names() and name not in ("hard-wall", "cohesive-wall") and \
+        law_registry.entry(name).normal_only
 
 
 def refusal(scene):
@@ -36,9 +44,10 @@ def refusal(scene):
                 "material.thickness (a layer of D = L stands in for the half-space with the truncation error "
                 "k_layer/k_half − 1 of its fundamental mode, tests/data/fem3d_stiffness.json: "
                 "halfspace_truncation_k_layer_over_k_half_minus_1), or use method.name = \"gfmd\"")
-    if i.law not in LAWS:
-        return (f"interface.law = {i.law!r}: the 3-D FE solves the normal cohesive zone (\"cohesive\", seed Eq. 3) "
-                "and the hard wall (\"hard-wall\") only; use method.name = \"gfmd\"")
+    if i.law not in LAWS and not _protocol_law(i.law):
+        return (f"interface.law = {i.law!r}: the 3-D FE solves the normal cohesive zone (\"cohesive\", seed Eq. 3), "
+                "the hard wall (\"hard-wall\") and a normal law with a potential through the law protocol only; use "
+                "method.name = \"gfmd\"")
     if s.nodes * s.nodes_y > MAX_NODES:
         return (f"surface.nodes × surface.nodes_y = {s.nodes} × {s.nodes_y}: the 3-D FE's dense condensed solve is "
                 f"meant for at most 64 × 64 = {MAX_NODES} surface nodes on a 2-core machine; reduce surface.nodes / "
@@ -78,20 +87,22 @@ def prepare_cell(scene, h, mesh_kw=None, tolerance=None):
     S, w = cell.stiffness(), cell.weights
     e_star = m.youngs_modulus / (1.0 - m.poisson_ratio**2)
     g = rms_gradient(h, cell.spacing)
-    if i.law == "cohesive":
-        law = NormalCohesiveZone.from_dimensionless(i.phi_n_star, i.length_normal, m.youngs_modulus)
+    if i.law != "hard-wall":  # its own Eq. 3, or a law it has none of through the law protocol
+        law = (NormalCohesiveZone.from_dimensionless(i.phi_n_star, i.length_normal, m.youngs_modulus)
+               if i.law == "cohesive" else LawZone(physics.law))
         problem = CohesiveSurface(S, w, law, e_star * g if g > 0 else law.phi_n / (np.e * law.delta_n))
         tolerance_gap = law.contact_gap(i.contact_tolerance) if i.contact_rule == "traction-tolerance" else None
-        rule_gap = i.contact_gap * law.delta_n
+        rule_gap = i.contact_gap * i.length_normal  # δn of every law's "gap" rule
     else:
         problem = HardWall(S, w, e_star * g if g > 0 else e_star)
         tolerance_gap, rule_gap = None, i.contact_gap * i.length_normal
     setup = time.perf_counter() - t0
     model = (f"FE Q1 hexahedra, periodic {s.nodes}×{s.nodes_y} cell Lx = {s.length:g} m, Ly = {cell.lengths[1]:g} m, "
              f"bonded layer D = {m.thickness:g} m in {cell.layers} graded layers, {cell.dofs} DOFs; {i.law} "
-             + ("(normal CZ, seed Eq. 3)" if i.law == "cohesive" else "(frictionless)")
+             + ("(normal CZ, seed Eq. 3)" if i.law == "cohesive" else "(frictionless)" if i.law == "hard-wall" else
+                f"({physics.law.name}, through the law protocol)")
              + " with nodal quadrature on the surface nodes, u_x, u_y free (t_x = t_y = 0); "
-             + ("Newton with line search" if i.law == "cohesive" else "primal–dual active set")
+             + ("primal–dual active set" if i.law == "hard-wall" else "Newton with line search")
              + " on the condensed surface (lateral Fourier block diagonalisation); method.order/linear do not apply")
     reasons = ("3-D FE (reference.fem3d) of the finite layer on its bonded base, periodic cell; the model choice and "
                "checks of gfmd_contact.core.model, as for every method",) + physics.reasons
