@@ -32,7 +32,7 @@ import dataclasses
 import functools
 import time
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 
@@ -145,6 +145,52 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
     cell = prepare(scene, h, realization)
     steps, stop_note = realization_steps(scene, h, realization)
     label = realization_label(scene, realization)
+    result, state, targets = _targets(scene, cell, realization, h, stop_note, resume, checkpoint, variants)
+    ramp = _ramp(scene, cell, h, label, steps)
+    current, previous = state.current, state.previous
+    for k in range(state.step + 1, steps.size):
+        t0 = time.perf_counter()
+        ramp.at[0] = k
+        step = _solve_step(ramp, result, k, current, previous)
+        step = step._replace(wall=time.perf_counter() - t0)
+        if step.solved.converged:
+            previous, current = current, step.solved.state
+        _record(ramp, targets, k, step, current, previous, progress)
+    for v, (_, target, _, _) in zip(variants, targets[1:]):
+        v.result = target.finalize()
+    return result.finalize()
+
+
+class _Ramp(NamedTuple):
+    """What one realization's ramp holds fixed."""
+
+    scene: Any
+    cell: Any
+    h: np.ndarray
+    label: str  # the realization, in words
+    steps: np.ndarray  # displacements U_k (m), or loads p̄_k (Pa) under force control
+    keep: Any  # the steps whose fields are saved
+    d0: float  # the initial separation (m)
+    force: bool  # steps are loads p̄_k (Pa): gfmd_contact.core.force finds U for each
+    solve: Callable  # the cell's solve, naming the step in a user law's error
+    observe: Callable  # the step's observables
+    at: list  # the step being solved, for a user law's error
+
+
+class _Step(NamedTuple):
+    """One solved load step: the method's solution, U (m), the iterations (a retry's included), the load
+    control's instability event (or None) and the wall time (s)."""
+
+    solved: StepSolution
+    displacement: float
+    iterations: int
+    event: dict | None
+    wall: float = 0.0
+
+
+def _targets(scene, cell, realization, h, stop_note, resume, checkpoint, variants):
+    """(result, state, targets): the ramp's Result and RampState, new or resumed, and every Result this solve
+    writes, with its scene, state and checkpoint hook; each with the cell's extras in its diagnostics."""
     if resume is None:
         result = _new_result(scene, cell, realization, h, stop_note)
         start = cell.initial_state()
@@ -154,8 +200,8 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
     targets = [(scene, result, state, checkpoint)]  # every Result this solve writes, with its scene and hook
     if variants:
         if scene.loading.control == "force" or getattr(cell, "observe", None) is not None:
-            raise ValueError("run_ramp variants: only a displacement-controlled ramp of the shared "
-                             "observables (gfmd_contact.core.observables) can be shared (gfmd_contact.core.observation)")
+            raise ValueError("run_ramp variants: only a displacement-controlled ramp of the shared observables "
+                             "(gfmd_contact.core.observables) can be shared (gfmd_contact.core.observation)")
         for v in variants:
             if v.resume is not None and v.resume[1].step < state.step:
                 raise ValueError(f"run_ramp variants: a variant resumes at step {v.resume[1].step}, behind the "
@@ -166,63 +212,69 @@ def run_ramp(scene, realization, prepare, *, progress=None, checkpoint=None, res
     for _, target, _, _ in targets:  # the cell's extras; lists (fallback_steps) continue those of a resumed run
         target.diagnostics.update({k: v for k, v in cell.diagnostics.items()
                                    if not (isinstance(v, list) and k in target.diagnostics)})
-    keep = field_step_indices(scene.loading, scene.output.field_steps)
-    d0 = scene.loading.initial_separation
-    current, previous = state.current, state.previous
-    force = scene.loading.control == "force"  # steps are loads p̄_k (Pa): gfmd_contact.core.force finds U for each
-    at = [0]  # the step being solved, for a user law's error
-    solve = _naming_step(cell.solve, label, at)
+    return result, state, targets
+
+
+def _ramp(scene, cell, h, label, steps):
+    at = [0]
     observe = getattr(cell, "observe", None)  # the cell's own observables if it has them
     if observe is None:  # the profile's gradients (ḡ, and ḡ_r's g_i²) once per ramp, not per step
         observe = functools.partial(step_observables, gradients=profile_gradients(scene, h))
-    for k in range(state.step + 1, steps.size):
-        t0 = time.perf_counter()
-        event, at[0] = None, k
-        if force and k > 0:
-            base = (float(result.curve["U"][-1]), current, {"p": float(result.curve["p"][-1]),
-                                                            "a_rel": float(result.curve["a_rel"][-1])}, None)
-            loaded = solve_load(solve, lambda sol: observe(scene, h, sol.gap, sol.t_n), float(steps[k]), base,
-                                step=first_step(scene.loading), tolerance=load_tolerance(scene.loading),
-                                u_max=_force_u_max(scene, h))
-            solved, displacement, iterations, event = loaded.solved, loaded.U, loaded.iterations, loaded.event
-            solved = dataclasses.replace(solved, converged=loaded.converged)
-        else:
-            displacement = 0.0 if force else steps[k]
-            extrapolate = cell.extrapolate and extrapolation_allowed(scene.loading, k)  # not across a turning point
-            guess = _extrapolated(current, previous) if extrapolate else current
-            solved = solve(displacement, guess, current)
-            iterations = solved.iterations
-            if not solved.converged and extrapolate:  # retry from the last converged state
-                solved = solve(displacement, current, current)
-                iterations += solved.iterations
-        wall = time.perf_counter() - t0
-        where = f"{label}, step {k} (δ = {displacement - d0:.4g} m)"
-        if event is not None:
-            event.update(step=k, delta_before=event["U_before"] - d0, delta_after=event["U_after"] - d0)
-        if solved.converged:
-            previous, current = current, solved.state
-        warning = (start_warning(scene, cell.physics, float(np.min(solved.gap)))
-                   if k == 0 and cell.physics is not None else None)
-        slipped = (slip_warning(scene, k, displacement - d0, solved.gap, solved.u_x)
-                   if solved.u_x is not None and not all(t[2].slip_warned for t in targets) else None)
-        fields = None
-        for t_scene, target, t_state, t_checkpoint in targets:
-            if t_state.step >= k:  # a variant resumed further than the ramp: this step is in its Result
-                continue
-            if k in keep and fields is None:
-                fields = (solved.fields() if solved.relaxed
-                          else {name: np.full(h.shape, np.nan) for name in FIELD_NAMES})
-            _record_step(target, t_state, k, solved, event, where, warning, slipped, d0, displacement,
-                         iterations, wall, observe(t_scene, h, solved.gap, solved.t_n if solved.relaxed
-                                                   else np.zeros_like(solved.gap)), fields)
-            t_state.step, t_state.current, t_state.previous = k, current, previous
-            if t_checkpoint is not None:
-                t_checkpoint(target, t_state)
-            if progress is not None:
-                progress(k, scene.loading.steps)
-    for v, (_, target, _, _) in zip(variants, targets[1:]):
-        v.result = target.finalize()
-    return result.finalize()
+    return _Ramp(scene=scene, cell=cell, h=h, label=label, steps=steps,
+                 keep=field_step_indices(scene.loading, scene.output.field_steps), d0=scene.loading.initial_separation,
+                 force=scene.loading.control == "force", solve=_naming_step(cell.solve, label, at), observe=observe,
+                 at=at)
+
+
+def _solve_step(ramp, result, k, current, previous):
+    """Load step k: under force control, U for the load p̄_k (`gfmd_contact.core.force.solve_load`); else the
+    cell's solve from the warm start, retried once from the last converged state if the extrapolated start fails."""
+    scene, h, solve, observe = ramp.scene, ramp.h, ramp.solve, ramp.observe
+    if ramp.force and k > 0:
+        base = (float(result.curve["U"][-1]), current, {"p": float(result.curve["p"][-1]),
+                                                        "a_rel": float(result.curve["a_rel"][-1])}, None)
+        loaded = solve_load(solve, lambda sol: observe(scene, h, sol.gap, sol.t_n), float(ramp.steps[k]), base,
+                            step=first_step(scene.loading), tolerance=load_tolerance(scene.loading),
+                            u_max=_force_u_max(scene, h))
+        solved = dataclasses.replace(loaded.solved, converged=loaded.converged)
+        return _Step(solved, loaded.U, loaded.iterations, loaded.event)
+    displacement = 0.0 if ramp.force else ramp.steps[k]
+    extrapolate = ramp.cell.extrapolate and extrapolation_allowed(scene.loading, k)  # not across a turning point
+    guess = _extrapolated(current, previous) if extrapolate else current
+    solved = solve(displacement, guess, current)
+    iterations = solved.iterations
+    if not solved.converged and extrapolate:  # retry from the last converged state
+        solved = solve(displacement, current, current)
+        iterations += solved.iterations
+    return _Step(solved, displacement, iterations, None)
+
+
+def _record(ramp, targets, k, step, current, previous, progress):
+    """Step k into every target's Result (those not resumed beyond it), then its state, checkpoint and progress."""
+    scene, cell, h, d0 = ramp.scene, ramp.cell, ramp.h, ramp.d0
+    solved, displacement, event = step.solved, step.displacement, step.event
+    where = f"{ramp.label}, step {k} (δ = {displacement - d0:.4g} m)"
+    if event is not None:
+        event.update(step=k, delta_before=event["U_before"] - d0, delta_after=event["U_after"] - d0)
+    warning = (start_warning(scene, cell.physics, float(np.min(solved.gap)))
+               if k == 0 and cell.physics is not None else None)
+    slipped = (slip_warning(scene, k, displacement - d0, solved.gap, solved.u_x)
+               if solved.u_x is not None and not all(t[2].slip_warned for t in targets) else None)
+    fields = None
+    for t_scene, target, t_state, t_checkpoint in targets:
+        if t_state.step >= k:  # a variant resumed further than the ramp: this step is in its Result
+            continue
+        if k in ramp.keep and fields is None:
+            fields = (solved.fields() if solved.relaxed
+                      else {name: np.full(h.shape, np.nan) for name in FIELD_NAMES})
+        _record_step(target, t_state, k, solved, event, where, warning, slipped, d0, displacement,
+                     step.iterations, step.wall, ramp.observe(t_scene, h, solved.gap, solved.t_n if solved.relaxed
+                                                              else np.zeros_like(solved.gap)), fields)
+        t_state.step, t_state.current, t_state.previous = k, current, previous
+        if t_checkpoint is not None:
+            t_checkpoint(target, t_state)
+        if progress is not None:
+            progress(k, scene.loading.steps)
 
 
 def _naming_step(solve, label, at):
