@@ -112,7 +112,8 @@ class Scene:
         if "interface.work_normal" in sections and "interface.phi_n_star" not in sections:
             d["interface"].pop("phi_n_star", None)  # φn given for the stored φn*: rederived from it
         new = scene_from_dict(d, name=self.name)
-        keep = self.user_law is not None and new.interface.law == "user"  # the user law goes with interface.law
+        # a law not in the file (the user law's callables) goes with interface.law (`law_registry.SceneLaw.in_file`)
+        keep = self.user_law is not None and not law_registry.entry(new.interface.law).in_file
         return dataclasses.replace(new, user_law=self.user_law) if keep else new
 
 
