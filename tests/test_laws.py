@@ -498,3 +498,36 @@ def test_law_objects_are_frozen_equal_and_picklable():
         if dataclasses.fields(law):
             with pytest.raises(dataclasses.FrozenInstanceError):
                 setattr(law, dataclasses.fields(law)[0].name, 1.0)
+
+
+# ---------------------------------------------------------------- the methods ask the law protocol
+_LAW_CLASSES = {"HardWall", "NormalCohesive", "CoupledCohesive", "CohesiveWall", "UserLaw", "Lj93Wall"}
+_LAW_PARAMETERS = {"work_normal", "length_normal", "work_tangential", "length_tangential", "tangential_ratio", "user"}
+
+
+def law_identity_reads(source):
+    """[(line, what)] where `source` names a law's class or reads one law's own parameters from anything but the
+    scene's Interface (the law protocol, gfmd_contact.core.law_protocol, is what a method may ask)."""
+    import ast
+
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        name = node.id if isinstance(node, ast.Name) else node.attr if isinstance(node, ast.Attribute) else None
+        if name in _LAW_CLASSES:
+            found.append((node.lineno, name))
+        elif isinstance(node, ast.Attribute) and name in _LAW_PARAMETERS and "interface" not in ast.unparse(node.value).lower():
+            found.append((node.lineno, ast.unparse(node)))
+    return found
+
+
+def test_the_methods_ask_the_law_protocol_not_a_laws_class_or_parameters():
+    """gfmd (every algorithm, the preconditioners, the NCG's nodal work, the chains) and the stickiness diagnostics
+    never name a law's class nor read Eq. 3's parameters; a planted read is caught."""
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    files = sorted((root / "gfmd").rglob("*.py")) + [root / "gfmd_contact" / "core" / "stickiness.py"]
+    wrong = {str(p.relative_to(root)): law_identity_reads(p.read_text(encoding="utf-8")) for p in files}
+    assert not {k: v for k, v in wrong.items() if v}, wrong
+    assert law_identity_reads("ok = type(law) is laws.NormalCohesive\nphi = cz.work_normal\nd = i.interface.length_normal")\
+        == [(1, "NormalCohesive"), (2, "cz.work_normal")]
