@@ -7,9 +7,12 @@ chain; `Relaxed.method` names the algorithms that ran, joined by "→" ("ncg→f
 FIRE finished the step). `chain_key` reads the key from `Settings.method` (the scene's
 solver.method), `hard_wall`, `cohesive`, `coupled` and `dual_coarse_block`. Only chains a scene or
 the verification suite reaches are here; a test or benchmark walks a chain of its own with
-`relax(..., chain=...)`. The measurements that chose them: docs/design/solvers.md.
+`relax(..., chain=...)`. The measurements that chose them: docs/design/solvers.md. An algorithm has
+one name, its module's `LABEL` (what `Relaxed.method`, curve.csv's algorithm column and the docs say;
+the module's file name says what it does: `hard_wall_two_level_cg` is "cg-dual2"); a chain's key is
+the label of its first algorithm (the Result's method "gfmd-" + key), or a coupled chain's own name.
 
-* hard wall, method "fire": the two-level dual CG (`hard_wall_two_level_cg`, label "cg-dual2") while
+* hard wall, method "fire" (keys "cg-dual2", "cg-dual"): the two-level dual CG ("cg-dual2") while
   the contact set holds at most `Settings.dual_contact_limit` of the nodes, then the primal CG
   ("cg"); on a 2+1-D surface, or with `dual_coarse_block = 0`, the dual CG with its band or window
   preconditioner ("cg-dual") in its place; ``hard_wall = "fire"``: projected FIRE; method "verlet":
@@ -58,7 +61,7 @@ from .coupled_rules import (COUPLED_BETTER_START, COUPLED_CONTINUATION_GMRES_CYC
                             COUPLED_FIRE_BUDGET, COUPLED_FIRE_CRAWL, COUPLED_FRICTIONLESS_COUPLING, COUPLED_HANDOVER_MOVE,
                             COUPLED_JUMP, COUPLED_PREDICTION_MOVE, COUPLED_START_MARGIN)
 from .coupled_stability import coupled_stability
-from .links import ALGORITHMS, Accept, Budget, Link, Start, options_for
+from .links import ALGORITHMS, MODULES, Accept, Budget, Link, Start, options_for
 from .problem import Problem, elastic_coupling, flat_problem, frictionless
 from .stopping import finish
 
@@ -87,11 +90,12 @@ _HANDOVER_NEAR = (Link("dynamics", budget=Budget.COUPLED_FIRE, handover=True),
                   Link("dynamics", starts=(Start.STALLED_END,), budget=Budget.COUPLED_FIRE), _STABLE_NEWTON,
                   *_LAST_RESORT)
 _FIRE = (Link("dynamics"),)
-#: {(law kind, key): chain}: the law kinds of `gfmd.problem.Problem.kind`, the keys of `chain_key`
+#: {(law kind, key): chain}: the law kinds of `gfmd.problem.Problem.kind`, the keys of `chain_key`: the label of the
+#: chain's first algorithm, or for the coupled law's Newton-first chains the chain's own name
 CHAINS = {
-    ("hard-wall", "cg"): (Link("hard_wall_two_level_cg"),
-                          Link("hard_wall_primal_cg", starts=(Start.END,), budget=Budget.LEFT)),
-    ("hard-wall", "cg-band"): (Link("hard_wall_dual_cg"),
+    ("hard-wall", "cg-dual2"): (Link("hard_wall_two_level_cg"),
+                                Link("hard_wall_primal_cg", starts=(Start.END,), budget=Budget.LEFT)),
+    ("hard-wall", "cg-dual"): (Link("hard_wall_dual_cg"),
                                Link("hard_wall_primal_cg", starts=(Start.END,), budget=Budget.LEFT)),
     ("hard-wall", "fire"): (Link("hard_wall_dynamics"),),
     ("hard-wall", "verlet"): (Link("hard_wall_dynamics"),),
@@ -111,10 +115,9 @@ CHAINS = {
 }
 
 #: the algorithms' labels (`Relaxed.method`) in words, for messages and reports
-WORDS = {"hard_wall_two_level_cg": "the two-level dual CG", "cg-dual2": "the two-level dual CG",
-         "hard_wall_dual_cg": "the dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG",
-         "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov",
-         "ptc": "pseudo-transient continuation", "ncg-frictionless": "NCG on the frictionless reduction"}
+WORDS = {"cg-dual2": "the two-level dual CG", "cg-dual": "the dual CG", "cg": "the primal CG", "ncg": "NCG",
+         "fire": "FIRE", "verlet": "damped Verlet", "newton": "Newton–Krylov", "ptc": "pseudo-transient continuation",
+         "ncg-frictionless": "NCG on the frictionless reduction"}
 #: Settings.coupled's chains (`chain_key`)
 COUPLED_KEYS = ("auto", "fire", "handover-near", "frictionless-first")
 
@@ -150,7 +153,7 @@ def chain_key(problem, settings):
                                  "number of nodes ≥ 0 (0: the dual CG with the band preconditioner alone)")
             # the two-level coarse blocks are runs of consecutive nodes of a profile; a 2+1-D surface
             # keeps the dual CG with its periodic window preconditioner (`hard_wall_dual_cg`)
-            return kind, "cg" if settings.dual_coarse_block > 0 and not problem.surface else "cg-band"
+            return kind, "cg-dual2" if settings.dual_coarse_block > 0 and not problem.surface else "cg-dual"
         if settings.hard_wall not in ("cg", "fire"):
             raise ValueError(f"Settings.hard_wall = {settings.hard_wall!r}: expected 'cg' or 'fire'")
         return kind, "verlet" if settings.method == "verlet" else "fire"
@@ -178,11 +181,14 @@ def chain_key(problem, settings):
 
 def labels(key, settings):
     """The `Relaxed.method` labels of the chain `CHAINS[key]`'s algorithms in order, e.g. ("ncg", "fire")."""
-    fixed = {"hard_wall_two_level_cg": "cg-dual2", "hard_wall_dual_cg": "cg-dual", "hard_wall_primal_cg": "cg", "ncg": "ncg",
-             "coupled_newton": "newton", "coupled_ptc": "ptc"}
-    return tuple((fixed.get(link.algorithm) or ("verlet" if dict(link.options).get("method", settings.method) == "verlet"
-                                                else "fire")) + ("-frictionless" if link.frictionless else "")
-                 for link in CHAINS[key])
+    return tuple(_label(link, settings) for link in CHAINS[key])
+
+
+def _label(link, settings):
+    """The link's label: its module's `LABEL`, or for the dynamics the integrator ("fire" or "verlet")."""
+    label = getattr(MODULES[link.algorithm], "LABEL", None) or (
+        "verlet" if dict(link.options).get("method", settings.method) == "verlet" else "fire")
+    return label + ("-frictionless" if link.frictionless else "")
 
 
 def describe(key, settings):
@@ -392,7 +398,7 @@ def _walk_link(walk, i, link):
         r = _run(walk.problem, link, origin, run)
         walk.count(r)
         walk.run, walk.origin = r, origin
-        label = WORDS.get(r.method) or WORDS.get(link.algorithm, link.algorithm)
+        label = WORDS.get(r.method) or WORDS.get(_label(link, run), link.algorithm)
         if link.handover and r.converged:  # the looser residual: handed on, not the answer
             walk.handed, walk.handover_used, walk.handed_words = r, r.iterations, _handed_words(link)
             walk.notes.append(f"{label} handed over at residual {r.residual:.3g} p_ref")

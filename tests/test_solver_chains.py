@@ -121,7 +121,7 @@ def test_energy_is_infinite_through_the_wall_and_undefined_for_the_coupled_law()
         coupled.energy(np.zeros((2, coupled.model.nodes // 2 + 1), complex))
 
 
-SETTINGS_OF_KEY = {"cg": Settings(), "cg-band": Settings(dual_coarse_block=0),
+SETTINGS_OF_KEY = {"cg-dual2": Settings(), "cg-dual": Settings(dual_coarse_block=0),
                    "fire": Settings(hard_wall="fire", cohesive="fire", coupled="fire"), "verlet": Settings(method="verlet"),
                    "ncg": Settings(), "handover-near": Settings(),  # "auto" at ν = 0.3
                    "frictionless-first": Settings(coupled="frictionless-first")}
@@ -189,9 +189,9 @@ def test_ramp_results_name_the_algorithm_of_every_step():
     assert result.method == "gfmd-ncg"
     assert len(result.diagnostics["algorithms"]) == len(result.curve["step"])
     assert set(result.diagnostics["algorithms"]) <= {"ncg", "ncg→fire"}
-    assert any("integrator: ncg (then fire where it stalls)" in r for r in result.reasons)
+    assert any("algorithms: ncg (then fire where it stalls)" in r for r in result.reasons)
     hard = sc.replace(**{"interface.law": "hard-wall"})
-    assert prepare(hard, surfaces.profile(hard.surface, 0)).method == "gfmd-cg"
+    assert prepare(hard, surfaces.profile(hard.surface, 0)).method == "gfmd-cg-dual2"
     verlet = sc.replace(**{"solver.method": "verlet"})
     assert prepare(verlet, surfaces.profile(verlet.surface, 0)).method == "gfmd-verlet"
 

@@ -87,7 +87,7 @@ MUTATIONS = (
     Mutation("stop-early-hard-wall", "gfmd/chains.py",
              "    key = chain_key(problem, settings)\n",
              "    key = chain_key(problem, settings)\n"
-             '    if key[1] in ("cg", "cg-band", "cg-primal"):\n'
+             '    if key[1] in ("cg-dual2", "cg-dual"):\n'
              "        settings = replace(settings, tolerance=1e4 * settings.tolerance)\n",
              "GFMD hard-wall CG (dual and primal) stops at 10⁴ × its tolerance (and says it converged)"),
     Mutation("verlet-is-fire", ("gfmd/algorithms/dynamics.py", "gfmd/algorithms/hard_wall_dynamics.py"),

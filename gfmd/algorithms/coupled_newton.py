@@ -22,6 +22,9 @@ from ..problem import coupled_operators, stiffness_operator
 from ..settings import Relaxed
 from ..stopping import finish
 
+#: the name of this algorithm in `Relaxed.method`, result files and the chains (`gfmd.chains`)
+LABEL = "newton"
+
 #: Newton iterations a coupled-law step gets after FIRE stalls; each solves the linearised balance by GMRES
 #: (restart COUPLED_GMRES_RESTART, at most COUPLED_GMRES_CYCLES cycles).
 COUPLED_NEWTON_ITERATIONS = 60
@@ -157,7 +160,7 @@ def _init(problem, newton, start):
                                                         newton.stiff)
     except laws.CompressionOverflowError as exc:
         out = finish(problem, u_hat, 0, np.inf, False, f"diverged: {exc}")
-        out.method, out.stalled = "newton", out.message
+        out.method, out.stalled = LABEL, out.message
         return out
     residual = float(np.max(np.abs(f))) / newton.p_ref
     return NewtonState(u_hat=u_hat, f=f, u=u, ku=ku, origin=u, residual=residual,
@@ -285,6 +288,6 @@ def _result(problem, newton, state):
     pairs = newton.fft.pairs
     out = finish(problem, state.u_hat, state.it, state.residual, state.converged, state.message)
     out.fft_pairs = pairs + 0.5
-    out.method = "newton"
+    out.method = LABEL
     out.stalled = "" if out.converged else out.message  # the chain may go on (`gfmd.chains`)
     return out

@@ -22,6 +22,9 @@ from ..problem import Elastic, stiffness_operator
 from ..settings import stall
 from ..stopping import finish
 
+#: the name of this algorithm in `Relaxed.method`, result files and the chains (`gfmd.chains`)
+LABEL = "ptc"
+
 
 @dataclass(frozen=True)
 class Options:
@@ -78,7 +81,7 @@ def solve(problem, start, options):
     try:
         fh, f, u = force(u_hat)
     except laws.CompressionOverflowError as exc:
-        return stall(u_hat, 0, np.inf, fft.pairs, "ptc", f"diverged: {exc}")  # no fields: `finish` would raise
+        return stall(u_hat, 0, np.inf, fft.pairs, LABEL, f"diverged: {exc}")  # no fields: `finish` would raise
     k_mean = law.mean_stiffness(u, z_ind)
     residual = float(np.max(np.abs(f))) / p_ref
     norm = float(np.linalg.norm(f))
@@ -142,6 +145,6 @@ def _shifted(model, k_mean, sigma):
 def _out(problem, u_hat, it, residual, converged, message, fft):
     out = finish(problem, u_hat, it, residual, converged, message)
     out.fft_pairs = fft.pairs + 0.5
-    out.method = "ptc"
+    out.method = LABEL
     out.stalled = "" if out.converged else out.message  # the chain may go on (`gfmd.chains`)
     return out

@@ -14,6 +14,9 @@ import scipy.sparse
 from ..dual_cg import TRANSIENT_FACTOR, DualOptions, solve_dual
 from ..problem import band_stiffness as _band_stiffness
 
+#: the name of this algorithm in `Relaxed.method`, result files and the chains (`gfmd.chains`)
+LABEL = "cg-dual"
+
 Options = DualOptions  # what it reads: the dual CG's options
 
 DUAL_BAND_HALF_WIDTH = 32
@@ -63,4 +66,4 @@ def solve(problem, start, options):
     else:
         def band_stiffness(kernel, nodes):
             return _band_stiffness(kernel, nodes, model.nodes, DUAL_BAND_HALF_WIDTH)
-    return solve_dual(problem, start, options, label="cg-dual", band_stiffness=band_stiffness)
+    return solve_dual(problem, start, options, label=LABEL, band_stiffness=band_stiffness)

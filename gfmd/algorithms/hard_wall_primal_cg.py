@@ -17,6 +17,9 @@ from ..fft import Fft, dot
 from ..problem import mean_shift, stiffness_operator
 from ..stopping import finish, wall_check
 
+#: the name of this algorithm in `Relaxed.method`, result files and the chains (`gfmd.chains`)
+LABEL = "cg"
+
 
 @dataclass(frozen=True)
 class Options:
@@ -63,7 +66,7 @@ def solve(problem, start, options):
     pairs = primal.fft.pairs
     out = finish(problem, u_hat, state.it, state.residual, state.converged, state.message)
     out.fft_pairs = pairs + 1.5  # finish: one irfft of u_hat and one pair for K u
-    out.method = "cg"
+    out.method = LABEL
     return out
 
 

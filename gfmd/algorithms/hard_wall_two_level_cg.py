@@ -27,6 +27,9 @@ import scipy.linalg
 from ..dual_cg import DualOptions, solve_dual
 from ..problem import band_stiffness, stiffness_operator
 
+#: the name of this algorithm in `Relaxed.method`, result files and the chains (`gfmd.chains`)
+LABEL = "cg-dual2"
+
 
 @dataclass(frozen=True)
 class Options(DualOptions):
@@ -118,4 +121,4 @@ def solve(problem, start, options):
             return two_level(r, band, coarse_of[1])
         return precondition
 
-    return solve_dual(problem, start, options, label="cg-dual2", band_stiffness=fine, preconditioner=preconditioner)
+    return solve_dual(problem, start, options, label=LABEL, band_stiffness=fine, preconditioner=preconditioner)

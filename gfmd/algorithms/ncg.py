@@ -20,6 +20,9 @@ from ..fft import Fft
 from ..settings import stall
 from ..stopping import finish
 
+#: the name of this algorithm in `Relaxed.method`, result files and the chains (`gfmd.chains`)
+LABEL = "ncg"
+
 NCG_BUDGET = 5000
 
 #: NCG: nodes whose attraction (Eq. 3) is at most NCG_FAR_FRACTION · tolerance · p_ref, Δn ≥ s_c δn, are
@@ -328,11 +331,11 @@ def solve(problem, start, settings):
             if clamp:
                 f_hat[0] = 0.0
     if failed:  # the chain's next algorithm restarts from the guess (`gfmd.chains`)
-        return stall(guess, it, residual, fft.pairs, "ncg", f"NCG stopped ({failed})")
+        return stall(guess, it, residual, fft.pairs, LABEL, f"NCG stopped ({failed})")
     pairs = fft.pairs
     out = finish(problem, uh[None, :], it, residual, converged, message)
     out.fft_pairs = pairs + 0.5
-    out.method = "ncg"
+    out.method = LABEL
     return out
 
 

@@ -44,7 +44,7 @@ class Result:
     """
 
     scene: object  # gfmd_contact.core.scene.Scene
-    method: str  # e.g. "gfmd-ncg", "gfmd-cg", "gfmd-fire", "gfmd-verlet", "fe-p2" (GFMD: its chain, gfmd.chains)
+    method: str  # e.g. "gfmd-ncg", "gfmd-cg-dual2", "gfmd-fire", "gfmd-verlet", "fe-p2" (GFMD: its chain, gfmd.chains)
     model: str  # the model actually solved, in words
     realization: int
     x: np.ndarray  # node positions (m) along x: (N,) (a 2+1-D surface: (Nx,))
