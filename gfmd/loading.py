@@ -46,6 +46,7 @@ class GfmdCell:
 
     @property
     def reasons(self):
+        """The model's reasons, the algorithms, then the internals (`INTERNALS`: speed and round-off only)."""
         return self.physics.reasons + (integrator(self.physics, self.settings), backends(),
                                        f"memory: {heap.STATE} (gfmd.heap, speed only; GFMD_KEEP_HEAP=0: glibc's defaults)",
                                        f"BLAS threads: {blas.state()} (speed only)")
@@ -79,6 +80,16 @@ class GfmdCell:
                             messages=() if r.converged else (r.message,), algorithm=r.method)
 
 
+#: how the reasons that describe this process rather than the model begin (FFT and kernel backends, the heap, BLAS
+#: threads): they change speed or round-off only; meta.json keeps them, `gfmd run` prints them with --verbose
+INTERNALS = ("backends: ", "memory: ", "BLAS threads: ")
+
+
+def internal(reason):
+    """True for a reason line about this process's internals (`INTERNALS`), not about the model solved."""
+    return reason.startswith(INTERNALS)
+
+
 def wall_tolerance_of(scene, h):
     """The gap (m) within which a node counts as on a wall, a round-off allowance: 1e-12 × the profile's height range,
     or on a flat profile × δn (interface.length_normal) for a law with a cohesive zone and × 1 nm (the default δn) for
@@ -101,14 +112,16 @@ def chain(physics, settings):
 
 
 def integrator(physics, settings):
-    """Which GFMD algorithms relax the steps (`gfmd.chains`), in words."""
+    """Which GFMD algorithms relax the steps (`gfmd.chains`), in words: the chain, then which law kind and
+    solver.method chose it ("fire": the law's production chain, whatever its first algorithm)."""
     key = chain(physics, settings)
     preconditioner = ""
     if key[1] == "ncg":  # which preconditioner the NCG runs (`gfmd.cohesive_preconditioner`)
         name = resolve_preconditioner(settings.cohesive_preconditioner, physics.grid, physics.law.curvature_scale is None)
         preconditioner = f"; NCG preconditioner {name!r} (Settings.cohesive_preconditioner = " \
                          f"{settings.cohesive_preconditioner!r})"
-    return (f"integrator: {describe(key, settings)} (gfmd.chains {key[0]} / {key[1]}: solver.method = "
+    chosen = "the production chain" if settings.method == "fire" else "damped Verlet throughout"
+    return (f"algorithms: {describe(key, settings)} (gfmd.chains {key[0]} / {key[1]}, {chosen} of solver.method = "
             f"{settings.method!r}; each step's algorithm is in curve.csv's algorithm column{preconditioner})")
 
 

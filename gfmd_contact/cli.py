@@ -31,7 +31,7 @@ def _gfmd_description(scene):
 
 def _method_overrides(args):
     """--method as scene keys (gfmd_contact.scenes.METHOD_CHOICES): fe → method.name; fire/verlet → GFMD
-    with that integrator."""
+    with solver.method (the law's production chain / damped Verlet)."""
     from gfmd_contact.scenes import method_changes
 
     return method_changes(args.method)
@@ -166,7 +166,7 @@ def _run_locked(args, scene, out, warnings, notes):
         print(f"resumed: {resume['realizations_reused']} realization(s) and {resume['steps_reused']} load steps "
               "reused from the interrupted run", file=sys.stderr)
     print(f"model solved: {results[0].model}", file=sys.stderr)
-    for reason in results[0].reasons:
+    for reason in _shown(results[0].reasons, getattr(args, "verbose", False)):
         print(f"  - {reason}", file=sys.stderr)
     bad = [m for r in results for m in r.messages]
     for m in bad:
@@ -180,6 +180,14 @@ def _run_locked(args, scene, out, warnings, notes):
 
 def _cmd_plot(args):
     from .app.plots import plot_run
+
+def _shown(reasons, verbose):
+    """The reason lines `gfmd run` prints: the model's and the algorithms'; the process's internals (FFT backends,
+    heap, BLAS threads: `gfmd.loading.INTERNALS`, kept in meta.json) only with --verbose."""
+    from gfmd.loading import internal
+
+    return [r for r in reasons if verbose or not internal(r)]
+
 
     for path in plot_run(args.dir, snapshot_delta=args.delta, fmt=args.format, realization=args.realization,
                          wait=getattr(args, "wait", 0)):
@@ -397,13 +405,17 @@ def _wait_option(parser, what):
 
 
 def build_parser():
-    parser = argparse.ArgumentParser(prog="gfmd", description="GFMD for rough adhesive line contacts (SI units).")
+    parser = argparse.ArgumentParser(prog="gfmd", description="GFMD for rough adhesive contacts: line contacts "
+                                     "(profiles) and 2+1-D surfaces, under displacement or force control, with "
+                                     "finite-element and analytic references (SI units).")
     sub = parser.add_subparsers(dest="command", required=True)
     run = sub.add_parser("run", help="run a scene (default: the built-in default scene) and write results + plots")
     run.add_argument("scene", nargs="?", help="scene TOML file (omit for the built-in default scene)")
     run.add_argument("--out", help="output directory (default results/<scene name>)")
     run.add_argument("--method", choices=("fire", "verlet", "fe"),
-                     help="fire/verlet: GFMD with that integrator (solver.method); fe: the FE reference (method.name)")
+                     help="fire: GFMD with its production algorithms of the law (solver.method = \"fire\": "
+                          "NCG, CG, Newton or FIRE); verlet: GFMD with damped Verlet throughout; fe: the FE "
+                          "reference (method.name)")
     run.add_argument("--realizations", type=_count(1), help="override surface.realizations (≥ 1)")
     run.add_argument("--workers", type=_count(0), default=None,
                      help="processes (default output.workers; 0 = all cores)")
@@ -417,6 +429,8 @@ def build_parser():
     run.set_defaults(func=_cmd_run)
     plot = sub.add_parser("plot", help="seed-style figures of a run directory (into DIR/plots/)")
     plot.add_argument("dir")
+    run.add_argument("--verbose", action="store_true",
+                     help="also print the process's internals (FFT backends and plans, heap, BLAS threads)")
     plot.add_argument("--delta", type=float, help="δ (m) of the interface snapshot (default: last saved step)")
     plot.add_argument("--format", choices=("png", "svg", "pdf"), default="png", help="file format (default png)")
     plot.add_argument("--realization", type=int, metavar="I",

@@ -307,7 +307,8 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
         Default: a new temporary directory (``result.dir`` says where; it is not removed).
     method : {"gfmd", "fe", "fire", "verlet"}, optional
         "fe": the finite-element reference (finite layer only); "fire"/"verlet": GFMD
-        with that integrator; default: the scene's [method] and [solver] keys.
+        with solver.method "fire" (the law's production chain: NCG, CG, Newton or FIRE, `gfmd.chains`) or
+        "verlet" (damped Verlet throughout); default: the scene's [method] and [solver] keys.
     realizations : int, optional
         Number of random realizations (surface.realizations; seeds surface.seed + i).
     workers : int, optional

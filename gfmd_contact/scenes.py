@@ -138,7 +138,7 @@ def change(scene, changes=None, /, *, name=None, **sections):
 
 
 def method_changes(method):
-    """The scene keys a method choice sets: "gfmd", "fe", "fire" or "verlet" (GFMD with that integrator).
+    """The scene keys a method choice sets: "gfmd", "fe", "fire" or "verlet" (GFMD with that solver.method).
 
     Returns
     -------

@@ -189,7 +189,7 @@ def test_ramp_results_name_the_algorithm_of_every_step():
     assert result.method == "gfmd-ncg"
     assert len(result.diagnostics["algorithms"]) == len(result.curve["step"])
     assert set(result.diagnostics["algorithms"]) <= {"ncg", "ncg→fire"}
-    assert any("integrator: ncg (then fire where it stalls)" in r for r in result.reasons)
+    assert any("algorithms: ncg (then fire where it stalls)" in r for r in result.reasons)
     hard = sc.replace(**{"interface.law": "hard-wall"})
     assert prepare(hard, surfaces.profile(hard.surface, 0)).method == "gfmd-cg-dual2"
     verlet = sc.replace(**{"solver.method": "verlet"})

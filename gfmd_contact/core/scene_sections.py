@@ -86,17 +86,19 @@ class Interface:
 
 @dataclass(frozen=True)
 class Loading:
-    """Displacement control: the seed's ramp (δ from −initial_separation to final_penetration in `steps`
+    """The load: under displacement control the seed's ramp (δ from −initial_separation to final_penetration in `steps`
     equal increments), or, with `path`, a piecewise-linear path in δ = U − δ0 (m) through the corners
     path[0], path[1], ... with segment_steps[s] increments on segment s (`gfmd_contact.core.loading`). For a path,
-    initial_separation = −path[0], final_penetration = max(path) and steps = sum(segment_steps) (derived)."""
+    initial_separation = −path[0], final_penetration = max(path) and steps = sum(segment_steps) (derived).
+    Under force control (control = "force") path holds corners of the mean pressure p̄ (Pa, from 0), the indenter
+    starting out of contact at δ = −initial_separation."""
 
     initial_separation: float = 2e-9
     final_penetration: float = 40e-9
     steps: int = 200
     path: tuple = ()  # corners of δ (m); () = the ramp
     segment_steps: tuple = ()  # increments per segment of the path (TOML: loading.steps, an int or a list)
-    control: str = "displacement"  # "displacement" only (force control: not implemented yet)
+    control: str = "displacement"  # "displacement" or "force" (path in p̄, Pa)
 
 
 @dataclass(frozen=True)
@@ -127,7 +129,7 @@ class Output:
 class Method:
     """Which method solves the scene, and its options.
 
-    name: "gfmd" (the production solver; its integrator is solver.method) or "fe" (the
+    name: "gfmd" (the production solver; its algorithms: solver.method) or "fe" (the
     finite-element reference, a finite layer only). FE options (fe only): order 1 or 2
     (P1/P2 elements), linear "auto" | "dense" | "sparse" | "sparse-lagged" (reference.fem),
     quadrature "nodal" | "gauss" (the cohesive boundary term; gauss needs linear dense).
