@@ -8,4 +8,4 @@ load ramp of one realization. It imports the core (`contact`) only.
 
 from . import heap as _heap
 
-_heap.keep_heap()  # glibc keeps a step's arrays on its heap (`gfmd.heap`: measured, docs/design/performance.md.md)
+_heap.keep_heap()  # glibc keeps a step's arrays on its heap (`gfmd.heap`: measured, docs/design/performance.md)

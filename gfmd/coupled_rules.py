@@ -29,7 +29,7 @@ COUPLED_CONTINUATION_GMRES_CYCLES = 2
 #: and it gives up once two iterations in a row each left more than COUPLED_CONTINUATION_STAGNATION of the residual
 #: before them (a Newton crawling along a near-singular tangent, which went on to the iteration cap or a line search
 #: stall: Fig. 8 at 2^17, ν = 0.45, seed 7, step 122: 1.4e-2 p_ref for 17 iterations, 14 of the step's 17 CPU s);
-#: kept continuations converge superlinearly (docs/design/performance.md.md)
+#: kept continuations converge superlinearly (docs/design/performance.md)
 COUPLED_CONTINUATION_STAGNATION = 0.5
 #: coupled chains: where the ramp extrapolated the step's guess from its last two states (`relax`'s `previous`, the
 #: last one), the chain starts from the last state where the guess's nodal force residual is more than
@@ -38,7 +38,7 @@ COUPLED_CONTINUATION_STAGNATION = 0.5
 #: the continuation Newton moves a node a law length and hands the step to FIRE; from the last state it is a
 #: continuation, the same state within 3e-7 δn. A guess 1.5–1.7× worse was no overshoot: from it the continuation did
 #: as well or better (moves from the last state reach a law length sooner), hence the margin
-#: (docs/design/performance.md.md)
+#: (docs/design/performance.md)
 COUPLED_BETTER_START = True
 COUPLED_START_MARGIN = 2.0
 #: handover chains ("handover-near", "frictionless-first"): Newton's state from FIRE's handover state is kept only where no node
