@@ -8,7 +8,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 PACKAGES = ("gfmd", "gfmd_contact", "reference", "verification")
 #: a path into the repository: a top folder, then path characters, ending in a file suffix
-PATH = re.compile(r"(?<![\w/.~-])((?:docs|benchmarks|tests|studies|verification/data)/[\w./*-]*?\.(?:md|py|json|rst|toml))")
+PATH = re.compile(r"(?<![\w/.~-])((?:docs|benchmarks|tests|studies|verification/data)/[\w./*-]*\.(?:md|py|json|rst|toml))")
 
 
 def named_paths(text):
