@@ -98,6 +98,9 @@ def _cmd_run(args):
         name = json.loads((Path(args.out) / "meta.json").read_text()).get("scene_name", scene.name)
         scene = dataclasses.replace(scene, name=name)
     warnings, notes = _checks(scene)  # refusals happen here, before any file is touched
+    from gfmd_contact.core.cost import check_memory
+
+    check_memory(scene, args.workers)  # the worker processes this run starts
     out = Path(args.out or f"results/{scene.name}")
     if out.exists() and not out.is_dir():
         raise io.RunDirError(f"--out {str(out)!r} is an existing file, not a directory: choose another --out")

@@ -363,6 +363,9 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
     if keys:
         scene = change(scene, keys)
     found, _notes = check(scene)  # refusals happen here, before any file is touched
+    from gfmd_contact.core.cost import check_memory
+
+    check_memory(scene, workers)  # the worker processes this run starts
     out = Path(out) if out is not None else Path(tempfile.mkdtemp(prefix=f"gfmd-{scene.name}-"))
     with safe_files.locked(out, wait=wait, what="run directory", command=f"gfmd_contact.run(out={str(out)!r})",
                            advice="wait for it to end (wait=seconds), or choose another out",

@@ -108,6 +108,24 @@ def test_memory_refusal_gives_both_numbers_and_the_estimate_grows_with_the_grid(
         gc.check(large)
 
 
+def test_the_run_checks_the_memory_of_its_worker_processes(tmp_path, monkeypatch):
+    """The scene check counts one process; `gfmd run --workers 2` (and gc.run(workers=2)) counts two."""
+    from gfmd_contact.core import cost
+    from gfmd_contact.core.errors import SceneError
+
+    scene = gc.change(gc.default_scene(), {"surface.nodes": 2**16, "surface.length": 2.048e-5, "output.workers": 1,
+                                           "surface.realizations": 2, "output.field_steps": 0, "loading.steps": 1})
+    one = cost.estimate_peak_memory(scene, 1) - cost.IMPORTS
+    monkeypatch.setattr(cost, "memory_allowed", lambda: (int(1.5 * one), "test room"))
+    gc.check(scene)
+    code, err = cli(["run", str(write_scene(tmp_path, scene)), "--out", str(tmp_path / "out"), "--workers", "2",
+                     "--quiet", "--no-plot"])
+    assert code == 2 and "2 process(es)" in err and "output.workers" in err, err
+    assert not (tmp_path / "out").exists()
+    with pytest.raises(SceneError, match="2 process"):
+        gc.run(scene, tmp_path / "api", workers=2, progress=False)
+
+
 def test_the_estimate_is_on_the_progress_line_and_in_meta_json(tmp_path):
     import json
 

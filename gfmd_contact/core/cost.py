@@ -6,9 +6,9 @@ cgroup's limit less its usage, and the address-space limit (`ulimit -v`, RLIMIT_
 has mapped. Above it the scene is refused (`check_memory`), naming both numbers and the keys that reduce it.
 
 Model: peak = IMPORTS + workers × (nodes × per-node bytes of the law) + realizations × saved fields, where
-nodes = Nx (× Ny), the per-node bytes are the solver's arrays (measured peak RSS in a subprocess, the
-largest per-node cost over 2^16 … 2^20 nodes, rounded up: docs/design/preflight.md) and a saved field step
-keeps FIELD_ARRAYS arrays of 8 bytes per node until the run's files are written.
+nodes = Nx (× Ny), the per-node bytes are the solver's arrays (peak RSS measured in a fresh process over 2^16 …
+2^20 nodes and 512² … 1024² surfaces, rounded up so that the estimate stays above each: docs/design/preflight.md)
+and a saved field step keeps FIELD_ARRAYS arrays of 8 bytes per node until the run's files are written.
 """
 
 from __future__ import annotations
@@ -18,10 +18,15 @@ import resource
 
 from .errors import SceneError
 
-#: resident memory of the imported solver stack (numpy, scipy, the method), measured 237 MiB; rounded up
-IMPORTS = 256 * 2**20
-#: solver bytes per node: hard wall (dual CG), normal laws, a coupled law (u_x and u_z), the FE reference
-PER_NODE = {"hard-wall": 1400, "normal": 800, "coupled": 1600, "fe": 40000}
+#: resident memory of the imported solver stack (numpy, scipy, the method: 237 MiB measured) and of what a first
+#: step compiles and plans (up to 90 MiB more at 2^16 nodes, docs/design/preflight.md)
+IMPORTS = 320 * 2**20
+#: solver bytes per node of a profile: hard wall (dual CG), normal laws, a coupled law (u_x and u_z), the FE
+#: reference (per surface node of its mesh: measured 463 kB at 512 and 582 kB at 1,024 nodes, layer L/4; it grows
+#: faster than N, so it is an estimate at those sizes only)
+PER_NODE = {"hard-wall": 1100, "normal": 800, "coupled": 1600, "fe": 600_000}
+#: the same per node of a 2+1-D surface (the rfft2 half-spectrum)
+PER_NODE_2D = {"hard-wall": 450, "normal": 450, "coupled": 900, "fe": 600_000}
 #: arrays kept per saved field step (u_z, u_x, gap, t_n, t_t and the profile), 8 bytes per node each
 FIELD_ARRAYS = 6
 #: the keys that reduce the estimate, named in a refusal
@@ -47,7 +52,7 @@ def estimate_peak_memory(scene, workers=None):
     """Estimated peak memory (bytes) of a run of `scene` with `workers` processes (module docstring)."""
     s = scene.surface
     nodes = s.nodes * max(s.nodes_y, 1)
-    solver = nodes * PER_NODE[_law_kind(scene)]
+    solver = nodes * (PER_NODE_2D if s.two_d else PER_NODE)[_law_kind(scene)]
     fields = s.realizations * min(scene.output.field_steps, scene.loading.steps + 1) * FIELD_ARRAYS * 8 * nodes
     return IMPORTS + processes(scene, workers) * solver + fields
 

@@ -132,7 +132,8 @@ def realization_steps(scene, h, realization=0):
 def preflight(scene):
     """Every check made before a run: (warnings, notes), the same for `gfmd run` and `gfmd scene --check`.
 
-    First the memory the run needs (`gfmd_contact.core.cost.check_memory`, refused above what the machine allows);
+    First the memory one process of the run needs (`gfmd_contact.core.cost.check_memory`, refused above what the
+    machine allows; `gfmd run` and `gfmd_contact.run` check it again for their worker count);
     warnings: the model's check findings (gfmd_contact.core.model.scene_warnings; with
     solver.checks = "error" build_model raises ModelCheckError instead), then the unit-slip warnings
     (`gfmd_contact.core.plausibility`, never a refusal); notes: the
@@ -141,7 +142,7 @@ def preflight(scene):
     from .cost import check_memory
     from .plausibility import unit_slip_warnings
 
-    check_memory(scene)  # before any profile or solver array is allocated
+    check_memory(scene, workers=1)  # one process at least, before any array is allocated (runs check their workers)
     warnings, notes = [], []
     for i in range(scene.surface.realizations):
         h = surfaces.profile(scene.surface, i)
