@@ -25,6 +25,19 @@ from ..stopping import finish
 #: the name of this algorithm in `Relaxed.method`, result files and the chains (`gfmd.chains`)
 LABEL = "newton"
 
+
+@dataclass(frozen=True)
+class Options:
+    """What Newton–Krylov reads: the `gfmd.settings.Settings` fields of these names (the chains' continuation and
+    handover links set the last five)."""
+
+    tolerance: float  # max nodal force residual / p_ref
+    coupled_gmres_give_up: bool  # give the step up at the first GMRES solve that misses its tolerance
+    coupled_continuation_jump: float  # give it up once an iterate moved a node this many law lengths (0: never)
+    coupled_continuation_iterations: int  # give it up after this many iterations (0: COUPLED_NEWTON_ITERATIONS)
+    coupled_continuation_gmres_cycles: int  # GMRES restart cycles per solve (0: COUPLED_GMRES_CYCLES)
+    coupled_continuation_stagnation: float  # give it up once two iterations each left more than this of it (0: never)
+
 #: Newton iterations a coupled-law step gets after FIRE stalls; each solves the linearised balance by GMRES
 #: (restart COUPLED_GMRES_RESTART, at most COUPLED_GMRES_CYCLES cycles).
 COUPLED_NEWTON_ITERATIONS = 60
@@ -49,7 +62,7 @@ JUMP_FROM_ITERATION = 2
 BROKE_OFF = "a snap or slip event, no continuation"
 
 
-def solve(problem, start, settings):
+def solve(problem, start, options):
     """Newton–Krylov on the coupled law's nodal balance f(u) = t(u) − K u = 0 (no dynamics).
 
     Each iteration solves (K + D) δu = f by GMRES, D the nodal 2×2 tangent of Eq. 2
@@ -88,7 +101,7 @@ def solve(problem, start, settings):
     the step from the guess in ~600–700 iterations. The solves of kept continuations took ≤ 104 products (Fig. 8,
     seed 7, steps 161–198 at 2^17; `gfmd.chains.COUPLED_CONTINUATION_GMRES_CYCLES`).
     """
-    newton = _setup(problem, settings)
+    newton = _setup(problem, options)
     state = _init(problem, newton, start)
     if isinstance(state, Relaxed):
         return state
@@ -109,7 +122,7 @@ class _Newton(NamedTuple):
     model: object
     law: object
     z_ind: np.ndarray
-    settings: object
+    options: object
     fft: Fft
     stiff: object  # `gfmd.problem.stiffness_operator`
     clamp: bool  # half-plane: the q = 0 modes stay 0
@@ -138,14 +151,14 @@ class NewtonState:
     message: str = ""
 
 
-def _setup(problem, settings):
+def _setup(problem, options):
     model, law = problem.model, problem.law
-    return _Newton(model=model, law=law, z_ind=problem.z_ind, settings=settings,
+    return _Newton(model=model, law=law, z_ind=problem.z_ind, options=options,
                    fft=Fft(model.nodes, grid=model.grid), stiff=stiffness_operator(model), clamp=model.half_plane,
                    p_ref=model.reference_traction, max_move=COUPLED_NEWTON_MAX_MOVE * law.law.length_scale,
-                   jump=settings.coupled_continuation_jump * law.law.length_scale,
-                   limit=settings.coupled_continuation_iterations or COUPLED_NEWTON_ITERATIONS,
-                   cycles=settings.coupled_continuation_gmres_cycles or COUPLED_GMRES_CYCLES)
+                   jump=options.coupled_continuation_jump * law.law.length_scale,
+                   limit=options.coupled_continuation_iterations or COUPLED_NEWTON_ITERATIONS,
+                   cycles=options.coupled_continuation_gmres_cycles or COUPLED_GMRES_CYCLES)
 
 
 def _init(problem, newton, start):
@@ -164,7 +177,7 @@ def _init(problem, newton, start):
         return out
     residual = float(np.max(np.abs(f))) / newton.p_ref
     return NewtonState(u_hat=u_hat, f=f, u=u, ku=ku, origin=u, residual=residual,
-                       converged=residual < newton.settings.tolerance)
+                       converged=residual < newton.options.tolerance)
 
 
 def _spectrum(newton, x):
@@ -187,7 +200,7 @@ def _confirm(newton, state):
     state.f, state.u, state.ku = balance_state(newton.model, newton.law, newton.z_ind, state.u_hat, newton.fft,
                                                newton.stiff)
     state.residual = float(np.max(np.abs(state.f))) / newton.p_ref
-    state.converged = state.residual < newton.settings.tolerance
+    state.converged = state.residual < newton.options.tolerance
 
 
 def _iterate(newton, state):
@@ -196,7 +209,7 @@ def _iterate(newton, state):
     residual = state.residual
     eta = eisenstat_walker(residual, state.previous) if COUPLED_NEWTON_EISENSTAT_WALKER else 0.0
     state.previous = residual
-    rtol = forcing(newton.settings.tolerance, residual, eta)
+    rtol = forcing(newton.options.tolerance, residual, eta)
     direction = _direction(newton, state, rtol)
     if direction is None:
         return
@@ -213,12 +226,12 @@ def _iterate(newton, state):
         return
     state.message = _break_off(newton, state)
     if not state.message:
-        state.converged = state.residual < newton.settings.tolerance
+        state.converged = state.residual < newton.options.tolerance
 
 
 def _direction(newton, state, rtol):
     """(δu, K δu, max |δu|) of GMRES on (K + D) δu = f; None (the message set) where GMRES misses its
-    tolerance and the settings give up, or where the step is not finite or zero."""
+    tolerance and the options give up, or where the step is not finite or zero."""
     model, law, z_ind, fft = newton.model, newton.law, newton.z_ind, newton.fft
     before = fft.pairs
     if COUPLED_NEWTON_SPECTRAL:
@@ -230,7 +243,7 @@ def _direction(newton, state, rtol):
                          maxiter=newton.cycles)
         du, kdu = nodes_and_stiffness(_spectrum(newton, _project(newton, du.reshape(model.components, model.nodes))),
                                       newton.stiff, fft)
-    if newton.settings.coupled_gmres_give_up and info != 0:
+    if newton.options.coupled_gmres_give_up and info != 0:
         message = (f"GMRES missed its tolerance {rtol:.2g} in {fft.pairs - before:.0f} FFT pairs (Newton iteration "
                    f"{state.it}, residual {state.residual:.3g} p_ref): the tangent is near-singular or indefinite "
                    "along the step, no continuation")
@@ -267,14 +280,14 @@ def _line_search(newton, state, du, kdu, largest):
 def _break_off(newton, state):
     """The continuation's break-off (BROKE_OFF) after an unconverged iterate: a node moved `jump` from the start,
     or two iterations in a row each left more than the stagnation fraction of the residual; "" otherwise."""
-    settings, residual, it, length = newton.settings, state.residual, state.it, newton.law.law.length_scale
-    if newton.jump > 0 and residual >= settings.tolerance and it >= JUMP_FROM_ITERATION:
+    options, residual, it, length = newton.options, state.residual, state.it, newton.law.law.length_scale
+    if newton.jump > 0 and residual >= options.tolerance and it >= JUMP_FROM_ITERATION:
         distance = float(np.max(np.abs(state.u - state.origin)))
         if distance >= newton.jump:
             return (f"a node moved {distance / length:.3g} law lengths from the start at Newton "
                     f"iteration {it} (residual {residual:.3g} p_ref): {BROKE_OFF}")
-    stagnation = settings.coupled_continuation_stagnation
-    if stagnation > 0 and residual >= settings.tolerance:
+    stagnation = options.coupled_continuation_stagnation
+    if stagnation > 0 and residual >= options.tolerance:
         state.slow = state.slow + 1 if residual > stagnation * state.previous else 0
         if state.slow == 2:
             return (f"the residual stagnated: two Newton iterations in a row each left more than {stagnation:g} "
