@@ -181,9 +181,6 @@ def _run_locked(args, scene, out, warnings, notes):
     return 1 if any(not r.all_converged for r in results) else 0  # a fallback that converged is no failure
 
 
-def _cmd_plot(args):
-    from .app.plots import plot_run
-
 def _shown(reasons, verbose):
     """The reason lines `gfmd run` prints: the model's and the algorithms'; the process's internals (FFT backends,
     heap, BLAS threads: `gfmd.loading.INTERNALS`, kept in meta.json) only with --verbose."""
@@ -191,6 +188,9 @@ def _shown(reasons, verbose):
 
     return [r for r in reasons if verbose or not internal(r)]
 
+
+def _cmd_plot(args):
+    from .app.plots import plot_run
 
     for path in plot_run(args.dir, snapshot_delta=args.delta, fmt=args.format, realization=args.realization,
                          wait=getattr(args, "wait", 0)):
@@ -429,11 +429,11 @@ def build_parser():
     run.add_argument("--no-plot", action="store_true", help="skip the figures")
     _wait_option(run, "run directory")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
+    run.add_argument("--verbose", action="store_true",
+                     help="also print the process's internals (FFT backends and plans, heap, BLAS threads)")
     run.set_defaults(func=_cmd_run)
     plot = sub.add_parser("plot", help="seed-style figures of a run directory (into DIR/plots/)")
     plot.add_argument("dir")
-    run.add_argument("--verbose", action="store_true",
-                     help="also print the process's internals (FFT backends and plans, heap, BLAS threads)")
     plot.add_argument("--delta", type=float, help="δ (m) of the interface snapshot (default: last saved step)")
     plot.add_argument("--format", choices=("png", "svg", "pdf"), default="png", help="file format (default png)")
     plot.add_argument("--realization", type=int, metavar="I",
