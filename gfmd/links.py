@@ -12,18 +12,18 @@ with the whole `Settings`.
 
 from __future__ import annotations
 
+import importlib
+import pkgutil
 from dataclasses import dataclass, fields
 from enum import Enum
 
-from .algorithms import (cohesive_wall, coupled_newton, coupled_ptc, dynamics, hard_wall_dual_cg, hard_wall_dynamics,
-                         hard_wall_primal_cg, hard_wall_two_level_cg, ncg)
+from . import algorithms
 from .settings import Settings
 
-#: the algorithm modules by name (gfmd.algorithms: one module each, `solve(problem, start, options) -> Relaxed`)
-MODULES = {"hard_wall_two_level_cg": hard_wall_two_level_cg, "hard_wall_dual_cg": hard_wall_dual_cg,
-           "hard_wall_primal_cg": hard_wall_primal_cg, "hard_wall_dynamics": hard_wall_dynamics, "ncg": ncg,
-           "dynamics": dynamics, "coupled_newton": coupled_newton, "coupled_ptc": coupled_ptc,
-           "cohesive_wall": cohesive_wall}
+#: the algorithm modules by name: every module of `gfmd.algorithms` (one each, `solve(problem, start, options) ->
+#: Relaxed`), so a new algorithm is its file and the chain entries that run it
+MODULES = {info.name: importlib.import_module(f"{algorithms.__name__}.{info.name}")
+           for info in pkgutil.iter_modules(algorithms.__path__)}
 #: their `solve` by name (what a chain runs; tests put stand-ins here)
 ALGORITHMS = {name: module.solve for name, module in MODULES.items()}
 #: the options dataclass of each algorithm that declares one

@@ -14,7 +14,10 @@ import numpy as np
 
 @dataclass(frozen=True)
 class Settings:
-    """Integrator parameters (dimensionless; time unit 1/ω0 with ω0 = 1)."""
+    """What a scene (`gfmd.loading.settings_of`) or a caller sets for GFMD: which chain runs (method, hard_wall,
+    cohesive, coupled, dual_coarse_block) and the algorithms' parameters. An algorithm that declares options of its
+    own reads only those fields (`gfmd.links.options_for`). Integrator parameters are dimensionless (time unit
+    1/ω0 with ω0 = 1)."""
 
     method: str = "fire"
     tolerance: float = 1e-8
