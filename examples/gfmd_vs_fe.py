@@ -1,4 +1,5 @@
 """GFMD against the independent finite-element reference on one cell.
+==================================================================
 
 A sinusoidal indenter (amplitude 50 nm, period L = 1 µm) pressed into an elastic
 layer of thickness D = L on a rigid base, with the cohesive law (φn* = 0.01,
@@ -24,7 +25,7 @@ import gfmd_contact as gc
 
 SIZES = {"small": {"surface.nodes": 32, "loading.steps": 6}, "full": {"surface.nodes": 128, "loading.steps": 33}}
 
-parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser = argparse.ArgumentParser(description=(__doc__ or "").partition("\n")[0])  # the gallery runs it without __doc__
 parser.add_argument("--size", choices=SIZES, default=os.environ.get("GFMD_EXAMPLE_SIZE", "full"))
 parser.add_argument("--out", type=Path, default=Path("results/examples"))
 args = parser.parse_args()

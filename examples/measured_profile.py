@@ -1,4 +1,5 @@
 """A measured profile from a file: heights written to a text file, read as surface.kind = "file".
+==============================================================================================
 
 Stands in for a profilometer trace: a text file with one height (m) per line on a
 periodic grid of N points (here synthesised: two waves and a little noise; a real
@@ -20,7 +21,7 @@ import gfmd_contact as gc
 
 SIZES = {"small": {"nodes": 512, "steps": 15}, "full": {"nodes": 2048, "steps": 60}}
 
-parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser = argparse.ArgumentParser(description=(__doc__ or "").partition("\n")[0])  # the gallery runs it without __doc__
 parser.add_argument("--size", choices=SIZES, default=os.environ.get("GFMD_EXAMPLE_SIZE", "full"))
 parser.add_argument("--out", type=Path, default=Path("results/examples"))
 args = parser.parse_args()

@@ -1,4 +1,5 @@
 """A φn* sweep from a Python loop: how adhesion bends the load–area relation.
+==========================================================================
 
 One run per value of φn* = φn/(δn E) (the work of separation per unit area made
 dimensionless, seed Eq. 3) on the same rough profiles, plus the non-adhesive hard
@@ -21,7 +22,7 @@ SIZES = {"small": ({"surface.nodes": 1024, "surface.rollon_wavelength": 5e-9, "s
          "full": ({"surface.nodes": 4096, "surface.realizations": 2, "loading.steps": 60},
                   [0.005, 0.02, 0.05, 0.1, 0.15])}
 
-parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser = argparse.ArgumentParser(description=(__doc__ or "").partition("\n")[0])  # the gallery runs it without __doc__
 parser.add_argument("--size", choices=SIZES, default=os.environ.get("GFMD_EXAMPLE_SIZE", "full"))
 parser.add_argument("--out", type=Path, default=Path("results/examples"))
 args = parser.parse_args()

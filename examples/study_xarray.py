@@ -1,4 +1,5 @@
 """A small parameter study on Dask, its summary opened as an xarray Dataset.
+=========================================================================
 
 The default scene with the hard wall and two adhesion strengths φn* (zipped with
 interface.law: they vary together) × two values of δn (an axis): six parameter sets,
@@ -22,7 +23,7 @@ SIZES = {"small": {"surface.nodes": 1024, "surface.rollon_wavelength": 5e-9, "su
          "full": {"surface.nodes": 4096, "surface.realizations": 2, "loading.steps": 60}}
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=(__doc__ or "").partition("\n")[0])  # the gallery runs it without __doc__
     parser.add_argument("--size", choices=SIZES, default=os.environ.get("GFMD_EXAMPLE_SIZE", "full"))
     parser.add_argument("--out", type=Path, default=Path("results/examples"))
     parser.add_argument("--workers", type=int, default=2, help="Dask worker processes")

@@ -1,4 +1,5 @@
 """A user-defined traction law: energy, traction and tangent as Python functions, run by GFMD and the FE.
+======================================================================================================
 
 Two laws given through `gc.user_law`: the seed's Eq. 3 re-expressed from its formula (which must
 reproduce the built-in law), and a Morse-type law V = φn[(1 − e^{−Δn/ℓ})² − 1] with the same work
@@ -23,7 +24,7 @@ import gfmd_contact as gc
 
 SIZES = {"small": {"surface.nodes": 32, "loading.steps": 6}, "full": {"surface.nodes": 128, "loading.steps": 33}}
 
-parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser = argparse.ArgumentParser(description=(__doc__ or "").partition("\n")[0])  # the gallery runs it without __doc__
 parser.add_argument("--size", choices=SIZES, default=os.environ.get("GFMD_EXAMPLE_SIZE", "full"))
 parser.add_argument("--out", type=Path, default=Path("results/examples"))
 args = parser.parse_args()
