@@ -1,23 +1,24 @@
-"""Repository-wide pytest options: `--full` runs the studies marked `slow`.
+"""Repository-wide pytest options: `--full` runs the studies marked `slow`; `--report-dir DIR`.
 
 CI runs the representative subset (`pytest`); `pytest --full` adds the
-expensive resolutions and sweeps.
+expensive resolutions and sweeps. The options and the skipping live in `verification.plugin`
+(what an installed package registers through its pytest11 entry point); this file registers
+them for a checkout whose installed metadata lacks that entry point, and does nothing when
+pytest has loaded the plugin already.
 """
 
-import pytest
+from verification import plugin as _plugin
 
 
-def pytest_addoption(parser):
-    parser.addoption("--full", action="store_true", default=False,
-                     help="also run the expensive studies marked @pytest.mark.slow")
-    parser.addoption("--report-dir", default=None,
-                     help="where the verification report goes (default reports/; also $GFMD_REPORT_DIR)")
+def _loaded(pluginmanager):
+    return pluginmanager.is_registered(_plugin)
+
+
+def pytest_addoption(parser, pluginmanager):
+    if not _loaded(pluginmanager):
+        _plugin.pytest_addoption(parser)
 
 
 def pytest_collection_modifyitems(config, items):
-    if config.getoption("--full") or "slow" in (config.getoption("markexpr") or ""):
-        return  # `pytest -m slow` asks for the slow studies: run them (skipping them all would exit 0 on nothing)
-    skip = pytest.mark.skip(reason="expensive study: run with --full")
-    for item in items:
-        if "slow" in item.keywords:
-            item.add_marker(skip)
+    if not _loaded(config.pluginmanager):
+        _plugin.pytest_collection_modifyitems(config, items)

@@ -234,23 +234,30 @@ def _source_root():
 
 
 def _cmd_verify(args):
-    root = _source_root()
-    if root is None:
-        print("gfmd: error: `gfmd verify` needs the source checkout (conftest.py, pyproject.toml and verification/ "
-              f"next to the gfmd package; this gfmd runs from {Path(__file__).resolve().parent}): clone the "
-              "repository, `pip install -e \".[test]\"` there and run `gfmd verify` again", file=sys.stderr)
-        return 2
+    """pytest on the verification suite: `pytest verification` in a source checkout, else the installed
+    package's `pytest --pyargs verification` in this directory; then where the report is and its file:// URL."""
     import os
 
     from .app.safe_files import locked
 
-    cmd = [sys.executable, "-m", "pytest", "verification"] + (["--full"] if args.full else []) + args.pytest_args
-    reports = Path(os.environ.get("GFMD_REPORT_DIR") or root / "reports")
-    print(f"running {' '.join(cmd[2:])} in {root}; the report goes to {reports / 'index.html'}",
-          file=sys.stderr)
+    root = _source_root()
+    reports = Path(args.report_dir or os.environ.get("GFMD_REPORT_DIR") or (root or Path.cwd()) / "reports").absolute()
+    options = ["--report-dir", str(reports)] + (["--full"] if args.full else [])
+    if root is not None:
+        cmd, where = [sys.executable, "-m", "pytest", *options, "verification"], root
+    else:  # the installed suite; -p: its options even where pytest's plugin autoload is off
+        cmd, where = [sys.executable, "-m", "pytest", "-p", "verification.plugin", *options, "--pyargs",
+                      "verification"], Path.cwd()
+    cmd += args.pytest_args
+    print(f"running {' '.join(cmd[2:])} in {where}; the report goes to {reports / 'index.html'}", file=sys.stderr)
     with locked(reports, wait=getattr(args, "wait", 0), what="report folder", command="gfmd verify",
                 advice="wait for that `gfmd verify` to end (or add --wait to wait for it)"):
-        return subprocess.call(cmd, cwd=root)
+        index = reports / "index.html"
+        before = index.stat().st_mtime_ns if index.is_file() else None
+        code = subprocess.call(cmd, cwd=where)
+    if index.is_file() and index.stat().st_mtime_ns != before:  # written by this run
+        print(f"verification report: {index}; open it in a browser: {index.as_uri()}", file=sys.stderr)
+    return code
 
 
 def _cmd_study_run(args):
@@ -446,8 +453,11 @@ def build_parser():
     scene.add_argument("--check", metavar="FILE", help="validate FILE with every check `gfmd run` makes")
     scene.add_argument("--method", choices=("fire", "verlet", "fe"), help="with --check: also the method's checks")
     scene.set_defaults(func=_cmd_scene)
-    verify = sub.add_parser("verify", help="run the verification suite (pytest verification) and write reports/")
+    verify = sub.add_parser("verify", help="run the verification suite (pytest verification; installed: pytest "
+                            "--pyargs verification) and write its report (reports/index.html)")
     verify.add_argument("--full", action="store_true", help="include the expensive studies")
+    verify.add_argument("--report-dir", metavar="DIR", help="where the report goes (default: $GFMD_REPORT_DIR, else "
+                        "reports/ in the source checkout or, for an installed package, in this directory)")
     verify.add_argument("pytest_args", nargs="*",
                         help="passed to pytest (after --, e.g. gfmd verify -- -x -k westergaard)")
     _wait_option(verify, "report folder")

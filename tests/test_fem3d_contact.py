@@ -2,7 +2,7 @@
 
 Flat punch / uniform compression against M/D (exact for Q1), the hard-wall sinusoid (1-D embedded and
 egg-box) in full contact against the layer formula with the FE's measured mode-stiffness error
-(tests/data/fem3d_stiffness.json, the same mesh family), the flat cohesive layer against the scalar
+(verification/data/mesh/fem3d_stiffness.json, the same mesh family), the flat cohesive layer against the scalar
 equilibrium (M/D) u = T_n(z − u), and the law's own consistency T_n = dV/dΔn (= −∂V/∂u_z).
 """
 
@@ -18,7 +18,8 @@ from reference.fem3d import export_vtu, solve_cell
 from reference.fem3d.law import NormalCohesiveZone
 from reference.fem3d.observables import contact_mask, gradient_squared
 
-DATA = json.loads((Path(__file__).parent / "data" / "fem3d_stiffness.json").read_text())
+DATA = json.loads((Path(__file__).resolve().parent.parent / "verification" / "data" / "mesh" / "fem3d_stiffness.json")
+                  .read_text())
 E, NU, L = 1.0, 0.3, 1.0
 E_STAR = E / (1 - NU**2)
 M = E * (1 - NU) / ((1 + NU) * (1 - 2 * NU))

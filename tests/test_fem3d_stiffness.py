@@ -6,7 +6,7 @@ verification test may use the kernels the FE must not), and the half-space E*|q|
 for D ≥ the cell size with the truncation error k_layer/k_half − 1 (stated in the data file).
 Mesh family: N × N surface nodes, N/2 layers down to D = L graded geometrically with a fixed total
 growth (bottom/top thickness) GROWTH = 8, i.e. the fixed map z = −D (8^ξ − 1)/7 sampled at ξ = k/(N/2),
-so that every spacing halves with l = L/N. The measured relative errors and observed orders are in tests/data/fem3d_stiffness.json
+so that every spacing halves with l = L/N. The measured relative errors and observed orders are in verification/data/mesh/fem3d_stiffness.json
 (`python tests/test_fem3d_stiffness.py` rewrites it, N = 8, 16, 32, 64); the tests recompute the
 small meshes and hold them to those numbers and to Q1's order 2.
 """
@@ -20,7 +20,7 @@ import pytest
 from gfmd_contact.core.kernels import layer_normal
 from reference.fem3d.assembly import build_cell, direct_surface_column
 
-DATA = Path(__file__).parent / "data" / "fem3d_stiffness.json"
+DATA = Path(__file__).resolve().parent.parent / "verification" / "data" / "mesh" / "fem3d_stiffness.json"
 E, NU, L = 1.0, 0.3, 1.0
 MODES = [(1, 0), (1, 1), (2, 0), (4, 0)]
 GROWTH = 8.0

@@ -65,6 +65,8 @@ def pytest_configure(config):
 
 def _is_verification(nodeid, config):
     path = Path(str(config.rootpath)) / nodeid.split("::")[0]
+    if config.getoption("pyargs", default=False) and (_VERIFICATION_DIR / nodeid.split("::")[0]).is_file():
+        return True  # `pytest --pyargs verification` of an installed package: node ids relative to the package
     try:
         path.resolve().relative_to(_VERIFICATION_DIR)
         return True

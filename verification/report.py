@@ -499,6 +499,10 @@ def _independence_section(root=None):
     from .independence import fe_shared_inputs
     try:
         info = fe_shared_inputs(root)
+    except FileNotFoundError as exc:  # an installed package: the tests/ folder is not shipped
+        return ['<section id="independence"><h2>Independence of the FE reference</h2><p>The allowed list '
+                "(<code>tests/test_architecture.py</code>) is part of the source checkout, not of the installed "
+                f"package: run <code>gfmd verify</code> in a checkout for this section ({esc(exc)}).</p></section>"]
     except Exception as exc:  # noqa: BLE001 - show it in the page, keep the report
         return [f'<section id="independence"><h2>Independence of the FE reference</h2><p class="banner fail">'
                 f"could not read the allowed imports: {esc(type(exc).__name__)}: {esc(exc)}</p></section>"]

@@ -4,7 +4,7 @@ Study, scenes and metrics: `verification.studies.fem3d_gfmd` (L = 1 µm, bonded 
 methods solve the same body; egg-box A = 20 nm and a band-limited self-affine surface, H = 0.8, the
 same continuum surface at every N; hard wall and normal CZ φn* = 0.01, δn = 2 nm; δ from −2 to 20 nm).
 The FE mesh is the family whose mode-stiffness error vs the exact layer kernel is measured in
-tests/data/fem3d_stiffness.json (N/2 Q1 layers, growth 8): GFMD's kernel is exact, so the
+verification/data/mesh/fem3d_stiffness.json (N/2 Q1 layers, growth 8): GFMD's kernel is exact, so the
 GFMD–FE difference at N is the FE's discretisation error at that resolution, O(l²).
 Measured differences at N = 16, 32, 64: verification/data/fem3d_gfmd.json
 (`python -m verification.studies.fem3d_gfmd --write --full`).
@@ -13,7 +13,7 @@ Tolerances: p̄, u_z, t_n, ḡ_r ≤ SAFETY × the stored difference at the same
 share 1/N² of the contact: a flipped node changes it); |Δa_rel| ≤ (stored nodes + 1)/N²;
 convergence: e(16)/e(32) ≥ the stored ratio / SAFETY for p̄ and u_z. Independent of the stored
 numbers: p̄'s difference is at most the FE's measured stiffness error of the (2, 0) mode at the same N
-(the largest of the modes |q|L/2π ≤ 2 that carry the mean load of these surfaces; tests/data/fem3d_stiffness.json).
+(the largest of the modes |q|L/2π ≤ 2 that carry the mean load of these surfaces; verification/data/mesh/fem3d_stiffness.json).
 Embedded sinusoid: the 3-D FE's fields are constant along y to round-off (≤ 1e-12 of max|t_n|), and its
 p̄ and t_n equal the 1+1-D FE's within their discretisation difference (≤ SAFETY × stored, converging).
 """
@@ -30,7 +30,7 @@ from verification.studies import fem3d_gfmd as fg
 
 SAFETY = 1.5
 METHODS = ("gfmd", "fe3d-q1")
-STIFFNESS = json.loads((Path(__file__).resolve().parent.parent / "tests" / "data" / "fem3d_stiffness.json").read_text())
+STIFFNESS = json.loads((Path(__file__).resolve().parent / "data" / "mesh" / "fem3d_stiffness.json").read_text())
 CASES = [(s, law) for s in fg.SURFACES for law in fg.LAWS]
 
 
@@ -62,7 +62,7 @@ def test_gfmd_equals_fem3d_node_by_node(surface, law, n, verification_record):
         verification_record(metric=names[m], value=out[m], tolerance=tol[m], **common)
     verification_record(metric="p̄ diff vs the FE's (2,0) mode stiffness error at N", value=out["p"],
                         tolerance=mode_error, case=common["case"], methods=METHODS, resolution=common["resolution"],
-                        tolerance_source="tests/data/fem3d_stiffness.json relative_error_vs_layer[N]['2,0']")
+                        tolerance_source="verification/data/mesh/fem3d_stiffness.json relative_error_vs_layer[N]['2,0']")
     for m in ("p", "a", "g", "uz", "tn"):
         assert out[m] <= tol[m] * (1 + 1e-12), f"{key} N={n}: {m} {out[m]:.3g} > {tol[m]:.3g}"
     assert out["p"] <= mode_error, f"{key} N={n}: p̄ differs by {out['p']:.3g}, more than the FE's mode error"

@@ -42,7 +42,7 @@ def refusal(scene):
     if m.half_plane:
         return ("material.thickness = \"inf\": the 3-D FE models a finite bonded layer only; give a finite "
                 "material.thickness (a layer of D = L stands in for the half-space with the truncation error "
-                "k_layer/k_half − 1 of its fundamental mode, tests/data/fem3d_stiffness.json: "
+                "k_layer/k_half − 1 of its fundamental mode, verification/data/mesh/fem3d_stiffness.json: "
                 "halfspace_truncation_k_layer_over_k_half_minus_1), or use method.name = \"gfmd\"")
     if i.law not in LAWS and not _protocol_law(i.law):
         return (f"interface.law = {i.law!r}: the 3-D FE solves the normal cohesive zone (\"cohesive\", seed Eq. 3), "

@@ -10,7 +10,7 @@ D = L (both solve the same body), E = 70 GPa, ν = 0.3; surfaces
 Laws: hard wall, and the normal CZ (seed Eq. 3, φn* = 0.01, δn = 2 nm). δ from −2 nm to 20 nm in
 6 steps (partial contact). GFMD: solver.tolerance 1e-10; FE: Q1 on the mesh family of
 tests/test_fem3d_stiffness.py (N/2 layers graded with total growth 8 down to D: its mode error vs the
-layer formula is measured there, tests/data/fem3d_stiffness.json, O(l²)), tolerance 1e-10.
+layer formula is measured there, verification/data/mesh/fem3d_stiffness.json, O(l²)), tolerance 1e-10.
 
 Metrics (max over the steps): p: max_k |p̄_FE − p̄_GFMD| / max_k |p̄_GFMD|; a: max_k |Δa_rel| (nodes/N²);
 g: max_k |Δḡ_r| / max_k ḡ_r; uz: ‖u_z^FE − u_z^GFMD‖₂/‖u_z^GFMD‖₂ and tn: ‖t_n^FE − t_n^GFMD‖₂/‖t_n^GFMD‖₂
@@ -87,7 +87,7 @@ def scene(surface, law, n, ny=None, method="gfmd"):
 
 
 def family(n):
-    """(layers, top) of the FE mesh family whose mode error tests/data/fem3d_stiffness.json measures."""
+    """(layers, top) of the FE mesh family whose mode error verification/data/mesh/fem3d_stiffness.json measures."""
     layers = n // 2
     ratio = GROWTH ** (1 / layers)
     return {"layers": layers, "top": D * (ratio - 1) / (GROWTH - 1)}
@@ -180,7 +180,7 @@ def main(argv=None):
     if args.write:
         print(measured.write(NAME, {KEY: measured.make_entry(
             values, scene="verification.studies.fem3d_gfmd.scene(surface, law, N)", wall_s=time.perf_counter() - t0,
-            fe_mesh="N/2 Q1 layers, total growth 8, D = L (tests/data/fem3d_stiffness.json)")},
+            fe_mesh="N/2 Q1 layers, total growth 8, D = L (verification/data/mesh/fem3d_stiffness.json)")},
             description="GFMD 2+1-D vs 3-D FE (Q1) node by node, egg-box and band-limited self-affine, hard wall and "
                         "normal CZ, N = 16, 32 (64 with --full); embedded sinusoid 3-D FE vs 1+1-D FE P2"))
 

@@ -1,0 +1,36 @@
+"""The verification suite's pytest options, wherever it runs: `--full` (also the studies marked `slow`) and
+`--report-dir DIR` (where the report goes).
+
+Registered by the package's ``pytest11`` entry point under the name ``verification.plugin``, so that
+``pytest --pyargs verification --full`` works after ``pip install``; from a source checkout without that
+entry point the repository's conftest.py registers the same hooks (once: it defers to this module when
+pytest has loaded it).
+"""
+
+import pytest
+
+
+def pytest_addoption(parser):
+    options = {"--full": dict(action="store_true", default=False,
+                              help="also run the expensive studies marked @pytest.mark.slow"),
+               "--report-dir": dict(default=None, metavar="DIR",
+                                    help="where the verification report (results.json, index.html) goes (default: "
+                                         "$GFMD_REPORT_DIR, else reports/ under pytest's rootdir)")}
+    for name, spec in options.items():
+        try:
+            parser.addoption(name, **spec)
+        except ValueError:  # added already (`-p verification.conftest` registers --report-dir too)
+            pass
+
+
+def pytest_configure(config):
+    config.addinivalue_line("markers", "slow: expensive resolutions/studies, skipped unless --full or -m slow")
+
+
+def pytest_collection_modifyitems(config, items):
+    if config.getoption("--full") or "slow" in (config.getoption("markexpr") or ""):
+        return  # `pytest -m slow` asks for the slow studies: run them (skipping them all would exit 0 on nothing)
+    skip = pytest.mark.skip(reason="expensive study: run with --full")
+    for item in items:
+        if "slow" in item.keywords:
+            item.add_marker(skip)
