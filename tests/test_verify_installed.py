@@ -5,6 +5,7 @@ keeps working, with the options registered once."""
 import fnmatch
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tomllib
@@ -46,7 +47,14 @@ def test_checkout_registers_the_options_once(plugin):
 
 
 def _wheel(tmp_path):
-    run = subprocess.run([sys.executable, "-m", "pip", "wheel", str(ROOT), "--no-deps", "-q", "-w",
+    """The wheel, built from a copy of what it packages (a build in the checkout would leave build/ there)."""
+    source = tmp_path / "source"
+    skip = shutil.ignore_patterns("__pycache__", "*.egg-info")
+    for name in ("gfmd", "gfmd_contact", "reference", "verification"):
+        shutil.copytree(ROOT / name, source / name, ignore=skip)
+    for name in ("pyproject.toml", "README.md"):
+        shutil.copy(ROOT / name, source / name)
+    run = subprocess.run([sys.executable, "-m", "pip", "wheel", str(source), "--no-deps", "-q", "-w",
                           str(tmp_path / "wheel")], capture_output=True, text=True, timeout=600)
     if run.returncode and any(s in run.stdout + run.stderr for s in OFFLINE):
         pytest.skip("building the wheel needs setuptools from a package index, which cannot be reached")
