@@ -42,6 +42,17 @@ def scanned_files(root=ROOT):
     return files
 
 
+#: the result records: every Markdown file under studies/results/ (what was run, the numbers, the figure, how to
+#: reproduce; a run's code version stays in its study.json or meta.json, written as "0.1.0+git.<hash>", which the
+#: hash pattern leaves alone)
+RECORDS = ("studies/results/**/*.md",)
+
+
+def record_files(root=ROOT):
+    """The result records under the rule (`RECORDS`)."""
+    return sorted({p for pattern in RECORDS for p in root.glob(pattern)})
+
+
 def references(line):
     """The history references in one line of text: [(kind, matched text)]."""
     found = []
@@ -103,3 +114,29 @@ def test_scan_catches_a_planted_violation(tmp_path):
     assert any(v.startswith("docs/design/note.md:1: issue number") for v in found), found
     assert "gfmd/algorithms/planted.py:6: commit hash 'b56a595'" in found, found
     assert "gfmd/algorithms/planted.py:6: commit hash 'e1f001c'" in found, found
+
+
+def test_result_records_have_no_history_references():
+    """The README of every studies/results/ folder and the records beside it: no rerun logs, session, issue or
+    work-log numbers, commit hashes or dated entries."""
+    files = record_files()
+    assert {p.relative_to(ROOT).as_posix() for p in files} >= {
+        "studies/results/seed_full/README.md", "studies/results/beyond_full/README.md",
+        "studies/results/beyond_small/README.md", "studies/results/seed_full/fig8/resolution.md"}, files
+    found = violations(files)
+    assert not found, ("history references in result records (say what was run, the numbers, the figure and how to "
+                       "reproduce; history lives in git):\n" + "\n".join(found))
+
+
+def test_record_scan_catches_a_planted_rerun_log(tmp_path):
+    """A rerun narrative planted in a copy of the layout is reported with its file:line; the package version and a
+    run's recorded code version are not."""
+    record = tmp_path / "studies" / "results" / "fig9" / "README.md"
+    record.parent.mkdir(parents=True)
+    record.write_text("# Fig. 9\n\nRerun at 3c95d85 (session 32): 18 min.\ngfmd-contact 0.1.0, code 0.1.0+git.2ce4ea7\n"
+                      "Kept in suite_s50/ since issue 24.\n", encoding="utf-8")
+    (tmp_path / "studies" / "results" / "notes.md").write_text("Measured 2026-11-25.\n", encoding="utf-8")
+    found = violations(record_files(tmp_path), root=tmp_path)
+    lines = sorted({v.split(":")[0] + ":" + v.split(":")[1] for v in found})
+    assert lines == ["studies/results/fig9/README.md:3", "studies/results/fig9/README.md:5",
+                     "studies/results/notes.md:1"], found
