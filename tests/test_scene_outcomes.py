@@ -14,7 +14,10 @@ directory. The only outcomes allowed are the documented ones:
 * never a traceback (an exception out of `main`).
 
 GFMD on every kind and law; the FE reference (finite layers, 16–64 nodes) on the laws it
-models. CI runs `max_examples` = GFMD_EXAMPLES and FE_EXAMPLES (measured 40 + 12 examples in 37 s on 2 shared cores);
+models. The ground beyond a ramp has its own draws (GROUND_EXAMPLES each in CI, SLOW_FACTOR × with `--full`):
+load paths with several reversals under displacement and force control (loads beyond pull-off and beyond full
+contact), 2+1-D grids (odd, tiny, non-square), hostile surface files (refused naming surface.path) and user laws
+that raise or return NaN (a `UserLawError` naming the law, or every non-converged step named). CI runs `max_examples` = GFMD_EXAMPLES and FE_EXAMPLES (measured 40 + 12 examples in 37 s on 2 shared cores);
 the `slow` variants draw more.
 """
 
@@ -316,6 +319,15 @@ def test_every_hostile_surface_file_is_refused_naming_surface_path(kind, nodes, 
         assert_documented_end(code, err, tmp / "s" / "out", scene)
 
 
+@pytest.mark.slow
+@settings(max_examples=GROUND_EXAMPLES * 2 * SLOW_FACTOR, deadline=None, suppress_health_check=list(HealthCheck))
+@given(kind=st.sampled_from(("lying header", "random bytes", "nul text", "junk text", "device")),
+       nodes=st.sampled_from((8, 16, 64)), data=st.data())
+def test_every_hostile_surface_file_is_refused_naming_surface_path_many(kind, nodes, data, tmp_path_factory):
+    test_every_hostile_surface_file_is_refused_naming_surface_path.hypothesis.inner_test(kind, nodes, data,
+                                                                                         tmp_path_factory)
+
+
 @settings(max_examples=GROUND_EXAMPLES, deadline=None, suppress_health_check=list(HealthCheck))
 @given(mode=st.sampled_from(("raise", "nan")), after=st.integers(0, 400), steps=st.integers(1, 4))
 def test_every_user_law_that_fails_ends_the_documented_way(mode, after, steps, tmp_path_factory):
@@ -359,6 +371,13 @@ def test_every_user_law_that_fails_ends_the_documented_way(mode, after, steps, t
     event(f"{mode}: {'converged' if res.converged else 'not converged'}")
     for k in res.curve.loc[res.curve["converged"] == 0, "step"]:
         assert any(f"step {k} " in m for m in res.meta["messages"]), (k, res.meta["messages"])
+
+
+@pytest.mark.slow
+@settings(max_examples=GROUND_EXAMPLES * SLOW_FACTOR, deadline=None, suppress_health_check=list(HealthCheck))
+@given(mode=st.sampled_from(("raise", "nan")), after=st.integers(0, 400), steps=st.integers(1, 4))
+def test_every_user_law_that_fails_ends_the_documented_way_many(mode, after, steps, tmp_path_factory):
+    test_every_user_law_that_fails_ends_the_documented_way.hypothesis.inner_test(mode, after, steps, tmp_path_factory)
 
 
 # -- the issue's reproductions, deterministic ------------------------------------------------------
