@@ -16,6 +16,24 @@ from .fft import dot, irfft_nodes, rfft_nodes
 from .settings import Settings
 
 
+@dataclass(frozen=True)
+class DynamicsOptions:
+    """What FIRE and damped Verlet read: the `Settings` fields of these names (dimensionless, time unit 1/ω0)."""
+
+    method: str  # "fire" or "verlet"
+    tolerance: float  # max nodal force residual / p_ref
+    max_iterations: int
+    check_every: int  # iterations between residual tests
+    dt_start: float  # FIRE (Bitzek et al. 2006)
+    dt_max: float
+    n_min: int
+    f_inc: float
+    f_dec: float
+    alpha_start: float
+    f_alpha: float
+    verlet_omega_dt: float  # Verlet: ω_max Δt
+
+
 @dataclass
 class Fire:
     """FIRE step size and mixing state (Bitzek et al. 2006; FIRE 2.0 back-step on restart)."""

@@ -408,7 +408,7 @@ def test_fire_from_the_handover_state_gets_the_crawl_budget(monkeypatch):
 
     def fire(problem, start, run):
         budgets.append((start is handed, run.max_iterations))
-        if run.tolerance == run.coupled_handover:  # the handover link reaches its residual
+        if run.tolerance == Settings().coupled_handover:  # the handover link reaches its residual
             return record(handed, True, "fire")
         return record(start, start is handed, "fire")
 

@@ -13,12 +13,20 @@ from typing import NamedTuple
 import numpy as np
 
 from ..fft import irfft_nodes, rfft_nodes, spectral_weights
-from ..integrators import Fire, fire_wall_velocity, verlet_coefficients
+from ..integrators import DynamicsOptions, Fire, fire_wall_velocity, verlet_coefficients
 from ..problem import Elastic, mean_shift, project_onto_wall
 from ..settings import Relaxed, not_converged
 
 
-def solve(problem, start, settings):
+@dataclass(frozen=True)
+class Options(DynamicsOptions):
+    """What it reads: FIRE's and Verlet's options, the largest nodal move and the mass refresh."""
+
+    max_move: float  # largest nodal move per iteration, in law lengths
+    mass_refresh: int  # iterations between re-evaluations of the mean interface stiffness
+
+
+def solve(problem, start, options):
     """Cohesive wall (`gfmd_contact.core.laws.CohesiveWall`): Eq. 3's attraction off the wall, Δn ≥ 0 projected.
 
     The `gfmd.algorithms.hard_wall_dynamics` projected FIRE (or Verlet) with the attraction T_n(Δn) added to the
@@ -37,13 +45,13 @@ def solve(problem, start, settings):
     """
     if problem.model.tangential:
         raise ValueError("the cohesive wall is frictionless and normal-only: no tangential unknowns")
-    wall = _setup(problem, settings)
+    wall = _setup(problem, options)
     state = _init(wall, start)
-    while state.it < settings.max_iterations and not (state.converged or state.message):
+    while state.it < options.max_iterations and not (state.converged or state.message):
         state.it += 1
         _step(wall, state)
     if not state.converged and not state.message:
-        state.message = not_converged(settings.max_iterations, state.residual)
+        state.message = not_converged(options.max_iterations, state.residual)
     return _result(wall, state)
 
 
@@ -51,7 +59,7 @@ class _Wall(NamedTuple):
     """What one step's cohesive-wall dynamics hold fixed."""
 
     model: object
-    settings: object
+    options: object
     law: object  # the cohesive law of the attraction (`CohesiveWall.law`)
     z: np.ndarray  # z_ind
     wall_tolerance: float
@@ -82,14 +90,14 @@ class WallState:
     message: str = ""
 
 
-def _setup(problem, settings):
+def _setup(problem, options):
     model, cz = problem.model, problem.law.law
     verlet = None
-    if settings.method == "verlet":
-        verlet = verlet_coefficients(np.real(model.k_zz) + cz.initial_stiffness[1], settings)
-    return _Wall(model=model, settings=settings, law=cz, z=problem.z_ind, wall_tolerance=problem.wall_tolerance,
+    if options.method == "verlet":
+        verlet = verlet_coefficients(np.real(model.k_zz) + cz.initial_stiffness[1], options)
+    return _Wall(model=model, options=options, law=cz, z=problem.z_ind, wall_tolerance=problem.wall_tolerance,
                  n=model.nodes, grid=model.grid, clamp=model.half_plane, k=model.k_zz,
-                 weights=spectral_weights(model.grid), max_move=settings.max_move * cz.length_scale,
+                 weights=spectral_weights(model.grid), max_move=options.max_move * cz.length_scale,
                  p_ref=model.reference_traction, verlet=verlet)
 
 
@@ -101,7 +109,7 @@ def _init(wall, start):
     u = np.minimum(u + shift, z)
     k_mean = _mean_slope(wall, z - u)
     inv_mass, inv_mass_diag = _preconditioner(wall, k_mean)
-    fire = Fire(wall.settings) if wall.verlet is None else None
+    fire = Fire(wall.options) if wall.verlet is None else None
     return WallState(u=u, v=np.zeros(wall.n), k_mean=k_mean, inv_mass=inv_mass, inv_mass_diag=inv_mass_diag,
                      fire=fire, dt=fire.dt if fire else 1.0)
 
@@ -135,17 +143,17 @@ def _net_force(wall, u):
 
 def _step(wall, state):
     """One iteration: the residual test (every `check_every`), the mass refresh, the velocity and the move."""
-    settings, it = wall.settings, state.it
+    options, it = wall.options, state.it
     force, stuck, on_wall, _, _ = _net_force(wall, state.u)
-    if it % settings.check_every == 0 or it == 1:
+    if it % options.check_every == 0 or it == 1:
         state.residual = residual = float(np.max(np.abs(force))) / wall.p_ref
-        if residual < settings.tolerance:
+        if residual < options.tolerance:
             state.converged = True
             return
         if not np.isfinite(residual):
             state.message = "diverged: non-finite force residual"
             return
-    if state.fire is not None and it % settings.mass_refresh == 0:
+    if state.fire is not None and it % options.mass_refresh == 0:
         _refresh_mass(wall, state)
     if state.fire is None:
         _verlet_velocity(wall, state, force, stuck)
@@ -157,7 +165,7 @@ def _step(wall, state):
     if move > wall.max_move:  # trust region: no node moves more than max_move per iteration
         v *= wall.max_move / move
         if state.fire is not None:
-            state.fire.dt *= settings.f_dec
+            state.fire.dt *= options.f_dec
     state.u += dt * v
     state.u = project_onto_wall(state.u, v, wall.z, stuck, wall.clamp)
 

@@ -1,6 +1,6 @@
 """FIRE and damped Verlet on a law with a traction function (normal CZ, coupled law; reference-formulas §5.2).
 
-* ``fire`` (`settings.method`): FIRE (Bitzek et al. 2006, with the FIRE 2.0 back-step) on
+* ``fire`` (`options.method`): FIRE (Bitzek et al. 2006, with the FIRE 2.0 back-step) on
   mass-weighted modes, M_q = K(q) + ⟨k_loc⟩·I, so that every free elastic mode has the same
   frequency and the interface stiffness, averaged over the cell as long waves see it (⟨∂T/∂Δ⟩
   from the law's tangent, refreshed when it changes by 2×), does not slow or destabilise them.
@@ -25,25 +25,37 @@ from gfmd_contact.core import laws
 
 from ..fft import Fft, spectral_weights
 from ..fire_kernels import fire_kernels, largest_change
-from ..integrators import Fire, verlet_coefficients
+from ..integrators import DynamicsOptions, Fire, verlet_coefficients
 from ..problem import Elastic, stiffness_operator
 from ..settings import check_coupled_fire, not_converged
 from ..stopping import finish
 
 
-def solve(problem, start, settings):
-    """Relax a law with a traction function by FIRE (`settings.method` "fire") or damped Verlet ("verlet")."""
+@dataclass(frozen=True)
+class Options(DynamicsOptions):
+    """What it reads: FIRE's and Verlet's options, the largest nodal move and the mass refresh, and the coupled
+    law's FIRE (`Settings.coupled_dt_max`, `coupled_f_dec`, `coupled_n_min`)."""
+
+    max_move: float  # largest nodal move per iteration, in law lengths
+    mass_refresh: int  # iterations between re-evaluations of the mean interface stiffness
+    coupled_dt_max: float
+    coupled_f_dec: float
+    coupled_n_min: int
+
+
+def solve(problem, start, options):
+    """Relax a law with a traction function by FIRE (`options.method` "fire") or damped Verlet ("verlet")."""
     model = problem.model
-    dyn = _setup(problem, settings)
+    dyn = _setup(problem, options)
     state = _init(dyn, start)
-    while state.it < settings.max_iterations:
+    while state.it < options.max_iterations:
         state.it += 1
         f_hat = _force(dyn, state)
         if f_hat is None:  # the law overflowed: the last finite state is kept
             break
-        if state.it % settings.check_every == 0 or state.it == 1:
+        if state.it % options.check_every == 0 or state.it == 1:
             state.residual = residual = float(np.max(np.abs(dyn.fft.irfft(f_hat)))) / model.reference_traction
-            if residual < settings.tolerance:
+            if residual < options.tolerance:
                 state.converged = True
                 break
             if not np.isfinite(residual):
@@ -51,7 +63,7 @@ def solve(problem, start, settings):
                 break
         _move(dyn, state, f_hat)
     if not state.converged and not state.message:
-        state.message = not_converged(settings.max_iterations, state.residual)
+        state.message = not_converged(options.max_iterations, state.residual)
     pairs = dyn.fft.pairs
     out = finish(problem, state.u_hat, state.it, state.residual, state.converged, state.message)
     out.fft_pairs = pairs + 0.5
@@ -66,7 +78,7 @@ class _Dynamics(NamedTuple):
     model: object
     law: object
     z_ind: np.ndarray
-    settings: object  # the coupled law's FIRE: Δt capped, restarts milder
+    options: object  # the coupled law's FIRE: Δt capped, restarts milder
     fft: Fft
     w: np.ndarray  # the half-spectrum's weights (`gfmd.fft.spectral_weights`)
     force_power: object  # `gfmd.fire_kernels`
@@ -100,34 +112,34 @@ class DynamicsState:
     message: str = ""
 
 
-def _setup(problem, settings):
+def _setup(problem, options):
     model, law = problem.model, problem.law
     force_power, accelerate, mix_move = fire_kernels(components=model.components)
     # K(q)'s blocks, made once per model (`stiffness_operator`)
     stiffness = stiffness_operator(model).stiffness_blocks if model.tangential else (model.k_zz,)
-    if settings.method != "verlet" and problem.kind == "coupled":  # FIRE's Δt capped, its restarts milder (`Settings`)
-        check_coupled_fire(settings)
-        settings = replace(settings, dt_max=min(settings.dt_max, settings.coupled_dt_max),
-                           f_dec=settings.coupled_f_dec, n_min=settings.coupled_n_min)
+    if options.method != "verlet" and problem.kind == "coupled":  # FIRE's Δt capped, its restarts milder (`Settings`)
+        check_coupled_fire(options)
+        options = replace(options, dt_max=min(options.dt_max, options.coupled_dt_max),
+                           f_dec=options.coupled_f_dec, n_min=options.coupled_n_min)
     verlet = None
-    if settings.method == "verlet":  # per-mode ω² from the diagonal stiffness plus the law's initial slope
+    if options.method == "verlet":  # per-mode ω² from the diagonal stiffness plus the law's initial slope
         k_diag = [model.k_zz] if not model.tangential else [model.k_xx.real, model.k_zz]
         k_int = [law.k_int_z] if not model.tangential else [law.k_int_x, law.k_int_z]
-        verlet = verlet_coefficients(np.stack([k + ki for k, ki in zip(k_diag, k_int)]), settings)
-    return _Dynamics(model=model, law=law, z_ind=problem.z_ind, settings=settings,
+        verlet = verlet_coefficients(np.stack([k + ki for k, ki in zip(k_diag, k_int)]), options)
+    return _Dynamics(model=model, law=law, z_ind=problem.z_ind, options=options,
                      fft=Fft(model.nodes, grid=model.grid), w=spectral_weights(model.grid),
                      force_power=force_power, accelerate=accelerate, mix_move=mix_move, stiffness=stiffness,
-                     verlet=verlet, max_move=settings.max_move * law.law.length_scale, change=largest_change())
+                     verlet=verlet, max_move=options.max_move * law.law.length_scale, change=largest_change())
 
 
 def _init(dyn, start):
     """The start (half-plane: the q = 0 modes clamped) at rest, its mass weighting and FIRE."""
-    model, settings, fft = dyn.model, dyn.settings, dyn.fft
+    model, options, fft = dyn.model, dyn.options, dyn.fft
     u_hat = np.array(start, dtype=complex, copy=True)
     if model.half_plane:
         u_hat[:, 0] = 0.0
     k_mean = dyn.law.mean_stiffness(fft.irfft(u_hat), dyn.z_ind)
-    fire = None if settings.method == "verlet" else Fire(settings)
+    fire = None if options.method == "verlet" else Fire(options)
     kept = [u_hat.copy(), u_hat.copy()]
     return DynamicsState(u_hat=u_hat, v=np.zeros_like(u_hat), k_mean=k_mean, elastic=Elastic(model, *k_mean),
                          fire=fire, dt=fire.dt if fire else 1.0, acc=np.empty_like(u_hat), kept=kept,
@@ -137,7 +149,7 @@ def _init(dyn, start):
 def _force(dyn, state):
     """f̂ = t̂ − K û (q = 0 clamped) after the trust region and the mass refresh; FIRE: with its power f·v in
     one pass (`gfmd.fire_kernels`). None (the message set, û the last finite) where the law overflows."""
-    settings, fire = dyn.settings, state.fire
+    options, fire = dyn.options, state.fire
     u = _trust_region(dyn, state)
     try:
         t, _ = dyn.law.traction(u, dyn.z_ind)
@@ -146,7 +158,7 @@ def _force(dyn, state):
         state.u_hat = state.last_finite
         return None
     state.last_finite = state.u_hat_prev
-    if fire and state.it % settings.mass_refresh == 0:
+    if fire and state.it % options.mass_refresh == 0:
         _refresh_mass(dyn, state, u)
     f_hat = dyn.fft.rfft(t)
     if fire is None:
@@ -170,7 +182,7 @@ def _trust_region(dyn, state):
         u = u_prev + scale * (u - u_prev)
         state.v *= scale
         if state.fire:
-            state.fire.dt *= dyn.settings.f_dec
+            state.fire.dt *= dyn.options.f_dec
     state.u_hat_prev = state.kept[state.it % 2]  # the buffer not holding last_finite
     np.copyto(state.u_hat_prev, state.u_hat)
     state.u_prev = u

@@ -11,14 +11,17 @@ from __future__ import annotations
 import numpy as np
 
 from ..fft import irfft_nodes, rfft_nodes, spectral_weights
-from ..integrators import Fire, fire_wall_velocity, verlet_coefficients
+from ..integrators import DynamicsOptions, Fire, fire_wall_velocity, verlet_coefficients
 from ..problem import mean_shift, project_onto_wall, stiffness_operator, wall_net_force
 from ..settings import not_converged
 from ..stopping import finish
 
+#: what it reads: FIRE's and Verlet's options
+Options = DynamicsOptions
 
-def solve(problem, start, settings):
-    """Hard-wall relaxation in real space by projected FIRE or damped Verlet (`settings.method`; normal only).
+
+def solve(problem, start, options):
+    """Hard-wall relaxation in real space by projected FIRE or damped Verlet (`options.method`; normal only).
 
     The wall reaction enters as a force: on nodes touching the wall, a net force
     pushing into it is cancelled (net 0), so the dynamics sees the true KKT
@@ -41,9 +44,9 @@ def solve(problem, start, settings):
     k = model.k_zz
     inv_mass = elastic.inv_mass[0]
     inv_mass_diag = float(np.sum(spectral_weights(grid) * inv_mass)) / n  # real-space diagonal of M⁻¹
-    fire = None if settings.method == "verlet" else Fire(settings)
+    fire = None if options.method == "verlet" else Fire(options)
     if fire is None:
-        rho, gdt = verlet_coefficients(k, settings)
+        rho, gdt = verlet_coefficients(k, options)
     dt = fire.dt if fire else 1.0
     u = irfft_nodes(u_hat[-1], grid)
     shift = mean_shift(u, z_ind) if elastic.clamp else 0.0
@@ -51,12 +54,12 @@ def solve(problem, start, settings):
     v = np.zeros(n)
     residual, converged, message = np.inf, False, ""
     it = 0
-    for it in range(1, settings.max_iterations + 1):
+    for it in range(1, options.max_iterations + 1):
         on_wall = z_ind - u <= wall_tolerance
         force, stuck = wall_net_force(model, k, u, on_wall, n)
-        if it % settings.check_every == 0 or it == 1:
+        if it % options.check_every == 0 or it == 1:
             residual = float(np.max(np.abs(force))) / model.reference_traction
-            if residual < settings.tolerance:
+            if residual < options.tolerance:
                 converged = True
                 break
             if not np.isfinite(residual):
@@ -73,7 +76,7 @@ def solve(problem, start, settings):
         u += dt * v
         u = project_onto_wall(u, v, z_ind, stuck, elastic.clamp)
     else:
-        message = not_converged(settings.max_iterations, residual)
+        message = not_converged(options.max_iterations, residual)
     u_hat = rfft_nodes(u, grid)[None, :]
     out = finish(problem, u_hat, it, residual, converged, message)
     out.method = "verlet" if fire is None else "fire"

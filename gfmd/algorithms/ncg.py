@@ -11,6 +11,8 @@ any other law's traction and tangent on the near set, whose cut is the law's `fa
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .. import cohesive_preconditioner, kernels
@@ -22,6 +24,18 @@ from ..stopping import finish
 
 #: the name of this algorithm in `Relaxed.method`, result files and the chains (`gfmd.chains`)
 LABEL = "ncg"
+
+
+@dataclass(frozen=True)
+class Options:
+    """What the NCG reads: the `gfmd.settings.Settings` fields of these names."""
+
+    tolerance: float  # max nodal force residual / p_ref
+    max_iterations: int
+    check_every: int  # iterations between full residual tests
+    line_search_tol: float  # the line search stops at |dE/dα| ≤ this × |dE/dα(0)|
+    max_move: float  # largest nodal move per iteration, in law lengths
+    cohesive_preconditioner: str  # "auto", "stiffness" or "two-level" (`gfmd.cohesive_preconditioner`)
 
 NCG_BUDGET = 5000
 
@@ -41,7 +55,7 @@ NCG_NEAR_FULL = 0.5
 FOLD_EVERY = 16
 
 
-def solve(problem, start, settings):
+def solve(problem, start, options):
     """Normal-only cohesive law by nonlinear preconditioned conjugate gradients, FIRE as fallback.
 
     The law has a potential (the law protocol's `has_potential`, `potential`): the step minimises
@@ -103,7 +117,7 @@ def solve(problem, start, settings):
     p_ref = model.reference_traction
     dn = float(cz.length_scale)  # the law's length (m): the near set's margins and the line search's first step
     nodal = nodes_for(cz)  # the law's nodal work: a fused kernel for its closed form, else its tractions and tangent
-    budget = min(NCG_BUDGET, settings.max_iterations // 2) if settings.max_iterations > 1 else 1
+    budget = min(NCG_BUDGET, options.max_iterations // 2) if options.max_iterations > 1 else 1
     k = np.ascontiguousarray(np.real(model.k_zz), dtype=float)
 
     def preconditioner():
@@ -116,18 +130,18 @@ def solve(problem, start, settings):
     g = preconditioner()
     products, direction, advance = kernels.ncg_kernels(grid=model.grid)  # the spectral algebra (numpy or fused)
     products_m, direction_m, combine_m, stiffness_m = kernels.preconditioned_kernels()  # under the two-level one
-    cohesive_preconditioner.check(settings, model.grid)
-    if cz.curvature_scale is None and settings.cohesive_preconditioner == "two-level":
+    cohesive_preconditioner.check(options, model.grid)
+    if cz.curvature_scale is None and options.cohesive_preconditioner == "two-level":
         raise ValueError(f"Settings.cohesive_preconditioner = 'two-level' needs a law with a curvature scale "
                          f"(seed Eq. 3's φn/δn²); the {cz.name} gives none")
-    preconditioner_name = cohesive_preconditioner.resolve(settings.cohesive_preconditioner, model.grid,
+    preconditioner_name = cohesive_preconditioner.resolve(options.cohesive_preconditioner, model.grid,
                                                           cz.curvature_scale is None)
     # built when a step first engages it (ENGAGE_AFTER iterations): the steps that finish before never pay its setup
     # (an irfft and two cumulative sums over 2N: ≈ 6 ms at 2^17, once per task, K's sums kept on the
     # model's `stiffness_operator`; a φn* = 0.001 task −6 to −11 % CPU)
     two_level = preconditioner_name != "stiffness"
     other = None
-    far = NCG_FAR_FRACTION * settings.tolerance * p_ref  # a far node's |T_n| is below this (Pa)
+    far = NCG_FAR_FRACTION * options.tolerance * p_ref  # a far node's |T_n| is below this (Pa)
     cut = cz.far_reach(far)  # s_c: beyond s_c·dn every node's |T_n| is below `far`
     scaled_gap = nodal.state  # Eq. 3's fused form: (s, e^{−s}); any other law: (T_n, dT_n/dΔn)
 
@@ -209,7 +223,7 @@ def solve(problem, start, settings):
     rz_old, c2 = 1.0, 0.0  # f_old·K⁻¹f_old, d·Kd of the last direction
     restart = True
     residual, converged, message, failed = np.inf, False, "", ""
-    eta = settings.line_search_tol
+    eta = options.line_search_tol
     ratio = None  # last max|f| / rms(f): predicts when the max-norm test can pass
     engage_at, e_mid = cohesive_preconditioner.ENGAGE_AFTER, None  # earlier on a slow step (`slow_step`)
     early, mid = cohesive_preconditioner.ENGAGE_EARLY, cohesive_preconditioner.ENGAGE_EARLY // 2
@@ -243,13 +257,13 @@ def solve(problem, start, settings):
                     f_old_s += float(np.dot(f_old[1], s_nodes if s_nodes is not None else fft.irfft(s_hat)))
         e_norm = np.sqrt(max(rz, 0.0))
         e_mid = e_norm if it == mid else e_mid
-        if ratio is None or it % settings.check_every == 0 or e_norm * ratio < settings.tolerance * p_ref:
+        if ratio is None or it % options.check_every == 0 or e_norm * ratio < options.tolerance * p_ref:
             # the test of `gfmd.algorithms.dynamics` (verification.mutations' stop-early-cohesive mutates all three)
             residual = force_residual() / model.reference_traction
-            if residual < settings.tolerance:
+            if residual < options.tolerance:
                 if not isinstance(idx, slice):  # the far nodes' attraction included: converged as FIRE's is
                     residual, gap, sv, ev, f_hat, t_full = full_residual()
-                    if not residual < settings.tolerance:  # it counts after all: every node is near from here
+                    if not residual < options.tolerance:  # it counts after all: every node is near from here
                         idx, restart, ratio = slice(None), True, None
                         continue
                 converged = True
@@ -263,7 +277,7 @@ def solve(problem, start, settings):
             failed = f"not converged after {it} iterations (residual {residual:.3g} p_ref)"
             break
         if (two_level and it == early < engage_at and e_mid is not None and ratio is not None
-                and cohesive_preconditioner.slow_step(e_mid, e_norm, it - mid, settings.tolerance * p_ref / ratio,
+                and cohesive_preconditioner.slow_step(e_mid, e_norm, it - mid, options.tolerance * p_ref / ratio,
                                                       engage_at - it)):
             engage_at = it + 1  # a slow step: the two-level preconditioner from the next iteration on
         it += 1
@@ -304,7 +318,7 @@ def solve(problem, start, settings):
             c1 = law_slope + slope0
 
             alpha, found, gap_a, s_a, e_a = _ncg_line_search(nodal, c1, c2, law_curvature, slope0, gap, sv, ev, d,
-                                                             dn, eta, settings.max_move)
+                                                             dn, eta, options.max_move)
             if alpha * approach <= slack:
                 break
             margin = NCG_NEAR_MARGIN + 2.0 * alpha * approach / dn
