@@ -218,8 +218,11 @@ def _cmd_scene(args):
             print(f"stickiness: {line}")
         size = (f"Nx × Ny = {scene.surface.nodes} × {scene.surface.nodes_y} (2+1-D)" if scene.surface.two_d
                 else f"N = {scene.surface.nodes}")
+        from gfmd_contact.core.cost import describe, estimate_peak_memory
+
         print(f"{args.check}: valid scene; surface {scene.surface.kind}, {size}, "
-              f"law {scene.interface.law}" + (f"; {len(warnings)} warning(s)" if warnings else "")
+              f"law {scene.interface.law}, {describe(estimate_peak_memory(scene))}"
+              + (f"; {len(warnings)} warning(s)" if warnings else "")
               + (f"; {len(notes)} realization(s) stop early" if notes else ""))
         return 0
     print("use `gfmd scene --example` or `gfmd scene --check FILE`", file=sys.stderr)

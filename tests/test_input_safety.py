@@ -353,3 +353,14 @@ def test_the_default_and_example_scenes_have_no_unit_slip_warning():
 
     for scene in (gc.default_scene(), gc.example_scene()):
         assert unit_slip_warnings(scene) == []
+
+
+def test_the_scene_check_says_the_estimate(tmp_path):
+    from gfmd_contact.core import cost
+
+    scene = big_scene(256)
+    err = io.StringIO()
+    out = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
+        assert main(["scene", "--check", str(write_scene(tmp_path, scene))]) == 0
+    assert cost.describe(cost.estimate_peak_memory(scene)) in out.getvalue().splitlines()[-1], out.getvalue()
