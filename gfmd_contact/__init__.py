@@ -13,7 +13,8 @@ Scenes (frozen, validated; errors name the key)::
 
 Runs::
 
-    res = gc.run(scene, out="runs/a", method="gfmd", realizations=2, workers=1)
+    res = gc.run(scene, out="runs/a", method="gfmd", realizations=2, workers=1, plot=True)  # plot: runs/a/plots/
+    res = gc.run(scene)  # no out: a temporary directory that goes with res (res.save("runs/b") keeps it)
     res.curve            # pandas DataFrame of curve.csv: realization, seed, step, U, delta (m), p (Pa), a_rel, ...
     res.mean_curve       # DataFrame: per step, mean, standard error (_se) and count (_n) over realizations
     res.fields(0, step)  # dict of arrays: x, h, u_z, u_x, gap (m), t_n, t_t (Pa)

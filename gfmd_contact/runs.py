@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import json
+import shutil
 import tempfile
 import time
 import warnings
@@ -193,6 +194,17 @@ class RunResult:
         out.update(step=step, delta=float(row["delta"].iloc[0]))
         return out
 
+    def save(self, directory):
+        """Copy this run into `directory` (new or empty) and return it read from there: how a run made without
+        `out`, whose temporary directory goes with this object, is kept."""
+        from gfmd_contact.app.safe_files import LOCK_NAME
+
+        target = Path(directory)
+        if target.exists() and (not target.is_dir() or any(target.iterdir())):
+            raise FileExistsError(f"{target} exists and is not an empty directory: choose another directory")
+        shutil.copytree(self.dir, target, dirs_exist_ok=True, ignore=shutil.ignore_patterns(LOCK_NAME))
+        return open_run(target)
+
     def figures(self, delta=None, realization=None):
         """The seed-style figures of this run as {name: matplotlib Figure}.
 
@@ -295,7 +307,7 @@ def with_law(scene, law):
 
 
 def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=True, resume=False,
-        overwrite=False, wait=0, law=None):
+        overwrite=False, wait=0, law=None, plot=False):
     """Run a scene (every realization) into a run directory and return its result.
 
     Parameters
@@ -304,7 +316,8 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
         The scene, or anything `load_scene` reads (a TOML file, TOML text, a dict).
     out : str or pathlib.Path, optional
         The run directory (created; a non-empty one is refused unless resume or overwrite).
-        Default: a new temporary directory (``result.dir`` says where; it is not removed).
+        Default: none of yours: the run goes to a temporary directory that lives as long as the returned
+        result (``result.dir``) and is removed with it, or when Python exits; ``result.save(DIR)`` keeps it.
     method : {"gfmd", "fe", "fire", "verlet"}, optional
         "fe": the finite-element reference (finite layer only); "fire"/"verlet": GFMD
         with solver.method "fire" (the law's production chain: NCG, CG, Newton or FIRE, `gfmd.chains`) or
@@ -325,6 +338,8 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
     law : gfmd_contact.core.user_law.UserLaw, optional
         A user-defined interface law (`user_law`; sets interface.law = "user", `with_law`), solved by
         GFMD and the FE. With workers other than 1 its callables must be picklable (module-level functions).
+    plot : bool
+        Also write the run's figures into ``out/plots/`` (what `gfmd run` draws; `plot_run`).
 
     Returns
     -------
@@ -335,7 +350,9 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
     SceneError
         A key out of range or a scene the method cannot solve, before any work.
     gfmd_contact.app.io.RunDirError
-        An `out` that cannot take the run (the message says why).
+        An `out` that cannot take the run (the message says why, naming resume=True, overwrite=True).
+    ValueError
+        resume=True without `out`.
 
     Warns
     -----
@@ -366,14 +383,20 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
     from gfmd_contact.core.cost import check_memory
 
     check_memory(scene, workers)  # the worker processes this run starts
-    out = Path(out) if out is not None else Path(tempfile.mkdtemp(prefix=f"gfmd-{scene.name}-"))
+    if out is None and resume:
+        raise ValueError("resume=True needs out: the run directory to continue")
+    temporary = tempfile.TemporaryDirectory(prefix=f"gfmd-{scene.name}-") if out is None else None
+    out = Path(temporary.name if temporary else out)
     with safe_files.locked(out, wait=wait, what="run directory", command=f"gfmd_contact.run(out={str(out)!r})",
                            advice="wait for it to end (wait=seconds), or choose another out",
                            note=lambda line: warnings.warn(line, stacklevel=4)):
-        out = io.prepare_run_dir(out, scene, resume=resume, overwrite=overwrite,
-                                 command=f"gfmd_contact.run(out={out})")
+        try:
+            out = io.prepare_run_dir(out, scene, resume=resume, overwrite=overwrite,
+                                     command=f"gfmd_contact.run(out={out})")
+        except io.RunDirError as exc:
+            raise exc.in_python() from None
         if resume and io.run_complete(out):
-            return open_run(out)
+            return _finished(out, temporary, plot)
         for w in found:
             warnings.warn(w, stacklevel=2)
         results, _, _ = compute(scene, out, workers=workers, progress=progress,
@@ -381,4 +404,15 @@ def run(scene, out=None, *, method=None, realizations=None, workers=1, progress=
     bad = [m for r in results for m in r.messages]
     if bad:
         warnings.warn(f"{len(bad)} non-converged load step(s): {'; '.join(bad[:3])}", stacklevel=2)
-    return open_run(out)
+    return _finished(out, temporary, plot)
+
+
+def _finished(out, temporary, plot):
+    """The run's result (its figures written first if `plot`); a temporary directory goes with it."""
+    if plot:
+        from gfmd_contact.app.plots import plot_run as write_plots
+
+        write_plots(out)
+    result = open_run(out)
+    result._temporary = temporary  # removed with the result (tempfile's finalizer), or when Python exits
+    return result

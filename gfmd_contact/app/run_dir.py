@@ -32,8 +32,36 @@ from .checkpoints import PARTIAL, _atomic_write
 RUN_ENTRIES = ("curve.csv", "mean_curve.csv", "fields.npz", "scene.toml", "meta.json", "plots", "vtu", "partial")
 
 
+#: the run directory's options as the command line names them, and as the Python API's keywords (`RunDirError`)
+CLI_WORDS = {"out": "--out", "resume": "--resume", "overwrite": "--overwrite",
+             "same_scene": "the same scene (or omit the scene file to take it from the directory)"}
+PYTHON_WORDS = {"out": "out", "resume": "resume=True", "overwrite": "overwrite=True",
+                "same_scene": "the same scene (gfmd_contact.open_run(out).scene)"}
+
+
 class RunDirError(ValueError):
-    """An output directory that cannot take this run: the message says why and what to do."""
+    """An output directory that cannot take this run: the message says why and what to do.
+
+    Raised with `options`, the message names the options in command-line words (``str(exc)``: "add --resume");
+    `in_python` is the same error in the Python API's keywords ("add resume=True"), what `gfmd_contact.run` raises.
+    """
+
+    template = None
+
+    @classmethod
+    def options(cls, template, **values):
+        """The error of `template`, a str.format text with the option fields of `CLI_WORDS` and `values`."""
+        exc = cls(template.format(**CLI_WORDS, **values))
+        exc.template, exc.values = template, values
+        return exc
+
+    def in_python(self):
+        """This error naming the Python keywords (itself where it names no option)."""
+        if self.template is None:
+            return self
+        exc = type(self)(self.template.format(**PYTHON_WORDS, **self.values))
+        exc.template, exc.values = self.template, self.values
+        return exc
 
 
 @functools.cache
@@ -120,14 +148,14 @@ def prepare_run_dir(out, scene, *, resume=False, overwrite=False, command=None):
     """
     out = Path(out)
     if out.exists() and not out.is_dir():
-        raise RunDirError(f"--out {str(out)!r} is an existing file, not a directory: choose another --out")
+        raise RunDirError.options("{out} {path!r} is an existing file, not a directory: choose another {out}",
+                                  path=str(out))
     existing = sorted(p.name for p in out.iterdir() if p.name != safe_files.LOCK_NAME) if out.is_dir() else []
     if existing and resume and (out / "scene.toml").is_file():
         diff = stored_scene_differences(out, scene)
         if diff:
-            raise RunDirError(f"--resume: {out} holds a run of another scene ({'; '.join(diff)}); resume with "
-                              "the same scene (or omit the scene file to take it from the directory), or choose "
-                              "another --out")
+            raise RunDirError.options("{resume}: {path} holds a run of another scene ({diff}); resume with "
+                                      "{same_scene}, or choose another {out}", path=out, diff="; ".join(diff))
         remove_temporaries(out)
         if run_complete(out):  # partial/ outlives a kill between the final meta.json and its removal
             shutil.rmtree(out / PARTIAL, ignore_errors=True)
@@ -137,18 +165,19 @@ def prepare_run_dir(out, scene, *, resume=False, overwrite=False, command=None):
             _atomic_write(out / "meta.json", json.dumps(_meta_base(scene, scene.method.name, command), indent=2))
         return out
     if existing and resume:
-        raise RunDirError(f"--resume: {out} is not empty but holds no scene.toml ({', '.join(existing)}): it is not a "
-                          "gfmd run directory; choose another --out")
+        raise RunDirError.options("{resume}: {path} is not empty but holds no scene.toml ({entries}): it is not a "
+                                  "gfmd run directory; choose another {out}", path=out, entries=", ".join(existing))
     if existing and not overwrite:
         what = "an unfinished run" if (out / PARTIAL).is_dir() else "files"
-        raise RunDirError(f"--out {out} is not empty (it holds {what}: {', '.join(existing[:6])}"
-                          f"{', …' if len(existing) > 6 else ''}): add --resume to continue a run there, "
-                          "--overwrite to replace it, or choose another --out")
+        raise RunDirError.options("{out} {path} is not empty (it holds {what}: {entries}): add {resume} to continue "
+                                  "a run there, {overwrite} to replace it, or choose another {out}", path=out,
+                                  what=what, entries=", ".join(existing[:6]) + (", …" if len(existing) > 6 else ""))
     if existing:
         foreign = [n for n in existing if n not in RUN_ENTRIES and not n.startswith(".")]
         if foreign:
-            raise RunDirError(f"--overwrite: {out} holds files a run does not write ({', '.join(foreign)}); "
-                              "not removing them: choose another --out or remove them yourself")
+            raise RunDirError.options("{overwrite}: {path} holds files a run does not write ({entries}); not "
+                                      "removing them: choose another {out} or remove them yourself", path=out,
+                                      entries=", ".join(foreign))
         for name in existing:
             path = out / name
             shutil.rmtree(path) if path.is_dir() else path.unlink()
