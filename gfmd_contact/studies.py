@@ -243,6 +243,11 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True, yes=Fa
     -------
     StudyResult
 
+    Raises
+    ------
+    gfmd_contact.app.io.RunDirError
+        An `out` that cannot take the study (a file, a non-empty directory holding no study), naming `out`.
+
     Warns
     -----
     UserWarning
@@ -252,9 +257,14 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True, yes=Fa
 
     from gfmd_contact.app.study import failure_summary, run_study as execute
 
+    from gfmd_contact.app.io import RunDirError
+
     study = load_study(study, yes=yes)
-    record = execute(study, out, workers=workers, scheduler=scheduler, progress=progress,
-                     command=f"gfmd_contact.run_study(out={out})")
+    try:
+        record = execute(study, out, workers=workers, scheduler=scheduler, progress=progress,
+                         command=f"gfmd_contact.run_study(out={out})")
+    except RunDirError as exc:
+        raise exc.in_python() from None
     if record["tasks_failed"]:
         warnings.warn(f"{record['tasks_failed']} task(s) failed: " + "; ".join(failure_summary(record)[:3]),
                       stacklevel=2)

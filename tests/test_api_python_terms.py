@@ -77,3 +77,17 @@ def test_a_run_without_out_goes_with_its_result(tmp_path):
 def test_resume_without_out_is_refused_by_keyword():
     with pytest.raises(ValueError, match=r"^resume=True needs out"):
         gc.run(_scene(), resume=True, progress=False)
+
+
+def test_a_study_directory_that_cannot_take_the_study_is_named_by_keyword(tmp_path, capsys):
+    out = tmp_path / "busy"
+    out.mkdir()
+    (out / "notes.txt").write_text("mine")
+    study = gc.make_study(_scene(), axes={"interface.phi_n_star": [0.01, 0.15]})
+    with pytest.raises(gc.RunDirError, match=r"^out .* is not empty and holds no study \(notes\.txt\): choose another "
+                                             r"out$"):
+        gc.run_study(study, out=out, workers=1, progress=False)
+    study_file = tmp_path / "study.toml"
+    study_file.write_text(study.text)
+    assert main(["study", "run", str(study_file), "--out", str(out), "--workers", "1", "--quiet"]) == 2
+    assert "holds no study (notes.txt): choose another --out" in capsys.readouterr().err

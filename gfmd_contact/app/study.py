@@ -72,11 +72,12 @@ def prepare_study_dir(out, study):
     """Check DIR before any compute: a file, or a non-empty directory that is no study directory, is refused."""
     out = Path(out)
     if out.exists() and not out.is_dir():
-        raise io.RunDirError(f"--out {str(out)!r} is an existing file, not a directory: choose another --out")
+        raise io.RunDirError.options("{out} {path!r} is an existing file, not a directory: choose another {out}",
+                                     path=str(out))
     existing = sorted(p.name for p in out.iterdir() if p.name != safe_files.LOCK_NAME) if out.is_dir() else []
     if existing and not any(n in ("tasks", "study.json") for n in existing):
-        raise io.RunDirError(f"--out {out} is not empty and holds no study ({', '.join(existing[:6])}): "
-                             "choose another --out")
+        raise io.RunDirError.options("{out} {path} is not empty and holds no study ({entries}): choose another {out}",
+                                     path=out, entries=", ".join(existing[:6]))
     (out / "tasks").mkdir(parents=True, exist_ok=True)
     for p in [*out.glob(".*.tmp"), *(out / "figures").glob(".*.tmp")]:  # a killed writer's (we hold the lock)
         p.unlink(missing_ok=True)
@@ -162,7 +163,8 @@ def run_study(study, out, *, workers=None, scheduler=None, progress=True, comman
     """
     out = Path(out).resolve()
     if out.exists() and not out.is_dir():
-        raise io.RunDirError(f"--out {str(out)!r} is an existing file, not a directory: choose another --out")
+        raise io.RunDirError.options("{out} {path!r} is an existing file, not a directory: choose another {out}",
+                                     path=str(out))
     command = command or " ".join(sys.argv)
     note = (lambda line: print(f"note: {line}", file=sys.stderr)) if progress else None
     advice = "wait for it to end (or add --wait to wait for it), or stop it first; or choose another --out"
