@@ -12,11 +12,12 @@ any other law's traction and tangent on the near set, whose cut is the law's `fa
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
 from .. import cohesive_preconditioner, kernels
-from ..ncg_nodes import nodes_for
+from ..ncg_nodes import line_search, nodes_for
 from ..problem import stiffness_operator
 from ..fft import Fft
 from ..settings import stall
@@ -108,28 +109,116 @@ def solve(problem, start, options):
     whose line search finds no descent, is handed over (`Relaxed.stalled`; `gfmd.chains` restarts it
     from the same guess with FIRE and the rest of the iterations, `Relaxed.method` "ncg→fire").
     """
-    model, law, z_ind, wall_tolerance = problem.model, problem.law, problem.z_ind, problem.wall_tolerance
-    u_hat = start  # the step's initial displacements (c, N//2+1), rfft
-    n = model.nodes
-    fft = Fft(n, grid=model.grid)
-    clamp = model.half_plane
-    cz = law.law
+    ncg = _setup(problem, options)
+    st = _init(ncg, start)
+    model = problem.model
+    while not (st.converged or st.failed):
+        e_norm = _preconditioned_products(ncg, st)
+        if st.ratio is None or st.it % options.check_every == 0 or e_norm * st.ratio < options.tolerance * ncg.p_ref:
+            # the test of `gfmd.algorithms.dynamics` (verification.mutations' stop-early-cohesive mutates all three)
+            st.residual = residual = _force_residual(ncg, st) / model.reference_traction
+            if residual < options.tolerance:
+                st.converged = _confirmed(ncg, st)  # else every node is near from here, and the test comes again
+                continue
+            st.ratio = residual * ncg.p_ref / e_norm if e_norm > 0 else 1.0
+            if not np.isfinite(residual):
+                st.failed = "non-finite force residual"
+                break
+        if st.it >= ncg.budget:
+            st.residual = _force_residual(ncg, st) / ncg.p_ref
+            st.failed = f"not converged after {st.it} iterations (residual {st.residual:.3g} p_ref)"
+            break
+        _engage_early(ncg, st, e_norm)
+        st.it += 1
+        _iterate(ncg, st)
+    return _result(ncg, st)
+
+
+class _Ncg(NamedTuple):
+    """What one step's NCG holds fixed: the problem, the law's nodal work, the spectral kernels, the preconditioner."""
+
+    problem: object
+    model: object
+    law: object  # the law (the law protocol)
+    z_ind: np.ndarray
+    options: Options
+    fft: Fft
+    n: int
+    clamp: bool  # half-plane: the q = 0 mode stays 0
+    p_ref: float
+    dn: float  # the law's length (m): the near set's margins and the line search's first step
+    nodal: object  # the law's nodal work: a fused kernel for its closed form, else its tractions and tangent
+    budget: int  # the step's iterations before it is handed over
+    k: np.ndarray  # K's rfft coefficients (Pa/m)
+    g: np.ndarray  # K⁻¹'s, 0 on a half-plane's q = 0
+    kernels: tuple  # the spectral algebra under K⁻¹ (numpy or fused): products, direction, advance
+    split_kernels: tuple  # ... under the two-level preconditioner: products, direction, combine, stiffness
+    preconditioner: str  # `cohesive_preconditioner.resolve`'s name
+    two_level: bool  # a two-level preconditioner engages after the step's first iterations
+    cut: float  # s_c: beyond s_c·dn every node's |T_n| is below NCG_FAR_FRACTION · tolerance · p_ref
+    early: int  # the iteration that tests for a slow step (`cohesive_preconditioner.slow_step`)
+    mid: int  # ... measuring its rate from this one
+
+
+@dataclass
+class NcgState:
+    """The NCG iterate: the displacements, the near set, the force in its parts and the CG recurrence."""
+
+    guess: np.ndarray  # the step's start (what a stalled step hands back)
+    uh: np.ndarray  # û (rfft; under the two-level preconditioner a spectral part plus its coarse tail)
+    t_nodes: np.ndarray  # T_n on every node: zero off the near set
+    idx: object = None  # the near set: node indices, or slice(None) for every node
+    gap: np.ndarray = None  # Δn on the near set
+    sv: np.ndarray = None  # the law's nodal state there (`gfmd.ncg_nodes`: Eq. 3's (s, e^{−s}), else (T_n, k_loc))
+    ev: np.ndarray = None
+    slack: float = 0.0  # how far a far node may still approach before the near set is stale
+    t_full: np.ndarray = None  # T_n on every node at the state
+    f_hat: np.ndarray = None  # f̂ = rfft(T_n) − K û, q = 0 clamped on a half-plane (under K⁻¹)
+    d_hat: np.ndarray = None  # the search direction (spectrum), updated in place
+    # the force in two parts, f = irfft(f_spec) + f_dw (mean-free where clamped): (f̂, None) under K⁻¹; under the
+    # two-level preconditioner (ŷ, D w), f = irfft(ŷ − K û) + D w (`TwoLevel.apply_split`, f never on the nodes but
+    # in the residual test, `_force_residual`)
+    f_spec: np.ndarray = None
+    f_dw: np.ndarray = None
+    f_old: tuple = None  # the last force's (f_spec, f_dw, its x's parts under the two-level one or None)
+    parts: tuple = None  # this force's parts under the two-level preconditioner
+    d_parts: tuple = None  # the last direction's (e_d, E_K e_d)
+    folded: int = 0  # the iteration of the last fold of û's coarse tail
+    d_prev: np.ndarray = None  # the last direction on the nodes (for f·d_old with the D w part)
+    z_kd: np.ndarray = None  # Zᵀ K d of the last direction on the coarse space (`TwoLevel.move`)
+    d_nodes: np.ndarray = None  # d on the nodes where the preconditioner gives s there
+    rz_old: float = 1.0  # f_old·s_old
+    c2: float = 0.0  # d·Kd of the direction
+    restart: bool = True
+    other: object = None  # the two-level preconditioner, once a step engages it
+    engage_at: int = 0  # the iteration from which it runs (earlier on a slow step)
+    e_mid: float = None  # the energy norm at iteration `mid`
+    ratio: float = None  # last max|f| / energy norm: predicts when the max-norm test can pass
+    # this iteration's preconditioned products: f·s, f_old·s, f·d_old; s and its nodal values and Zᵀ K s
+    engaged: bool = False
+    rz: float = 0.0
+    f_old_s: float = 0.0
+    f_d_old: float = 0.0
+    s_hat: np.ndarray = None
+    s_nodes: np.ndarray = None
+    z_ks: np.ndarray = None
+    it: int = 0
+    residual: float = np.inf
+    converged: bool = False
+    failed: str = ""  # why the step is handed over
+
+
+def _setup(problem, options):
+    """The fixed part of one step (`_Ncg`); refuses "two-level" for a law without a curvature scale."""
+    model, cz = problem.model, problem.law.law
+    fft = Fft(model.nodes, grid=model.grid)
     p_ref = model.reference_traction
-    dn = float(cz.length_scale)  # the law's length (m): the near set's margins and the line search's first step
-    nodal = nodes_for(cz)  # the law's nodal work: a fused kernel for its closed form, else its tractions and tangent
+    nodal = nodes_for(cz)
     budget = min(NCG_BUDGET, options.max_iterations // 2) if options.max_iterations > 1 else 1
     k = np.ascontiguousarray(np.real(model.k_zz), dtype=float)
-
-    def preconditioner():
-        g = np.zeros(k.size)
-        np.divide(1.0, k, out=g, where=k > 0)
-        if clamp:
-            g[0] = 0.0
-        return g
-
-    g = preconditioner()
-    products, direction, advance = kernels.ncg_kernels(grid=model.grid)  # the spectral algebra (numpy or fused)
-    products_m, direction_m, combine_m, stiffness_m = kernels.preconditioned_kernels()  # under the two-level one
+    g = _inverse(k, model.half_plane)
+    spectral = kernels.ncg_kernels(grid=model.grid)  # the spectral algebra (numpy or fused)
+    split = kernels.preconditioned_kernels()  # under the two-level one
     cohesive_preconditioner.check(options, model.grid)
     if cz.curvature_scale is None and options.cohesive_preconditioner == "two-level":
         raise ValueError(f"Settings.cohesive_preconditioner = 'two-level' needs a law with a curvature scale "
@@ -139,269 +228,267 @@ def solve(problem, start, options):
     # built when a step first engages it (ENGAGE_AFTER iterations): the steps that finish before never pay its setup
     # (an irfft and two cumulative sums over 2N: ≈ 6 ms at 2^17, once per task, K's sums kept on the
     # model's `stiffness_operator`; a φn* = 0.001 task −6 to −11 % CPU)
-    two_level = preconditioner_name != "stiffness"
-    other = None
     far = NCG_FAR_FRACTION * options.tolerance * p_ref  # a far node's |T_n| is below this (Pa)
-    cut = cz.far_reach(far)  # s_c: beyond s_c·dn every node's |T_n| is below `far`
-    scaled_gap = nodal.state  # Eq. 3's fused form: (s, e^{−s}); any other law: (T_n, dT_n/dΔn)
+    return _Ncg(problem=problem, model=model, law=cz, z_ind=problem.z_ind, options=options, fft=fft, n=model.nodes,
+                clamp=model.half_plane, p_ref=p_ref, dn=float(cz.length_scale), nodal=nodal, budget=budget, k=k, g=g,
+                kernels=spectral, split_kernels=split, preconditioner=preconditioner_name,
+                two_level=preconditioner_name != "stiffness", cut=cz.far_reach(far),
+                early=cohesive_preconditioner.ENGAGE_EARLY, mid=cohesive_preconditioner.ENGAGE_EARLY // 2)
 
-    def near(margin, first=False):
-        """(near, Δn on it, s, e^{−s}) at the state uh: the nodes with Δn < (s_c + margin) δn
-        (slice(None): every node), from a fresh irfft."""
-        if other is not None:  # û exact (the two-level preconditioner's coarse tail folded in)
-            other.fold(uh)
-        gap_all = z_ind - fft.irfft(uh)
-        if first:  # an initial guess out of the law's range raises, as FIRE's does
-            cz.check_gaps(gap_all)
-        idx = np.flatnonzero(gap_all < (cut + margin) * dn) if np.isfinite(cut) else None
-        if idx is None or idx.size > NCG_NEAR_FULL * n:
-            return slice(None), gap_all, *scaled_gap(gap_all)
-        gap_near = gap_all[idx]
-        return idx, gap_near, *scaled_gap(gap_near)
 
-    t_nodes = np.zeros(n)  # T_n on every node: zero off the near set
+def _inverse(k, clamp):
+    """K⁻¹ on the modes (0 where K is not positive, and on a half-plane's q = 0)."""
+    g = np.zeros(k.size)
+    np.divide(1.0, k, out=g, where=k > 0)
+    if clamp:
+        g[0] = 0.0
+    return g
 
-    def traction_nodes():
-        """T_n = (φn/δn) s e^{−s} (seed Eq. 3) on every node: on the near set, 0 off it (an array kept until the next
-        call)."""
-        t = nodal.traction_new(sv, ev)
-        if isinstance(idx, slice):
-            return t
-        t_nodes[idx] = t
-        return t_nodes
 
-    def largest_force(f_spec, f_dw):
-        """max_j |f_j| (Pa) of the force f = irfft(f_spec) + f_dw (its mean removed where clamped; f_dw None: 0)."""
-        f = fft.irfft(f_spec)
-        if f_dw is not None:
-            f += f_dw
-            if clamp:
-                f -= np.mean(f)
-        return float(np.max(np.abs(f)))
-
-    def force_residual():
-        """max_j |f_j| (Pa) of the force at the state; under the two-level preconditioner's split form
-        (f_spec = ŷ), f = irfft(ŷ − K û) + D w with û exact (`TwoLevel.fold`: one rfft where it has a tail)."""
-        nonlocal folded
-        if parts is None:
-            return largest_force(f_spec, f_dw)
-        if other.fold(uh):
-            folded = it
-        return largest_force(f_spec - k * uh, f_dw)
-
-    def full_residual():
-        """max_j |f_j| / p_ref with every node's attraction (the converged state's check)."""
-        gap_all = z_ind - fft.irfft(uh)
-        s_all, e_all = scaled_gap(gap_all)
-        t_all = nodal.traction(s_all, e_all)
-        f_all = fft.rfft(t_all)
-        f_all -= k * uh
-        if clamp:
-            f_all[0] = 0.0
-        return float(np.max(np.abs(fft.irfft(f_all)))) / p_ref, gap_all, s_all, e_all, f_all, t_all
-
-    guess = np.array(u_hat, dtype=complex, copy=True)
+def _init(ncg, start):
+    """The first iterate: the start's last state (q = 0 clamped), its near set and its force f̂."""
+    guess = np.array(start, dtype=complex, copy=True)
     uh = np.array(guess[-1], dtype=complex, copy=True)
-    if clamp:
+    if ncg.clamp:
         uh[0] = 0.0
-    idx, gap, sv, ev = near(NCG_NEAR_MARGIN, first=True)
-    slack = NCG_NEAR_MARGIN * dn  # how far a far node may still approach before the near set is stale
-    t_full = traction_nodes()  # T_n on every node at the state
-    f_hat = fft.rfft(t_full)  # f̂ = rfft(T_n) − K û, q = 0 clamped on a half-plane (under K⁻¹; see below)
-    f_hat -= k * uh
-    if clamp:
+    st = NcgState(guess=guess, uh=uh, t_nodes=np.zeros(ncg.n), engage_at=cohesive_preconditioner.ENGAGE_AFTER)
+    st.idx, st.gap, st.sv, st.ev = _near(ncg, st, NCG_NEAR_MARGIN, first=True)
+    st.slack = NCG_NEAR_MARGIN * ncg.dn
+    st.t_full = _traction_nodes(ncg, st)
+    f_hat = ncg.fft.rfft(st.t_full)
+    f_hat -= ncg.k * uh
+    if ncg.clamp:
         f_hat[0] = 0.0
-    d_hat = np.zeros_like(f_hat)  # the search direction (spectrum), updated in place
-    # the force in two parts, f = irfft(f_spec) + f_dw (mean-free where clamped): (f̂, None) under K⁻¹; under the
-    # two-level preconditioner (ŷ, D w), f = irfft(ŷ − K û) + D w (`TwoLevel.apply_split`, f never on the nodes but
-    # in the residual test, `force_residual`)
-    f_spec, f_dw = f_hat, None
-    f_old = (f_hat, None, None)  # the last force's (f_spec, f_dw, its x's parts under the two-level one or None)
-    parts, d_parts, folded = None, None, 0  # this force's parts, the last direction's (e_d, E_K e_d), the last fold
-    d_prev = None  # the last direction on the nodes (for f·d_old with the D w part)
-    z_kd = None  # Zᵀ K d of the last direction on the coarse space (`TwoLevel.move`)
-    rz_old, c2 = 1.0, 0.0  # f_old·K⁻¹f_old, d·Kd of the last direction
-    restart = True
-    residual, converged, message, failed = np.inf, False, "", ""
-    eta = options.line_search_tol
-    ratio = None  # last max|f| / rms(f): predicts when the max-norm test can pass
-    engage_at, e_mid = cohesive_preconditioner.ENGAGE_AFTER, None  # earlier on a slow step (`slow_step`)
-    early, mid = cohesive_preconditioner.ENGAGE_EARLY, cohesive_preconditioner.ENGAGE_EARLY // 2
-    it = 0
-    d_nodes = None  # d on the nodes where the preconditioner gives s there (`gfmd.cohesive_preconditioner`)
-    while True:
-        engaged = two_level and it >= engage_at
-        if engaged and other is None:
-            other = cohesive_preconditioner.build(preconditioner_name, fft, k, clamp, n, cz.curvature_scale,
-                                                  stiffness_operator(model))
-        if not engaged:
-            rz, f_old_s, f_d_old = products(f_hat, f_old[0], d_hat, g, n)  # f·s, f_old·s, f·d_old; s = K⁻¹ f
-            f_spec, f_dw = f_hat, None
-        else:  # s = M⁻¹ f (`gfmd.cohesive_preconditioner`), rebuilt from the state (a restart where it changed)
-            if (it - engage_at) % cohesive_preconditioner.REBUILD_EVERY == 0:
-                k_loc = np.zeros(n)
-                k_loc[idx] = nodal.stiffness(sv, ev)
-                if other.rebuild(k_loc, uh) or it == engage_at:
-                    restart = True
-            if it - folded >= FOLD_EVERY and other.fold(uh):  # the tail bounded (its products' round-off)
-                folded = it
-            s_hat, s_nodes, f_spec, f_dw, z_ks, sums, parts = other.apply_split(t_full, uh, f_old[1], d_prev)
-            if parts is not None:  # s = x' − Π Z (e_u + c₂): its products from the parts (`split_products`)
-                spectral = stiffness_m(s_hat, s_hat if f_old[2] is None else f_old[2][0], d_hat, k, n)
-                rz, f_old_s, f_d_old = cohesive_preconditioner.split_products(
-                    spectral, parts, None if restart or f_old[2] is None else f_old[2][1:],
-                    None if restart or d_parts is None else (*d_parts, z_kd), sums)
-            else:  # no coarse space: ŝ exact (a restart where there was one before)
-                rz, f_old_s, f_d_old = products_m(f_spec, f_old[0], d_hat, s_hat, n)
-                if f_old[1] is not None:
-                    f_old_s += float(np.dot(f_old[1], s_nodes if s_nodes is not None else fft.irfft(s_hat)))
-        e_norm = np.sqrt(max(rz, 0.0))
-        e_mid = e_norm if it == mid else e_mid
-        if ratio is None or it % options.check_every == 0 or e_norm * ratio < options.tolerance * p_ref:
-            # the test of `gfmd.algorithms.dynamics` (verification.mutations' stop-early-cohesive mutates all three)
-            residual = force_residual() / model.reference_traction
-            if residual < options.tolerance:
-                if not isinstance(idx, slice):  # the far nodes' attraction included: converged as FIRE's is
-                    residual, gap, sv, ev, f_hat, t_full = full_residual()
-                    if not residual < options.tolerance:  # it counts after all: every node is near from here
-                        idx, restart, ratio = slice(None), True, None
-                        continue
-                converged = True
-                break
-            ratio = residual * p_ref / e_norm if e_norm > 0 else 1.0
-            if not np.isfinite(residual):
-                failed = "non-finite force residual"
-                break
-        if it >= budget:
-            residual = force_residual() / p_ref
-            failed = f"not converged after {it} iterations (residual {residual:.3g} p_ref)"
-            break
-        if (two_level and it == early < engage_at and e_mid is not None and ratio is not None
-                and cohesive_preconditioner.slow_step(e_mid, e_norm, it - mid, options.tolerance * p_ref / ratio,
-                                                      engage_at - it)):
-            engage_at = it + 1  # a slow step: the two-level preconditioner from the next iteration on
-        it += 1
-        # d = s + β d_old, and K s = f (K K⁻¹ = 1 on every mode but a half-plane's q = 0, where s = f = 0):
-        # dE/dα(0) = −f·d = −(f·s + β f·d_old), d·Kd = f·s + 2β f·d_old + β² d_old·K d_old, no K d needed
-        beta = 0.0 if restart else max(0.0, (rz - f_old_s) / rz_old)  # Polak–Ribière+
-        slope0, c2 = -(rz + beta * f_d_old), rz + beta * (2.0 * f_d_old + beta * c2)
-        if not slope0 < 0:  # not a descent direction: restart along s
-            beta, slope0, c2 = 0.0, -rz, rz
-            if not slope0 < 0:
-                failed = "no descent direction"
-                break
-        if not engaged:
-            direction(f_hat, g, beta, d_hat)  # d̂ ← ŝ + β d̂
-        else:  # K s ≠ f: d·Kd as a sum over the modes
-            c2 = direction_m(s_hat, beta, d_hat, k, n)  # d̂ ← ŝ + β d̂, d·Kd (the spectral parts' under the tails)
-            # Zᵀ K d for the coarse load's move (None: made afresh from û at the next application)
-            z_kd = z_ks if beta == 0.0 else None if z_ks is None or z_kd is None else z_ks + beta * z_kd
-            if parts is not None:  # d's tail e_d = e_s + β e_d and E_K e_d with it; d·Kd from the parts
-                e_s, k_s = parts[1], parts[2]
-                d_parts = (e_s, k_s) if beta == 0.0 else (e_s + beta * d_parts[0], k_s + beta * d_parts[1])
-                c2 = cohesive_preconditioner.split_energy(c2, *d_parts, z_kd)
-            else:
-                d_parts = None
-            if s_nodes is not None and (beta == 0.0 or d_nodes is not None):  # d on the nodes without an irfft
-                d_nodes = s_nodes if beta == 0.0 else combine_m(s_nodes, beta, d_nodes)
-            else:
-                d_nodes = None
-        restart = False
-        f_old, rz_old = (f_spec, f_dw, None if parts is None else (s_hat, parts[0], parts[3])), rz
-        d_all = fft.irfft(d_hat) if not engaged or d_nodes is None else d_nodes
-        d_prev = d_all
-        approach = float(np.max(d_all)) if not isinstance(idx, slice) else 0.0  # Δn falls by α d: d > 0 approaches
-        for _ in range(2):  # a second pass only when the step left the near set stale: rebuilt, searched again
-            d = d_all[idx]
-            # d·Ku = Σ_j d_j T_n,j − d·f: f = T_n − K u − ⟨T_n⟩ and Σ_j d_j = 0 on a half-plane
-            law_slope, law_curvature = nodal.direction_sums(sv, ev, d)  # Σ_j T_n,j d_j, Σ_j k_loc,j d_j²: one pass
-            c1 = law_slope + slope0
+    st.f_hat, st.d_hat = f_hat, np.zeros_like(f_hat)
+    st.f_spec, st.f_dw = f_hat, None
+    st.f_old = (f_hat, None, None)
+    return st
 
-            alpha, found, gap_a, s_a, e_a = _ncg_line_search(nodal, c1, c2, law_curvature, slope0, gap, sv, ev, d,
-                                                             dn, eta, options.max_move)
-            if alpha * approach <= slack:
-                break
-            margin = NCG_NEAR_MARGIN + 2.0 * alpha * approach / dn
-            idx, gap, sv, ev = near(margin)
-            slack = margin * dn
-            t_nodes[:] = 0.0  # T_n off the new near set: 0
-        if not found and beta > 0.0:  # a conjugate direction failed: retry once along s = K⁻¹ f
-            restart = True
-            continue
-        if not found:
-            failed = "line search found no minimum along the search direction"
+
+def _near(ncg, st, margin, first=False):
+    """(near, Δn on it, the law's nodal state there) at the state û: the nodes with Δn < (s_c + margin) δn
+    (slice(None): every node), from a fresh irfft."""
+    if st.other is not None:  # û exact (the two-level preconditioner's coarse tail folded in)
+        st.other.fold(st.uh)
+    gap_all = ncg.z_ind - ncg.fft.irfft(st.uh)
+    if first:  # an initial guess out of the law's range raises, as FIRE's does
+        ncg.law.check_gaps(gap_all)
+    idx = np.flatnonzero(gap_all < (ncg.cut + margin) * ncg.dn) if np.isfinite(ncg.cut) else None
+    if idx is None or idx.size > NCG_NEAR_FULL * ncg.n:
+        return slice(None), gap_all, *ncg.nodal.state(gap_all)
+    gap_near = gap_all[idx]
+    return idx, gap_near, *ncg.nodal.state(gap_near)
+
+
+def _traction_nodes(ncg, st):
+    """T_n on every node: the law's on the near set, 0 off it (an array kept until the next call)."""
+    t = ncg.nodal.traction_new(st.sv, st.ev)
+    if isinstance(st.idx, slice):
+        return t
+    st.t_nodes[st.idx] = t
+    return st.t_nodes
+
+
+def _largest_force(ncg, f_spec, f_dw):
+    """max_j |f_j| (Pa) of the force f = irfft(f_spec) + f_dw (its mean removed where clamped; f_dw None: 0)."""
+    f = ncg.fft.irfft(f_spec)
+    if f_dw is not None:
+        f += f_dw
+        if ncg.clamp:
+            f -= np.mean(f)
+    return float(np.max(np.abs(f)))
+
+
+def _force_residual(ncg, st):
+    """max_j |f_j| (Pa) of the force at the state; under the two-level preconditioner's split form
+    (f_spec = ŷ), f = irfft(ŷ − K û) + D w with û exact (`TwoLevel.fold`: one rfft where it has a tail)."""
+    if st.parts is None:
+        return _largest_force(ncg, st.f_spec, st.f_dw)
+    if st.other.fold(st.uh):
+        st.folded = st.it
+    return _largest_force(ncg, st.f_spec - ncg.k * st.uh, st.f_dw)
+
+
+def _confirmed(ncg, st):
+    """Whether a state that passed the test on the near set passes it with every node's attraction (the converged
+    state's check, as FIRE's); if not, the far nodes count after all: every node is near from here, the
+    direction restarts."""
+    if isinstance(st.idx, slice):
+        return True
+    gap_all = ncg.z_ind - ncg.fft.irfft(st.uh)
+    s_all, e_all = ncg.nodal.state(gap_all)
+    t_all = ncg.nodal.traction(s_all, e_all)
+    f_all = ncg.fft.rfft(t_all)
+    f_all -= ncg.k * st.uh
+    if ncg.clamp:
+        f_all[0] = 0.0
+    st.residual = float(np.max(np.abs(ncg.fft.irfft(f_all)))) / ncg.p_ref
+    st.gap, st.sv, st.ev, st.f_hat, st.t_full = gap_all, s_all, e_all, f_all, t_all
+    if not st.residual < ncg.options.tolerance:
+        st.idx, st.restart, st.ratio = slice(None), True, None
+        return False
+    return True
+
+
+def _preconditioned_products(ncg, st):
+    """f·s, f_old·s and f·d_old for s the preconditioned force (K⁻¹ f, or the two-level M⁻¹ f once engaged, which
+    is built here when first engaged); returns the energy norm (f·s)^½."""
+    st.engaged = ncg.two_level and st.it >= st.engage_at
+    if st.engaged and st.other is None:
+        st.other = cohesive_preconditioner.build(ncg.preconditioner, ncg.fft, ncg.k, ncg.clamp, ncg.n,
+                                                 ncg.law.curvature_scale, stiffness_operator(ncg.model))
+    if not st.engaged:
+        products = ncg.kernels[0]
+        st.rz, st.f_old_s, st.f_d_old = products(st.f_hat, st.f_old[0], st.d_hat, ncg.g, ncg.n)  # s = K⁻¹ f
+        st.f_spec, st.f_dw = st.f_hat, None
+    else:
+        _two_level_products(ncg, st)
+    e_norm = np.sqrt(max(st.rz, 0.0))
+    st.e_mid = e_norm if st.it == ncg.mid else st.e_mid
+    return e_norm
+
+
+def _two_level_products(ncg, st):
+    """s = M⁻¹ f (`gfmd.cohesive_preconditioner`), M rebuilt from the state every REBUILD_EVERY iterations (a restart
+    where it changed), û's coarse tail folded at least every FOLD_EVERY; the products from the split parts."""
+    products_m, _, _, stiffness_m = ncg.split_kernels
+    if (st.it - st.engage_at) % cohesive_preconditioner.REBUILD_EVERY == 0:
+        k_loc = np.zeros(ncg.n)
+        k_loc[st.idx] = ncg.nodal.stiffness(st.sv, st.ev)
+        if st.other.rebuild(k_loc, st.uh) or st.it == st.engage_at:
+            st.restart = True
+    if st.it - st.folded >= FOLD_EVERY and st.other.fold(st.uh):  # the tail bounded (its products' round-off)
+        st.folded = st.it
+    st.s_hat, st.s_nodes, st.f_spec, st.f_dw, st.z_ks, sums, st.parts = st.other.apply_split(
+        st.t_full, st.uh, st.f_old[1], st.d_prev)
+    f_old = st.f_old
+    if st.parts is not None:  # s = x' − Π Z (e_u + c₂): its products from the parts (`split_products`)
+        spectral = stiffness_m(st.s_hat, st.s_hat if f_old[2] is None else f_old[2][0], st.d_hat, ncg.k, ncg.n)
+        st.rz, st.f_old_s, st.f_d_old = cohesive_preconditioner.split_products(
+            spectral, st.parts, None if st.restart or f_old[2] is None else f_old[2][1:],
+            None if st.restart or st.d_parts is None else (*st.d_parts, st.z_kd), sums)
+    else:  # no coarse space: ŝ exact (a restart where there was one before)
+        st.rz, st.f_old_s, st.f_d_old = products_m(st.f_spec, f_old[0], st.d_hat, st.s_hat, ncg.n)
+        if f_old[1] is not None:
+            s_nodes = st.s_nodes if st.s_nodes is not None else ncg.fft.irfft(st.s_hat)
+            st.f_old_s += float(np.dot(f_old[1], s_nodes))
+
+
+def _engage_early(ncg, st, e_norm):
+    """A slow step (`cohesive_preconditioner.slow_step`, at iteration `early`) engages the two-level preconditioner
+    from the next iteration on."""
+    if (ncg.two_level and st.it == ncg.early < st.engage_at and st.e_mid is not None and st.ratio is not None
+            and cohesive_preconditioner.slow_step(st.e_mid, e_norm, st.it - ncg.mid,
+                                                  ncg.options.tolerance * ncg.p_ref / st.ratio, st.engage_at - st.it)):
+        st.engage_at = st.it + 1
+
+
+def _iterate(ncg, st):
+    """One NCG iteration from this iteration's products: the direction, the line search along it, the move."""
+    beta, slope0 = _conjugate(st)
+    if st.failed:
+        return
+    _direction(ncg, st, beta)
+    st.restart = False
+    st.f_old = (st.f_spec, st.f_dw, None if st.parts is None else (st.s_hat, st.parts[0], st.parts[3]))
+    st.rz_old = st.rz
+    alpha, found, approach, trial = _search(ncg, st, slope0)
+    if not found and beta > 0.0:  # a conjugate direction failed: retry once along s = K⁻¹ f
+        st.restart = True
+        return
+    if not found:
+        st.failed = "line search found no minimum along the search direction"
+        return
+    _move(ncg, st, alpha, approach, trial)
+
+
+def _conjugate(st):
+    """Polak–Ribière+ β and the slope dE/dα(0) along d = s + β d_old, d·Kd into `c2`; a restart along s where d is
+    no descent direction (`failed` where s is none either)."""
+    # d = s + β d_old, and K s = f (K K⁻¹ = 1 on every mode but a half-plane's q = 0, where s = f = 0):
+    # dE/dα(0) = −f·d = −(f·s + β f·d_old), d·Kd = f·s + 2β f·d_old + β² d_old·K d_old, no K d needed
+    rz, f_d_old = st.rz, st.f_d_old
+    beta = 0.0 if st.restart else max(0.0, (rz - st.f_old_s) / st.rz_old)  # Polak–Ribière+
+    slope0, st.c2 = -(rz + beta * f_d_old), rz + beta * (2.0 * f_d_old + beta * st.c2)
+    if not slope0 < 0:  # not a descent direction: restart along s
+        beta, slope0, st.c2 = 0.0, -rz, rz
+        if not slope0 < 0:
+            st.failed = "no descent direction"
+    return beta, slope0
+
+
+def _direction(ncg, st, beta):
+    """d̂ ← ŝ + β d̂; under the two-level preconditioner (K s ≠ f) also d·Kd as a sum over the modes, Zᵀ K d,
+    d's coarse tail and d on the nodes where s is there."""
+    if not st.engaged:
+        direction = ncg.kernels[1]
+        direction(st.f_hat, ncg.g, beta, st.d_hat)  # d̂ ← ŝ + β d̂
+        return
+    _, direction_m, combine_m, _ = ncg.split_kernels
+    # d̂ ← ŝ + β d̂ and d·Kd (the spectral parts' under the tails)
+    st.c2 = direction_m(st.s_hat, beta, st.d_hat, ncg.k, ncg.n)
+    # Zᵀ K d for the coarse load's move (None: made afresh from û at the next application)
+    st.z_kd = st.z_ks if beta == 0.0 else None if st.z_ks is None or st.z_kd is None else st.z_ks + beta * st.z_kd
+    if st.parts is not None:  # d's tail e_d = e_s + β e_d and E_K e_d with it; d·Kd from the parts
+        e_s, k_s = st.parts[1], st.parts[2]
+        st.d_parts = (e_s, k_s) if beta == 0.0 else (e_s + beta * st.d_parts[0], k_s + beta * st.d_parts[1])
+        st.c2 = cohesive_preconditioner.split_energy(st.c2, *st.d_parts, st.z_kd)
+    else:
+        st.d_parts = None
+    if st.s_nodes is not None and (beta == 0.0 or st.d_nodes is not None):  # d on the nodes without an irfft
+        st.d_nodes = st.s_nodes if beta == 0.0 else combine_m(st.s_nodes, beta, st.d_nodes)
+    else:
+        st.d_nodes = None
+
+
+def _search(ncg, st, slope0):
+    """The line search along d on the near set (`gfmd.ncg_nodes.line_search`): (α, found, max_j d_j, the trial's
+    (Δn, nodal state)); searched again on a rebuilt near set where the step could have brought a far node near."""
+    d_all = ncg.fft.irfft(st.d_hat) if not st.engaged or st.d_nodes is None else st.d_nodes
+    st.d_prev = d_all
+    approach = float(np.max(d_all)) if not isinstance(st.idx, slice) else 0.0  # Δn falls by α d: d > 0 approaches
+    for _ in range(2):  # a second pass only when the step left the near set stale: rebuilt, searched again
+        d = d_all[st.idx]
+        # d·Ku = Σ_j d_j T_n,j − d·f: f = T_n − K u − ⟨T_n⟩ and Σ_j d_j = 0 on a half-plane
+        law_slope, law_curvature = ncg.nodal.direction_sums(st.sv, st.ev, d)  # Σ_j T_n,j d_j, Σ_j k_loc,j d_j²
+        c1 = law_slope + slope0
+
+        alpha, found, gap_a, s_a, e_a = line_search(ncg.nodal, c1, st.c2, law_curvature, slope0, st.gap, st.sv, st.ev,
+                                                    d, ncg.dn, ncg.options.line_search_tol, ncg.options.max_move)
+        if alpha * approach <= st.slack:
             break
-        gap, sv, ev = gap_a, s_a, e_a
-        slack -= alpha * approach
-        t_full = traction_nodes()
-        if two_level and it >= engage_at:  # the next iteration's force from t_full and û (`TwoLevel.apply_split`)
-            if engaged:
-                other.move(uh, d_hat, alpha, z_kd, *(d_parts or (None, None)))  # û ← û + α d, Zᵀ K u with it
-            else:  # (a coarse space made at the next iteration computes its Zᵀ K u afresh)
-                uh += alpha * d_hat
-        else:
-            f_hat = fft.rfft(t_full)
-            advance(uh, d_hat, alpha, k, f_hat)  # û ← û + α d̂, f̂ ← rfft(T_n) − K û
-            if clamp:
-                f_hat[0] = 0.0
-    if failed:  # the chain's next algorithm restarts from the guess (`gfmd.chains`)
-        return stall(guess, it, residual, fft.pairs, LABEL, f"NCG stopped ({failed})")
-    pairs = fft.pairs
-    out = finish(problem, uh[None, :], it, residual, converged, message)
+        margin = NCG_NEAR_MARGIN + 2.0 * alpha * approach / ncg.dn
+        st.idx, st.gap, st.sv, st.ev = _near(ncg, st, margin)
+        st.slack = margin * ncg.dn
+        st.t_nodes[:] = 0.0  # T_n off the new near set: 0
+    return alpha, found, approach, (gap_a, s_a, e_a)
+
+
+def _move(ncg, st, alpha, approach, trial):
+    """û ← û + α d̂ with the trial state's nodal values; f̂ ← rfft(T_n) − K û under K⁻¹ (under the two-level
+    preconditioner the next iteration's force comes from T_n and û, `TwoLevel.apply_split`)."""
+    st.gap, st.sv, st.ev = trial
+    st.slack -= alpha * approach
+    st.t_full = _traction_nodes(ncg, st)
+    if ncg.two_level and st.it >= st.engage_at:
+        if st.engaged:
+            st.other.move(st.uh, st.d_hat, alpha, st.z_kd, *(st.d_parts or (None, None)))  # û ← û + α d, Zᵀ K u
+        else:  # (a coarse space made at the next iteration computes its Zᵀ K u afresh)
+            st.uh += alpha * st.d_hat
+    else:
+        st.f_hat = ncg.fft.rfft(st.t_full)
+        advance = ncg.kernels[2]
+        advance(st.uh, st.d_hat, alpha, ncg.k, st.f_hat)  # û ← û + α d̂, f̂ ← rfft(T_n) − K û
+        if ncg.clamp:
+            st.f_hat[0] = 0.0
+
+
+def _result(ncg, st):
+    """The step's `Relaxed`; a failed step is handed over from its guess (the chain's next algorithm)."""
+    if st.failed:
+        return stall(st.guess, st.it, st.residual, ncg.fft.pairs, LABEL, f"NCG stopped ({st.failed})")
+    pairs = ncg.fft.pairs
+    out = finish(ncg.problem, st.uh[None, :], st.it, st.residual, st.converged, "")
     out.fft_pairs = pairs + 0.5
     out.method = LABEL
     return out
-
-
-def _ncg_line_search(nodal, c1, c2, law_curvature, slope0, gap, sv, ev, d, dn, eta, max_move):
-    """Safeguarded Newton on dE/dα along d (`solve`): (α, found, Δn, s, e^{−s} at α; another law's T_n, k_loc).
-
-    dE/dα = c1 + α c2 − Σ_j T_n(Δn_j − α d_j) d_j, d²E/dα² = c2 + Σ_j k_loc,j d_j² (`gfmd.ncg_nodes`: `nodal.trial`
-    evaluates a trial state, Eq. 3 in one fused pass where numba is installed); stops at |dE/dα| ≤ eta |dE/dα(0)|.
-    law_curvature: Σ_j k_loc,j d_j² at α = 0 (`nodal.direction_sums`, with c1's law term). found = False with α = 0:
-    no step lowers E.
-    """
-    curv0 = c2 + law_curvature
-    reach = float(np.max(np.abs(d))) if d.size else 0.0
-    alpha = -slope0 / curv0 if curv0 > 0 else (max_move * dn / reach if reach > 0 else 1.0)
-    lo, hi = 0.0, np.inf
-    p_lo, p_hi = slope0, np.inf
-    found = False
-    widths = []
-    for _ in range(100):
-        gap_a, s_a, e_a, work, curv = nodal.trial(gap, d, alpha)
-        p = c1 + alpha * c2 - work
-        if not np.isfinite(p):
-            hi, p_hi = alpha, np.inf
-        elif abs(p) <= eta * abs(slope0):
-            found = True
-            break
-        elif p < 0:
-            lo, p_lo = alpha, p
-        else:
-            hi, p_hi = alpha, p
-        c = c2 + (curv if curv is not None else nodal.curvature_sum(s_a, e_a, d)) if np.isfinite(p) else np.nan
-        nxt = alpha - p / c if c > 0 else np.nan
-        if np.isfinite(hi):
-            if not lo < nxt < hi:
-                nxt = lo - p_lo * (hi - lo) / (p_hi - p_lo) if np.isfinite(p_hi) else np.nan
-                if not (lo + 0.01 * (hi - lo) < nxt < hi - 0.01 * (hi - lo)):
-                    nxt = 0.5 * (lo + hi)
-            widths.append(hi - lo)
-            if len(widths) > 2 and widths[-1] > 0.5 * widths[-3]:  # Newton creeps (steep repulsive
-                nxt = 0.5 * (lo + hi)  # side of the law): bisect whenever two trials did not halve the bracket
-            if hi - lo <= 1e-14 * hi:
-                alpha = lo if lo > 0 else hi
-                gap_a, s_a, e_a, _, _ = nodal.trial(gap, d, alpha)
-                found = alpha > 0
-                break
-        elif not nxt > alpha:
-            nxt = 4.0 * alpha
-        alpha = nxt
-    if not found and lo > 0:  # no tight minimum found, but E decreases up to lo: take that step
-        alpha = lo
-        gap_a, s_a, e_a, _, _ = nodal.trial(gap, d, alpha)
-        found = True
-    if not found:
-        alpha = 0.0
-    return alpha, found, gap_a, s_a, e_a
