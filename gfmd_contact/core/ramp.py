@@ -1,4 +1,4 @@
-"""The one load ramp: a realization under displacement control, for any method (seed §2).
+"""The one load ramp: a realization under displacement or force control, for any method (seed §2).
 
 Units: SI (see `gfmd_contact.core.conventions`). `run_ramp` does what every method shares:
 profile → the method's cell → for each load step of `gfmd_contact.core.loading` (cut at the
