@@ -319,6 +319,8 @@ def test_report_dir_without_a_test_path_keeps_the_outcomes(tmp_path):
     verification tests were lost (a failing case then read as its recorded verdict)."""
     out = tmp_path / "report"
     root = Path(__file__).resolve().parent.parent
+    if not (root / "pyproject.toml").is_file():
+        pytest.skip("a source checkout's behaviour (pytest from its root); this suite is an installed package")
     run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--report-dir", str(out),
                           "-k", "test_hertz_convergence and not fine"], cwd=root, capture_output=True, text=True,
                          timeout=300)
