@@ -76,7 +76,7 @@ def solve(problem, start, options):
     what the stopping test needs; measured on the Fig. 8 ramp at 2^12: 72 FFT pairs per step vs 83 with a fixed
     1e-3, and 184 on the nodes with K⁻¹, 265 with the FIRE mass), η Eisenstat–Walker's (loose while Newton
     converges linearly, tight once quadratically; COUPLED_NEWTON_EISENSTAT_WALKER; measured in
-    benchmarks/results/bench_coupled_forcing_*.md); the step is capped so that no node moves more than
+    docs/design/performance.md); the step is capped so that no node moves more than
     COUPLED_NEWTON_MAX_MOVE·min(δn, δt) and halved until ‖f‖₂ decreases (a step into the law's overflow range
     counts as no decrease). The iterations run on the nodes: u and K u are updated by δu and K δu,
     which GMRES sums from its products' parts (`newton_direction`: no transform after the solve, none for a trial
@@ -95,7 +95,7 @@ def solve(problem, start, options):
     COUPLED_GMRES_CYCLES (a miss within fewer cycles is a break-off, BROKE_OFF, resumable with all of them);
     `Settings.coupled_continuation_stagnation` > 0 breaks off (BROKE_OFF) once two iterations in a row each left more
     than that fraction of the residual before them (a Newton that crawls along a near-singular tangent). Measured
-    (benchmarks/results/bench_coupled_fallback.md): on the fig8_small ramps (N = 4096) no GMRES solve missed; where
+    (docs/design/performance.md): on the fig8_small ramps (N = 4096) no GMRES solve missed; where
     one missed at 2^17, the tangent K + D was near-singular or indefinite along the step (a snap or slip event) and
     the continuation went on for 23–60 iterations (5 400–13 300 FFT pairs) without converging, before FIRE relaxed
     the step from the guess in ~600–700 iterations. The solves of kept continuations took ≤ 104 products (Fig. 8,

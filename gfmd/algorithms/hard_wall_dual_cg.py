@@ -2,7 +2,7 @@
 
 The dual of `gfmd.problem`'s hard-wall problem, preconditioned by a band of K on the contact set,
 one FFT pair per iteration: 8.6–10× fewer FFT pairs per step than FIRE at N = 2^16–2^17
-(benchmarks/results/bench_vs_tamaas.md). First in the hard wall's chain while the contact set
+(docs/design/performance.md). First in the hard wall's chain while the contact set
 holds at most `Settings.dual_contact_limit` (15 %) of the nodes (`gfmd.chains`).
 """
 
@@ -22,7 +22,7 @@ Options = DualOptions  # what it reads: the dual CG's options
 DUAL_BAND_HALF_WIDTH = 32
 #: 2+1-D surfaces: the preconditioner keeps K_ij for |x_i − x_j|, |y_i − y_j| ≤ this many nodes (periodic), a
 #: (2w + 1)² window per row (`_band_stiffness_surface`; K's kernel decays as 1/r³ in 2-D). Measured
-#: (benchmarks/bench_gfmd_2d.py's hard-wall ramp, 5 steps to a_rel ≈ 3 %), CG iterations per step for
+#: (docs/design/performance.md hard-wall ramp, 5 steps to a_rel ≈ 3 %), CG iterations per step for
 #: w = 0 (diagonal) / 1 / 2 / 3 / 4 / 6: 128²: 8–28 / 7–14 / 7–14 / 7–14 / 7–14 / 7–14; 256²: 10–48 / 8–20 /
 #: 8–21 / 8–19 / 8–19 / 8–19: the nearest neighbours carry the gain, a wider window only costs.
 DUAL_WINDOW_HALF_WIDTH_2D = 1

@@ -2,7 +2,7 @@
 
 An active-set method (Polonsky & Keer 1999, Dostál's proportioning) for min ½ uᵀKu over
 u ≤ z_ind (`gfmd.problem`); preconditioner M⁻¹ = K⁻¹, two FFT pairs per iteration; 5.8–7.3× fewer
-FFT pairs per step than FIRE at N = 2^16–2^17 (benchmarks/results/bench_vs_tamaas.md). The hard
+FFT pairs per step than FIRE at N = 2^16–2^17 (docs/design/performance.md). The hard
 wall's chain runs it beyond `Settings.dual_contact_limit` (`gfmd.chains`).
 """
 

@@ -3,14 +3,14 @@
 `gfmd.algorithms.hard_wall_dual_cg`'s projected CG on the contact pressures, its band-of-K_AA
 preconditioner wrapped in a balancing (BNN) coarse correction on blocks of the contact patches: the
 first in the hard wall's chain (`gfmd.chains`, ``Settings.dual_coarse_block > 0``). Why: the dual CG's
-count grows with N because its linear part does (benchmarks/results/bench_vs_tamaas.md, section 8: CG on
+count grows with N because its linear part does (docs/design/performance.md: CG on
 a fixed contact set, K_AA-preconditioned, 16 → 35 iterations from N = 2^12 to 2^18), not because of set
 changes: K_AA is the Dirichlet-to-Neumann map of the whole line restricted to a patch, G_AA⁻¹ its Schur
 complement, and the two differ on the smooth modes of each patch (the open-arc log² growth of the
 hypersingular-preconditioned single layer, Steinbach & Wendland 1998). The coarse space, piecewise
 constants on blocks of ≤ `Settings.dual_coarse_block` consecutive contact nodes, takes exactly those
 modes; a block size fixed in nodes makes the condition number independent of N (the two-level bound
-depends on the block / node ratio only; benchmarks/results/bench_hardwall_scaling.md: on the 0.1 nm
+depends on the block / node ratio only; docs/design/performance.md: on the 0.1 nm
 Fig. 3 step 5–10 iterations per step from N = 2^14 to 2^20, the band alone 14 → 36). The coarse level's cost is
 dense in contact nodes × blocks (G_AA Z): where even one block per patch would exceed
 COARSE_ENTRIES_PER_NODE · N entries (many patches: a_rel ≈ 0.06 on the Fig. 3 profile), the band

@@ -52,7 +52,7 @@ NCG_NEAR_FULL = 0.5
 #: NCG under the two-level preconditioner: û's coarse tail is folded into its spectrum at least every this many
 #: iterations (one rfft), keeping the split products' round-off small (`gfmd.cohesive_preconditioner.split_products`;
 #: the residual tests fold every `Settings.check_every` iterations anyway). Swept on a whole 2^17 ramp
-#: (benchmarks/bench_split_tail.py): 1, 4, 8, 16 and never give the same iterations and states within 1e-14
+#: (docs/design/performance.md): 1, 4, 8, 16 and never give the same iterations and states within 1e-14
 FOLD_EVERY = 16
 
 
