@@ -360,7 +360,9 @@ def test_measured_lookups_become_the_record_source():
 def test_independence_section_lists_the_architecture_allow_list():
     """The shared inputs are read from tests/test_architecture.py's FE_MAY_IMPORT, not copied."""
     import importlib
-    from verification.independence import INDEPENDENT, PURPOSE, allowed_imports, fe_shared_inputs
+    from verification.independence import INDEPENDENT, PURPOSE, ROOT, allowed_imports, fe_shared_inputs
+    if not (ROOT / "tests" / "test_architecture.py").is_file():
+        pytest.skip("the allow list is tests/test_architecture.py of the source checkout; this suite is installed")
     info = fe_shared_inputs()
     assert {m for m, _, _ in info["shared"]} == allowed_imports() and not info["not_allowed"]
     assert all(m in PURPOSE for m in allowed_imports()), "describe every shared module"
