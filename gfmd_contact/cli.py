@@ -426,7 +426,7 @@ def build_parser():
     run.add_argument("scene", nargs="?", help="scene TOML file (omit for the built-in default scene)")
     run.add_argument("--out", help="output directory (default results/<scene name>)")
     run.add_argument("--method", choices=("fire", "verlet", "fe"),
-                     help="fire: GFMD with its production algorithms of the law (solver.method = \"fire\": "
+                     help="fire: GFMD with the production algorithms for the scene's law (solver.method = \"fire\": "
                           "NCG, CG, Newton or FIRE); verlet: GFMD with damped Verlet throughout; fe: the FE "
                           "reference (method.name)")
     run.add_argument("--realizations", type=_count(1), help="override surface.realizations (≥ 1)")
