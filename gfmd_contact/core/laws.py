@@ -21,7 +21,7 @@ import numpy as np
 from .law_equations import (MAX_COMPRESSION, CompressionOverflowError, _check_compression,  # noqa: F401
                             attraction_cut, contact_gap_threshold, jacobian_coupled, jump_in_separation,
                             potential_normal, stiffness_normal, traction_coupled, traction_normal)
-from . import law_registry
+from . import law_registry, memo
 
 
 # ---------------------------------------------------------------- the laws as objects
@@ -391,7 +391,17 @@ def law_from_scene(scene, tangential=None):
     `gfmd_contact.core.model` decides: Eq. 2 with φt = c φn* δt E (also for c = 0, when
     solver.unknowns = "coupled" forces u_x), or Eq. 3 (u_x ≡ 0, so Δt = 0). φn and φt are
     the scene's (`Scene.work_normal`, `Scene.work_tangential`). A normal-only law refuses tangential=True.
+    Built once per scene object and handed to every later caller (`gfmd_contact.core.memo`); the solved law
+    is the described one where their tangential unknowns agree, else built once more.
     """
+    described = memo.per_owner(scene, "law", lambda: build_law(scene))
+    if tangential is None or bool(tangential) == described.tangential:
+        return described
+    return memo.per_owner(scene, ("law", bool(tangential)), lambda: build_law(scene, tangential))
+
+
+def build_law(scene, tangential=None):
+    """`law_from_scene` built anew: the module `gfmd_contact.core.law_registry` names for interface.law builds it."""
     return law_registry.entry(scene.interface.law).build(scene.interface, scene.work_normal, scene.work_tangential,
                                                           tangential, scene)
 

@@ -68,7 +68,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import kernels, stickiness
+from . import kernels, memo, stickiness
 from .laws import jump_in_separation, law_from_scene  # noqa: F401 (jump_in_separation: kept importable here)
 from .observables import rms_gradient
 
@@ -134,10 +134,37 @@ def build_model(scene, h=None):
 
     Model.law is the law object as solved on the chosen unknowns (`gfmd_contact.core.laws.law_from_scene`
     with tangential = Model.tangential): Eq. 2 where u_x is solved, else Eq. 3 or the hard wall.
+    The choice (law, unknowns, kernels, checks) is made once per scene object (`chosen_model`); only
+    p_ref follows h.
     """
+    model = chosen_model(scene)
+    s = scene.surface
+    g = rms_gradient(h, s.spacings if s.two_d else s.spacing) if h is not None else 0.0
+    return dataclasses.replace(model, reference_traction=model.contact_modulus * g) if g > 0 else model
+
+
+#: the model chosen for the scene asked for last (its kernels are large: one scene's at a time)
+_CHOSEN = memo.LastOwner()
+
+
+def chosen_model(scene):
+    """The model `build_model` returns for a flat profile (p_ref the law's), chosen once per scene object;
+    its arrays are read-only, as every realization shares them."""
+    return _CHOSEN.get(scene, "model", lambda: _read_only(choose_model(scene)))
+
+
+def _read_only(model):
+    for value in (model.q, model.k_xx, model.k_xz, model.k_zz):
+        if isinstance(value, np.ndarray):
+            value.flags.writeable = False
+    return model
+
+
+def choose_model(scene):
+    """`chosen_model` made anew: the unknowns, kernels and checks of `scene` (1+1-D or 2+1-D)."""
     s, m, i = scene.surface, scene.material, scene.interface
     if s.two_d:
-        return _build_model_2d(scene, h)
+        return _build_model_2d(scene)
     n, length = s.nodes, s.length
     q = kernels.wavenumbers(n, length)
     e, nu, thick = m.youngs_modulus, m.poisson_ratio, m.thickness
@@ -170,8 +197,7 @@ def build_model(scene, h=None):
             k_xx = k_xz = None
             k_zz = kernels.layer_normal(q, e, nu, thick)
     e_star = m.contact_modulus
-    g = rms_gradient(h, s.spacing) if h is not None else 0.0
-    p_ref = e_star * g if g > 0 else solved.reference_traction(e_star)
+    p_ref = solved.reference_traction(e_star)
     body = "half-plane" if half_plane else f"layer D = {thick:g} m"
     unknowns = "u_x, u_z" if tangential else "u_z"
     description = f"{solved.name}, {body}, {n} nodes, unknowns {unknowns}"
@@ -181,7 +207,7 @@ def build_model(scene, h=None):
     return _checked(scene, model, description)
 
 
-def _build_model_2d(scene, h=None):
+def _build_model_2d(scene):
     """The 2+1-D model: normal-only, K_zz of `halfplane_normal` / `layer_normal` at |q| of the
     rfft2 half-spectrum (`kernels.wavevector_magnitudes`); the scene has refused laws that need u_x."""
     s, m = scene.surface, scene.material
@@ -199,8 +225,7 @@ def _build_model_2d(scene, h=None):
         reasons.append(f"thickness = {thick:g} m: layer on a bonded rigid base, q = 0 stiffness M/D")
         k_zz = kernels.layer_normal(q, e, nu, thick)
     e_star = m.contact_modulus
-    g = rms_gradient(h, s.spacings) if h is not None else 0.0
-    p_ref = e_star * g if g > 0 else solved.reference_traction(e_star)
+    p_ref = solved.reference_traction(e_star)
     body = "half-space" if m.half_plane else f"layer D = {thick:g} m"
     description = f"{solved.name}, {body}, {nx} × {ny} nodes, unknowns u_z"
     model = Model(nodes=nx * ny, length=s.length, law=solved, tangential=False, half_plane=m.half_plane, q=q,

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import scipy.fft
 
+from . import memo
 from .errors import SceneError, first_line
 from .surface_files import check_regular_file, read_npy, read_text
 from .topography_files import TEXT_SUFFIXES  # read as text here; other suffixes: instrument files
@@ -122,11 +123,33 @@ def from_file(path, nodes, length=None):
     return h
 
 
+#: the profiles of the surface asked for last (a check, the run and its files share them; one surface's at a time)
+_MADE = memo.LastOwner()
+
+
 def profile(surface, realization=0):
     """Profile h(x) (m) for a `gfmd_contact.core.scene.Surface` spec; realization i uses seed + i.
 
     A 2+1-D surface (surface.nodes_y ≥ 2) gives h(x, y) of shape (Nx, Ny) (`gfmd_contact.core.surfaces_2d`).
+    Made once per (surface object, realization; a file's size and modification time) and read-only after.
     """
+    stamp = None
+    if surface.kind == "file":
+        try:
+            stat = Path(surface.path).stat()
+        except (OSError, TypeError, ValueError):  # make_profile says what is wrong with the path
+            return make_profile(surface, realization)
+        stamp = (stat.st_mtime_ns, stat.st_size)
+    return _MADE.get(surface, (realization, stamp), lambda: _read_only(make_profile(surface, realization)))
+
+
+def _read_only(h):
+    h.flags.writeable = False
+    return h
+
+
+def make_profile(surface, realization=0):
+    """`profile` made anew."""
     if getattr(surface, "nodes_y", 0):
         from .surfaces_2d import profile_2d
         return profile_2d(surface, realization)
