@@ -150,10 +150,11 @@ def _run_locked(args, scene, out, warnings, notes):
     for n in notes:
         print(f"note: {n}", file=sys.stderr)
     method = "FE" if scene.method.name == "fe" else _gfmd_description(scene)
-    from gfmd_contact.core.cost import describe, estimate_peak_memory
+    from gfmd_contact.core.cost import describe, estimate_peak_memory, estimate_seconds
 
+    estimates = describe(estimate_peak_memory(scene, args.workers), estimate_seconds(scene, args.workers))
     print(f"scene {scene.name!r}: {scene.surface.realizations} realization(s), {scene.loading.steps} load steps, "
-          f"method {method}, {describe(estimate_peak_memory(scene, args.workers))}; results go to {out}/ as they "
+          f"method {method}, {estimates}; results go to {out}/ as they "
           "are computed", file=sys.stderr)
     try:
         from gfmd_contact.runs import compute  # the one path of gfmd run and gfmd_contact.run
@@ -218,10 +219,10 @@ def _cmd_scene(args):
             print(f"stickiness: {line}")
         size = (f"Nx × Ny = {scene.surface.nodes} × {scene.surface.nodes_y} (2+1-D)" if scene.surface.two_d
                 else f"N = {scene.surface.nodes}")
-        from gfmd_contact.core.cost import describe, estimate_peak_memory
+        from gfmd_contact.core.cost import describe, estimate_peak_memory, estimate_seconds
 
         print(f"{args.check}: valid scene; surface {scene.surface.kind}, {size}, "
-              f"law {scene.interface.law}, {describe(estimate_peak_memory(scene))}"
+              f"law {scene.interface.law}, {describe(estimate_peak_memory(scene), estimate_seconds(scene))}"
               + (f"; {len(warnings)} warning(s)" if warnings else "")
               + (f"; {len(notes)} realization(s) stop early" if notes else ""))
         return 0

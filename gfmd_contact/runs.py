@@ -41,8 +41,8 @@ class RunResult:
         The resolved scene of the run (its scene.toml).
     meta : dict
         meta.json: "complete", "method" (what ran), "model", "messages" (non-converged
-        steps), "notes", "timings" (s; with the preflight's "estimated_peak_memory_bytes",
-        `gfmd_contact.core.cost`), "code_version", ...
+        steps), "notes", "timings" (s; with the preflight's "estimated_peak_memory_bytes" and
+        "estimated_s", `gfmd_contact.core.cost`), "code_version", ...
     """
 
     def __init__(self, directory):
@@ -267,14 +267,16 @@ def compute(scene, out, workers=None, progress=True, note=None):
     """
     from gfmd_contact.app import io
     from gfmd_contact.app.ensemble import run_to_directory
-    from gfmd_contact.core.cost import estimate_peak_memory
+    from gfmd_contact.core.cost import estimate_peak_memory, estimate_seconds
 
+    seconds = estimate_seconds(scene, workers)  # before any compute (its FFT pair timed on an idle process)
     start = time.perf_counter()
     results, resume = run_to_directory(scene, out, workers=workers, progress=progress, note=note)
     elapsed = time.perf_counter() - start
     io.write_run(out, scene, results, resume=resume, timings={
         "total_s": elapsed, "workers": workers,
-        "estimated_peak_memory_bytes": estimate_peak_memory(scene, workers)})  # gfmd_contact.core.cost
+        "estimated_peak_memory_bytes": estimate_peak_memory(scene, workers),
+        "estimated_s": seconds})  # gfmd_contact.core.cost
     return results, resume, elapsed
 
 

@@ -137,7 +137,7 @@ def test_the_estimate_is_on_the_progress_line_and_in_meta_json(tmp_path):
     meta = json.loads((tmp_path / "out" / "meta.json").read_text())
     need = cost.estimate_peak_memory(scene, None)
     assert meta["timings"]["estimated_peak_memory_bytes"] == need
-    assert f"{cost.describe(need)};" in err, err
+    assert cost.describe(need, meta["timings"]["estimated_s"]) + ";" in err, err
 
 
 # -- 2. hostile surface files ---------------------------------------------------------------------------------

@@ -273,11 +273,12 @@ def study_from_dict(d, *, path=None, text="", name=None, yes=False, note=None):
 
 
 def study_size(base, axes, zipped):
-    """(sets, tasks, node-steps, peak memory of one task (bytes)) of a study, from its axes' lengths and the base
-    scene (the realizations, nodes and steps the axes give at most), without building a set."""
+    """(sets, tasks, node-steps, peak memory of one task (bytes), compute time (s) or None) of a study, from its axes'
+    lengths and the base scene (the realizations, nodes and steps the axes give at most), without building a set; the
+    time: the base task's `estimate_seconds` scaled by the study's node-steps over the base task's."""
     import math
 
-    from gfmd_contact.core.cost import estimate_peak_memory
+    from gfmd_contact.core.cost import estimate_peak_memory, estimate_seconds
 
     sets = math.prod(len(v) for v in axes.values()) * (len(next(iter(zipped.values()))) if zipped else 1)
 
@@ -289,15 +290,22 @@ def study_size(base, axes, zipped):
     s = base.surface
     nodes = int(most("surface.nodes", s.nodes)) * max(int(most("surface.nodes_y", s.nodes_y)), 1)
     steps = int(most("loading.steps", base.loading.steps)) if not base.loading.path else base.loading.steps
-    memory = estimate_peak_memory(task_scene(base, 0))
-    return sets, sets * realizations, sets * realizations * nodes * (steps + 1), memory
+    task = task_scene(base, 0)
+    memory, one = estimate_peak_memory(task), estimate_seconds(task, workers=1)
+    work = sets * realizations * nodes * (steps + 1)
+    seconds = None if one is None else one * work / (s.nodes * max(s.nodes_y, 1) * (base.loading.steps + 1))
+    return sets, sets * realizations, work, memory, seconds
 
 
 def _check_size(label, name, base, axes, zipped, yes, note):
     """Say the study's size before validating its sets; refuse above MAX_TASKS unless `yes`."""
-    sets, tasks, work, memory = study_size(base, axes, zipped)
+    from gfmd_contact.core.cost import TIME_FACTOR
+
+    sets, tasks, work, memory, seconds = study_size(base, axes, zipped)
     size = (f"{sets} parameter set(s), {tasks} task(s), estimated cost {work:.3g} node-steps (nodes × load steps, "
-            f"summed), peak memory about {memory / 2**20:.0f} MiB per worker")
+            f"summed), peak memory about {memory / 2**20:.0f} MiB per worker"
+            + ("" if seconds is None else f", compute time about {seconds / 3600:.3g} CPU-h (within ×{TIME_FACTOR} "
+               "either way; divide by the workers)"))
     if tasks > MAX_TASKS and not yes:
         raise StudyError(f"{label}: [axes] / [zip] give {size}: more than MAX_TASKS = {MAX_TASKS} "
                          "(gfmd_contact.app.study_file); shorten the axes or surface.realizations, or confirm with "

@@ -1,4 +1,5 @@
-"""What a run will cost before it starts: an estimate of its peak memory, and the memory this process may use.
+"""What a run will cost before it starts: an estimate of its peak memory, the memory this process may use, and an
+estimate of its wall time (`estimate_seconds`: FFT pairs per step × one pair timed here now, docs/design/preflight.md).
 
 Units: bytes. The estimate is what `gfmd_contact.core.loading.preflight` compares, before any profile or
 solver array is allocated, with the least of: the memory the machine has available (MemAvailable), the
@@ -13,8 +14,11 @@ and a saved field step keeps FIELD_ARRAYS arrays of 8 bytes per node until the r
 
 from __future__ import annotations
 
+import functools
+import math
 import os
 import resource
+import time
 
 from .errors import SceneError
 
@@ -142,6 +146,80 @@ def check_memory(scene, workers=None):
     return need
 
 
-def describe(need):
-    """The estimate in words for the progress line."""
-    return f"estimated peak memory {_size(need)}"
+def describe(need, seconds=None):
+    """The estimates in words for the progress line (memory; time where `seconds` is given)."""
+    words = f"estimated peak memory {_size(need)}"
+    return words if seconds is None else f"{words}, {describe_time(seconds)}"
+
+
+# --- time -----------------------------------------------------------------------------------------------------
+#: FFT pairs per load step of each law's production chain (docs/design/performance.md: the two-level dual CG, the
+#: cohesive NCG, the coupled law's Newton chain; 2+1-D: the dual CG and the NCG on 256²–2048²)
+PAIRS_PER_STEP = {"hard-wall": 14, "normal": 35, "coupled": 80}
+PAIRS_PER_STEP_2D = {"hard-wall": 25, "normal": 28, "coupled": 80}
+#: a pair of the solver (FFTW, with the nodal work beside it) in units of the scipy.fft pair `pair_seconds` times,
+#: fitted on whole runs (docs/design/preflight.md); the coupled 2+1-D law was not measured (the normal law's)
+OVERHEAD = {"hard-wall": 1.3, "normal": 0.54, "coupled": 1.0}
+OVERHEAD_2D = {"hard-wall": 0.6, "normal": 2.6, "coupled": 2.6}
+#: seconds of Python per FFT pair (the iteration's bookkeeping: what dominates below 2^15 nodes; fitted as above)
+PYTHON_PER_PAIR_S = 3e-4
+#: seconds a process spends on a realization beside its steps: the surface, the model, the first step's compiling
+SETUP_S = 0.5
+#: the estimate's stated uncertainty: a run takes between 1/TIME_FACTOR and TIME_FACTOR times it (measured)
+TIME_FACTOR = 3
+#: the largest transform `pair_seconds` times (larger ones are scaled by N log N from it: both out of cache)
+TIMED_POINTS_MAX = 1 << 18
+
+
+@functools.cache
+def pair_seconds(grid):
+    """Seconds of one rfft/irfft pair (scipy.fft, one thread) over `grid` ((N,) or (Nx, Ny)) on this machine now: the
+    least of up to seven timed pairs after one untimed (< 0.2 s), above TIMED_POINTS_MAX points timed at that size and
+    scaled by N log N. Kept per process, so the progress line and meta.json say the same estimate."""
+    import numpy as np
+    import scipy.fft
+
+    points = math.prod(grid)
+    timed = grid
+    if points > TIMED_POINTS_MAX:
+        timed = (TIMED_POINTS_MAX,) if len(grid) == 1 else (512, TIMED_POINTS_MAX // 512)
+    x = np.random.default_rng(0).standard_normal(timed)
+    axes = tuple(range(-len(timed), 0))
+    best, spent = math.inf, 0.0
+    for i in range(8):  # the least of up to 7 timed pairs, within about 0.1 s: the machine's other load varies
+        start = time.perf_counter()
+        scipy.fft.irfftn(scipy.fft.rfftn(x, axes=axes, workers=1), s=timed, axes=axes, workers=1)
+        took = time.perf_counter() - start
+        best, spent = (best, 0.0) if i == 0 else (min(best, took), spent + took)
+        if spent > 0.1:
+            break
+    n = math.prod(timed)
+    return best * points * math.log2(points) / (n * math.log2(n)) if points > n else best
+
+
+def estimate_seconds(scene, workers=None):
+    """Estimated wall time (s) of a run of `scene` with `workers` processes, None for the FE reference:
+    realizations / processes (rounded up) × (SETUP_S + (load steps + 1) × FFT pairs per step × (OVERHEAD ×
+    `pair_seconds` + PYTHON_PER_PAIR_S)). An estimate within a factor TIME_FACTOR either way (docs/design/preflight.md);
+    a machine's first run at a size adds FFTW's planning (its plans kept as wisdom after, `gfmd.fft`)."""
+    kind = _law_kind(scene)
+    if kind == "fe":
+        return None
+    s = scene.surface
+    pairs, overhead = (PAIRS_PER_STEP_2D, OVERHEAD_2D) if s.two_d else (PAIRS_PER_STEP, OVERHEAD)
+    per_step = pairs[kind] * (overhead[kind] * pair_seconds(s.shape) + PYTHON_PER_PAIR_S)
+    rounds = math.ceil(s.realizations / processes(scene, workers))
+    return rounds * (SETUP_S + (scene.loading.steps + 1) * per_step)
+
+
+def describe_time(seconds):
+    """The time estimate in words, with its uncertainty."""
+    if seconds is None:
+        return "time not estimated (FE)"
+    if seconds < 120:
+        words = f"{seconds:.2g} s"
+    elif seconds < 7200:
+        words = f"{seconds / 60:.2g} min"
+    else:
+        words = f"{seconds / 3600:.3g} h"
+    return f"estimated time {words} (within ×{TIME_FACTOR} either way)"
