@@ -10,6 +10,7 @@ import gc as garbage
 import sys
 import weakref
 
+import numpy as np
 import pytest
 
 import gfmd_contact as gc
@@ -110,11 +111,24 @@ def test_memo_keeps_no_scene_alive():
     assert gone() is None and key not in memo._KEPT
 
 
-@pytest.mark.parametrize("changes", [{}, {"interface.tangential_ratio": 0.3}, {"interface.law": "hard-wall"},
-                                     {"interface.law": "cohesive-wall"}])
-def test_solved_law_is_the_built_one(changes):
+def _morse_scene():
+    phi, ell = 0.1, 1e-9
+    law = gc.user_law(lambda g: phi * ((1 - np.exp(-g / ell)) ** 2 - 1),
+                      lambda g: 2 * phi / ell * (1 - np.exp(-g / ell)) * np.exp(-g / ell),
+                      lambda g: 2 * phi / ell**2 * (2 * np.exp(-2 * g / ell) - np.exp(-g / ell)), ell, name="morse")
+    return gc.with_law(gc.default_scene(), law)
+
+
+@pytest.mark.parametrize("make", [
+    gc.default_scene, lambda: gc.change(gc.default_scene(), {"interface.tangential_ratio": 0.3}),
+    lambda: gc.change(gc.default_scene(), {"interface.law": "hard-wall"}),
+    lambda: gc.change(gc.default_scene(), {"interface.law": "cohesive-wall"}),
+    lambda: gc.change(gc.default_scene(), {"interface.law": "lj93", "interface.work_of_adhesion": 0.05,
+                                           "interface.range_length": 1e-9}),
+    _morse_scene], ids=["cohesive", "coupled", "hard-wall", "cohesive-wall", "lj93", "user"])
+def test_solved_law_is_the_built_one(make):
     """law_from_scene hands on the described law where the solved unknowns agree: it equals a fresh build."""
-    scene = gc.change(gc.default_scene(), changes)
+    scene = make()
     for tangential in (None, False, True):
         try:
             fresh = laws.build_law(scene, tangential)
