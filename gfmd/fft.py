@@ -83,12 +83,16 @@ class _FftwPair:
         self.real_out = _pyfftw.empty_aligned(shape, dtype=float)
         points = int(np.prod([shape[a] for a in axes]))
         self.scale = 1.0 / points
+        self.planner = _in_planner_thread(self._make_plans, points)
+
+    def _make_plans(self, points):
+        """Both plans (FFTW_MEASURE from FFTW_MEASURE_FROM points where wisdom can be kept); the planner's name."""
         with _PLANNING:  # FFTW's planner is not thread-safe
-            self.planner = "FFTW_MEASURE" if points >= FFTW_MEASURE_FROM and _with_wisdom(self._plan) else None
-            if self.planner is None:
-                _pyfftw.forget_wisdom()  # FFTW's heuristics alone, as in a process that never read wisdom
-                self._plan("FFTW_ESTIMATE")
-                self.planner = "FFTW_ESTIMATE"
+            if points >= FFTW_MEASURE_FROM and _with_wisdom(self._plan):
+                return "FFTW_MEASURE"
+            _pyfftw.forget_wisdom()  # FFTW's heuristics alone, as in a process that never read wisdom
+            self._plan("FFTW_ESTIMATE")
+            return "FFTW_ESTIMATE"
 
     def _plan(self, planner):
         flags = (planner, "FFTW_DESTROY_INPUT")
@@ -99,6 +103,27 @@ class _FftwPair:
 
 
 _PLANNING = threading.Lock()
+
+
+def _in_planner_thread(work, *args):
+    """work(*args) in a helper thread, this thread waiting for it: pyfftw releases the GIL while FFTW plans, so a
+    signal reaches this thread at once (Ctrl-C within a second of a FFTW_MEASURE plan that takes minutes at 2^22
+    points, docs/design/preflight.md) with the same plan, the same bits. An interrupted plan goes on in the background
+    and keeps `_PLANNING` until it ends (the next plan waits); work's exception is raised here."""
+    done = {}
+
+    def target():
+        try:
+            done["value"] = work(*args)
+        except BaseException as exc:  # noqa: BLE001 - handed to the waiting thread
+            done["error"] = exc
+
+    thread = threading.Thread(target=target, name="gfmd-fftw-planner", daemon=True)
+    thread.start()
+    thread.join()  # interruptible: a signal's handler runs here while FFTW plans
+    if "error" in done:
+        raise done["error"]
+    return done["value"]
 
 
 @functools.cache

@@ -124,3 +124,65 @@ def test_no_file_locks_means_estimated_plans(fresh_plans, monkeypatch):
     y = gfft.Fft(1024, "fftw").rfft(x)
     assert gfft._fftw_plans((1024,), (-1,)).planner == "FFTW_ESTIMATE"
     np.testing.assert_allclose(y, np.fft.rfft(x), rtol=0, atol=1e-12 * np.max(np.abs(y)))
+
+
+def test_plans_are_made_off_the_calling_thread_and_their_errors_raised_in_it(fresh_plans, monkeypatch):
+    """FFTW plans in a helper thread (pyfftw releases the GIL there), so the calling thread takes signals while a
+    plan takes minutes; the plan and its bits are those the calling thread would make; an error comes back to it."""
+    import threading
+
+    planned_in, original = [], gfft._with_wisdom
+
+    def recording(plan):
+        planned_in.append(threading.current_thread())
+        return original(plan)
+
+    monkeypatch.setattr(gfft, "_with_wisdom", recording)
+    x = np.random.default_rng(6).standard_normal(2048)
+    y = gfft.Fft(2048, "fftw").rfft(x)
+    assert planned_in and planned_in[0] is not threading.current_thread()
+    assert gfft._fftw_plans((2048,), (-1,)).planner == "FFTW_MEASURE"
+    np.testing.assert_allclose(y, np.fft.rfft(x), rtol=0, atol=1e-12 * np.max(np.abs(y)))
+
+    def failing(plan):
+        raise RuntimeError("planner failed")
+
+    monkeypatch.setattr(gfft, "_with_wisdom", failing)
+    with pytest.raises(RuntimeError, match="planner failed"):
+        gfft.Fft(4096, "fftw").rfft(np.ones(4096))
+    monkeypatch.setattr(gfft, "_with_wisdom", original)
+    assert gfft.Fft(4096, "fftw").rfft(np.ones(4096))[0] == 4096  # the planning lock was let go
+
+
+_PLANS_A_LARGE_TRANSFORM = """
+import numpy as np
+from gfmd import fft as gfft
+print("planning", flush=True)
+gfft.Fft(1 << 20, "fftw").rfft(np.ones(1 << 20))
+print("planned", flush=True)
+"""
+
+
+def test_ctrl_c_is_honoured_within_a_second_while_fftw_plans(fresh_plans):
+    """FFTW_MEASURE at 2^20 points plans for 84 s on the 2-core development machine (docs/design/preflight.md),
+    all in C; SIGINT waited for it. Now the process ends within a second of the signal."""
+    import signal
+    import time
+
+    proc = subprocess.Popen([sys.executable, "-c", _PLANS_A_LARGE_TRANSFORM], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env={**os.environ, "GFMD_FFTW_WISDOM": str(fresh_plans)})
+    assert proc.stdout.readline().strip() == "planning"
+    time.sleep(1.0)
+    sent = time.perf_counter()
+    proc.send_signal(signal.SIGINT)
+    try:
+        out, err = proc.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.communicate()
+        pytest.fail("SIGINT not honoured within 30 s while FFTW plans")
+    latency = time.perf_counter() - sent
+    if "planned" in out:
+        pytest.skip("this machine planned 2^20 points within a second: nothing to interrupt")
+    assert "KeyboardInterrupt" in err, err
+    assert latency < 1.5, latency
