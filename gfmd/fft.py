@@ -18,11 +18,13 @@ copies). One rfft2/irfft2 pair counts as one pair, as in 1+1-D.
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import functools
 import hashlib
 import os
 import platform
+import sys
 import threading
 from pathlib import Path
 
@@ -103,6 +105,18 @@ class _FftwPair:
 
 
 _PLANNING = threading.Lock()
+_INTERRUPTED_PLANS = []  # the end events of plans whose caller was interrupted (`_in_planner_thread`)
+
+
+@atexit.register
+def _exit_before_fftw_cleanup():
+    """At exit, a plan an interrupt left running would meet pyfftw's fftw_cleanup (SIGSEGV, seen at 2^22 points):
+    the process ends here instead, as interrupted (exit 130), its output flushed."""
+    if not all(finished.is_set() for finished in _INTERRUPTED_PLANS):
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(Exception):
+                stream.flush()
+        os._exit(130)
 
 
 def _in_planner_thread(work, *args):
@@ -110,17 +124,22 @@ def _in_planner_thread(work, *args):
     signal reaches this thread at once (Ctrl-C within a second of a FFTW_MEASURE plan that takes minutes at 2^22
     points, docs/design/preflight.md) with the same plan, the same bits. An interrupted plan goes on in the background
     and keeps `_PLANNING` until it ends (the next plan waits); work's exception is raised here."""
-    done = {}
+    done, finished = {}, threading.Event()
 
     def target():
         try:
             done["value"] = work(*args)
         except BaseException as exc:  # noqa: BLE001 - handed to the waiting thread
             done["error"] = exc
+        finally:
+            finished.set()
 
-    thread = threading.Thread(target=target, name="gfmd-fftw-planner", daemon=True)
-    thread.start()
-    thread.join()  # interruptible: a signal's handler runs here while FFTW plans
+    threading.Thread(target=target, name="gfmd-fftw-planner", daemon=True).start()
+    try:  # not Thread.join: interrupted, it marks a running thread stopped (its tstate lock looks taken)
+        finished.wait()  # interruptible: a signal's handler runs here while FFTW plans
+    except BaseException:
+        _INTERRUPTED_PLANS.append(finished)
+        raise
     if "error" in done:
         raise done["error"]
     return done["value"]
