@@ -61,7 +61,8 @@ def test_the_estimate_follows_steps_realizations_workers_and_law():
     assert cost.estimate_seconds(scene, workers=2) == pytest.approx(one / 2)
     assert cost.estimate_seconds(scene, workers=8) == pytest.approx(one / 4)  # no more processes than realizations
     longer = scene.replace(**{"loading.steps": 400})
-    assert cost.estimate_seconds(longer, workers=1) > 5 * one
+    setup = 4 * cost.SETUP_S  # four realizations in turn
+    assert cost.estimate_seconds(longer, workers=1) - setup == pytest.approx((one - setup) * 401 / 41)
     hard = scene.replace(**{"interface.law": "hard-wall"})
     coupled = scene.replace(**{"interface.tangential_ratio": 1.0})
     assert cost.estimate_seconds(hard, 1) < one < cost.estimate_seconds(coupled, 1)  # 14, 35, 80 pairs per step
@@ -75,8 +76,8 @@ def test_one_pair_is_timed_cheaply_and_grows_with_the_grid():
     cost.pair_seconds.cache_clear()
     small = cost.pair_seconds((2**12,))
     start = time.perf_counter()
-    large = cost.pair_seconds((2**22,))  # timed at 2^18 (TIMED_POINTS_MAX), scaled by N log N
-    assert time.perf_counter() - start < 0.5  # the preflight's budget: the few pairs are cheap at any size
+    large = cost.pair_seconds((2**22,))  # timed at 2^20 (TIMED_POINTS_MAX), scaled by N log N
+    assert time.perf_counter() - start < 1.0  # cheap at any size (0.05–0.25 s measured on a loaded 2-core machine)
     assert 16 * small < large
     assert 0 < cost.pair_seconds((64, 64)) < cost.pair_seconds((2048, 2048))
     assert cost.pair_seconds((2**12,)) is small  # kept: the progress line and meta.json say the same

@@ -162,19 +162,20 @@ PAIRS_PER_STEP_2D = {"hard-wall": 25, "normal": 28, "coupled": 80}
 OVERHEAD = {"hard-wall": 1.3, "normal": 0.54, "coupled": 1.0}
 OVERHEAD_2D = {"hard-wall": 0.6, "normal": 2.6, "coupled": 2.6}
 #: seconds of Python per FFT pair (the iteration's bookkeeping: what dominates below 2^15 nodes; fitted as above)
-PYTHON_PER_PAIR_S = 3e-4
+PYTHON_PER_PAIR_S = 1.5e-4
 #: seconds a process spends on a realization beside its steps: the surface, the model, the first step's compiling
-SETUP_S = 0.5
+SETUP_S = 0.4
 #: the estimate's stated uncertainty: a run takes between 1/TIME_FACTOR and TIME_FACTOR times it (measured)
 TIME_FACTOR = 3
-#: the largest transform `pair_seconds` times (larger ones are scaled by N log N from it: both out of cache)
-TIMED_POINTS_MAX = 1 << 18
+#: the largest transform `pair_seconds` times (larger ones are scaled by N log N from it: both out of cache; from
+#: 2^18 the scaling fell 2–2.5× short at 2^20, the cache's edge lying between)
+TIMED_POINTS_MAX = 1 << 20
 
 
 @functools.cache
 def pair_seconds(grid):
     """Seconds of one rfft/irfft pair (scipy.fft, one thread) over `grid` ((N,) or (Nx, Ny)) on this machine now: the
-    least of up to seven timed pairs after one untimed (< 0.2 s), above TIMED_POINTS_MAX points timed at that size and
+    least of up to seven timed pairs after one untimed (0.05–0.25 s), above TIMED_POINTS_MAX points timed at that size and
     scaled by N log N. Kept per process, so the progress line and meta.json say the same estimate."""
     import numpy as np
     import scipy.fft
@@ -182,16 +183,16 @@ def pair_seconds(grid):
     points = math.prod(grid)
     timed = grid
     if points > TIMED_POINTS_MAX:
-        timed = (TIMED_POINTS_MAX,) if len(grid) == 1 else (512, TIMED_POINTS_MAX // 512)
+        timed = (TIMED_POINTS_MAX,) if len(grid) == 1 else (1024, TIMED_POINTS_MAX // 1024)
     x = np.random.default_rng(0).standard_normal(timed)
     axes = tuple(range(-len(timed), 0))
     best, spent = math.inf, 0.0
-    for i in range(8):  # the least of up to 7 timed pairs, within about 0.1 s: the machine's other load varies
+    for i in range(8):  # the least of up to 7 timed pairs, within about 0.05 s: the machine's other load varies
         start = time.perf_counter()
         scipy.fft.irfftn(scipy.fft.rfftn(x, axes=axes, workers=1), s=timed, axes=axes, workers=1)
         took = time.perf_counter() - start
         best, spent = (best, 0.0) if i == 0 else (min(best, took), spent + took)
-        if spent > 0.1:
+        if spent > 0.05:
             break
     n = math.prod(timed)
     return best * points * math.log2(points) / (n * math.log2(n)) if points > n else best
