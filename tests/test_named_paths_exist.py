@@ -37,7 +37,6 @@ def test_the_check_sees_a_dangling_path(tmp_path):
     (tmp_path / "gfmd").mkdir()
     (tmp_path / "docs" / "design").mkdir(parents=True)
     (tmp_path / "docs" / "design" / "solvers.md").write_text("")
-    (tmp_path / "pyproject.toml").write_text("# measured: benchmarks/results/bench_gone.md\n")
-    (tmp_path / "gfmd" / "m.py").write_text('"""See docs/design/solvers.md and benchmarks/bench_old.py."""\n')
-    assert dangling(tmp_path) == {"pyproject.toml:1": "benchmarks/results/bench_gone.md",
-                                  "gfmd/m.py:1": "benchmarks/bench_old.py"}
+    (tmp_path / "pyproject.toml").write_text("# measured: docs/design/gone.md\n")
+    (tmp_path / "gfmd" / "m.py").write_text('"""See docs/design/solvers.md and studies/old_study.py."""\n')
+    assert dangling(tmp_path) == {"pyproject.toml:1": "docs/design/gone.md", "gfmd/m.py:1": "studies/old_study.py"}
