@@ -98,3 +98,21 @@ def test_study_task(benchmark, sizes, table, request, monkeypatch, where):
         table.extra["study task"] = seconds
     note = f"{steps}-step task" + (f", × {seconds / base:.3f} in process" if base and seconds else "")
     table.add(benchmark, f"study task, {where}", f"2^{exponent}", per=steps, note=note)
+
+
+def test_time_estimate(benchmark, sizes, table):
+    """The preflight's time estimate (`gfmd_contact.core.cost.estimate_seconds`, stated within ×TIME_FACTOR) beside the
+    measured time of the same run: the study task's scene, one realization, in this process."""
+    from gfmd_contact.core import cost
+
+    exponent, steps = sizes["task"]
+    scene = task_scene(exponent, steps).replace(**{"surface.realizations": 1})
+    estimate = cost.estimate_seconds(scene, workers=1)
+    with tempfile.TemporaryDirectory() as tmp:
+        dirs = (Path(tmp) / f"task{i}" for i in range(1000))
+        benchmark.pedantic(run_task, setup=lambda: ((scene, next(dirs), None), {}), rounds=sizes["rounds"],
+                           iterations=1, warmup_rounds=1)
+    seconds = benchmark.stats.stats.min if benchmark.stats else None
+    note = (f"estimate {estimate:.2f} s, measured / estimate {seconds / estimate:.2f} "
+            f"(stated within ×{cost.TIME_FACTOR})" if seconds else f"estimate {estimate:.2f} s")
+    table.add(benchmark, "time estimate vs run", f"2^{exponent}", per=steps, note=note)
