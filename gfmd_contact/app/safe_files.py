@@ -31,7 +31,7 @@ from pathlib import Path
 
 try:
     import fcntl
-except ImportError:  # not POSIX: no locking (documented in the README)
+except ImportError:  # not POSIX: no locking (docs/guide/long_runs.rst)
     fcntl = None
 
 LOCK_NAME = ".gfmd.lock"

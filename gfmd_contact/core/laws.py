@@ -32,7 +32,7 @@ from . import law_registry, memo
 # (`gfmd_contact.core.law_registry`). The objects are frozen dataclasses: equal parameters, equal laws; picklable.
 
 
-#: interface.contact_rule → what it counts as contact (README "Modelling assumptions"; seed §2 is the first)
+#: interface.contact_rule → what it counts as contact (docs/guide/laws.rst; seed §2 is the first)
 CONTACT_RULES = {
     "traction-tolerance": "the seed's rule: hard wall — compressive nodes; cohesive laws — Δn ≤ Δtol, "
                           "T_n(Δtol) = contact_tolerance·φn/δn on the decaying branch (tension included)",
@@ -73,7 +73,7 @@ class HardWall:
     contact_rule "traction-tolerance" (the seed's) and "compressive": the compressed nodes (a wall
     carries no tension, so the tolerance rule is the compressive one); "gap": Δn ≤ rule_gap =
     contact_gap·δn with δn = interface.length_normal, the only use of δn for a hard wall: it
-    counts a hard-wall solution as a cohesive one would be counted (README "Modelling assumptions").
+    counts a hard-wall solution as a cohesive one would be counted (docs/guide/laws.rst).
     """
 
     contact_rule: str

@@ -42,7 +42,7 @@ MAX_REALIZATIONS = 10**5
 MIN_SCALE, MAX_SCALE = 1e-30, 1e30
 #: TOML integers are 64-bit signed
 _MAX_INT = 2**63 - 1
-#: interface.contact_rule (which nodes count as contact; `gfmd_contact.core.laws`, README "Modelling assumptions"), and
+#: interface.contact_rule (which nodes count as contact; `gfmd_contact.core.laws`, docs/guide/laws.rst), and
 #: the [interface] keys that apply to one rule only: a key of another rule is an error, not ignored (as
 #: surface keys of another kind), and `scene_to_dict` writes only the chosen rule's keys
 _RULE_KEYS = {"traction-tolerance": ("contact_tolerance",), "compressive": (), "gap": ("contact_gap",)}
