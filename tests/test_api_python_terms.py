@@ -91,3 +91,19 @@ def test_a_study_directory_that_cannot_take_the_study_is_named_by_keyword(tmp_pa
     study_file.write_text(study.text)
     assert main(["study", "run", str(study_file), "--out", str(out), "--workers", "1", "--quiet"]) == 2
     assert "holds no study (notes.txt): choose another --out" in capsys.readouterr().err
+
+
+def test_a_relative_surface_path_given_in_python_runs_into_any_out(tmp_path, monkeypatch):
+    """A scene made in Python with a relative surface.path (the working directory's) runs into a run directory
+    elsewhere: the path is the file read at validation, not a path relative to DIR/scene.toml."""
+    import numpy as np
+
+    import gfmd_contact as gc
+
+    monkeypatch.chdir(tmp_path)
+    np.savetxt("h.txt", 1e-9 * np.sin(2 * np.pi * np.arange(1024) / 1024))
+    scene = gc.change(gc.default_scene(), {"surface.kind": "file", "surface.path": "h.txt", "surface.nodes": 1024,
+                                           "interface.law": "hard-wall", "loading.steps": 2})
+    assert scene.surface.path == str(tmp_path / "h.txt")
+    res = gc.run(scene, out=tmp_path / "runs" / "a", workers=1, progress=False)
+    assert res.meta["complete"] and len(res.curve) >= 1

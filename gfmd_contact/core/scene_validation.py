@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 
 from . import law_registry, scene2d
 from .errors import SceneError
@@ -161,7 +162,9 @@ def _surface(d):
              else from_file(path, nodes, length))
         except ValueError as exc:
             raise SceneError(str(exc)) from None
-        kw.update(path=path)
+        # the file read just now, wherever the scene is written and read back (a run's DIR/scene.toml resolves a
+        # relative path against DIR): a relative path is the working directory's
+        kw.update(path=os.path.abspath(path))
     return Surface(**kw)
 
 
