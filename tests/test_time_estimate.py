@@ -42,7 +42,7 @@ def test_the_estimate_is_printed_and_recorded(tmp_path):
     assert f"within ×{cost.TIME_FACTOR} either way" in line, line
     assert estimate > 0 and timings["total_s"] > 0
     # how near the estimate comes to the measured time is a benchmark's question, not a unit test's (a loaded machine
-    # moves it): benchmarks/bench_runs.py's "time estimate" row, calibrated in docs/design/preflight.md
+    # moves it): the benchmark suite's "time estimate vs run" row, calibrated in docs/design/preflight.md
 
 
 def test_the_scene_check_says_the_time():
