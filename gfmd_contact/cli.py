@@ -6,13 +6,14 @@ Units: SI everywhere (see gfmd_contact.core.conventions); scenes are TOML files 
 from __future__ import annotations
 
 import argparse
-import contextlib
-import signal
 import subprocess
 import sys
 from pathlib import Path
 
 from gfmd_contact.core.scene import SceneError, default_scene, example_scene_text, load_scene
+
+from .cli_common import interrupt_signals, note
+from .cli_study import _cmd_study_plot, _cmd_study_report, _cmd_study_run
 
 
 def _checks(scene):
@@ -35,22 +36,6 @@ def _method_overrides(args):
     from gfmd_contact.scenes import method_changes
 
     return method_changes(args.method)
-
-
-def _interrupted(signum, frame):
-    raise KeyboardInterrupt
-
-
-@contextlib.contextmanager
-def _interrupt_signals():
-    """SIGINT and SIGTERM raise KeyboardInterrupt while a run goes, also in a process started in the
-    background (a shell leaves SIGINT ignored there): `kill -INT` then stops it as Ctrl-C does."""
-    previous = {s: signal.signal(s, _interrupted) for s in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        yield
-    finally:
-        for s, handler in previous.items():
-            signal.signal(s, handler)
 
 
 def _resume_command(args, out):
@@ -109,16 +94,12 @@ def _cmd_run(args):
     advice = ("wait for it to end (or add --wait to wait for it), or stop it first; to run beside it, choose "
               "another --out")
     try:
-        with safe_files.locked(out, wait=getattr(args, "wait", 0), what="run directory", advice=advice, note=_note):
+        with safe_files.locked(out, wait=getattr(args, "wait", 0), what="run directory", advice=advice, note=note):
             return _run_locked(args, scene, out, warnings, notes)
     except safe_files.WriteFailed as exc:
         print(f"gfmd: error: {exc}; the files written before are intact: free space or fix the permissions, then "
               f"continue with: {_resume_command(args, out)}", file=sys.stderr)
         return 2
-
-
-def _note(line):
-    print(f"note: {line}", file=sys.stderr)
 
 
 def _draw(out):
@@ -159,9 +140,9 @@ def _run_locked(args, scene, out, warnings, notes):
     try:
         from gfmd_contact.runs import compute  # the one path of gfmd run and gfmd_contact.run
 
-        with _interrupt_signals():
+        with interrupt_signals():
             results, resume, elapsed = compute(scene, out, workers=args.workers, progress=not args.quiet,
-                                               note=_note)
+                                               note=note)
     except KeyboardInterrupt:
         print(f"\ngfmd: interrupted: {_on_disk(scene, out)}; continue with: {_resume_command(args, out)}",
               file=sys.stderr)
@@ -262,132 +243,6 @@ def _cmd_verify(args):
     if index.is_file() and index.stat().st_mtime_ns != before:  # written by this run
         print(f"verification report: {index}; open it in a browser: {index.as_uri()}", file=sys.stderr)
     return code
-
-
-def _cmd_study_run(args):
-    from .app.study import failure_summary, load_study, run_study
-
-    if len(args.study) > 1:
-        return _cmd_study_suite(args)
-    args.study = args.study[0]
-    # its size first (refused above the limit unless --yes), then every parameter set validated, before any compute
-    study = load_study(args.study, yes=args.yes, note=None if args.quiet else _note)
-    out = Path(args.out or f"results/{study.name}")
-    n_tasks = len(study.tasks)
-    where = _where(args)
-    print(f"study {study.name!r}: {len(study.sets)} parameter set(s), {n_tasks} task(s) on {where}; "
-          f"results go to {out}/", file=sys.stderr)
-    command = _rerun_command(args.study, out, args)
-    from .app.safe_files import WriteFailed
-
-    try:
-        with _interrupt_signals():
-            record = run_study(study, out, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet,
-                               command=command, wait=getattr(args, "wait", 0))
-    except WriteFailed as exc:
-        print(f"gfmd: error: {exc}; the files written before are intact: free space or fix the permissions, then "
-              f"continue with: {command}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        from .app.study import done_tasks
-
-        print(f"\ngfmd: interrupted: {done_tasks(study, out)} of {n_tasks} task(s) complete in {out}/tasks, the "
-              f"others keep their saved load steps; continue with: {command}", file=sys.stderr)
-        return 130
-    unconverged = [t for t in record["tasks"] if t["all_converged"] is False]
-    print(f"study {study.name!r}: {record['tasks_total']} task(s): {record['tasks_reused']} reused, "
-          f"{record['tasks_run']} run ({record['steps_reused']} saved load steps continued), "
-          f"{record['tasks_failed']} failed; {out}/study.csv, summary.csv, summary.nc, study.json",
-          file=sys.stderr)
-    for t in unconverged:
-        print(f"WARNING: set {t['set']}, realization {t['realization']} (task {t['key']}): non-converged steps: "
-              f"{'; '.join(t['messages'][:3])}", file=sys.stderr)
-    if record["tasks_failed"]:
-        print(f"{record['tasks_failed']} task(s) failed (tracebacks in {out}/study.json):", file=sys.stderr)
-        for line in failure_summary(record):
-            print(f"  - {line}", file=sys.stderr)
-    return 1 if record["tasks_failed"] or unconverged else 0
-
-
-def _where(args):
-    """Where a study's tasks run, in words (the --scheduler or the local cluster)."""
-    return f"the Dask scheduler at {args.scheduler}" if args.scheduler else \
-        f"a local Dask cluster of {args.workers or 'all'} worker process(es)"
-
-
-def _rerun_command(files, out, args):
-    """The `gfmd study run` command line that continues this run (printed after an interrupt or a disk error)."""
-    return f"gfmd study run {files} --out {out}" + (f" --workers {args.workers}" if args.workers else "") \
-        + (f" --scheduler {args.scheduler}" if args.scheduler else "")
-
-
-def _cmd_study_suite(args):
-    """`gfmd study run A.toml B.toml ... --out DIR`: the studies as one suite (gfmd_contact.app.study_suite)."""
-    import json
-
-    from .app.safe_files import WriteFailed
-    from .app.study import failure_summary, load_study
-    from .app.study_suite import check_names, run_suite, suite_done
-
-    if not args.out:
-        raise ValueError("several study files need --out DIR (each study goes to DIR/<study name>/)")
-    studies = [load_study(path, yes=args.yes, note=None if args.quiet else _note)  # validated before any compute
-               for path in args.study]
-    check_names(studies)
-    out = Path(args.out)
-    distinct = len({t.key for s in studies for t in s.tasks})
-    where = _where(args)
-    print(f"suite of {len(studies)} studies ({', '.join(s.name for s in studies)}): "
-          f"{sum(len(s.tasks) for s in studies)} task(s), {distinct} distinct, on {where}; results go to "
-          f"{out}/<study name>/", file=sys.stderr)
-    command = _rerun_command(' '.join(args.study), out, args)
-    try:
-        with _interrupt_signals():
-            suite = run_suite(studies, out, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet,
-                              command=command, wait=getattr(args, "wait", 0))
-    except WriteFailed as exc:
-        print(f"gfmd: error: {exc}; the files written before are intact: free space or fix the permissions, then "
-              f"continue with: {command}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        print(f"\ngfmd: interrupted: {suite_done(studies, out)} of {distinct} distinct task(s) complete under {out}, "
-              f"the others keep their saved load steps; continue with: {command}", file=sys.stderr)
-        return 130
-    bad = 0
-    for row in suite["studies"]:
-        record = json.loads((out / row["dir"] / "study.json").read_text())
-        print(f"study {row['name']!r}: {row['tasks']} task(s): {row['tasks_reused']} reused, {row['tasks_run']} run, "
-              f"{row['tasks_linked']} linked from a sibling study, {row['tasks_failed']} failed; {out / row['dir']}/",
-              file=sys.stderr)
-        for t in record["tasks"]:
-            if t["all_converged"] is False and t["status"] != "linked":  # named once, where it ran
-                bad += 1
-                print(f"WARNING: {row['name']} set {t['set']}, realization {t['realization']} (task {t['key']}): "
-                      f"non-converged steps: {'; '.join(t['messages'][:3])}", file=sys.stderr)
-        for line in failure_summary(record):
-            print(f"  - {row['name']}: {line}", file=sys.stderr)
-    print(f"suite: {suite['distinct_tasks']} distinct task(s), {suite['tasks_run']} run, {suite['tasks_linked']} "
-          f"linked, {suite['tasks_failed']} failed, {suite['timings']['wall_s']:.1f} s; {out}/suite.json",
-          file=sys.stderr)
-    return 1 if suite["tasks_failed"] or bad else 0
-
-
-def _cmd_study_plot(args):
-    from .app.study_plots import plot_study
-
-    for path in plot_study(args.dir, fmt=args.format, over=args.over):
-        print(f"wrote {path}")
-    return 0
-
-
-def _cmd_study_report(args):
-    from .app.study_report import claims_text, write_report
-
-    path = write_report(args.dirs, out=args.out)
-    for line in claims_text(args.dirs):
-        print(line)
-    print(f"wrote {path}")
-    return 0
 
 
 def _count(minimum):
