@@ -364,7 +364,7 @@ def test_scene_to_dict_and_properties():
 
 # ---------------------------------------------------------------- keys that belong to another surface kind
 
-COMMON = {"kind", "length", "nodes", "seed", "realizations"}
+COMMON = {"kind", "length", "nodes", "seed", "realizations", "boundary"}
 OWN = {"self-affine": {"hurst", "h_rms", "rolloff_wavelength", "rollon_wavelength"}, "sinusoid": {"amplitude"},
        "cylinder": {"radius"}, "flat": set(), "file": {"path"}}
 SIN = {"kind": "sinusoid", "amplitude": 5e-9}

@@ -30,6 +30,7 @@ class Surface:
     path: str = ""
     nodes_y: int = 0  # 0: a 1+1-D profile; ≥ 2: a 2+1-D surface of nodes × nodes_y (gfmd_contact.core.scene2d)
     length_y: float = 0.0  # Ly (m) of a 2+1-D surface (default: length); 0 for a profile
+    boundary: str = "periodic"  # "periodic": the cell repeats; "free": one indenter on an unbounded body
 
     @property
     def spacing(self):

@@ -29,7 +29,9 @@ _FE_LINEAR = ("auto", "dense", "sparse", "sparse-lagged")
 _FE_QUADRATURE = ("nodal", "gauss")
 _KINDS = ("self-affine", "sinusoid", "cylinder", "flat", "file") + scene2d.KINDS_2D_ONLY
 #: [surface] keys of every kind, and the keys that apply to one kind only
-_COMMON_KEYS = ("kind", "length", "nodes", "seed", "realizations") + scene2d.KEYS_2D
+_COMMON_KEYS = ("kind", "length", "nodes", "seed", "realizations", "boundary") + scene2d.KEYS_2D
+#: surface.boundary: a periodic cell, or the cell's indenter alone on an unbounded (free) body
+BOUNDARIES = ("periodic", "free")
 _KIND_KEYS = {"self-affine": ("hurst", "h_rms", "rolloff_wavelength", "rollon_wavelength"),
               "sinusoid": ("amplitude",), "cylinder": ("radius",), "flat": (), "file": ("path",),
               "egg-box": ("amplitude",), "sphere": ("radius",)}
@@ -105,6 +107,10 @@ def _surface(d):
                   f"the keys of a {kind!r} surface are: {', '.join(allowed)}")
     length = _number(d, "surface", "length", s.length)
     _positive("surface.length", length)
+    boundary = d.get("boundary", s.boundary)
+    if not isinstance(boundary, str) or boundary not in BOUNDARIES:
+        _fail("surface.boundary", boundary, f"must be one of {list(BOUNDARIES)} (periodic: the cell repeats; free: "
+              "the cell's indenter alone on an unbounded body, its elastic images removed)")
     nodes = _number(d, "surface", "nodes", s.nodes, integer=True)
     if not 8 <= nodes <= MAX_NODES:
         _fail("surface.nodes", nodes, f"must be an integer in [8, {MAX_NODES}] (2^24: a run holds tens of arrays "
@@ -115,7 +121,7 @@ def _surface(d):
     if nodes_y:
         _positive("surface.length_y", length_y)
     spacing = max(length / nodes, length_y / nodes_y) if nodes_y else length / nodes  # the coarser one
-    kw = dict(kind=kind, length=length, nodes=nodes, nodes_y=nodes_y, length_y=length_y)
+    kw = dict(kind=kind, length=length, nodes=nodes, nodes_y=nodes_y, length_y=length_y, boundary=boundary)
     seed = _number(d, "surface", "seed", s.seed, integer=True)
     if seed < 0:
         _fail("surface.seed", seed, "must be an integer ≥ 0")
