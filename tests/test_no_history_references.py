@@ -2,7 +2,8 @@
 
 History lives in git; a measurement that chose a design is kept, condensed, in docs/design/. Scanned: every .py
 file under gfmd/, gfmd_contact/, reference/ and verification/, plus every .rst and .md page of docs/ (not what a
-build generates there, nor the verification data files nor the result records under studies/ and benchmarks/).
+build generates there) and the study definitions and scripts under studies/ (.toml, .py); not the verification
+data files. The result records under studies/results/ have a test of their own (`RECORDS`).
 A hit fails the test with its file:line. False positives are kept out by the patterns, not by exempting files.
 """
 
@@ -14,6 +15,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("gfmd", "gfmd_contact", "reference", "verification")
 DOCS = ("docs/**/*.rst", "docs/**/*.md")
+#: the study definitions and their scripts (a result folder's study.toml is a copy of its definition)
+STUDIES = ("studies/**/*.toml", "studies/**/*.py")
 #: what a docs build writes under docs/ (the gallery's pages are generated from examples/)
 GENERATED = ("_build", "auto_examples")
 
@@ -39,6 +42,7 @@ def scanned_files(root=ROOT):
     files = [p for pkg in PACKAGES for p in sorted((root / pkg).rglob("*.py"))]
     files += [p for pattern in DOCS for p in sorted(root.glob(pattern))
               if not set(p.relative_to(root / "docs").parts) & set(GENERATED) and p.name != "sg_execution_times.rst"]
+    files += [p for pattern in STUDIES for p in sorted(root.glob(pattern))]
     return files
 
 

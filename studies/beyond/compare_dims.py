@@ -1,4 +1,4 @@
-"""The seed's claims in 1+1-D and 2+1-D side by side (issue 25 item 6): effect sizes of two Fig. 3 studies.
+"""The seed's claims in 1+1-D and 2+1-D side by side: effect sizes of two Fig. 3 studies.
 
 Reads two study directories (`gfmd study run` outputs: study.csv, base_scene.toml, …): a 1+1-D one (e.g.
 studies/seed/fig3_small.toml) and a 2+1-D one (studies/beyond/fig3_2d_small.toml), measures the seed's

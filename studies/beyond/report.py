@@ -1,4 +1,4 @@
-"""Beyond the seed: pull-off, hysteresis and the seed's nonlinearity against stickiness (issue 23 §6).
+"""Beyond the seed: pull-off, hysteresis and the seed's nonlinearity against stickiness.
 
 Reads the outputs of the studies in studies/beyond/ (`gfmd study run`): per study directory
 `cycles.csv` (pull-off p̄ and hysteresis W per realization and cycle), `study.csv` (every realization's
