@@ -227,7 +227,7 @@ def _cmd_verify(args):
 
     root = _source_root()
     reports = Path(args.report_dir or os.environ.get("GFMD_REPORT_DIR") or (root or Path.cwd()) / "reports").absolute()
-    options = ["--report-dir", str(reports)] + (["--full"] if args.full else [])
+    options = ["--report-dir", str(reports)] + (["--full"] if args.full else []) + ["--solver", args.solver]
     if root is not None:
         cmd, where = [sys.executable, "-m", "pytest", *options, "verification"], root
     else:  # the installed suite; -p: its options even where pytest's plugin autoload is off
@@ -317,6 +317,9 @@ def build_parser():
     verify.add_argument("--full", action="store_true", help="include the expensive studies")
     verify.add_argument("--report-dir", metavar="DIR", help="where the report goes (default: $GFMD_REPORT_DIR, else "
                         "reports/ in the source checkout or, for an installed package, in this directory)")
+    verify.add_argument("--solver", default="gfmd", metavar="NAME",
+                        help="the contact code the cross-code cases run against (gfmd, fe, tamaas, contactmechanics, "
+                             "or one registered in the entry-point group gfmd_contact.solvers; default gfmd)")
     verify.add_argument("pytest_args", nargs="*",
                         help="passed to pytest (after --, e.g. gfmd verify -- -x -k westergaard)")
     _wait_option(verify, "report folder")

@@ -1,5 +1,6 @@
-"""The verification suite's pytest options, wherever it runs: `--full` (also the studies marked `slow`) and
-`--report-dir DIR` (where the report goes).
+"""The verification suite's pytest options, wherever it runs: `--full` (also the studies marked `slow`),
+`--report-dir DIR` (where the report goes) and `--solver NAME` (the contact code the cross-code cases run
+against, `verification.solvers.registry`; default gfmd).
 
 Registered by the package's ``pytest11`` entry point under the name ``verification.plugin``, so that
 ``pytest --pyargs verification --full`` works after ``pip install``; from a source checkout without that
@@ -15,7 +16,11 @@ def pytest_addoption(parser):
                               help="also run the expensive studies marked @pytest.mark.slow"),
                "--report-dir": dict(default=None, metavar="DIR",
                                     help="where the verification report (results.json, index.html) goes (default: "
-                                         "$GFMD_REPORT_DIR, else reports/ under pytest's rootdir)")}
+                                         "$GFMD_REPORT_DIR, else reports/ under pytest's rootdir)"),
+               "--solver": dict(default="gfmd", metavar="NAME",
+                                help="the contact code the cross-code cases (verification/test_cross_code.py) run "
+                                     "against: gfmd (default), fe, tamaas, contactmechanics, or one registered in "
+                                     "the entry-point group gfmd_contact.solvers")}
     for name, spec in options.items():
         try:
             parser.addoption(name, **spec)

@@ -26,7 +26,7 @@ def _record(case, solver, **kw):
 def _verdict(value, tolerance, lower):
     if value is None or not math.isfinite(value):
         return False
-    return value >= tolerance if lower else value <= tolerance
+    return bool(value >= tolerance if lower else value <= tolerance)
 
 
 def run_case(solver, case):
