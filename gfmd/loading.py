@@ -23,6 +23,7 @@ from . import blas, heap, kernels
 from .chains import chain_key, describe, relax
 from .cohesive_preconditioner import resolve as resolve_preconditioner
 from .fft import backend_words
+from .free_cell import FreeRegion
 from .problem import InterfaceLaw, Problem
 from .settings import Settings
 
@@ -60,8 +61,7 @@ class GfmdCell:
         """Relax the load step at indenter displacement U (m) from the rfft displacements `guess` (extrapolated from
         `fallback`, the last converged state, unless it is that: `gfmd.chains.relax`'s `previous`); the step's
         `algorithm` is the chain's label of what relaxed it (`Relaxed.method`: "ncg", "ncg→fire", ...)."""
-        loading = self.scene.loading
-        z_ind = indenter_surface(self.h, loading.initial_separation, displacement)
+        z_ind = self.indenter(displacement)
         wall_tolerance = wall_tolerance_of(self.scene, self.h)
         try:
             r = relax(self.physics, self.law, z_ind, guess, self.settings, wall_tolerance,
@@ -78,6 +78,15 @@ class GfmdCell:
                             gap=r.gap, t_n=r.t_z, fields=lambda: fields,
                             u_x=r.u_x if self.physics.tangential else None,
                             messages=() if r.converged else (r.message,), algorithm=r.method)
+
+
+    def indenter(self, displacement):
+        """The indenter surface z_ind (m) on the model's grid at displacement U (m)."""
+        return indenter_surface(self.h, self.scene.loading.initial_separation, displacement)
+
+
+class FreeGfmdCell(FreeRegion, GfmdCell):
+    """`GfmdCell` of a free-boundary model (`gfmd.free_cell.FreeRegion`)."""
 
 
 #: how the reasons that describe this process rather than the model begin (FFT and kernel backends, the heap, BLAS
@@ -150,6 +159,9 @@ def prepare(scene, h, realization=0, settings=None, method_name=None):
     physics = build_model(scene, h)
     if settings is None:
         settings = settings_of(scene)
+    if physics.free:  # the region of a padded cell (gfmd.free_cell)
+        return FreeGfmdCell(scene=scene, h=h, physics=physics, law=InterfaceLaw(physics), settings=settings,
+                            method=method_name or method_label(physics, settings))
     return GfmdCell(scene=scene, h=h, physics=physics, law=InterfaceLaw(physics), settings=settings,
                     method=method_name or method_label(physics, settings))
 

@@ -113,7 +113,7 @@ def realization_steps(scene, h, realization=0):
     if scene.loading.control == "force":  # the loads p̄_k (Pa); the δ limit is checked as the ramp goes
         return path_values(scene.loading), None
     steps = displacement_steps(scene.loading)
-    if not scene.material.half_plane:
+    if not scene.material.half_plane or scene.surface.boundary == "free":  # a free body never reaches full contact
         return steps, None
     limit = float(np.mean(h) - np.min(h))
     stop = (1.0 - FULL_CONTACT_MARGIN) * limit
@@ -194,7 +194,8 @@ def check_force_path_below_full_contact(scene, h, realization=0):
     from .errors import SceneError
 
     lo = scene.loading
-    if lo.control != "force" or not scene.material.half_plane or scene.interface.law != "hard-wall":
+    if (lo.control != "force" or not scene.material.half_plane or scene.interface.law != "hard-wall"
+            or scene.surface.boundary == "free"):
         return
     m = scene.material
     p_fc = full_contact_pressure(h, scene.surface.length, m.youngs_modulus, m.poisson_ratio,

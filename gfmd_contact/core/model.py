@@ -102,6 +102,9 @@ class Model:
     # (Nx, Ny//2 + 1) (`gfmd_contact.core.kernels.wavevector_magnitudes`); () for a 1+1-D profile
     shape: tuple = field(default=())
     length_y: float = 0.0
+    # surface.boundary = "free": the region's grid (N,) or (Nx, Ny) inside the padded cell the fields above
+    # describe (`gfmd_contact.core.free_boundary`); () for a periodic cell
+    region: tuple = field(default=())
 
     @property
     def components(self):
@@ -118,6 +121,11 @@ class Model:
         """Shape of its rfft (1-D) / rfft2 (2-D, over the last two axes) half-spectrum, = q.shape."""
         g = self.grid
         return g[:-1] + (g[-1] // 2 + 1,)
+
+    @property
+    def free(self):
+        """True for a free (non-periodic) body: the grid is the padded cell, `region` the scene's nodes."""
+        return bool(self.region)
 
     @property
     def node_area(self):
@@ -161,7 +169,18 @@ def _read_only(model):
 
 
 def choose_model(scene):
-    """`chosen_model` made anew: the unknowns, kernels and checks of `scene` (1+1-D or 2+1-D)."""
+    """`chosen_model` made anew: the unknowns, kernels and checks of `scene` (1+1-D or 2+1-D); on a free boundary
+    the periodic model's law and unknowns on the padded cell (`gfmd_contact.core.free_boundary.padded_model`)."""
+    if scene.surface.boundary == "free":
+        from .free_boundary import padded_model
+
+        padded = padded_model(scene, _periodic_model(scene))
+        return _checked(scene, padded, padded.description)
+    return _periodic_model(scene)
+
+
+def _periodic_model(scene):
+    """The model of the periodic cell of `scene`'s nodes."""
     s, m, i = scene.surface, scene.material, scene.interface
     if s.two_d:
         return _build_model_2d(scene)

@@ -86,7 +86,7 @@ def _extrapolated(state, previous):
 def _force_u_max(scene, h):
     """The largest U (m) a force-controlled half-plane realization may reach: (1 − FULL_CONTACT_MARGIN) of its
     full-contact limit mean(h) − min(h) beyond δ = 0 (`gfmd_contact.core.loading.realization_steps`); a layer: none."""
-    if not scene.material.half_plane:
+    if not scene.material.half_plane or scene.surface.boundary == "free":  # a free body: no full-contact limit
         return np.inf
     return scene.loading.initial_separation + (1.0 - FULL_CONTACT_MARGIN) * float(np.mean(h) - np.min(h))
 

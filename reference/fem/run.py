@@ -49,10 +49,19 @@ def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, 
         return run_ramp(scene, realization, prepare, progress=progress, checkpoint=checkpoint, resume=resume)
 
 
+#: why the FE references refuse surface.boundary = "free"
+FREE_REFUSAL = ("surface.boundary = \"free\": the FE reference models a periodic cell on a bonded layer only, not an "
+                "unbounded body; solve it with method.name = \"gfmd\" (Hockney padding), or use "
+                "surface.boundary = \"periodic\" with the FE")
+
+
 def refusal(scene):
     """Why the FE reference cannot solve `scene` (a str), or None. The cohesive wall (CZ attraction with
     a hard-wall repulsion, `gfmd_contact.core.laws.CohesiveWall`) would need the cohesive Newton and the hard wall's
-    active set in one solver, which the FE reference does not have; GFMD solves it."""
+    active set in one solver, which the FE reference does not have; GFMD solves it. A free boundary: the FE models a
+    periodic bonded layer only."""
+    if scene.surface.boundary == "free":
+        return FREE_REFUSAL
     if scene.interface.law == "cohesive-wall":
         return ("interface.law = \"cohesive-wall\": the FE reference does not model the cohesive wall (CZ "
                 "attraction with a hard-wall repulsion); solve it with method.name = \"gfmd\", or use "

@@ -39,6 +39,10 @@ def _protocol_law(name):
 def refusal(scene):
     """Why the 3-D FE cannot solve the 2+1-D `scene` (a str naming the key), or None."""
     s, m, i = scene.surface, scene.material, scene.interface
+    if s.boundary == "free":
+        return ("surface.boundary = \"free\": the 3-D FE models a periodic cell on a bonded layer only, not an "
+                "unbounded body; solve it with method.name = \"gfmd\" (Hockney padding), or use "
+                "surface.boundary = \"periodic\"")
     if m.half_plane:
         return ("material.thickness = \"inf\": the 3-D FE models a finite bonded layer only; give a finite "
                 "material.thickness (a layer of D = L stands in for the half-space with the truncation error "
