@@ -114,6 +114,32 @@ MUTATIONS = (
              "hysteresis W = ∮ p̄ dδ with its sign flipped"),
     Mutation("wall-leak", "gfmd/loading.py", "wall_tolerance = 1e-12 * max(", "wall_tolerance = 1e-3 * max(",
              "hard wall: nodes within 1e-3 of the profile span count as on the wall (a leak)"),
+    # the suite's former blind spots, each caught by its own cross-check (named in the entry)
+    Mutation("cycle-start-dropped", "gfmd_contact/core/cycle.py",
+             "path = np.concatenate([[idx[0] - 1], idx]) if idx[0] > 0 else idx", "path = idx",
+             "a second cycle starts at its own first step, not at the previous cycle's last (its W loses the "
+             "first trapezoid, δ_start moves): verification/test_second_cycle.py"),
+    Mutation("snap-off-first-jump", "gfmd_contact/core/cycle.py",
+             'outs[-1]["delta_before"], outs[-1]["step"]', 'outs[0]["delta_before"], outs[0]["step"]',
+             "snap-off at the first partial jump-out on unloading instead of the last (a rough surface detaching "
+             "patch by patch): verification/test_snap_off_patches.py"),
+    Mutation("kernel-ly-is-lx", "gfmd_contact/core/kernels.py", "rfftfreq(nodes_y, d=length_y / nodes_y)",
+             "rfftfreq(nodes_y, d=length_x / nodes_y)",
+             "2+1-D: the y wavenumbers built from Lx (right on a square cell only): "
+             "verification/test_embedded_sinusoid_y.py"),
+    Mutation("jkr-sphere-pull-off", "reference/analytic/jkr_sphere.py", "return -1.5 * math.pi * w * R,",
+             "return -2.0 * math.pi * w * R,",
+             "the JKR sphere reference's load-control pull-off −2πwR (DMT's) instead of −(3/2)πwR: "
+             "verification/test_sphere_pull_off_references.py"),
+    Mutation("persson-tosatti-half", "gfmd_contact/core/stickiness.py",
+             "return 0.5 * float(np.sum(np.asarray(stiffness", "return 1.0 * float(np.sum(np.asarray(stiffness",
+             "Persson–Tosatti θ: the full-contact elastic energy without its ½: "
+             "verification/test_stickiness_numbers.py"),
+    Mutation("user-law-tolerance-gap", "gfmd_contact/core/user_law.py",
+             "target = self.contact_tolerance * np.e * self.peak_traction",
+             "target = self.contact_tolerance * self.peak_traction",
+             "a user law's traction-tolerance contact gap without the factor e (Δtol too far out): "
+             "verification/test_user_law_contact_gap.py"),
 )
 
 
