@@ -345,8 +345,9 @@ def summary_rows(recs):
     return shown, folded
 
 
-def render_html(records, session=None, provenance=None):
-    """The whole page as a string."""
+def render_html(records, session=None, provenance=None, report_dir=None):
+    """The whole page as a string; report_dir: where the cross-code records of every solver are
+    (`verification.report_cross_code`)."""
     records = [r if isinstance(r, Measurement) else Measurement.from_dict(r) for r in records]
     session = session or {}
     prov = provenance or current_provenance()
@@ -407,6 +408,8 @@ def render_html(records, session=None, provenance=None):
             out.append(f'<p class="muted">from case <a href="#{slug(r.case)}">{esc(r.case)}</a>, '
                        f"metric {esc(r.metric)}</p>" + render_plot(p))
         out.append("</section>")
+    from verification.report_cross_code import section as cross_code_section
+    out += cross_code_section(report_dir)
     out += _mutation_section()
     if grids:
         out.append('<section id="extremes"><h2>Extremes</h2>')
@@ -555,7 +558,7 @@ def write_report(path, records, session=None, provenance=None):
     path.parent.mkdir(parents=True, exist_ok=True)
     from gfmd_contact.app.safe_files import atomic_write  # a kill or a full disk never leaves half a page
 
-    atomic_write(path, render_html(records, session, provenance))
+    atomic_write(path, render_html(records, session, provenance, report_dir=path.parent))
     return path
 
 

@@ -49,9 +49,13 @@ def run_case(solver, case):
             "resolution": " + ".join("×".join(str(n) for n in p.heights.shape) for p in problems),
             "ran": answers[-1].ran}
     lower = set(case.minimum)
-    return [_record(case, solver, metric=m, error=float(errors[m]), tolerance=float(tolerances[m]),
-                    lower_bound=m in lower, passed=_verdict(float(errors[m]), tolerances[m], m in lower), **cost)
-            for m in tolerances]
+    records = [_record(case, solver, metric=m, error=float(errors[m]), tolerance=float(tolerances[m]),
+                       lower_bound=m in lower, passed=_verdict(float(errors[m]), tolerances[m], m in lower), **cost)
+               for m in tolerances]
+    if case.sweep is not None:  # one (nodes, wall time, error) point per resolution, for the speed–accuracy plot
+        records[0]["sweep"] = [{"nodes": int(p.heights.size), "wall_s": a.cost.wall_s,
+                                "error": float(case.sweep(a, p))} for a, p in zip(answers, problems)]
+    return records
 
 
 def results_path(report_dir, solver_name):

@@ -1,0 +1,114 @@
+"""The report's cross-code section: every solver's cross-code records found in the report directory
+(cross_code-<solver>.json, one per `--solver` run, `verification.cross_code.outcomes`), side by side.
+
+Per case and metric, each code's error against the independent reference, the tolerance (the same for every
+code), its cost (wall time; iterations where the code exposes them) and its verdict; a case a code cannot answer
+shows the adapter's reason. Below the table, per case, which code was most accurate and which fastest, and a
+speed–accuracy plot (error / tolerance against wall time, every code and case; the resolution sweep as lines).
+"""
+
+from __future__ import annotations
+
+import io
+import re
+from html import escape
+
+from verification.cross_code.outcomes import load_all
+
+
+def _fmt(x):
+    return "—" if x is None else f"{x:.3g}"
+
+
+def _cell(r):
+    if r is None:
+        return '<td class="muted">not run</td>'
+    if r["passed"] is None:
+        return f'<td class="info" title="{escape(r["reason"])}">n/a: {escape(r["reason"])}</td>'
+    cls = "pass" if r["passed"] else "fail"
+    if r["error"] is None:
+        return f'<td class="fail">failed: {escape(r["reason"][:300])}</td>'
+    cost = f'{_fmt(r["wall_s"])} s' + (f', {r["iterations"]} it.' if r["iterations"] is not None else "")
+    return (f'<td class="{cls}" title="{escape(r["ran"])}">{_fmt(r["error"])} ({cls})<br>'
+            f'<span class="muted">{cost}</span></td>')
+
+
+def _rows(by_solver):
+    """[(case, metric, tolerance text, {solver: record})] in the order the records came."""
+    rows, index = [], {}
+    for solver, recs in by_solver.items():
+        for r in recs:
+            key = (r["case"], r["metric"])
+            if key not in index:
+                index[key] = len(rows)
+                rows.append((r["case"], r["metric"], r, {}))
+            rows[index[key]][3][solver] = r
+    return rows
+
+
+def _tolerance_text(r):
+    if r["tolerance"] is None:
+        return ""
+    return f'{"≥" if r["lower_bound"] else "≤"} {_fmt(r["tolerance"])}'
+
+
+def _comparison(case, recs):
+    """One sentence: the most accurate and the fastest code of a case (only codes that answered it)."""
+    answered = {s: r for s, r in recs.items() if r["error"] is not None}
+    if len(answered) < 2:
+        return ""
+    best = (max if any(r["lower_bound"] for r in answered.values()) else min)(
+        answered, key=lambda s: answered[s]["error"])
+    fastest = min(answered, key=lambda s: answered[s]["wall_s"])
+    return f"<li>{escape(case)}: most accurate {escape(best)}, fastest {escape(fastest)}</li>"
+
+
+def speed_accuracy_svg(by_solver):
+    """Log-log error/tolerance vs wall time: one marker per code and case, the sweeps as lines."""
+    from matplotlib.figure import Figure
+    fig = Figure(figsize=(7.5, 4.2))
+    ax = fig.subplots()
+    markers = "osD^v<>ph"
+    for i, (solver, recs) in enumerate(sorted(by_solver.items())):
+        pts = [(r["wall_s"], r["error"] / r["tolerance"]) for r in recs
+               if r["error"] and r["tolerance"] and r["wall_s"] and not r["lower_bound"]]
+        if pts:
+            ax.loglog(*zip(*pts), markers[i % len(markers)], label=f"{solver}: cases", alpha=0.7)
+        for r in recs:
+            if r.get("sweep"):
+                s = r["sweep"]
+                ax.loglog([p["wall_s"] for p in s], [p["error"] for p in s], "-" + markers[i % len(markers)],
+                          label=f"{solver}: {r['case']} sweep (error itself)")
+    ax.axhline(1.0, color="0.5", lw=0.8, ls="--")
+    ax.set_xlabel("wall time (s)")
+    ax.set_ylabel("error / tolerance (sweep: error)")
+    ax.legend(fontsize=7)
+    buf = io.StringIO()
+    fig.savefig(buf, format="svg", bbox_inches="tight")
+    text = buf.getvalue()
+    text = re.sub(r"<metadata>.*?</metadata>\s*", "", text[text.find("<svg"):], flags=re.S)
+    return re.sub(r'\s+xmlns(:\w+)?="[^"]*"', "", text, count=3)
+
+
+def section(report_dir):
+    """The section's HTML parts ([] when no cross-code records are in `report_dir`)."""
+    by_solver = load_all(report_dir) if report_dir is not None else {}
+    if not by_solver:
+        return []
+    solvers = sorted(by_solver)
+    out = ['<section id="cross-code"><h2>Cross-code verification</h2>',
+           f'<p class="muted">Codes: {escape(", ".join(solvers))} (one <code>--solver</code> run each). Each code is '
+           "held to the same tolerance per case and metric; n/a gives the adapter's own reason.</p>",
+           "<table><thead><tr><th>case</th><th>metric</th><th>tolerance</th>"
+           + "".join(f"<th>{escape(s)}</th>" for s in solvers) + "</tr></thead><tbody>"]
+    per_case = {}
+    for case, metric, first, recs in _rows(by_solver):
+        out.append(f"<tr><td>{escape(case)}</td><td>{escape(metric or '—')}</td><td>{_tolerance_text(first)}</td>"
+                   + "".join(_cell(recs.get(s)) for s in solvers) + "</tr>")
+        per_case.setdefault(case, recs)
+    out.append("</tbody></table>")
+    lines = [c for c in (_comparison(case, recs) for case, recs in per_case.items()) if c]
+    if lines:
+        out.append("<p>Per case (first metric):</p><ul>" + "".join(lines) + "</ul>")
+    out += [speed_accuracy_svg(by_solver), "</section>"]
+    return out
