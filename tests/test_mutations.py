@@ -38,3 +38,21 @@ def test_shared_ramp_mutations_are_caught_by_the_ramp_records_case():
     rows = mu.run(ids, pytest_args=("-k", "ramp_records"), progress=lambda line: None)
     assert {r["id"]: r["caught"] for r in rows} == dict.fromkeys(ids, True), rows
     assert all(r["first_failure"].startswith("verification/test_ramp_records.py::") for r in rows), rows
+
+
+#: the suite's former blind spots: each mutation's own cross-check (the file its `what` names)
+BLIND_SPOTS = {"cycle-start-dropped": "test_second_cycle.py", "snap-off-first-jump": "test_snap_off_patches.py",
+               "kernel-ly-is-lx": "test_embedded_sinusoid_y.py", "jkr-sphere-pull-off": "test_sphere_pull_off_references.py",
+               "persson-tosatti-half": "test_stickiness_numbers.py",
+               "user-law-tolerance-gap": "test_user_law_contact_gap.py"}
+
+
+def test_blind_spot_mutations_are_caught_by_their_cross_checks():
+    """One site per class the suite once missed (a second cycle, a rough snap-off, a non-square 2+1-D cell, a
+    sphere reference's pull-off, a stickiness number, a user law's contact gap): its cross-check fails on it."""
+    by_id = {m.id: m for m in mu.MUTATIONS}
+    assert all(f"verification/{name}" in by_id[i].what for i, name in BLIND_SPOTS.items())
+    keywords = " or ".join(name.removesuffix(".py").removeprefix("test_") for name in BLIND_SPOTS.values())
+    rows = mu.run(list(BLIND_SPOTS), pytest_args=("-k", keywords), progress=lambda line: None)
+    assert {r["id"]: r["caught"] for r in rows} == dict.fromkeys(BLIND_SPOTS, True), rows
+    assert all(r["first_failure"].startswith(f"verification/{BLIND_SPOTS[r['id']]}::") for r in rows), rows
