@@ -183,12 +183,15 @@ def test_a_truncated_npy_is_refused_by_name(tmp_path):
 
 def test_a_big_file_of_nul_bytes_named_txt_is_refused_before_it_is_read(tmp_path):
     """2 GiB of NUL bytes named heights.txt was read whole (10.5 GB resident, then MemoryError); now refused by
-    its size against what surface.nodes heights may take (here 64 MiB, sparse, for 16 nodes)."""
+    its size: a height file of any format (binary content goes to SurfaceTopography, whatever its suffix) takes at
+    most MAX_FILE_BYTES (sparse here, one byte more)."""
+    from gfmd_contact.core.topography_files import MAX_FILE_BYTES
+
     with open(tmp_path / "heights.txt", "wb") as f:
-        f.truncate(64 * 2**20)
+        f.truncate(MAX_FILE_BYTES + 1)
     code, err = cli(["scene", "--check", str(file_scene(tmp_path, "heights.txt"))])
     assert code == 2, err
-    assert "gfmd: error: surface.path" in err and "bytes, more than" in err and "surface.nodes = 16" in err, err
+    assert "gfmd: error: surface.path" in err and f"{MAX_FILE_BYTES + 1} bytes, more than" in err, err
 
 
 def test_binary_junk_under_a_text_suffix_is_refused_by_name(tmp_path):

@@ -12,6 +12,7 @@ from hypothesis import given, settings, strategies as st
 
 from gfmd_contact.core.scene import (Interface, Material, Scene, SceneError, Surface, default_scene, example_scene_text,
                         load_scene, scene_from_dict, scene_to_dict, scene_to_toml)
+from gfmd_contact.core.topography_keys import FILE_KEYS
 
 
 def _round_trip(scene, directory):
@@ -366,7 +367,7 @@ def test_scene_to_dict_and_properties():
 
 COMMON = {"kind", "length", "nodes", "seed", "realizations", "boundary"}
 OWN = {"self-affine": {"hurst", "h_rms", "rolloff_wavelength", "rollon_wavelength"}, "sinusoid": {"amplitude"},
-       "cylinder": {"radius"}, "flat": set(), "file": {"path"}}
+       "cylinder": {"radius"}, "flat": set(), "file": set(FILE_KEYS)}
 SIN = {"kind": "sinusoid", "amplitude": 5e-9}
 CYL = {"kind": "cylinder", "radius": 1e-6}
 FLAT = {"kind": "flat"}
@@ -469,6 +470,12 @@ def _bad_profile(directory, what):
     raise AssertionError(what)
 
 
+BAD_PROFILE_WORDS = {  # what each message says is wrong, and the key that would fix it where one does
+    "2-D npy": ["shape (16, 16)", "surface.nodes", "surface.resample"], "corrupt npy": ["not a valid .npy file"],
+    "comma-separated": ["not one column of heights", "SurfaceTopography cannot read"], "empty text": ["empty"],
+    "two columns": ["states no unit", "surface.height_unit"]}  # x–z columns: an instrument export without a unit
+
+
 @pytest.mark.parametrize("what", ["2-D npy", "corrupt npy", "comma-separated", "empty text", "two columns"])
 def test_bad_profile_file_names_surface_path(tmp_path, what):
     path = _bad_profile(tmp_path, what)
@@ -478,7 +485,8 @@ def test_bad_profile_file_names_surface_path(tmp_path, what):
         load_scene(scene_file)
     message = str(info.value)
     assert "surface.path" in message and path.name in message, message
-    assert "1-D" in message and "one column of surface.nodes = 256 heights in m" in message, message
+    for word in BAD_PROFILE_WORDS[what]:
+        assert word in message, message
 
 
 # ---------------------------------------------------------------- absurd sizes and magnitudes

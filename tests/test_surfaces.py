@@ -347,6 +347,8 @@ def test_profile_dispatch(tmp_path):
     path = tmp_path / "h.npy"
     np.save(path, np.arange(64.0))
     assert np.array_equal(surfaces.profile(Surface(kind="file", length=L, nodes=64, path=str(path))),
-                          np.arange(64.0))
+                          -np.arange(64.0))  # a measured surface, its summits facing the body
+    assert np.array_equal(surfaces.profile(Surface(kind="file", length=L, nodes=64, path=str(path),
+                                                   facing="valleys")), np.arange(64.0))  # the heights as they are
     with pytest.raises(ValueError, match="surface.kind"):
         surfaces.profile(Surface(kind="fractal", length=L, nodes=64))

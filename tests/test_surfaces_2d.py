@@ -211,8 +211,10 @@ def test_laws_needing_u_x_are_refused_in_2d(section, values, key):
 def test_file_surface(tmp_path):
     h = np.random.default_rng(0).standard_normal((32, 16)) * 1e-9
     np.save(tmp_path / "h.npy", h)
-    sc = _scene(kind="file", path=str(tmp_path / "h.npy"))
+    sc = _scene(kind="file", path=str(tmp_path / "h.npy"), facing="valleys")  # the heights as they are
     assert np.array_equal(surfaces.profile(sc.surface), h)
+    summits = _scene(kind="file", path=str(tmp_path / "h.npy"))  # the default: the measured summits face the body
+    assert np.array_equal(surfaces.profile(summits.surface), -h)
     (tmp_path / "s.toml").write_text(scene_to_toml(sc))
     assert load_scene(tmp_path / "s.toml").surface == sc.surface
     np.save(tmp_path / "t.npy", h.T)
@@ -222,9 +224,15 @@ def test_file_surface(tmp_path):
     np.save(tmp_path / "line.npy", h[:, 0])
     with pytest.raises(SceneError, match=r"surface\.path.*shape \(32,\)"):
         _scene(kind="file", path=str(tmp_path / "line.npy"))
-    np.savetxt(tmp_path / "h.txt", h)
-    with pytest.raises(SceneError, match=r"surface\.path.*\.npy file only"):
+    np.savetxt(tmp_path / "h.txt", h)  # a text matrix goes to SurfaceTopography: no unit, rows are lines along x
+    with pytest.raises(SceneError, match=r"surface\.path.*states no unit.*surface\.height_unit"):
         _scene(kind="file", path=str(tmp_path / "h.txt"))
+    with pytest.raises(SceneError, match=r"surface\.path.*16 × 32 points.*\(surface\.nodes, surface\.nodes_y\) = "
+                                         r"\(32, 16\)"):
+        _scene(kind="file", path=str(tmp_path / "h.txt"), height_unit="m")
+    np.savetxt(tmp_path / "h.txt", h.T)
+    text = _scene(kind="file", path=str(tmp_path / "h.txt"), height_unit="m", facing="valleys")
+    np.testing.assert_allclose(surfaces.profile(text.surface), h, rtol=1e-15, atol=0)  # %.18e text: to round-off
     bad = h.copy()
     bad[3, 4] = np.nan
     np.save(tmp_path / "nan.npy", bad)

@@ -2,7 +2,8 @@
 
 The files are written by SurfaceTopography itself (netCDF, its container format, round-trips heights, unit
 and physical size exactly) and read back through a scene; tests that need the package skip without it,
-the missing-package refusal runs everywhere.
+the missing-package refusal runs everywhere. These check the heights as read, so their scenes say
+surface.facing = "valleys" (the file's heights are the indenter's lower surface as they are).
 """
 
 import sys
@@ -34,13 +35,15 @@ def _map(st, path, heights, sizes, unit):
 
 
 def _surface(path, nodes, length, **extra):
-    return {"surface": {"kind": "file", "path": str(path), "nodes": nodes, "length": length, **extra}}
+    return {"surface": {"kind": "file", "path": str(path), "nodes": nodes, "length": length, "facing": "valleys",
+                        **extra}}
 
 
 def test_line_scan_in_micrometres_is_a_profile_in_metres(st, tmp_path):
     h_um = np.random.default_rng(1).uniform(-0.05, 0.05, 64)
     _line_scan(st, tmp_path / "scan.nc", h_um, 2.0, "µm")
-    (tmp_path / "s.toml").write_text('[surface]\nkind = "file"\nnodes = 64\nlength = 2e-6\npath = "scan.nc"\n')
+    (tmp_path / "s.toml").write_text('[surface]\nkind = "file"\nnodes = 64\nlength = 2e-6\npath = "scan.nc"\n'
+                                      'facing = "valleys"\n')
     h = profile(load_scene(tmp_path / "s.toml").surface)  # relative path, the scene's validation, the profile
     assert h.shape == (64,)
     np.testing.assert_allclose(h, h_um * 1e-6, rtol=ONE_ROUNDING, atol=0)
@@ -88,16 +91,19 @@ def test_physical_size_must_be_the_cell(st, tmp_path):
 
 def test_unknown_unit_masked_and_unreadable_files_are_refused(st, tmp_path):
     furlongs = _line_scan(st, tmp_path / "f.nc", np.zeros(16), 1.0, "furlong")
-    with pytest.raises(SceneError, match=r"surface\.path = .*f\.nc.*unit 'furlong' is not a known length unit"):
+    with pytest.raises(SceneError, match=r"surface\.path = .*f\.nc.*unit 'furlong', not a known length "
+                                         r"unit.*surface\.height_unit supplies it"):
         scene_from_dict(_surface(furlongs, 16, 201.168))
     h = np.ma.masked_array(np.zeros((8, 8)), mask=np.zeros((8, 8), bool))
     h.mask[3, 4] = True
     masked = _map(st, tmp_path / "m.nc", h, (1.0, 1.0), "nm")
-    with pytest.raises(SceneError, match=r"surface\.path.*undefined \(masked\) heights \(1 of 64\)"):
+    with pytest.raises(SceneError, match=r"surface\.path.*undefined \(masked or non-finite\) heights \(1 of "
+                                         r"64\).*surface\.undefined"):
         scene_from_dict(_surface(masked, 8, 1e-9, nodes_y=8, length_y=1e-9))
     garbage = tmp_path / "scan.sur"
     garbage.write_bytes(bytes(range(256)) * 4)
-    with pytest.raises(SceneError, match=r"surface\.path = .*scan\.sur.*SurfaceTopography cannot read it"):
+    with pytest.raises(SceneError, match=r"surface\.path = .*scan\.sur.*binary content.*SurfaceTopography "
+                                         r"cannot read it"):
         scene_from_dict(_surface(garbage, 16, 1e-6))
 
 

@@ -28,6 +28,12 @@ Geometry and signs
   (out of the body, towards the indenter).
 * Profile h(x): heights of the indenter's lower surface (zero mean for random
   profiles); the indenter touches first where h is smallest.
+* A measured height file (surface.kind = "file", any format) holds z(x), the
+  measured surface with z pointing out of the measured material. It enters as
+  the indenter's lower surface turned over, h = −z, so that its highest
+  measured point touches first (surface.facing = "summits", the default);
+  surface.facing = "valleys" takes h = z, the heights as they are
+  (`gfmd_contact.core.topography_prep`).
 * Indenter position: with U the imposed displacement (downward positive) and
   δ0 the initial separation of the closest points,
 

@@ -31,6 +31,16 @@ class Surface:
     nodes_y: int = 0  # 0: a 1+1-D profile; ≥ 2: a 2+1-D surface of nodes × nodes_y (gfmd_contact.core.scene2d)
     length_y: float = 0.0  # Ly (m) of a 2+1-D surface (default: length); 0 for a profile
     boundary: str = "periodic"  # "periodic": the cell repeats; "free": one indenter on an unbounded body
+    # a measured height file (kind "file"), prepared in this order (gfmd_contact.core.topography_prep)
+    facing: str = "summits"  # "summits": the measured surface's highest points touch first; "valleys": h as read
+    channel: object = ""  # a channel's name or index; "": the file's first height channel
+    region: tuple = ()  # (x0, x1[, y0, y1]) m from the file's origin; (): the whole file
+    undefined: str = "refuse"  # "refuse" | "harmonic" | "mean"
+    line: str = "none"  # "x:K" | "y:K": one line of a map for a profile
+    height_unit: str = ""  # "": the file's unit (m for .npy and text)
+    height_scale: float = 1.0
+    levelling: str = "none"  # "none" | "height" | "slope" | "curvature"
+    resample: str = "none"  # "none" | "linear" | "cubic" | "fourier"
 
     @property
     def spacing(self):

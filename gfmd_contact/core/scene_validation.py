@@ -3,7 +3,8 @@
 Units: SI (see `gfmd_contact.core.conventions`). Every error names the key, the value and the allowed
 range (`SceneError`). [surface] takes only the keys of its kind (every kind: kind,
 length, nodes, seed, realizations, nodes_y, length_y; self-affine: hurst, h_rms, rolloff_wavelength,
-rollon_wavelength; sinusoid, egg-box: amplitude; cylinder, sphere: radius; file: path); a key of
+rollon_wavelength; sinusoid, egg-box: amplitude; cylinder, sphere: radius; file: path and the preparation
+keys of `gfmd_contact.core.topography_keys`); a key of
 another kind is an error, not ignored; so is a key of another contact rule in [interface]
 (contact_tolerance belongs to contact_rule "traction-tolerance", contact_gap to "gap"). The
 law's own parameters are not policed that way: a hard wall takes phi_n_star etc. and ignores
@@ -16,9 +17,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import os
 
-from . import law_registry, scene2d
+from . import law_registry, scene2d, topography_keys
 from .errors import SceneError
 from .scene_sections import Interface, Loading, Material, Method, Output, Solver, Surface
 
@@ -33,7 +33,7 @@ _COMMON_KEYS = ("kind", "length", "nodes", "seed", "realizations", "boundary") +
 #: surface.boundary: a periodic cell, or the cell's indenter alone on an unbounded (free) body
 BOUNDARIES = ("periodic", "free")
 _KIND_KEYS = {"self-affine": ("hurst", "h_rms", "rolloff_wavelength", "rollon_wavelength"),
-              "sinusoid": ("amplitude",), "cylinder": ("radius",), "flat": (), "file": ("path",),
+              "sinusoid": ("amplitude",), "cylinder": ("radius",), "flat": (), "file": topography_keys.FILE_KEYS,
               "egg-box": ("amplitude",), "sphere": ("radius",)}
 #: largest surface.nodes: a run holds tens of arrays of N values (N = 2^24: several GB)
 MAX_NODES = 2**24
@@ -120,6 +120,10 @@ def _surface(d):
     scene2d.check_dimensions(kind, nodes, length, nodes_y, length_y, "length_y" in d, MAX_NODES)
     if nodes_y:
         _positive("surface.length_y", length_y)
+    if kind == "file":  # the prepared file gives the cell's size where the scene does not
+        file_kw, sizes = topography_keys.resolve(d, nodes, nodes_y, (length if "length" in d else None,
+                                                                    length_y if "length_y" in d else None))
+        length, length_y = sizes[0], (sizes[1] if nodes_y else 0.0)
     spacing = max(length / nodes, length_y / nodes_y) if nodes_y else length / nodes  # the coarser one
     kw = dict(kind=kind, length=length, nodes=nodes, nodes_y=nodes_y, length_y=length_y, boundary=boundary)
     seed = _number(d, "surface", "seed", s.seed, integer=True)
@@ -157,20 +161,7 @@ def _surface(d):
         _positive("surface.radius", radius)
         kw.update(radius=radius)
     elif kind == "file":
-        path = d.get("path", "")
-        if not isinstance(path, str) or not path:
-            _fail("surface.path", path, "must name a .npy or text file of `nodes` heights (m), or an instrument "
-                  "file (the optional extra SurfaceTopography)")
-        from .surfaces import from_file  # the file is part of the input: check it now
-        from .surfaces_2d import from_file_2d
-        try:
-            (from_file_2d(path, nodes, nodes_y, (length, length_y)) if nodes_y
-             else from_file(path, nodes, length))
-        except ValueError as exc:
-            raise SceneError(str(exc)) from None
-        # the file read just now, wherever the scene is written and read back (a run's DIR/scene.toml resolves a
-        # relative path against DIR): a relative path is the working directory's
-        kw.update(path=os.path.abspath(path))
+        kw.update(file_kw)
     return Surface(**kw)
 
 

@@ -79,8 +79,8 @@ def from_file(path, nodes, length=None):
 
     check_regular_file(path, fail)
     if path.suffix.lower() not in (".npy",) + TEXT_SUFFIXES:
-        from .topography_files import read_topography_file
-        return read_topography_file(path, (nodes,), (length,))
+        from .topography_prep import file_heights
+        return file_heights(path, (nodes,), (length,))
     try:
         if path.suffix.lower() == ".npy":
             h, shape = read_npy(path, (nodes,), fail)  # the header first: the shape before any value
@@ -163,6 +163,7 @@ def make_profile(surface, realization=0):
         return cylinder(n, length, surface.radius)
     if surface.kind == "flat":
         return flat(n, length)
-    if surface.kind == "file":
-        return from_file(surface.path, n, length)
+    if surface.kind == "file":  # read, prepared and turned to face the body (gfmd_contact.core.topography_prep)
+        from .topography_prep import indenter_heights
+        return indenter_heights(surface)
     raise ValueError(f"surface.kind = {surface.kind!r} is not a known profile kind")

@@ -101,8 +101,8 @@ def from_file_2d(path, nodes_x, nodes_y, lengths=None):
 
     check_regular_file(path, fail)
     if path.suffix.lower() not in (".npy",) + TEXT_SUFFIXES:
-        from .topography_files import read_topography_file
-        return read_topography_file(path, (nodes_x, nodes_y), lengths)
+        from .topography_prep import file_heights
+        return file_heights(path, (nodes_x, nodes_y), lengths)
     if path.suffix.lower() != ".npy":
         fail("a 2+1-D surface is read from a .npy file only (text files hold 1+1-D profiles)")
     h, shape = read_npy(path, (nodes_x, nodes_y), fail)  # the header first: the shape before any value
@@ -130,6 +130,7 @@ def profile_2d(surface, realization=0):
         return sphere(nx, lx, ny, ly, surface.radius)
     if kind == "flat":
         return np.zeros((nx, ny))
-    if kind == "file":
-        return from_file_2d(surface.path, nx, ny, (lx, ly))
+    if kind == "file":  # read, prepared and turned to face the body (gfmd_contact.core.topography_prep)
+        from .topography_prep import indenter_heights
+        return indenter_heights(surface)
     raise ValueError(f"surface.kind = {kind!r} is not a 2+1-D surface kind")

@@ -1,26 +1,30 @@
-"""Measured topographies in instrument formats, read through SurfaceTopography (optional extra).
+"""A height file as measured: its heights (m), its physical size (m) and what it says about itself.
 
-`gfmd_contact.core.surfaces.from_file` (1+1-D) and `gfmd_contact.core.surfaces_2d.from_file_2d` (2+1-D) read .npy and text
-themselves; a file with any other suffix comes here: `SurfaceTopography.read_topography` detects the
-format (netCDF .nc, .x3p, .sur, .opd, .di, .ibw, .datx, ...). The heights are converted to m from the file's
-unit; the grid must be the scene's (a line scan for a profile, a map for a surface, nb_grid_pts =
-(surface.nodes[, surface.nodes_y])); the file's physical size must be the cell's (surface.length
-[, surface.length_y]) within `SIZE_RTOL`, as the file states the size its heights were measured on, and a
-scene that silently rescaled them would change every slope (p_r* = p/(ḡ_r E*), seed Eq. 6). A file without a
-physical size is refused too (no silent default). Undefined (masked) or non-finite heights are refused:
-contact needs a height at every node. The file's heights are used as they are (mean, tilt and periodicity
-untouched): the cell is periodic, so a measured map should be levelled and periodic enough for the study.
-Without SurfaceTopography installed: a `SceneError` saying `pip install "gfmd-contact[topography]"`.
+One rule for every file of a `surface.kind = "file"` scene: a `.npy` array (1-D: a line scan, 2-D: a map,
+axis 0 x) and a text file of one column of heights are read here, in m unless surface.height_unit says
+otherwise; any other content goes to SurfaceTopography (the optional extra), whatever its suffix: a file
+whose first bytes hold a NUL or are not UTF-8 is binary (an instrument format such as a binary `.dat`),
+and text that is not one column (x–z columns, a profilometer's CSV, a matrix) is an instrument export too.
+
+From an instrument file: the channel surface.channel names (a name or an index; default the file's
+first height channel), its heights and physical size converted to m from the file's own unit. What a file
+does not state, a key supplies, and a refusal names that key: no physical size → surface.length (and
+surface.length_y for a map), no unit → surface.height_unit (the unit of the file's numbers, its size
+included). SurfaceTopography's own words appear only inside such a sentence. Undefined (masked) and
+non-finite heights come back masked; `gfmd_contact.core.topography_prep` refuses or fills them.
 """
 
 from __future__ import annotations
 
+import io
 import warnings
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from .errors import SceneError, first_line
+from .surface_files import SNIFF_BYTES, check_regular_file, read_npy, read_text
 
 # the file's physical size vs surface.length: agreement to round-off of a size written in another unit
 # (µm → m is exact to ~1e-16); 1e-6 relative admits a size written with 7 significant digits
@@ -31,67 +35,200 @@ TEXT_SUFFIXES = (".txt", ".dat", ".csv", ".tsv", "")
 
 INSTALL_HINT = 'pip install "gfmd-contact[topography]"'
 
+#: most values read from a .npy or text file whose grid the scene does not fix (region, line or resampling)
+MAX_VALUES = 2**24
 
-def read_topography_file(path, nodes, lengths):
-    """Heights (m) of an instrument file: shape (nodes[0],) for a line scan, (nodes[0], nodes[1]) for a map.
+#: most bytes of any height file (2^24 heights as text, 32 bytes each): a bigger file is refused unread
+MAX_FILE_BYTES = 32 * MAX_VALUES
 
-    `nodes` = (surface.nodes,) or (surface.nodes, surface.nodes_y); `lengths` the matching cell sizes (m).
-    Every refusal is a `SceneError` naming surface.path and the key that disagrees (module docstring).
+#: length units (to m) of heights and sizes; both spellings of micro
+UNITS = {"m": 1.0, "mm": 1e-3, "µm": 1e-6, "μm": 1e-6, "um": 1e-6, "nm": 1e-9, "Å": 1e-10, "A": 1e-10,
+         "pm": 1e-12, "km": 1e3}
+
+
+@dataclass(frozen=True)
+class Measurement:
+    """A file's heights as read: `heights` (m, masked where undefined; axis 0 x), `sizes` (m per axis),
+    `size_stated` (False: the sizes came from surface.length[_y]), `unit` and `channel` (what was read)."""
+
+    heights: np.ma.MaskedArray
+    sizes: tuple
+    size_stated: bool
+    unit: str
+    channel: str
+
+
+def metre(unit, key="surface.height_unit"):
+    """m per `unit`; a SceneError naming `key` for a unit that is no length."""
+    factor = UNITS.get(unit)
+    if factor is None:
+        raise SceneError(f"{key} = {unit!r}: not a known length unit; one of {', '.join(UNITS)}")
+    return factor
+
+
+def is_binary(path):
+    """Does the file's start hold a NUL byte or bytes that are not UTF-8 (an instrument's binary format)?"""
+    with open(path, "rb") as f:
+        data = f.read(SNIFF_BYTES)
+    if b"\0" in data:
+        return True
+    try:
+        data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        return exc.start < len(data) - 3  # a character cut at the end of the sniffed bytes is still text
+    return False
+
+
+def read_measurement(path, *, channel="", height_unit="", lengths=(None,), shape=None):
+    """The `Measurement` of `path` (module docstring).
+
+    lengths: (surface.length[, surface.length_y]) as given (None: not given), used where the file states no
+    size; shape: the grid the scene fixes for a .npy file (checked from its header), or None (any grid up to
+    MAX_VALUES values).
     """
     path = Path(path)
-    dim = len(nodes)
-    keys = ("surface.nodes", "surface.nodes_y")[:dim]
-    length_keys = ("surface.length", "surface.length_y")[:dim]
-    what = "a line scan" if dim == 1 else "a 2-D topography map"
+    if len(lengths) == 2 and lengths[1] is None:  # a size the file lacks: length_y defaults to length
+        lengths = (lengths[0], lengths[0])
 
     def fail(problem):
         raise SceneError(f"surface.path = {str(path)!r}: {problem}")
 
-    if any(length is None for length in lengths):
-        raise ValueError(f"reading an instrument file needs ({', '.join(length_keys)}) to check its physical size")
+    size = check_regular_file(path, fail)
+    if size > MAX_FILE_BYTES:
+        fail(f"is {size} bytes, more than the {MAX_FILE_BYTES} bytes a height file may take (2^24 heights as text); "
+             "is it the right file?")
+    try:
+        binary = is_binary(path)
+    except OSError as exc:
+        fail(f"cannot be read ({exc.strerror or exc})")
+    if path.suffix.lower() == ".npy":
+        h = _npy(path, shape, fail)
+    else:
+        h = None if binary else _one_column(path, shape, fail)
+    if h is None:
+        content = "holds binary content" if binary else "holds text that is not one column of heights"
+        return _instrument(path, channel, height_unit, lengths, fail, content)
+    if h.ndim not in (1, 2):
+        fail(f"holds an array of shape {h.shape}; a line scan is 1-D, a map 2-D (axis 0 x)")
+    if channel != "":
+        fail(f"surface.channel = {channel!r}: a .npy or one-column text file holds one channel; leave the key out")
+    if any(length is None for length in lengths[: h.ndim]) or len(lengths) < h.ndim:
+        keys = " and ".join(("surface.length", "surface.length_y")[: h.ndim])
+        fail(f"a .npy or text file states no physical size; {keys} supply it (m)")
+    unit = height_unit or "m"
+    factor = metre(unit)
+    heights = np.ma.masked_invalid(np.asarray(h, dtype=float) * factor)
+    return Measurement(heights, tuple(float(s) for s in lengths[: h.ndim]), False, unit, "")
 
+
+def _npy(path, shape, fail):
+    """The array of a .npy file: of `shape` when the scene fixes it (header first), else of ≤ MAX_VALUES values."""
+    h, file_shape = read_npy(path, shape or (), fail)
+    if h is not None:
+        return h
+    if shape is not None and len(shape) == len(file_shape) == 1:
+        fail(f"holds {file_shape[0]} heights, but surface.nodes = {shape[0]} (or give surface.resample or "
+             "surface.region to prepare another grid)")
+    if shape is not None:
+        names = "(surface.nodes, surface.nodes_y)" if len(shape) == 2 else "(surface.nodes,)"
+        fail(f"holds an array of shape {file_shape}, but {names} = {tuple(shape)} (or give surface.resample, "
+             "surface.region or surface.line to prepare another grid)")
+    if len(file_shape) not in (1, 2) or 0 in file_shape:
+        fail(f"holds an array of shape {file_shape}; a line scan is 1-D, a map 2-D (axis 0 x)")
+    if int(np.prod(file_shape, dtype=np.int64)) > MAX_VALUES:
+        fail(f"holds an array of shape {file_shape}, more than {MAX_VALUES} values")
+    return read_npy(path, file_shape, fail)[0]
+
+
+def _one_column(path, shape, fail):
+    """Heights of a text file of one column (one number per line, '#' comments), or None for other text."""
+    count = shape[0] if shape is not None and len(shape) == 1 else MAX_VALUES
+    text = read_text(path, count, fail)
+    rows = [line.split("#", 1)[0].split() for line in text.splitlines()]
+    rows = [row for row in rows if row]
+    if not rows:
+        fail("the file holds no numbers (empty)")
+    if any(len(row) != 1 or "," in row[0] for row in rows):
+        return None
+    try:
+        h = np.loadtxt(io.StringIO("\n".join(row[0] for row in rows)), dtype=float, ndmin=1)
+    except ValueError:
+        return None  # words in one column: an instrument export's header, perhaps
+    if shape is not None and len(shape) == 1 and h.size != shape[0]:
+        fail(f"holds {h.size} heights, but surface.nodes = {shape[0]} (or give surface.resample or surface.region)")
+    return h
+
+
+def _instrument(path, channel, height_unit, lengths, refuse, content):
+    """The `Measurement` of a file SurfaceTopography reads (module docstring)."""
+    def fail(problem):
+        refuse(f"{content}, an instrument format for SurfaceTopography: {problem}")
+
+    what = ("a .npy array, a text file of one column of heights, or a file SurfaceTopography reads "
+            "(surface.channel picks a channel, surface.length a size, surface.height_unit a unit the file lacks)")
     try:
         import SurfaceTopography
-        from SurfaceTopography.Support.UnitConversion import get_unit_conversion_factor
     except ImportError:
-        fail(f"the suffix {path.suffix!r} is not one read without SurfaceTopography (.npy"
-             + (", or text: " + ", ".join(s or "no suffix" for s in TEXT_SUFFIXES) if dim == 1 else "")
-             + f"); instrument formats need the optional extra: {INSTALL_HINT}")
+        fail(f"that needs the optional extra: {INSTALL_HINT}")
     try:
-        with warnings.catch_warnings():  # scipy's netCDF reader warns about its memory map on close
-            warnings.simplefilter("ignore", RuntimeWarning)
-            topography = SurfaceTopography.read_topography(str(path))
-            heights = np.ma.array(topography.heights(), dtype=float, copy=True)
+        with warnings.catch_warnings():  # readers warn about metadata they skip
+            warnings.simplefilter("ignore")
+            reader = SurfaceTopography.open_topography(str(path))
+            channels = list(reader.channels)
     except Exception as exc:  # any reader's failure on this file is bad input (format, corrupt, ...)
-        fail(f"SurfaceTopography cannot read it as a topography ({type(exc).__name__}: {first_line(exc)})")
-    if topography.dim != dim:
-        fail(f"holds a {topography.dim}-D topography, but the scene needs {what}"
-             + (" (a profile, surface.nodes_y = 0)" if dim == 1 else " (a surface, surface.nodes_y ≥ 2)"))
-    grid = tuple(int(n) for n in topography.nb_grid_pts)
-    if grid != tuple(nodes):
-        raise SceneError(f"surface.path = {str(path)!r} holds {what} of {' × '.join(map(str, grid))} points, but "
-                         f"({', '.join(keys)}) = ({', '.join(map(str, nodes))})")
-    unit = topography.unit
+        fail(f"SurfaceTopography cannot read it ({type(exc).__name__}: {first_line(exc)}); expected {what}")
+    info = _channel(channels, channel, reader.default_channel, fail)
+    unit = info.unit
+    if unit is not None and not isinstance(unit, str):
+        fail(f"channel {info.index} ({info.name!r}) holds no heights (units {unit}); surface.channel picks another: "
+             + _listing(channels))
+    kwargs = {}
+    if unit is None or unit not in UNITS:
+        if not height_unit:
+            stated = "states no unit" if unit is None else f"states the unit {unit!r}, not a known length unit,"
+            fail(f"the file {stated} for its numbers (heights and size); surface.height_unit supplies it "
+                 f"(one of {', '.join(UNITS)})")
+        if unit is None:
+            kwargs["unit"] = height_unit
+        unit = height_unit
+    elif height_unit and metre(height_unit) != metre(unit):
+        fail(f"the file states its unit, {unit!r}, but surface.height_unit = {height_unit!r}; leave the key out "
+             "(surface.height_scale corrects heights written in a wrong unit)")
+    factor = metre(unit)
+    sizes = info.physical_sizes
+    stated = sizes is not None and all(s is not None and float(s) > 0 for s in sizes)
+    if not stated:
+        keys = ("surface.length", "surface.length_y")[: info.dim]
+        given = tuple(lengths[: info.dim]) if len(lengths) >= info.dim else ()
+        if len(given) < info.dim or any(s is None for s in given):
+            fail(f"the file states no physical size; {' and '.join(keys)} supply it (m)")
+        kwargs["physical_sizes"] = tuple(s / factor for s in given)
     try:
-        to_metre = float(get_unit_conversion_factor(unit, "m"))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            t = reader.topography(channel_index=info.index, **kwargs)
+            heights = np.ma.masked_invalid(np.ma.array(t.heights(), dtype=float, copy=True))
+            sizes_m = tuple(float(s) * factor for s in t.physical_sizes)
     except Exception as exc:
-        fail(f"the file's unit {unit!r} is not a known length unit ({first_line(exc)}); "
-             "expected m, mm, µm, nm, Å, ...")
-    sizes = topography.physical_sizes
-    if sizes is None:
-        fail(f"the file states no physical size; it must equal ({', '.join(length_keys)})")
-    sizes_m = tuple(float(s) * to_metre for s in sizes)
-    for key, size_m, size, length in zip(length_keys, sizes_m, sizes, lengths):
-        if not abs(size_m - length) <= SIZE_RTOL * abs(length):
-            raise SceneError(f"surface.path = {str(path)!r}: the file's physical size is {size_m:.9g} m "
-                             f"({float(size):.9g} {unit}), but {key} = "
-                             f"{length:g} m (they must agree within {SIZE_RTOL:g} relative: the heights "
-                             "were measured on the file's size)")
-    undefined = int(np.ma.count_masked(heights))
-    if undefined:
-        fail(f"contains undefined (masked) heights ({undefined} of {heights.size}); contact needs a height "
-             "at every node (fill or crop the measurement first)")
-    h = np.asarray(heights.filled(np.nan)) * to_metre
-    if not np.all(np.isfinite(h)):
-        fail(f"contains non-finite heights ({int(np.sum(~np.isfinite(h)))} of {h.size})")
-    return h
+        fail(f"SurfaceTopography cannot read channel {info.index} ({type(exc).__name__}: {first_line(exc)}); "
+             f"expected {what}")
+    return Measurement(heights * factor, sizes_m, stated, unit, str(info.name))
+
+
+def _listing(channels):
+    return "; ".join(f"{c.index}: {c.name!r}" for c in channels)
+
+
+def _channel(channels, channel, default, fail):
+    """The channel info surface.channel names (an index or a unique name); default the reader's default."""
+    if channel == "":
+        return default
+    if isinstance(channel, int):
+        if not 0 <= channel < len(channels):
+            fail(f"surface.channel = {channel}: the file has channels 0 to {len(channels) - 1} ({_listing(channels)})")
+        return channels[channel]
+    matches = [c for c in channels if c.name == channel]
+    if len(matches) != 1:
+        problem = "names no channel" if not matches else f"names {len(matches)} channels (give the index)"
+        fail(f"surface.channel = {channel!r} {problem}; the file's channels: {_listing(channels)}")
+    return matches[0]
