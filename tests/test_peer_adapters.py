@@ -114,7 +114,8 @@ def test_first_contact_is_where_h_is_smallest(name):
     assert touching.size > 0 and np.argmin(h) in touching
     x = (np.arange(n) - n // 2) * LENGTH / n
     assert np.all(np.abs((x[touching] - shift + LENGTH / 2) % LENGTH - LENGTH / 2) < 0.1 * LENGTH)
-    assert st.gap.min() >= 0.0 and st.penetration == pytest.approx(0.01 * H0, rel=1e-6)
+    assert st.gap.min() >= -1e-10 * np.ptp(h)  # the CG's pentol (Tamaas' gap is ≥ 0 exactly)
+    assert st.penetration == pytest.approx(0.01 * H0, rel=1e-6)
 
 
 @pytest.mark.parametrize("name", sorted(ADAPTERS))

@@ -137,7 +137,7 @@ def _hard_wall(problem, s, path: _Path):
         u = np.asarray(result.x)[tuple(slice(0, n) for n in s.h.shape)]
         pressure = np.asarray(result.jac) / s.area
         gap = u + s.h - result.offset
-        states.append(_state(problem, s, pressure, np.maximum(gap, 0.0), free, result.offset))
+        states.append(_state(problem, s, pressure, gap, free, result.offset))  # g < 0 down to −pentol
     return states
 
 
