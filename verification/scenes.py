@@ -110,7 +110,8 @@ def centred_self_affine_path(n):
 
 
 def _centred_self_affine(n):
-    return {"surface.kind": "file", "surface.path": centred_self_affine_path(n), "surface.nodes": n,
+    return {"surface.kind": "file", "surface.path": centred_self_affine_path(n), "surface.facing": "valleys",
+            "surface.nodes": n,
             "surface.length": _SELF_AFFINE["surface.length"], "surface.realizations": 1,
             "material.thickness": 1e-6}
 

@@ -34,7 +34,8 @@ def _scenes(tmp_path):
     h = np.repeat(surfaces.profile(s1.surface, 0)[None, :], NODES_X, axis=0)  # axis 0 x, axis 1 y
     path = tmp_path / "sinusoid_along_y.npy"
     np.save(path, h)
-    s2 = s1.replace(**{"surface.kind": "file", "surface.path": str(path), "surface.nodes": NODES_X,
+    s2 = s1.replace(**{"surface.kind": "file", "surface.path": str(path), "surface.facing": "valleys",
+                       "surface.nodes": NODES_X,
                        "surface.length": LENGTH / 4, "surface.nodes_y": NODES, "surface.length_y": LENGTH})
     return s1, s2
 

@@ -45,7 +45,8 @@ def _pairs(tmp_path):
     out.append(("Johnson α, jkr_cycle scene", alpha, jc.ALPHA, sinus))
     path = tmp_path / "sinusoid.npy"
     np.save(path, surfaces.profile(sinus.surface, 0))
-    measured = sinus.replace(**{"surface.kind": "file", "surface.path": str(path)})
+    measured = sinus.replace(**{"surface.kind": "file", "surface.path": str(path),
+                                "surface.facing": "valleys"})  # the profile's heights as they are
     out.append(("Persson–Tosatti θ, the sinusoid as a file vs 1/(2πα²)", _numbers(measured)["persson_tosatti"],
                 1.0 / (2.0 * math.pi * alpha**2), measured))
     return out

@@ -78,7 +78,7 @@ def scene(surface, law, n, ny=None, method="gfmd"):
     else:
         path = _DIR / f"rough{n}.npy"
         np.save(path, rough_heights(n))
-        s.update(kind="file", path=str(path))
+        s.update(kind="file", path=str(path), facing="valleys")  # the generated heights as they are
     return scene_from_dict({"surface": s, "material": {"youngs_modulus": E, "poisson_ratio": NU, "thickness": D},
                             "interface": {"law": law, "phi_n_star": 0.01, "length_normal": 2e-9},
                             "loading": {"initial_separation": 2e-9, "final_penetration": 20e-9, "steps": 6},
