@@ -180,6 +180,19 @@ def _cmd_plot(args):
     return 0
 
 
+def _check_topography(scene, scene_file):
+    """Print the prepared topography's statistics and write its figure next to the scene file."""
+    from gfmd_contact.app.topography_plots import write_check_figure
+    from gfmd_contact.core.topography_stats import check_lines
+
+    for line in check_lines(scene):
+        print(f"topography: {line}")
+    try:
+        print(f"topography: wrote {write_check_figure(scene, scene_file)} (the prepared topography and its PSD)")
+    except OSError as exc:
+        print(f"note: the topography figure was not written ({exc.strerror or exc})", file=sys.stderr)
+
+
 def _cmd_scene(args):
     if args.example:
         print(example_scene_text(), end="")
@@ -198,6 +211,8 @@ def _cmd_scene(args):
 
         for line in stickiness_lines(scene):  # the diagnostics of gfmd_contact.core.stickiness (n/a: with the reason)
             print(f"stickiness: {line}")
+        if scene.surface.kind == "file":  # a measured file: what was read and prepared, and its figure
+            _check_topography(scene, args.check)
         size = (f"Nx × Ny = {scene.surface.nodes} × {scene.surface.nodes_y} (2+1-D)" if scene.surface.two_d
                 else f"N = {scene.surface.nodes}")
         from gfmd_contact.core.cost import describe, estimate_peak_memory, estimate_seconds
