@@ -64,6 +64,6 @@ def test_page_combines_every_solver_in_the_report_dir(tmp_path):
     html = "".join(section(tmp_path))
     assert "<th>fe</th>" in html and "<th>gfmd</th>" in html
     assert "n/a: no 2+1-D here" in html and "(fail)" in html and "<svg" in html
-    assert "a: most accurate fe" in html
+    assert "a (m): most accurate fe;" in html
     assert [r["error"] for r in outcomes.load_all(tmp_path)["gfmd"]] == [2.0, 0.2]
     assert section(tmp_path / "empty") == []

@@ -12,6 +12,7 @@ from __future__ import annotations
 import io
 import re
 from html import escape
+from pathlib import Path
 
 from verification.cross_code.outcomes import load_all
 
@@ -34,15 +35,21 @@ def _cell(r):
 
 
 def _rows(by_solver):
-    """[(case, metric, tolerance text, {solver: record})] in the order the records came."""
-    rows, index = [], {}
+    """[(case, metric, a record with the tolerance, {solver: record})], cases and metrics in the order first seen;
+    a solver's n/a (or failed) record of a case stands in every metric row of that case."""
+    metrics, whole = {}, {}
     for solver, recs in by_solver.items():
         for r in recs:
-            key = (r["case"], r["metric"])
-            if key not in index:
-                index[key] = len(rows)
-                rows.append((r["case"], r["metric"], r, {}))
-            rows[index[key]][3][solver] = r
+            ms = metrics.setdefault(r["case"], {})
+            if r["metric"]:
+                ms.setdefault(r["metric"], {})[solver] = r
+            else:
+                whole.setdefault(r["case"], {})[solver] = r
+    rows = []
+    for case, ms in metrics.items():
+        for metric, recs in (ms.items() or [("", {})]):
+            first = next(iter(recs.values()), None) or next(iter(whole[case].values()))
+            rows.append((case, metric, first, {**whole.get(case, {}), **recs}))
     return rows
 
 
@@ -52,15 +59,22 @@ def _tolerance_text(r):
     return f'{"≥" if r["lower_bound"] else "≤"} {_fmt(r["tolerance"])}'
 
 
+TIE = 0.1  # errors within 10 % of the best count as equally accurate
+
+
 def _comparison(case, recs):
-    """One sentence: the most accurate and the fastest code of a case (only codes that answered it)."""
-    answered = {s: r for s, r in recs.items() if r["error"] is not None}
+    """One sentence: the most accurate codes (ties within TIE) and the fastest, among the codes that answered."""
+    answered = {s: r for s, r in recs.items() if r["error"] is not None and r["metric"]}
     if len(answered) < 2:
         return ""
-    best = (max if any(r["lower_bound"] for r in answered.values()) else min)(
-        answered, key=lambda s: answered[s]["error"])
+    lower = any(r["lower_bound"] for r in answered.values())
+    best = (max if lower else min)(r["error"] for r in answered.values())
+    close = sorted(s for s, r in answered.items()
+                   if (r["error"] >= best * (1 - TIE) if lower else r["error"] <= best * (1 + TIE) or r["error"] == best))
     fastest = min(answered, key=lambda s: answered[s]["wall_s"])
-    return f"<li>{escape(case)}: most accurate {escape(best)}, fastest {escape(fastest)}</li>"
+    metric = next(iter(answered.values()))["metric"]
+    return (f"<li>{escape(case)} ({escape(metric)}): most accurate {escape(', '.join(close))}"
+            f"{' (tied)' if len(close) > 1 else ''}; fastest {escape(fastest)}</li>")
 
 
 def speed_accuracy_svg(by_solver):
@@ -91,10 +105,20 @@ def speed_accuracy_svg(by_solver):
 
 
 def section(report_dir):
-    """The section's HTML parts ([] when no cross-code records are in `report_dir`)."""
-    by_solver = load_all(report_dir) if report_dir is not None else {}
+    """The section's HTML parts ([] when no cross-code records are in `report_dir`); a file it cannot read or
+    draw gives a failure banner in the section, never a page lost."""
+    by_solver = load_all(report_dir) if report_dir is not None and Path(report_dir).is_dir() else {}
     if not by_solver:
         return []
+    try:
+        return _section(by_solver)
+    except Exception as exc:  # noqa: BLE001 - the rest of the report still goes out
+        return ['<section id="cross-code"><h2>Cross-code verification</h2><p class="banner fail">the cross-code '
+                f"records in {escape(str(report_dir))} could not be shown: {escape(type(exc).__name__)}: "
+                f"{escape(str(exc))}</p></section>"]
+
+
+def _section(by_solver):
     solvers = sorted(by_solver)
     out = ['<section id="cross-code"><h2>Cross-code verification</h2>',
            f'<p class="muted">Codes: {escape(", ".join(solvers))} (one <code>--solver</code> run each). Each code is '
@@ -105,7 +129,8 @@ def section(report_dir):
     for case, metric, first, recs in _rows(by_solver):
         out.append(f"<tr><td>{escape(case)}</td><td>{escape(metric or '—')}</td><td>{_tolerance_text(first)}</td>"
                    + "".join(_cell(recs.get(s)) for s in solvers) + "</tr>")
-        per_case.setdefault(case, recs)
+        if metric:
+            per_case.setdefault(case, recs)
     out.append("</tbody></table>")
     lines = [c for c in (_comparison(case, recs) for case, recs in per_case.items()) if c]
     if lines:

@@ -245,8 +245,7 @@ def johnson_tolerance():
 JOHNSON = Case("johnson-cycle", "Johnson's adhesive sinusoid, displacement-controlled cycle "
                                 "(reference.analytic.jkr_sinusoid)",
                lambda: [johnson_problem()], johnson_errors, johnson_tolerance,
-               f"{FACTOR:g}× our GFMD's pull-off error at d/λ = {JOHNSON_D}, verification/data/jkr_cycle.json [ci]",
-               slow=True)
+               f"{FACTOR:g}× our GFMD's pull-off error at d/λ = {JOHNSON_D}, verification/data/jkr_cycle.json [ci]")
 
 # ----------------------------------------------------------------------------- rough: our FE as the reference
 ROUGH_N = 256
