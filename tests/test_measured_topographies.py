@@ -209,3 +209,15 @@ def test_the_cell_size_agrees_with_the_file_or_is_refused():
 def test_every_bad_value_names_its_key(key, value):
     with pytest.raises(SceneError, match=rf"surface\.{key} = "):
         _scene(_surface("mi-1.mi", **{key: value}))
+
+
+def test_the_example_scene_of_a_real_map_loads_with_its_keys_recorded(tmp_path):
+    from gfmd_contact.core.scene import load_scene, scene_to_toml
+
+    scene = load_scene(DATA / "afm_map.toml")  # its path is relative to the scene file
+    s = scene.surface
+    assert (s.shape, s.levelling, s.resample, s.facing, s.channel) == ((64, 64), "slope", "fourier", "summits",
+                                                                        "Topography")
+    np.testing.assert_allclose((s.length, s.length_y), FILES["mi-1.mi"][1], rtol=README_RTOL)
+    (tmp_path / "written.toml").write_text(scene_to_toml(scene))
+    assert load_scene(tmp_path / "written.toml").surface == s
