@@ -78,25 +78,25 @@ def _comparison(case, recs):
 
 
 def speed_accuracy_svg(by_solver):
-    """Log-log error/tolerance vs wall time: one marker per code and case, the sweeps as lines."""
+    """Two log-log panels, one colour and marker per code: every case's error / tolerance against its wall time,
+    and the resolution sweep's error against wall time (one point per N)."""
     from matplotlib.figure import Figure
-    fig = Figure(figsize=(7.5, 4.2))
-    ax = fig.subplots()
-    markers = "osD^v<>ph"
+    fig = Figure(figsize=(9.0, 3.8))
+    cases_ax, sweep_ax = fig.subplots(1, 2)
     for i, (solver, recs) in enumerate(sorted(by_solver.items())):
+        style = dict(color=f"C{i}", marker="osD^v<>ph"[i % 9], label=solver)
         pts = [(r["wall_s"], r["error"] / r["tolerance"]) for r in recs
                if r["error"] and r["tolerance"] and r["wall_s"] and not r["lower_bound"]]
         if pts:
-            ax.loglog(*zip(*pts), markers[i % len(markers)], label=f"{solver}: cases", alpha=0.7)
-        for r in recs:
-            if r.get("sweep"):
-                s = r["sweep"]
-                ax.loglog([p["wall_s"] for p in s], [p["error"] for p in s], "-" + markers[i % len(markers)],
-                          label=f"{solver}: {r['case']} sweep (error itself)")
-    ax.axhline(1.0, color="0.5", lw=0.8, ls="--")
-    ax.set_xlabel("wall time (s)")
-    ax.set_ylabel("error / tolerance (sweep: error)")
-    ax.legend(fontsize=7)
+            cases_ax.loglog(*zip(*pts), ls="", alpha=0.7, **style)
+        for r in (r for r in recs if r.get("sweep")):
+            sweep_ax.loglog([p["wall_s"] for p in r["sweep"]], [p["error"] for p in r["sweep"]], **style)
+    cases_ax.axhline(1.0, color="0.5", lw=0.8, ls="--")
+    cases_ax.set(xlabel="wall time (s)", ylabel="error / tolerance", title="every case and metric")
+    sweep_ax.set(xlabel="wall time (s)", ylabel="error", title="resolution sweep (convergence case)")
+    for ax in (cases_ax, sweep_ax):
+        if ax.has_data():
+            ax.legend(fontsize=7)
     buf = io.StringIO()
     fig.savefig(buf, format="svg", bbox_inches="tight")
     text = buf.getvalue()
