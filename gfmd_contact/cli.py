@@ -183,12 +183,14 @@ def _cmd_plot(args):
 def _check_topography(scene, scene_file):
     """Print the prepared topography's statistics and write its figure next to the scene file."""
     from gfmd_contact.app.topography_plots import write_check_figure
-    from gfmd_contact.core.topography_stats import check_lines
+    from gfmd_contact.core.topography_stats import check_lines, prepared_file
 
-    for line in check_lines(scene):
+    prepared = prepared_file(scene)
+    for line in check_lines(scene, prepared):
         print(f"topography: {line}")
     try:
-        print(f"topography: wrote {write_check_figure(scene, scene_file)} (the prepared topography and its PSD)")
+        print(f"topography: wrote {write_check_figure(scene, prepared, scene_file)} (the prepared topography and its "
+              "PSD)")
     except OSError as exc:
         print(f"note: the topography figure was not written ({exc.strerror or exc})", file=sys.stderr)
 

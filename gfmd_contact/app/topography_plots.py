@@ -13,8 +13,6 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from gfmd_contact.core.topography_prep import prepare, surface_lengths
-
 
 def periodogram(z, sizes):
     """(q (1/m), C(q)) of the prepared heights `z` over `sizes` (module docstring); q > 0 only."""
@@ -34,10 +32,9 @@ def periodogram(z, sizes):
     return np.arange(count.size)[keep] * step, total[keep] / count[keep]
 
 
-def topography_figure(scene):
-    """The prepared topography (a line or a map) and its PSD, side by side."""
+def topography_figure(scene, prepared):
+    """The prepared topography (a line or a map; `gfmd_contact.core.topography_stats.prepared_file`) and its PSD."""
     s = scene.surface
-    prepared = prepare(s, surface_lengths(s))
     z, sizes = prepared.heights, prepared.sizes
     fig = Figure(figsize=(10.5, 4.2), layout="constrained")
     left, right = fig.subplots(1, 2)
@@ -57,8 +54,8 @@ def topography_figure(scene):
     return fig
 
 
-def write_check_figure(scene, scene_file):
+def write_check_figure(scene, prepared, scene_file):
     """Write the figure next to the scene file as <stem>_topography.png; its path."""
     path = Path(scene_file).with_name(Path(scene_file).stem + "_topography.png")
-    topography_figure(scene).savefig(path, dpi=110)
+    topography_figure(scene, prepared).savefig(path, dpi=110)
     return path

@@ -37,10 +37,15 @@ def statistics(z, sizes):
             "wavelengths": (2 * max(spacings), max(sizes))}
 
 
-def check_lines(scene):
+def prepared_file(scene):
+    """The `gfmd_contact.core.topography_prep.Prepared` file of a file scene (one read for the check's lines and
+    figure)."""
+    return prepare(scene.surface, surface_lengths(scene.surface))
+
+
+def check_lines(scene, prepared):
     """Lines of `gfmd scene --check` on a file scene: what was read, the prepared statistics, l against l_pz."""
     s = scene.surface
-    prepared = prepare(s, surface_lengths(s))
     m = prepared.measurement
     st = statistics(prepared.heights, prepared.sizes)
     grid = " × ".join(map(str, m.heights.shape))
