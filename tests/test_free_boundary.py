@@ -168,3 +168,14 @@ def test_results_are_cropped_to_the_region():
     last = max(result.fields)
     p = -np.asarray(result.fields[last]["t_n"])
     assert result.curve["p"][last] == pytest.approx(np.mean(p), rel=1e-12)  # F / (region area), not the padded cell's
+
+
+def test_meta_json_keeps_the_far_field_shift_of_a_free_run():
+    from gfmd_contact.app.io import _far_field_shifts
+
+    result = run_realization(_scene(two_d=True, nodes=16))
+    shifts = _far_field_shifts([result])["far_field_shift"]["r0"]
+    assert sorted(shifts) == sorted(str(k) for k in result.fields)
+    # 2+1-D compressive loads: s = Ĝ_c(0) t̄ < 0 (Ĝ_c(0) = Σ g_c > 0, the 1/r compliance; 1+1-D: the log's sign)
+    assert all(v < 0 for k, v in shifts.items() if result.curve["p"][int(k)] > 0)
+    assert _far_field_shifts([run_realization(_scene(surface__boundary="periodic"))]) == {}

@@ -13,7 +13,9 @@ Units: SI (see `gfmd_contact.core.conventions`). A finished run directory holds
                   model solved and why, notes, messages,
                   timings, "resume" {"realizations_reused", "steps_reused"}, platform, "stickiness"
                   (the scene's diagnostics before any run, `gfmd_contact.core.stickiness.as_dict`: per key
-                  value (null where not defined), unit, formula, reading or reason)
+                  value (null where not defined), unit, formula, reading or reason); a free boundary
+                  (surface.boundary = "free") adds "far_field_shift" {"r<i>": {step: s (m)}} at the saved steps
+                  (`gfmd_contact.core.free_boundary`: u + s the free displacement, δ − s the far-field approach)
 ḡ_r is written as "nan" at steps without contact (undefined, seed Eq. 5).
 
 Before any compute the directory is checked and started (`gfmd_contact.app.run_dir`: scene.toml and
@@ -47,6 +49,13 @@ from .checkpoints import (PARTIAL, _atomic_write, _file_mode, _fmt, _npz_bytes, 
 from .cycles import has_path, mean_columns, meta_cycles, realization_cycles, step_loads
 from .run_dir import (RUN_ENTRIES, RunDirError, _meta_base, code_version, prepare_run_dir,  # noqa: F401
                       remove_temporaries, run_complete, started_stickiness, stored_scene_differences)
+
+
+def _far_field_shifts(results):
+    """{"far_field_shift": {"r<i>": {step: s}}} of free-boundary results (Result.diagnostics), else {}."""
+    shifts = {f"r{r.realization}": {str(k): float(v) for k, v in sorted(r.diagnostics["far_field_shift"].items())}
+              for r in results if "far_field_shift" in r.diagnostics}
+    return {"far_field_shift": shifts} if shifts else {}
 
 
 def _user_law_notes(scene):
@@ -110,6 +119,7 @@ def write_run(out_dir, scene, results, timings=None, command=None, resume=None):
         "all_converged": all(r.all_converged for r in results),
         "notes": [n for r in results for n in r.notes] + _user_law_notes(scene),
         **({"algorithms": algorithm_counts(results)} if labelled else {}),
+        **_far_field_shifts(results),
         **(meta_cycles(results, {k: rows for k, (rows, _) in cycles.items()}) if cycled else {}),
         "messages": [m for r in results for m in r.messages],
         "resume": resume or {"realizations_reused": 0, "steps_reused": 0},
