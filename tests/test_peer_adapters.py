@@ -57,7 +57,10 @@ def sinusoid(nodes, shift=0.0):
     return H0 * (1.0 - np.cos(2 * np.pi * (x - shift) / LENGTH))
 
 
-def problem(h, control, path, lengths=(LENGTH,), interface=Interface("hard-wall"), boundary="periodic"):
+HARD_WALL = Interface("hard-wall")
+
+
+def problem(h, control, path, lengths=(LENGTH,), interface=HARD_WALL, boundary="periodic"):
     return Problem(heights=h, lengths=lengths, contact_modulus=E_STAR, interface=interface, boundary=boundary,
                    control=control, path=tuple(path), name="peer-adapter test")
 

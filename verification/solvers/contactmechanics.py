@@ -119,14 +119,14 @@ def _hard_wall(problem, s, path: _Path):
     free = problem.boundary == "free"
     q0 = "clamp" if problem.control == "penetration" else "default"
     substrate, topography = _substrate(problem, s, q0), _topography(s, not free)
-    tol = dict(pentol=TOLERANCE * max(float(np.ptp(s.h)), 1e-300),
-               forcetol=TOLERANCE * s.pressure_scale * s.area, maxiter=100000)
+    tol = {"pentol": TOLERANCE * max(float(np.ptp(s.h)), 1e-300),
+           "forcetol": TOLERANCE * s.pressure_scale * s.area, "maxiter": 100000}
     states = []
     for k, value in enumerate(problem.path):
         if problem.control == "penetration":
-            run = dict(offset=float(value) / s.length + s.h.min())
+            run = {"offset": float(value) / s.length + s.h.min()}
         else:
-            run = dict(external_force=float(value) / problem.contact_modulus * np.prod(s.sizes))
+            run = {"external_force": float(value) / problem.contact_modulus * np.prod(s.sizes)}
         if path.disp is not None:
             run["initial_displacements"] = path.disp
         result = constrained_conjugate_gradients(substrate, topography, **tol, **run)
@@ -154,7 +154,7 @@ def _smooth_step(system, s, offset, path: _Path, problem, k):
     gtol = GRADIENT_TOLERANCE * s.pressure_scale * s.area
     for _ in range(RESTARTS):
         result = system.minimize_proxy(offset=offset, initial_displacements=path.disp, method="L-BFGS-B",
-                                       options=dict(gtol=gtol, ftol=0.0, maxiter=100000, maxcor=20))
+                                       options={"gtol": gtol, "ftol": 0.0, "maxiter": 100000, "maxcor": 20})
         path.count(result)
         path.disp = system.disp
         reached = _projected_gradient(system, s)

@@ -39,8 +39,8 @@ class NotConverged(RuntimeError):
     """Tamaas' error after a solve exceeded its tolerance (the message names the case and the step)."""
 
 
-def _run_logged(call):
-    """(result, iterations): `call()` with Tamaas at log level info, its iteration table read from fds 1 and 2."""
+def _run_logged(call, *args):
+    """(result, iterations): `call(*args)` with Tamaas at log level info, its iteration table read from fds 1, 2."""
     level = tm.get_log_level()
     sys.stdout.flush()
     sys.stderr.flush()
@@ -50,7 +50,7 @@ def _run_logged(call):
         os.dup2(sink.fileno(), 2)
         tm.set_log_level(tm.LogLevel.info)
         try:
-            result = call()
+            result = call(*args)
         finally:
             ctypes.CDLL(None).fflush(None)  # C stdio's buffer, where Tamaas' log waits when fd 1 is a file
             tm.set_log_level(level)
@@ -145,7 +145,7 @@ class TamaasSolver:
                 raise ValueError(f"problem {problem.name!r}: path[{k}] = {value:g} Pa: a hard wall carries no "
                                  "tensile mean pressure, and p̄ = 0 leaves δ undetermined (use penetration control)")
             target = h.mean() - h.min() - value if problem.control == "penetration" else value
-            error, its = _run_logged(lambda: solver.solve(target))
+            error, its = _run_logged(solver.solve, target)
             iterations += its or 0
             worst = max(worst, float(error))
             state = _state(model, h, problem.control == "penetration")
