@@ -18,6 +18,7 @@ from . import memo
 from .errors import SceneError, first_line
 from .surface_files import check_regular_file, read_npy, read_text
 from .topography_files import TEXT_SUFFIXES  # read as text here; other suffixes: instrument files
+from .topography_files import is_binary
 from .psd import grid, psd_self_affine  # noqa: F401 (the grid and Eq. 4's shape, shared with gfmd_contact.core.surfaces_2d)
 
 
@@ -62,9 +63,10 @@ def flat(nodes, length):
 def from_file(path, nodes, length=None):
     """Heights (m) read from a file of exactly `nodes` values: a 1-D .npy array, or a text file
     (suffix .txt, .dat, .csv, .tsv or none) with one column of heights (whitespace-separated numbers,
-    '#' comments). Any other suffix is an instrument file, a line scan read through SurfaceTopography (the
-    optional extra, `gfmd_contact.core.topography_files`), its heights converted to m and its physical size checked
-    against `length` (surface.length, m).
+    '#' comments). Any other suffix, or binary content, is an instrument file, a line scan read through
+    SurfaceTopography (the optional extra, `gfmd_contact.core.topography_files`), its heights converted to m and
+    its physical size checked against `length` (surface.length, m). A scene reads its file with the preparation
+    keys and turned to face the body (`gfmd_contact.core.topography_prep`); this is the plain reader.
 
     Anything else (a missing, unreadable, corrupt, empty, comma-separated or 2-D file, non-numeric
     or non-finite values, the wrong count) raises a `SceneError` naming surface.path,
@@ -78,7 +80,7 @@ def from_file(path, nodes, length=None):
         raise SceneError(f"surface.path = {str(path)!r}: {problem}; {expected}")
 
     check_regular_file(path, fail)
-    if path.suffix.lower() not in (".npy",) + TEXT_SUFFIXES:
+    if path.suffix.lower() not in (".npy",) + TEXT_SUFFIXES or (path.suffix.lower() != ".npy" and _binary(path)):
         from .topography_prep import file_heights
         return file_heights(path, (nodes,), (length,))
     try:
@@ -121,6 +123,15 @@ def from_file(path, nodes, length=None):
     if not np.all(np.isfinite(h)):
         fail(f"contains non-finite heights ({int(np.sum(~np.isfinite(h)))} of {h.size})")
     return h
+
+
+def _binary(path):
+    """Binary content under a text suffix (an instrument format, e.g. a binary .dat)? An unreadable file: no
+    (the text reader names what is wrong)."""
+    try:
+        return is_binary(path)
+    except OSError:
+        return False
 
 
 #: the profiles of the surface asked for last (a check, the run and its files share them; one surface's at a time)

@@ -162,10 +162,10 @@ def _one_column(path, shape, fail):
 def _instrument(path, channel, height_unit, lengths, refuse, content):
     """The `Measurement` of a file SurfaceTopography reads (module docstring)."""
     def fail(problem):
-        refuse(f"{content}, an instrument format for SurfaceTopography: {problem}")
+        refuse(f"{content}, read as an instrument file: {problem}")
 
-    what = ("a .npy array, a text file of one column of heights, or a file SurfaceTopography reads "
-            "(surface.channel picks a channel, surface.length a size, surface.height_unit a unit the file lacks)")
+    what = ("a .npy array, one column of heights, or a file SurfaceTopography reads (surface.channel, "
+            "surface.length, surface.height_unit supply what it lacks)")
     try:
         import SurfaceTopography
     except ImportError:

@@ -32,7 +32,7 @@ import scipy.signal
 
 from .errors import SceneError
 from .scene_sections import Surface
-from .topography_files import INSTALL_HINT, SIZE_RTOL, read_measurement
+from .topography_files import INSTALL_HINT, SIZE_RTOL, metre, read_measurement
 
 #: surface.region values within this fraction of the spacing of a node count as on it (round-off of x = i·l)
 ON_NODE = 1e-9
@@ -105,14 +105,9 @@ def _check_sizes(surface, sizes, lengths, m):
     for key, size, length in zip(("surface.length", "surface.length_y"), sizes, lengths):
         if length is not None and not abs(size - length) <= SIZE_RTOL * abs(length):
             raise SceneError(f"surface.path = {surface.path!r}: the prepared file's physical size is {size:.9g} m "
-                             f"({size / _factor(m):.9g} {m.unit}), but {key} = {length:g} m "
+                             f"({size / metre(m.unit):.9g} {m.unit}), but {key} = {length:g} m "
                              f"(they must agree within {SIZE_RTOL:g} relative: the heights were measured on the "
                              f"file's size; leave {key} out to take it from the file)")
-
-
-def _factor(m):
-    from .topography_files import metre
-    return metre(m.unit)
 
 
 def crop(h, sizes, region):
