@@ -34,10 +34,15 @@ def test_entry_point_registers_a_third_party_code(monkeypatch):
     assert "gfmd" in registry.solvers()
 
 
-def test_missing_package_gives_the_install_hint(monkeypatch):
-    monkeypatch.setitem(registry.BUILTINS, "ghost", ("no_such_package_xyz.adapter", "Ghost", "gfmd-contact[ghost]"))
-    with pytest.raises(registry.SolverUnavailable, match=r"pip install 'gfmd-contact\[ghost\]'"):
+def test_missing_package_gives_the_install_hint(monkeypatch, tmp_path):
+    (tmp_path / "ghost_adapter_xyz.py").write_text("import no_such_peer_code_xyz\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setitem(registry.BUILTINS, "ghost", ("ghost_adapter_xyz", "Ghost", "gfmd-contact[ghost]"))
+    with pytest.raises(registry.SolverUnavailable, match=r"no_such_peer_code_xyz.*pip install 'gfmd-contact\[ghost\]'"):
         registry.get("ghost")
+    monkeypatch.setitem(registry.BUILTINS, "lost", ("no_such_adapter_xyz", "Lost", "gfmd-contact[lost]"))
+    with pytest.raises(registry.SolverUnavailable, match="adapter module no_such_adapter_xyz is missing"):
+        registry.get("lost")
 
 
 def test_our_adapters_follow_the_protocol_and_give_reasons():

@@ -30,6 +30,8 @@ def _builtin_loader(name):
         try:
             return getattr(importlib.import_module(module), factory)()
         except ImportError as exc:
+            if exc.name == module:  # the adapter itself, not the code it wraps
+                raise SolverUnavailable(f"solver {name!r}: its adapter module {module} is missing") from exc
             hint = f": pip install '{extra}'" if extra else ""
             raise SolverUnavailable(f"solver {name!r} is not installed ({exc}){hint}") from exc
     return load
