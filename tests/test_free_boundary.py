@@ -179,3 +179,13 @@ def test_meta_json_keeps_the_far_field_shift_of_a_free_run():
     # 2+1-D compressive loads: s = Ĝ_c(0) t̄ < 0 (Ĝ_c(0) = Σ g_c > 0, the 1/r compliance; 1+1-D: the log's sign)
     assert all(v < 0 for k, v in shifts.items() if result.curve["p"][int(k)] > 0)
     assert _far_field_shifts([run_realization(_scene(surface__boundary="periodic"))]) == {}
+
+
+def test_the_preflight_estimates_count_the_padded_cell():
+    from gfmd_contact.core import cost
+
+    free, periodic = _scene(two_d=True, nodes=256), _scene(two_d=True, nodes=256, surface__boundary="periodic")
+    assert cost.solved_grid(free.surface) == (512, 512) and cost.solved_grid(periodic.surface) == (256, 256)
+    solver = [cost.estimate_peak_memory(s, workers=1) - cost.IMPORTS for s in (free, periodic)]
+    fields = periodic.surface.realizations * 3 * cost.FIELD_ARRAYS * 8 * 256 * 256  # the saved fields: the region's
+    assert solver[0] - fields == pytest.approx(4 * (solver[1] - fields))

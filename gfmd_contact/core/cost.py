@@ -52,11 +52,18 @@ def processes(scene, workers=None):
     return max(1, min(int(w), scene.surface.realizations))
 
 
+def solved_grid(surface):
+    """The grid the solver's FFTs run on: the surface's, or on a free boundary its padded cell (2N per axis,
+    `gfmd_contact.core.free_boundary`)."""
+    return tuple(2 * n for n in surface.shape) if surface.boundary == "free" else tuple(surface.shape)
+
+
 def estimate_peak_memory(scene, workers=None):
     """Estimated peak memory (bytes) of a run of `scene` with `workers` processes (module docstring)."""
     s = scene.surface
     nodes = s.nodes * max(s.nodes_y, 1)
-    solver = nodes * (PER_NODE_2D if s.two_d else PER_NODE)[_law_kind(scene)]
+    solved = nodes * math.prod(solved_grid(s)) // math.prod(s.shape)  # a free boundary solves the padded cell
+    solver = solved * (PER_NODE_2D if s.two_d else PER_NODE)[_law_kind(scene)]
     fields = s.realizations * min(scene.output.field_steps, scene.loading.steps + 1) * FIELD_ARRAYS * 8 * nodes
     return IMPORTS + processes(scene, workers) * solver + fields
 
@@ -208,7 +215,7 @@ def estimate_seconds(scene, workers=None):
         return None
     s = scene.surface
     pairs, overhead = (PAIRS_PER_STEP_2D, OVERHEAD_2D) if s.two_d else (PAIRS_PER_STEP, OVERHEAD)
-    per_step = pairs[kind] * (overhead[kind] * pair_seconds(s.shape) + PYTHON_PER_PAIR_S)
+    per_step = pairs[kind] * (overhead[kind] * pair_seconds(solved_grid(s)) + PYTHON_PER_PAIR_S)
     rounds = math.ceil(s.realizations / processes(scene, workers))
     return rounds * (SETUP_S + (scene.loading.steps + 1) * per_step)
 
