@@ -130,8 +130,10 @@ def test_the_fe_references_refuse_a_free_boundary():
     assert "surface.boundary" in fem_run.refusal(_scene("cohesive"))
     assert "surface.boundary" in fem3d_ramp.refusal(_scene(two_d=True, nodes=16, material__thickness=1e-6,
                                                                  material__poisson_ratio=0.3))
-    with pytest.raises(ValueError, match="surface.boundary"):
+    with pytest.raises(SceneError, match="surface.boundary"):
         fem_run.run_realization(_scene())
+    with pytest.raises(SceneError, match="surface.boundary"):
+        fem3d_ramp.run_realization(_scene(two_d=True, nodes=16))
 
 
 @pytest.mark.parametrize("law", ["hard-wall", "cohesive", "cohesive-wall", "lj93"])

@@ -10,6 +10,7 @@ from __future__ import annotations
 import time
 from functools import partial
 
+from gfmd_contact.core.errors import SceneError
 from gfmd_contact.core.model import build_model
 from gfmd_contact.core.ramp import run_ramp
 
@@ -36,7 +37,7 @@ def run_realization(scene, realization=0, order=2, progress=None, mesh_kw=None, 
     """
     why = refusal(scene)
     if why:
-        raise ValueError(why)
+        raise SceneError(why)  # every refusal names the key (a ValueError too)
     if scene.interface.law == "hard-wall":  # a constraint, not a law: primal–dual active set
         if quadrature != "nodal":
             raise ValueError(f"quadrature = {quadrature!r}: the hard wall is a nodal constraint, "

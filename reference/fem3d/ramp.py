@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from gfmd_contact.core import law_registry
+from gfmd_contact.core.errors import SceneError
 from gfmd_contact.core.model import build_model
 from gfmd_contact.core.ramp import StepSolution, run_ramp
 
@@ -72,7 +73,7 @@ def run_realization(scene, realization=0, progress=None, mesh_kw=None, tolerance
     spacing). tolerance: residual bound per step (/ p_ref; default min(scene.solver.tolerance, 1e-10))."""
     why = refusal(scene)
     if why:
-        raise ValueError(why)
+        raise SceneError(why)  # every refusal names the key (a ValueError too)
 
     def prepare(scene, h, realization=0):
         return prepare_cell(scene, h, mesh_kw=mesh_kw, tolerance=tolerance)
