@@ -129,8 +129,8 @@ def _first_contact_run(surface, tmp_path):
     return res, z
 
 
-@pytest.mark.parametrize("name", ["mi-1.mi", "dektak-1.csv"])
-def test_a_real_map_and_line_scan_run_end_to_end_summits_first(name, tmp_path):
+@pytest.mark.parametrize("name", FILES)
+def test_every_real_map_and_line_scan_runs_end_to_end_summits_first(name, tmp_path):
     """Resampled (32² / 256 nodes), levelled, 3 load steps: at the first step in contact the measured summit
     carries load, and the measured valley (what touched first before the surface faced the body) does not."""
     res, z = _first_contact_run(_surface(name, levelling="slope"), tmp_path)
