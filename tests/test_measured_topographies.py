@@ -192,6 +192,10 @@ def test_a_region_crops_the_map_and_sets_the_cell():
     assert np.array_equal(profile(line), profile(full)[:, 17]) and line.length == full.length
     with pytest.raises(SceneError, match=r"surface\.line = 'y:300'.*outside"):
         _scene(_surface("mi-1.mi", nodes=256, nodes_y=0, line="y:300"))
+    with pytest.raises(SceneError, match=r"surface\.line = 'x:3'.*1\+1-D profile.*surface\.nodes_y = 32"):
+        _scene(_surface("mi-1.mi", line="x:3"))
+    with pytest.raises(SceneError, match=r"surface\.line = 'x:3'.*a line of a map.*holds a line scan"):
+        _scene(_surface("dektak-1.csv", line="x:3"))
 
 
 def test_the_cell_size_agrees_with_the_file_or_is_refused():

@@ -88,6 +88,9 @@ def prepare(surface, lengths):
 
 
 def _check_dimension(surface, ndim):
+    if surface.line != "none" and surface.two_d:
+        raise SceneError(f"surface.line = {surface.line!r}: takes a line scan for a 1+1-D profile, but surface.nodes_y "
+                         f"= {surface.nodes_y} makes a 2+1-D surface; leave one of them out")
     want = 1 if surface.line == "none" and not surface.two_d else 2
     if ndim == want:
         return
