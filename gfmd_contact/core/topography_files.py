@@ -127,12 +127,12 @@ def _npy(path, shape, fail):
     if h is not None:
         return h
     if shape is not None and len(shape) == len(file_shape) == 1:
-        fail(f"holds {file_shape[0]} heights, but surface.nodes = {shape[0]} (or give surface.resample or "
-             "surface.region to prepare another grid)")
+        fail(f"holds {file_shape[0]} heights, but surface.nodes = {shape[0]} (or surface.resample puts them on "
+             "that grid)")
     if shape is not None:
         names = "(surface.nodes, surface.nodes_y)" if len(shape) == 2 else "(surface.nodes,)"
-        fail(f"holds an array of shape {file_shape}, but {names} = {tuple(shape)} (or give surface.resample, "
-             "surface.region or surface.line to prepare another grid)")
+        fail(f"holds an array of shape {file_shape}, but {names} = {tuple(shape)} (or surface.resample puts it "
+             "on that grid, surface.line takes a line of a map)")
     if len(file_shape) not in (1, 2) or 0 in file_shape:
         fail(f"holds an array of shape {file_shape}; a line scan is 1-D, a map 2-D (axis 0 x)")
     if int(np.prod(file_shape, dtype=np.int64)) > MAX_VALUES:
@@ -155,7 +155,7 @@ def _one_column(path, shape, fail):
     except ValueError:
         return None  # words in one column: an instrument export's header, perhaps
     if shape is not None and len(shape) == 1 and h.size != shape[0]:
-        fail(f"holds {h.size} heights, but surface.nodes = {shape[0]} (or give surface.resample or surface.region)")
+        fail(f"holds {h.size} heights, but surface.nodes = {shape[0]} (or surface.resample puts them on that grid)")
     return h
 
 
