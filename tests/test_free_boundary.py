@@ -191,3 +191,16 @@ def test_the_preflight_estimates_count_the_padded_cell():
     solver = [cost.estimate_peak_memory(s, workers=1) - cost.IMPORTS for s in (free, periodic)]
     fields = periodic.surface.realizations * 3 * cost.FIELD_ARRAYS * 8 * 256 * 256  # the saved fields: the region's
     assert solver[0] - fields == pytest.approx(4 * (solver[1] - fields))
+
+
+def test_an_interrupted_free_run_resumes_to_the_same_files(tmp_path, monkeypatch):
+    """The padded state checkpoints and resumes as a periodic one (tests/test_run_dir.py's helpers)."""
+    import json
+
+    from tests.test_run_dir import assert_same_run, interrupted_and_resumed, scene
+
+    sc = scene(**{"surface.boundary": "free", "surface.realizations": 2})
+    ref, out = interrupted_and_resumed(tmp_path, monkeypatch, sc, (1, 3))
+    assert_same_run(ref, out)
+    shifts = [json.loads((d / "meta.json").read_text())["far_field_shift"] for d in (ref, out)]
+    assert shifts[0] == shifts[1] and set(shifts[0]) == {"r0", "r1"}
