@@ -28,7 +28,6 @@ from pathlib import Path
 from .errors import SceneError
 from .psd import grid, psd_self_affine
 from .surface_files import check_regular_file, read_npy
-from .topography_files import TEXT_SUFFIXES
 
 
 def positions(nodes_x, length_x, nodes_y, length_y):
@@ -86,9 +85,10 @@ def sphere(nodes_x, length_x, nodes_y, length_y, radius):
 
 def from_file_2d(path, nodes_x, nodes_y, lengths=None):
     """Heights (m) from a .npy file holding an array of shape (nodes, nodes_y) (axis 0 x, axis 1 y), or from
-    an instrument file (any other suffix but text), a map read through SurfaceTopography (the optional
-    extra, `gfmd_contact.core.topography_files`): heights converted to m, its physical size checked against
-    `lengths` = (surface.length, surface.length_y) (m).
+    any other file, a map read through SurfaceTopography (the optional extra,
+    `gfmd_contact.core.topography_files`; a text matrix's rows are lines along x): heights converted to m, its
+    physical size checked against `lengths` = (surface.length, surface.length_y) (m). A scene reads its file
+    with the preparation keys and turned to face the body (`gfmd_contact.core.topography_prep`).
 
     Anything else (missing, not .npy, corrupt, the wrong shape, non-real or non-finite values) raises a
     `SceneError` naming surface.path (and surface.nodes / surface.nodes_y for a shape mismatch).
@@ -100,11 +100,9 @@ def from_file_2d(path, nodes_x, nodes_y, lengths=None):
         raise SceneError(f"surface.path = {str(path)!r}: {problem}; {expected}")
 
     check_regular_file(path, fail)
-    if path.suffix.lower() not in (".npy",) + TEXT_SUFFIXES:
+    if path.suffix.lower() != ".npy":  # text (a matrix) or binary: SurfaceTopography's, as in a scene
         from .topography_prep import file_heights
         return file_heights(path, (nodes_x, nodes_y), lengths)
-    if path.suffix.lower() != ".npy":
-        fail("a 2+1-D surface is read from a .npy file only (text files hold 1+1-D profiles)")
     h, shape = read_npy(path, (nodes_x, nodes_y), fail)  # the header first: the shape before any value
     if h is None:
         raise SceneError(f"surface.path = {str(path)!r} holds an array of shape {shape}, but (surface.nodes, "
