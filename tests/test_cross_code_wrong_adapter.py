@@ -11,7 +11,7 @@ import pytest
 from verification.cross_code import cases, outcomes
 from verification.solvers.gfmd import POISSON, GFMDSolver, scene_of
 
-FAST = (cases.WESTERGAARD, cases.HERTZ, cases.SPHERE)
+FAST = (cases.WESTERGAARD, cases.HERTZ, cases.SPHERE, cases.FREE_SPHERE)
 
 
 class YoungsForContactModulus(GFMDSolver):

@@ -172,6 +172,37 @@ SPHERE = Case("hertz-sphere", "the periodic Hertz sphere (reference.analytic.her
               lambda: stored_bounds("hertz_sphere_2d", SPHERE_N, ("P(δ)", "a(P)")),
               f"{FACTOR:g}× our GFMD's N = {SPHERE_N} errors, verification/data/hertz_sphere_2d.json [ci]")
 
+# ----------------------------------------------------------------------------- Hertz sphere on a free half-space
+FREE_N = 64
+
+
+def free_sphere_problem():
+    """The paraboloid R = L = 1 µm on an L × L region, 64², free (non-periodic) half-space, hard wall, the Hertz
+    loads of a = (½ … 1)·L/8 (the free single-code case's largest contact)."""
+    from gfmd_contact.core.surfaces_2d import sphere
+    loads = [HS.load_from_contact_radius(f * L / 8, RADIUS, E_STAR) / L**2 for f in HERTZ_A]
+    return Problem(heights=sphere(FREE_N, L, FREE_N, L, RADIUS), lengths=(L, L), contact_modulus=E_STAR,
+                   interface=Interface("hard-wall"), boundary="free", control="pressure", path=tuple(loads),
+                   name="free hertz sphere")
+
+
+def free_sphere_errors(answers, problems):
+    """{a(P): max |a − a_H(P)|/a_H} against the Hertz sphere without images (a from the second moment)."""
+    x = surfaces.grid(FREE_N, L)
+    r2 = x[:, None] ** 2 + x[None, :] ** 2
+    out = []
+    for s in answers[0].states:
+        a_h = float(HS.contact_radius(float(s.mean_pressure) * L**2, RADIUS, E_STAR))
+        out.append(abs(float(np.sqrt(2.5 * np.sum(r2 * s.pressure) / np.sum(s.pressure))) - a_h) / a_h)
+    return {"a(P)": worst(out)}
+
+
+FREE_SPHERE = Case("hertz-sphere-free", "the Hertz sphere on a free half-space (reference.analytic.hertz_sphere)",
+                   lambda: [free_sphere_problem()], free_sphere_errors,
+                   lambda: stored_bounds("free_hertz_sphere", FREE_N, ("a(P)",)),
+                   f"{FACTOR:g}× our free-boundary GFMD's N = {FREE_N} a(P) error, "
+                   "verification/data/free_hertz_sphere.json [ci]")
+
 # ----------------------------------------------------------------------------- JKR / Maugis–Dugdale pull-off
 MD_N, MD_LAMBDA = 128, 1.0
 
@@ -346,4 +377,4 @@ KKT = Case("hard-wall-kkt", "the KKT conditions p ≥ 0, g ≥ 0, p·g = 0 on th
            kkt_errors, kkt_tolerance, "the Westergaard p̄(ḡ) tolerance at N = 256 (verification/data/westergaard.json)")
 
 #: every cross-code case, in the report's order
-CASES = (WESTERGAARD, HERTZ, SPHERE, MD_PULLOFF, JOHNSON, ROUGH_FE, KKT, CONVERGENCE)
+CASES = (WESTERGAARD, HERTZ, SPHERE, FREE_SPHERE, MD_PULLOFF, JOHNSON, ROUGH_FE, KKT, CONVERGENCE)
