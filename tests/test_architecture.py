@@ -14,11 +14,12 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 LAYER = {"gfmd_contact.core": "core", "gfmd": "gfmd", "reference.fem": "fem", "reference.fem3d": "fem3d",
-         "reference.analytic": "analytic", "reference._blas": "plumbing",
+         "reference.analytic": "analytic", "reference._blas": "plumbing", "reference._material": "plumbing",
          "gfmd_contact.app": "app", "gfmd_contact": "app"}
 #: which groups each group may import (besides itself). "plumbing": reference._blas, the single-threaded
-#: OpenBLAS context both FE references run their dense surface solves in; thread control, not the physics
-#: either FE checks, so sharing it keeps them independent (it imports no project module)
+#: OpenBLAS context both FE references run their dense surface solves in, and reference._material, the ν range a
+#: displacement FE can solve; numerics, not the physics either FE checks, so sharing them keeps the FE references
+#: independent of each other (they import no project module)
 ALLOWED = {"core": set(), "gfmd": {"core"}, "fem": {"core", "plumbing"}, "fem3d": {"core", "plumbing"},
            "analytic": set(), "plumbing": set(), "app": {"core", "gfmd", "fem", "fem3d", "analytic", "plumbing"}}
 

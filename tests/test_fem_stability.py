@@ -99,3 +99,28 @@ def test_coupled_fe_equilibria_accepted_without_fallback():
     jacobian = prob.jacobian(result.diagnostics["solutions"][k], z_ind)
     assert np.linalg.eigvalsh(0.5 * (jacobian + jacobian.T)).min() < 0, "the case no longer exercises the eigenvalue path"
     assert decays(jacobian, prob.wt)
+
+
+def test_fe_refuses_a_poisson_ratio_its_stiffness_cannot_resolve():
+    """Near ν = 1/2 a displacement FE's condensed stiffness loses its Cholesky factorisation (ν = 0.5 − 1e−16 on a
+    16-node P2 cell once crashed the CLI with a traceback): both FE references refuse such a scene naming
+    material.poisson_ratio, and solve every ν up to the documented bound."""
+    import scipy.linalg
+
+    from gfmd_contact.core.scene import scene_from_dict
+    from reference._material import MAX_POISSON_RATIO as bound
+    from reference._material import near_incompressible
+    from reference.fem.assembly import build_cell
+    from reference.fem.run import refusal
+
+    def scene(nu):
+        return scene_from_dict({"surface": {"kind": "cylinder", "radius": 1e-6, "nodes": 16, "length": 1e-6},
+                                "material": {"poisson_ratio": nu, "thickness": 1e-6},
+                                "interface": {"law": "hard-wall"}, "method": {"name": "fe"}})
+
+    too_close = 0.49999999999999994
+    assert refusal(scene(too_close)).startswith("material.poisson_ratio = 0.49999999999999994")
+    assert near_incompressible(scene(bound)) is None and refusal(scene(0.45)) is None
+    for order in (1, 2):  # at the bound the stiffness still factorises
+        stiffness, _ = build_cell(16, 1e-6, 1e-6, 70e9, bound, order=order).schur(("z",))
+        scipy.linalg.cho_factor(stiffness)

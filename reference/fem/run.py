@@ -14,6 +14,7 @@ from gfmd_contact.core.errors import SceneError
 from gfmd_contact.core.model import build_model
 from gfmd_contact.core.ramp import run_ramp
 
+from .._material import near_incompressible
 from .._blas import single_thread
 from .hardwall import HardWallCell, HardWallProblem
 from .solver import FeCell
@@ -63,6 +64,8 @@ def refusal(scene):
     periodic bonded layer only."""
     if scene.surface.boundary == "free":
         return FREE_REFUSAL
+    if near_incompressible(scene):
+        return near_incompressible(scene)
     if scene.interface.law == "cohesive-wall":
         return ("interface.law = \"cohesive-wall\": the FE reference does not model the cohesive wall (CZ "
                 "attraction with a hard-wall repulsion); solve it with method.name = \"gfmd\", or use "

@@ -19,6 +19,7 @@ from gfmd_contact.core.model import build_model
 from gfmd_contact.core.ramp import StepSolution, run_ramp
 
 from .._blas import single_thread
+from .._material import near_incompressible
 from .assembly import build_cell
 from .cohesive import CohesiveSurface
 from .hardwall import HardWall
@@ -44,6 +45,8 @@ def refusal(scene):
         return ("surface.boundary = \"free\": the 3-D FE models a periodic cell on a bonded layer only, not an "
                 "unbounded body; solve it with method.name = \"gfmd\" (Hockney padding), or use "
                 "surface.boundary = \"periodic\"")
+    if near_incompressible(scene):
+        return near_incompressible(scene)
     if m.half_plane:
         return ("material.thickness = \"inf\": the 3-D FE models a finite bonded layer only; give a finite "
                 "material.thickness (a layer of D = L stands in for the half-space with the truncation error "
