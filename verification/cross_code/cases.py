@@ -207,7 +207,7 @@ FREE_SPHERE = Case("hertz-sphere-free", "the Hertz sphere on a free half-space (
 MD_N, MD_LAMBDA = 128, 1.0
 
 
-def _path(corners, steps):
+def expand_path(corners, steps):
     """A piecewise-linear path: corners[0], then each segment's equal increments."""
     parts = [np.array([corners[0]])]
     for a, b, n in zip(corners[:-1], corners[1:], steps):
@@ -222,7 +222,7 @@ def md_problem():
     law = Interface("exponential-cz", work_of_adhesion=mp.WORK, range=mp.delta_n(MD_LAMBDA))
     return Problem(heights=surfaces.cylinder(MD_N, L, mp.RADIUS), lengths=(L,), contact_modulus=mp.e_star(),
                    interface=law, boundary="periodic", control="penetration",
-                   path=tuple(_path(mp.PATH, mp.STEPS)), name="md pull-off")
+                   path=tuple(expand_path(mp.PATH, mp.STEPS)), name="md pull-off")
 
 
 def md_errors(answers, problems):
@@ -247,6 +247,32 @@ MD_PULLOFF = Case("md-pulloff", "Maugis–Dugdale pull-off of a cylinder (refere
                   "our GFMD's converged error vs MD at λ = 1 (the law's shape) + "
                   f"{FACTOR:g}× its spread, verification/data/md_pulloff.json [ci]")
 
+
+
+def md_lj93_errors(answers, problems):
+    """{pull-off: |F − F_MD|/|F_MD|} on the LJ 9-3 wall (`verification.studies.md_pulloff_lj93`)."""
+    from verification.studies import md_pulloff_lj93 as ml
+    return {"pull-off": abs(ml.error(answers[0]))}
+
+
+def md_lj93_tolerance():
+    """The LJ law-shape error our GFMD converges to at N = 128, plus FACTOR × its change over N from there."""
+    v = measured.entry("md_pulloff_lj93", "ci")["values"]
+    i = v["N"].index(v["ci_nodes"])
+    return {"pull-off": abs(v["errors"][i]) + FACTOR * max(v["differences"][i:])}
+
+
+def _md_lj93_problem():
+    from verification.studies import md_pulloff_lj93 as ml
+    return ml.problem(ml.CI_NODES)
+
+
+MD_PULLOFF_LJ93 = Case("md-pulloff-lj93", "Maugis–Dugdale pull-off of a cylinder on the LJ 9-3 wall "
+                                          "(reference.analytic.maugis_dugdale)",
+                       lambda: [_md_lj93_problem()], md_lj93_errors, md_lj93_tolerance,
+                       "our GFMD's converged error vs MD at λ = 1 (the LJ law's shape) + "
+                       f"{FACTOR:g}× its change over N, verification/data/md_pulloff_lj93.json [ci]")
+
 # ----------------------------------------------------------------------------- Johnson's adhesive sinusoid cycle
 JOHNSON_N, JOHNSON_D = 2048, 0.04
 
@@ -258,7 +284,7 @@ def johnson_problem():
     law = Interface("exponential-cz", work_of_adhesion=js.work(), range=js.delta_n(JOHNSON_D))
     return Problem(heights=surfaces.sinusoid(JOHNSON_N, L, H0), lengths=(L,), contact_modulus=js.e_star(),
                    interface=law, boundary="periodic", control="penetration",
-                   path=tuple(_path((jc.START, jc.TOP, jc.START), jc.STEPS)), name="johnson cycle")
+                   path=tuple(expand_path((jc.START, jc.TOP, jc.START), jc.STEPS)), name="johnson cycle")
 
 
 def johnson_errors(answers, problems):
@@ -377,4 +403,4 @@ KKT = Case("hard-wall-kkt", "the KKT conditions p ≥ 0, g ≥ 0, p·g = 0 on th
            kkt_errors, kkt_tolerance, "the Westergaard p̄(ḡ) tolerance at N = 256 (verification/data/westergaard.json)")
 
 #: every cross-code case, in the report's order
-CASES = (WESTERGAARD, HERTZ, SPHERE, FREE_SPHERE, MD_PULLOFF, JOHNSON, ROUGH_FE, KKT, CONVERGENCE)
+CASES = (WESTERGAARD, HERTZ, SPHERE, FREE_SPHERE, MD_PULLOFF, MD_PULLOFF_LJ93, JOHNSON, ROUGH_FE, KKT, CONVERGENCE)
