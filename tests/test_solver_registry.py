@@ -12,8 +12,8 @@ from verification.solvers.protocol import Interface, Problem, Solver, not_applic
 
 
 def _problem(**kw):
-    base = dict(heights=np.zeros(8), lengths=(1e-6,), contact_modulus=1e9, interface=Interface("hard-wall"),
-                boundary="periodic", control="pressure", path=(1e6,), name="t")
+    base = {"heights": np.zeros(8), "lengths": (1e-6,), "contact_modulus": 1e9, "interface": Interface("hard-wall"),
+                "boundary": "periodic", "control": "pressure", "path": (1e6,), "name": "t"}
     base.update(kw)
     return Problem(**base)
 

@@ -84,7 +84,7 @@ def speed_accuracy_svg(by_solver):
     fig = Figure(figsize=(9.0, 3.8))
     cases_ax, sweep_ax = fig.subplots(1, 2)
     for i, (solver, recs) in enumerate(sorted(by_solver.items())):
-        style = dict(color=f"C{i}", marker="osD^v<>ph"[i % 9], label=solver)
+        style = {"color": f"C{i}", "marker": "osD^v<>ph"[i % 9], "label": solver}
         pts = [(r["wall_s"], r["error"] / r["tolerance"]) for r in recs
                if r["error"] and r["tolerance"] and r["wall_s"] and not r["lower_bound"]]
         if pts:
@@ -100,7 +100,7 @@ def speed_accuracy_svg(by_solver):
     buf = io.StringIO()
     fig.savefig(buf, format="svg", bbox_inches="tight")
     text = buf.getvalue()
-    text = re.sub(r"<metadata>.*?</metadata>\s*", "", text[text.find("<svg"):], flags=re.S)
+    text = re.sub(r"<metadata>.*?</metadata>\s*", "", text[text.find("<svg"):], flags=re.DOTALL)
     return re.sub(r'\s+xmlns(:\w+)?="[^"]*"', "", text, count=3)
 
 
@@ -113,16 +113,16 @@ def section(report_dir):
     try:
         return _section(by_solver)
     except Exception as exc:  # noqa: BLE001 - the rest of the report still goes out
-        return ['<section id="cross-code"><h2>Cross-code verification</h2><p class="banner fail">the cross-code '
+        return [('<section id="cross-code"><h2>Cross-code verification</h2><p class="banner fail">the cross-code '
                 f"records in {escape(str(report_dir))} could not be shown: {escape(type(exc).__name__)}: "
-                f"{escape(str(exc))}</p></section>"]
+                f"{escape(str(exc))}</p></section>")]
 
 
 def _section(by_solver):
     solvers = sorted(by_solver)
     out = ['<section id="cross-code"><h2>Cross-code verification</h2>',
-           f'<p class="muted">Codes: {escape(", ".join(solvers))} (one <code>--solver</code> run each). Each code is '
-           "held to the same tolerance per case and metric; n/a gives the adapter's own reason.</p>",
+           (f'<p class="muted">Codes: {escape(", ".join(solvers))} (one <code>--solver</code> run each). Each code is '
+           "held to the same tolerance per case and metric; n/a gives the adapter's own reason.</p>"),
            "<table><thead><tr><th>case</th><th>metric</th><th>tolerance</th>"
            + "".join(f"<th>{escape(s)}</th>" for s in solvers) + "</tr></thead><tbody>"]
     per_case = {}

@@ -9,16 +9,14 @@ code's own mean pressure (`State.mean_pressure`), fields its own nodal values.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
 from gfmd_contact.core import surfaces
-from gfmd_contact.core.loading import path_values
 from reference.analytic import hertz as H
 from reference.analytic import hertz_sphere as HS
-from reference.analytic import maugis_dugdale as MD
 from reference.analytic import westergaard as W
 from verification import analytic_cases as ac
 from verification import measured
@@ -29,6 +27,7 @@ FACTOR = 3.0  # × the stored error at the same N (the rule of verification/test
 E_STAR = 70e9 / (1 - 0.45 ** 2)  # the default half-plane of the single-code cases (E = 70 GPa, ν = 0.45)
 L = 1e-6
 H0 = 10e-9
+HARD_WALL = Interface("hard-wall")
 
 
 @dataclass(frozen=True)
@@ -47,7 +46,7 @@ class Case:
 
 
 def _hard(h, lengths, control, path, name):
-    return Problem(heights=h, lengths=lengths, contact_modulus=E_STAR, interface=Interface("hard-wall"),
+    return Problem(heights=h, lengths=lengths, contact_modulus=E_STAR, interface=HARD_WALL,
                    boundary="periodic", control=control, path=tuple(float(v) for v in path), name=name)
 
 
@@ -182,7 +181,7 @@ def free_sphere_problem():
     from gfmd_contact.core.surfaces_2d import sphere
     loads = [HS.load_from_contact_radius(f * L / 8, RADIUS, E_STAR) / L**2 for f in HERTZ_A]
     return Problem(heights=sphere(FREE_N, L, FREE_N, L, RADIUS), lengths=(L, L), contact_modulus=E_STAR,
-                   interface=Interface("hard-wall"), boundary="free", control="pressure", path=tuple(loads),
+                   interface=HARD_WALL, boundary="free", control="pressure", path=tuple(loads),
                    name="free hertz sphere")
 
 
@@ -307,7 +306,7 @@ JOHNSON = Case("johnson-cycle", "Johnson's adhesive sinusoid, displacement-contr
 
 # ----------------------------------------------------------------------------- rough: our FE as the reference
 ROUGH_N = 256
-ROUGH = dict(hurst=0.8, h_rms=5e-9, rolloff_wavelength=250e-9, rollon_wavelength=L / 64, seed=3)
+ROUGH = {"hurst": 0.8, "h_rms": 5e-9, "rolloff_wavelength": 250e-9, "rollon_wavelength": L / 64, "seed": 3}
 ROUGH_LOADS = (0.05, 0.1, 0.2)  # × E* ḡ / 2 (a_rel ≈ the factor, κ ≈ 2)
 
 
@@ -320,7 +319,7 @@ def rough_loads():
     return tuple(f * E_STAR * rms_gradient(rough_heights(), L / ROUGH_N) / 2 for f in ROUGH_LOADS)
 
 
-def rough_problem(interface=Interface("hard-wall")):
+def rough_problem(interface=HARD_WALL):
     """Self-affine profile (H = 0.8, h_rms = 5 nm, λr = 250 nm, λs = L/64, seed 3), N = 256, 3 loads."""
     return Problem(heights=rough_heights(), lengths=(L,), contact_modulus=E_STAR, interface=interface,
                    boundary="periodic", control="pressure", path=rough_loads(), name="rough")

@@ -5,9 +5,17 @@ finds the adapters by name (ours built in, a third party's through the entry-poi
 ``gfmd_contact.solvers``). `gfmd` is the adapter a third party copies.
 """
 
-from verification.solvers.protocol import (Answer, Capabilities, Cost, Interface, Problem, Solver, State,
-                                           not_applicable)
+from verification.solvers.protocol import (
+    Answer,
+    Capabilities,
+    Cost,
+    Interface,
+    Problem,
+    Solver,
+    State,
+    not_applicable,
+)
 from verification.solvers.registry import SolverUnavailable, get, solvers
 
-__all__ = ["Answer", "Capabilities", "Cost", "Interface", "Problem", "Solver", "State", "not_applicable",
-           "SolverUnavailable", "get", "solvers"]
+__all__ = ["Answer", "Capabilities", "Cost", "Interface", "Problem", "Solver", "SolverUnavailable", "State", "get",
+           "not_applicable", "solvers"]

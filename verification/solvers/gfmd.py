@@ -88,7 +88,10 @@ class GFMDSolver:
         return np.asarray(problem.heights, float)
 
     def solve(self, problem: Problem) -> Answer:
-        from gfmd.loading import integrator, prepare  # the method itself: imported only when it runs
+        from gfmd.loading import (  # the method itself: imported only when it runs
+            integrator,
+            prepare,
+        )
         scene, h = self.scene(problem), self.heights(problem)
         t0 = time.perf_counter()
         cell = prepare(scene, h)
