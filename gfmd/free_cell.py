@@ -36,6 +36,8 @@ class FreeRegion:
         solved = super().solve(displacement, guess, fallback)
         region = self.physics.region
         outside = free_boundary.outside_traction(solved.t_n, region)
+        if self.physics.tangential and solved.relaxed:  # the tangential traction too (u_x solved)
+            outside = max(outside, free_boundary.outside_traction(solved.fields()["t_t"], region))
         messages, converged = solved.messages, solved.converged
         if outside != 0.0:
             messages += (f"free boundary: a traction of {outside:.3g} Pa acted outside the region (the indenter's far "

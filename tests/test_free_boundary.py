@@ -119,11 +119,42 @@ def test_free_model_is_the_padded_cell_and_says_so():
     assert not periodic.free and periodic.grid == (32,)
 
 
-def test_a_layer_or_tangential_unknowns_on_a_free_boundary_are_refused():
+def test_a_layer_or_an_auxetic_coupled_body_on_a_free_boundary_is_refused():
     with pytest.raises(SceneError, match="surface.boundary"):
         build_model(_scene(material__thickness=1e-6, material__poisson_ratio=0.3))
-    with pytest.raises(SceneError, match="surface.boundary"):
-        build_model(_scene("cohesive", material__poisson_ratio=0.3, interface__tangential_ratio=0.5))
+    with pytest.raises(SceneError, match="material.poisson_ratio"):
+        build_model(_scene("cohesive", material__poisson_ratio=-0.3, interface__tangential_ratio=0.5))
+
+
+def test_tangential_unknowns_get_the_padded_coupled_kernel():
+    m = build_model(_scene("cohesive", material__poisson_ratio=0.3, interface__tangential_ratio=0.5))
+    assert m.tangential and m.free and m.k_xx.shape == m.k_xz.shape == m.k_zz.shape == (33,)
+    assert np.all(np.real(m.k_xz) == 0) and m.k_xz[0] == 0 and m.k_xz[-1] == 0  # imaginary, q = 0 and Nyquist 0
+    det = np.real(m.k_xx * m.k_zz) - np.abs(m.k_xz) ** 2
+    assert np.all(det[1:] > 0) and np.all(np.real(m.k_xx[1:]) > 0)
+
+
+def test_the_coupled_padded_kernel_reproduces_the_free_half_plane_point_loads():
+    """Johnson §2.2 on the region: a line load moves the surface along the other axis by ∓(β/E*) sgn(x) (node
+    integrated), and along its own by the log, up to the uniform shifts of the clamped mean."""
+    n, l, nu = 64, 1e-8, 0.3
+    beta = (1 - 2 * nu) / (2 * (1 - nu))
+    k_xx, k_xz, k_zz = fk.padded_coupled_stiffness(n, l, E_STAR, beta)
+    x = (np.arange(n) - 20) * l
+    for loaded in (0, 1):  # x, z
+        t = np.zeros((2, 2 * n))
+        t[loaded, 20] = 1e6
+        th = np.fft.rfft(t)
+        det = np.real(k_xx * k_zz) - np.abs(k_xz) ** 2
+        det[0] = np.inf
+        u = np.fft.irfft(np.stack([(k_zz * th[0] - k_xz * th[1]) / det, (-np.conj(k_xz) * th[0] + k_xx * th[1]) / det]),
+                         n=2 * n)[:, :n]
+        own = 1e6 * fk.segment_compliance(x, l, E_STAR)
+        cross = 1e6 * fk.segment_cross_compliance(x, l, E_STAR, beta) * (1 if loaded == 1 else -1)
+        other = 1 - loaded
+        for got, want in ((u[loaded], own), (u[other], cross)):
+            got, want = got - got[0], want - want[0]
+            assert np.max(np.abs(got - want)) < 1e-10 * np.max(np.abs(own - own[0]))
 
 
 def test_the_fe_references_refuse_a_free_boundary():
@@ -136,10 +167,11 @@ def test_the_fe_references_refuse_a_free_boundary():
         fem3d_ramp.run_realization(_scene(two_d=True, nodes=16))
 
 
-@pytest.mark.parametrize("law", ["hard-wall", "cohesive", "cohesive-wall", "lj93"])
+@pytest.mark.parametrize("law", ["hard-wall", "cohesive", "cohesive-wall", "lj93", "coupled"])
 def test_no_traction_acts_outside_the_region(law):
     """The padded solve itself (not the cropped fields): zero traction off the region, contact on it."""
-    scene = _scene(law)
+    scene = (_scene("cohesive", material__poisson_ratio=0.3, interface__tangential_ratio=0.5) if law == "coupled"
+             else _scene(law))
     h = surfaces.profile(scene.surface, 0)
     cell = prepare(scene, h)
     z = cell.indenter(scene.loading.initial_separation + 5e-9)
@@ -147,6 +179,8 @@ def test_no_traction_acts_outside_the_region(law):
     r = relax(cell.physics, InterfaceLaw(cell.physics), z, cell.initial_state(), cell.settings)
     assert r.converged
     assert fb.outside_traction(r.t_z, (32,)) == 0.0
+    if law == "coupled":
+        assert cell.physics.tangential and fb.outside_traction(r.t_x, (32,)) == 0.0
     assert np.min(r.t_z[:32]) < 0  # the indenter presses on the region
 
 

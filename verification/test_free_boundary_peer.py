@@ -8,7 +8,8 @@ Checked on the Hertz sphere and on a rough (self-affine) surface, 2+1-D, hard wa
 
 Tolerance: both solve the same discrete problem to a relative residual of 1e-10 (GFMD: × p_ref; ContactMechanics:
 forcetol and pentol 1e-12 of their scales), so the pressures agree to 10 × 1e-10 of the peak pressure; measured
-7e-11 (sphere) and 9e-12 (rough), max over the loads. A kernel off by 0.1 %, or a shift s off by 0.1 % of δ, moves them by ≥ 1e-4.
+7e-11 (sphere) and 9e-12 (rough), max over the loads. A kernel off by 0.1 %, or a shift s off by 0.1 % of δ,
+moves them by ≥ 1e-4.
 """
 
 from __future__ import annotations

@@ -2,12 +2,13 @@
 
 Units: SI (see `gfmd_contact.core.conventions`). `padded_model` turns the periodic model of a scene with
 `surface.boundary = "free"` into the model solved: the padded cell of 2N nodes per axis (twice the length),
-the stiffness K_c = 1/Ĝ_c of the free body's circulant compliance (`gfmd_contact.core.free_kernels`), the
-q = 0 mode clamped as on the periodic half-plane, the law and unknowns of the periodic model. The region
-is the padded cell's first N nodes per axis. The indenter exists only above the region: outside it the
+the stiffness K_c = 1/Ĝ_c of the free body's circulant compliance (2×2 with tangential unknowns,
+`gfmd_contact.core.free_kernels`), the q = 0 mode clamped as on the periodic half-plane, the law and unknowns
+of the periodic model. The region is the padded cell's first N nodes per axis. The indenter exists only above the region: outside it the
 method raises the indenter surface by `far_gap` (`padded_indenter`), a gap at which the law's
 tractions, tangent and potential are exactly 0.0 (probed, so exact for every law in double precision;
-the hard wall is never reached there), and checks after each solve that no traction acted outside
+the hard wall is never reached there; probed at Δt = 0, every law's tractions there carrying the vanishing
+normal factor), and checks after each solve that no traction, normal or tangential, acted outside
 (`outside_traction`). Results are the region's: `crop`. Design note: docs/design/free_boundary.md.
 """
 
@@ -26,18 +27,29 @@ MAX_DOUBLINGS = 1000
 ZERO_RUN = 10
 
 
-def refusal(scene, tangential):
+def refusal(scene):
     """Why a free boundary cannot be solved for `scene` (a str naming the key), or None."""
     if not scene.material.half_plane:
         return (f"surface.boundary = \"free\" with material.thickness = {scene.material.thickness:g} m: the free "
                 "boundary is the unbounded half-plane / half-space (Hockney padding of its Green's function); a "
                 "finite layer has no free-surface kernel here: give material.thickness = \"inf\" or "
                 "surface.boundary = \"periodic\"")
-    if tangential:
-        return ("surface.boundary = \"free\" with tangential unknowns (u_x: the coupled law with c > 0 on ν < 1/2, "
-                "or solver.unknowns = \"coupled\"): the padded free kernel is normal-only; use ν = 0.5, "
-                "interface.tangential_ratio = 0, or surface.boundary = \"periodic\"")
     return None
+
+
+def _kernels(scene, model, spacings):
+    """(k_xx, k_xz, k_zz) of the padded cell: normal-only (None, None, K_c) or the coupled 1+1-D kernel."""
+    if not model.tangential:
+        return None, None, free_kernels.padded_stiffness(model.grid, spacings, model.contact_modulus)
+    nu = scene.material.poisson_ratio
+    try:
+        return free_kernels.padded_coupled_stiffness(model.nodes, spacings[0], model.contact_modulus,
+                                                     (1 - 2 * nu) / (2 * (1 - nu)))
+    except ValueError as exc:
+        raise SceneError(f"surface.boundary = \"free\" with tangential unknowns and material.poisson_ratio = {nu:g}: "
+                         f"{exc} (the odd normal–tangential coupling of an auxetic body, β > 1/2, breaks it on the "
+                         "2N padding); use ν ≥ 0, interface.tangential_ratio = 0, or surface.boundary = "
+                         "\"periodic\"") from exc
 
 
 def region_slices(region):
@@ -54,25 +66,27 @@ def padded_model(scene, model):
     """The free-boundary model of `scene` from its periodic `model` (law, unknowns, E*): the padded cell's grid
     and kernel, `region` the scene's grid, without the periodic model's check findings (`gfmd_contact.core.model`
     checks the padded model anew). SceneError (`refusal`) if not solvable."""
-    why = refusal(scene, model.tangential)
+    why = refusal(scene)
     if why:
         raise SceneError(why)
     s = scene.surface
     region = model.grid
     grid = free_kernels.padded_grid(region)
     spacings = s.spacings if s.two_d else (s.spacing,)
-    k = free_kernels.padded_stiffness(region, spacings, model.contact_modulus)
+    k_xx, k_xz, k_zz = _kernels(scene, model, spacings)
     n_text = " × ".join(str(n) for n in region)
     p_text = " × ".join(str(n) for n in grid)
     reason = (f"surface.boundary = free: free boundary (Hockney padding to 2N): the {n_text} nodes are the region of "
               f"a {p_text} padded cell whose kernel K_c = 1/Ĝ_c is the free body's exact nodal compliance "
-              "(gfmd_contact.core.free_kernels); the indenter acts on the region only (gfmd_contact.core.free_boundary); "
+              "(gfmd_contact.core.free_kernels); the indenter acts on the region only "
+              "(gfmd_contact.core.free_boundary); "
               "δ is measured from the padded cell's mean plane, the far-field shift s is in the diagnostics")
     description = model.description.split(" [")[0] + ", free boundary (Hockney padding to 2N)"
     q = free_kernels.padded_wavenumbers(grid, spacings)
     padded = dataclasses.replace(
         model, nodes=int(np.prod(grid)), length=2 * model.length, length_y=2 * model.length_y,
-        shape=grid if model.shape else (), q=q, k_zz=k, region=region, description=description,
+        shape=grid if model.shape else (), q=q, k_xx=k_xx, k_xz=k_xz, k_zz=k_zz, region=region,
+        description=description,
         reasons=tuple(r for r in model.reasons if not any(r.endswith(w) for w in model.warnings)) + (reason,),
         warnings=())
     return padded

@@ -107,6 +107,38 @@ def padded_grid(region):
     return tuple(2 * n for n in region)
 
 
+def segment_cross_compliance(x, spacing, contact_modulus, coupling):
+    """u_x (m/Pa) at x (m) of unit normal tension on the segment |x'| ≤ l/2 of a free half-plane, = u_z of unit
+    tangential traction there with the opposite sign: (β/E*) ∫ sgn(x − x') dx', β = (1 − 2ν)/(2(1 − ν)) (Johnson
+    §2.2: a compressive line load P moves the surface towards it, u_x = −(β/E*) P sgn(x))."""
+    x = np.asarray(x, float)
+    return coupling / contact_modulus * np.clip(x, -0.5 * spacing, 0.5 * spacing) * 2.0
+
+
+def padded_coupled_stiffness(nodes, spacing, contact_modulus, coupling):
+    """(K_xx, K_xz, K_zz) (Pa/m) on the padded rfft half-spectrum of a 1+1-D region of N nodes: the inverse of the
+    free half-plane's 2×2 circulant compliance, G_xx = G_zz = `segment_compliance`, G_xz = −G_zx = the odd
+    `segment_cross_compliance` at the signed wrapped distance (0 at the distance N l, which no two nodes of the region
+    are apart). K_xz is imaginary (K_zx = conj K_xz), zero at the Nyquist mode; q = 0 entries 0 (clamped).
+    ValueError where the compliance is not positive definite at a mode q ≠ 0."""
+    j = np.arange(2 * nodes)
+    signed = np.where(j < nodes, j, j - 2 * nodes) * spacing
+    g_zz = np.real(np.fft.rfft(segment_compliance(np.abs(signed), spacing, contact_modulus)))
+    odd = segment_cross_compliance(signed, spacing, contact_modulus, coupling)
+    odd[nodes] = 0.0  # the distance N l: either sign; 0 keeps the sequence odd
+    g_xz = np.fft.rfft(odd)
+    g_xz = 1j * np.imag(g_xz)  # an odd real sequence: imaginary up to round-off
+    g_xz[-1] = 0.0  # Nyquist: real fields stay real
+    det = g_zz**2 - np.abs(g_xz) ** 2
+    if not np.all(det[1:] > 0) or not np.all(g_zz[1:] > 0):
+        raise ValueError(f"padded free-boundary coupled compliance not positive definite on {nodes} nodes")
+    k_xx, k_xz, k_zz = (np.zeros(g_zz.shape, complex) for _ in range(3))
+    k_xx[1:] = g_zz[1:] / det[1:]
+    k_zz[1:] = k_xx[1:]
+    k_xz[1:] = -g_xz[1:] / det[1:]
+    return k_xx, k_xz, k_zz
+
+
 def padded_wavenumbers(grid, spacings):
     """q (1/m) of the padded half-spectrum: |q| of `gfmd_contact.core.kernels` on the padded grid and length."""
     from .kernels import wavenumbers, wavevector_magnitudes

@@ -72,7 +72,8 @@ def _force(loads, length):
 
 
 def _runs(directory, nodes):
-    """(FE Result, GFMD free Result, FE loads (N/m)) at N region nodes: the FE on the K-cell, the free run at its loads."""
+    """(FE Result, GFMD free Result, FE loads (N/m)) at N region nodes: the FE on the K-cell, the free run at its
+    loads."""
     from reference.fem.run import run_realization as fe_run
 
     ramp = {"loading": {"initial_separation": 1e-9, "final_penetration": PENETRATION, "steps": 2}}

@@ -32,7 +32,8 @@ RADIUS = 1e-6
 LENGTH = 1e-6
 STEPS = 4
 A_MAX = LENGTH / 8
-SCENE = ("verification.scenes.cylinder(N, 1e-6, 1e-6, steps=4, initial=1e-9, surface.boundary='free', loading.control='force', "
+SCENE = ("verification.scenes.cylinder(N, 1e-6, 1e-6, steps=4, initial=1e-9, surface.boundary='free', "
+         "loading.control='force', "
          "loading.path=[0, F(L/8)/L])")
 DESCRIPTION = ("GFMD hard wall on a free half-plane vs the Hertz cylinder without images (1+1-D, force control): "
                "max errors over 4 loads of p(x) (rms / p0), a(P) (second moment), a_count(P) vs N, observed orders")

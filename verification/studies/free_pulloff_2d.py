@@ -73,7 +73,8 @@ def main(argv=None):
             values, scene=f"verification.studies.free_pulloff_2d.scene(N): md_pulloff_2d.scene(N, {LAMBDA}) with "
                           "surface.boundary = free", wall_s=st["wall_s"])},
             description="GFMD cohesive sphere pull-off on a free half-space (2+1-D, Hockney padding) vs Maugis–Dugdale "
-                        f"at λ = {LAMBDA}: signed relative error vs N, successive differences, order, Richardson limit"))
+                        f"at λ = {LAMBDA}: signed relative error vs N, successive differences, order, "
+                        "Richardson limit"))
 
 
 if __name__ == "__main__":
