@@ -238,3 +238,15 @@ def test_an_interrupted_free_run_resumes_to_the_same_files(tmp_path, monkeypatch
     assert_same_run(ref, out)
     shifts = [json.loads((d / "meta.json").read_text())["far_field_shift"] for d in (ref, out)]
     assert shifts[0] == shifts[1] and set(shifts[0]) == {"r0", "r1"}
+
+
+def test_contact_patches_of_a_free_region_are_not_joined_across_its_edges():
+    from gfmd_contact.app.surface_plots import surface_maps
+
+    gap, t_n = np.ones((16, 16)), np.zeros((16, 16))
+    t_n[0, 4:8] = t_n[15, 4:8] = -1e6  # pressed on two opposite edges: one patch in a periodic cell, two on a free one
+    gap[0, 4:8] = gap[15, 4:8] = 0.0
+    fields = {"x": np.arange(16) * 1e-8, "y": np.arange(16) * 1e-8, "r0_s1_gap": gap, "r0_s1_t_n": t_n}
+    titles = {b: surface_maps(_scene(two_d=True, nodes=16, surface__boundary=b), fields, 0, 1, 1e-9)["contact_map"]
+              .axes[0].get_title() for b in ("periodic", "free")}
+    assert "1 patches" in titles["periodic"] and "2 patches" in titles["free"], titles

@@ -33,7 +33,8 @@ def surface_maps(scene, fields, realization, step, delta, title_note=""):
     gap, t_n = fields[f"r{r}_s{k}_gap"], fields[f"r{r}_s{k}_t_n"]
     contact = np.asarray(contact_mask(law_from_scene(scene), gap, t_n), bool)
     s = scene.surface
-    stats = patch_statistics(contact, s.length * s.length_y / (s.nodes * s.nodes_y))
+    stats = patch_statistics(contact, s.length * s.length_y / (s.nodes * s.nodes_y),
+                             periodic=s.boundary == "periodic")  # a free region's edges join nothing
     where = f"δ = {delta * 1e9:.2f} nm, realization {r}{title_note}"
     extent = _extent(fields)
     figs = {}
