@@ -22,3 +22,8 @@ def pytest_addoption(parser, pluginmanager):
 def pytest_collection_modifyitems(config, items):
     if not _loaded(config.pluginmanager):
         _plugin.pytest_collection_modifyitems(config, items)
+
+
+def pytest_configure(config):
+    if not _loaded(config.pluginmanager):
+        _plugin.pytest_configure(config)

@@ -72,3 +72,16 @@ def test_page_combines_every_solver_in_the_report_dir(tmp_path):
     assert "a (m): most accurate fe;" in html
     assert [r["error"] for r in outcomes.load_all(tmp_path)["gfmd"]] == [2.0, 0.2]
     assert section(tmp_path / "empty") == []
+
+
+def test_an_unknown_solver_is_a_usage_error():
+    """`pytest verification --solver NAME` with a name no adapter has stops before any test, naming the known ones."""
+    import subprocess
+    import sys
+    from pathlib import Path
+    run = subprocess.run([sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "--collect-only", "-q",
+                          "--solver", "no-such-code", "verification/test_cross_code.py"],
+                         cwd=Path(__file__).resolve().parent.parent, capture_output=True, text=True, timeout=300,
+                         check=False)
+    assert run.returncode == 4, run.stdout[-2000:] + run.stderr[-2000:]
+    assert "--solver 'no-such-code': unknown; known: contactmechanics, fe, gfmd, tamaas" in run.stdout + run.stderr

@@ -10,6 +10,8 @@ pytest has loaded it).
 
 import pytest
 
+from verification.solvers.registry import GROUP, solvers  # names only: no adapter is imported here
+
 
 def pytest_addoption(parser):
     options = {"--full": dict(action="store_true", default=False,
@@ -30,6 +32,10 @@ def pytest_addoption(parser):
 
 def pytest_configure(config):
     config.addinivalue_line("markers", "slow: expensive resolutions/studies, skipped unless --full or -m slow")
+    name = config.getoption("--solver", default="gfmd")
+    if name not in solvers():
+        raise pytest.UsageError(f"--solver {name!r}: unknown; known: {', '.join(sorted(solvers()))} (register "
+                                f"another through the entry-point group {GROUP!r})")
 
 
 def pytest_collection_modifyitems(config, items):
