@@ -10,7 +10,8 @@ pytest has loaded it).
 
 import pytest
 
-from verification.solvers.registry import GROUP, solvers  # names only: no adapter is imported here
+# names only: no adapter is imported here
+from verification.solvers.registry import GROUP, solvers
 
 
 def pytest_addoption(parser):
