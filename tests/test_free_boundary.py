@@ -250,3 +250,19 @@ def test_contact_patches_of_a_free_region_are_not_joined_across_its_edges():
     titles = {b: surface_maps(_scene(two_d=True, nodes=16, surface__boundary=b), fields, 0, 1, 1e-9)["contact_map"]
               .axes[0].get_title() for b in ("periodic", "free")}
     assert "1 patches" in titles["periodic"] and "2 patches" in titles["free"], titles
+
+
+def test_the_gradients_of_a_free_region_take_no_difference_across_its_edges():
+    """ḡ (curve column g, and p_ref) of a free cylinder: Eq. 6 with the edge nodes' inner differences only."""
+    scene = _scene()
+    h = surfaces.profile(scene.surface, 0)
+    d2 = (np.diff(h) / scene.surface.spacing) ** 2
+    g2 = 0.5 * (np.concatenate([d2[:1], d2]) + np.concatenate([d2, d2[-1:]]))
+    result = run_realization(scene)
+    assert np.allclose(result.curve["g"], np.sqrt(np.mean(g2)), rtol=1e-12)
+    periodic = run_realization(_scene(surface__boundary="periodic"))
+    wrapped = 0.5 * (np.concatenate([[(h[0] - h[-1]) ** 2], d2 * scene.surface.spacing**2])
+                     + np.concatenate([d2 * scene.surface.spacing**2, [(h[-1] - h[0]) ** 2]])) / scene.surface.spacing**2
+    assert periodic.curve["g"][0] == pytest.approx(np.sqrt(np.mean(wrapped)), rel=1e-12)  # the cell wraps: h[N−1] → h[0]
+    assert build_model(scene, h).reference_traction == pytest.approx(build_model(scene).contact_modulus
+                                                                      * np.sqrt(np.mean(g2)), rel=1e-12)

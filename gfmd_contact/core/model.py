@@ -147,7 +147,7 @@ def build_model(scene, h=None):
     """
     model = chosen_model(scene)
     s = scene.surface
-    g = rms_gradient(h, s.spacings if s.two_d else s.spacing) if h is not None else 0.0
+    g = rms_gradient(h, s.spacings if s.two_d else s.spacing, s.boundary == "periodic") if h is not None else 0.0
     return dataclasses.replace(model, reference_traction=model.contact_modulus * g) if g > 0 else model
 
 

@@ -26,11 +26,13 @@ import scipy.ndimage
 from .laws import law_from_interface, law_from_scene
 
 
-def local_gradient_squared(h, spacing):
+def local_gradient_squared(h, spacing, periodic=True):
     """g_i² = ½[((h_i − h_{i+1})/l)² + ((h_i − h_{i−1})/l)²] (seed Eq. 6), periodic; 1 (dimensionless).
 
     2+1-D (h of shape (Nx, Ny), spacing = (lx, ly)): seed Eq. 6 extended to the four neighbours, the
     local |∇h|²: g_ij² = ½[(Δ⁺_x h)² + (Δ⁻_x h)²]/lx² + ½[(Δ⁺_y h)² + (Δ⁻_y h)²]/ly² (periodic).
+    periodic = False (a free region, surface.boundary = "free"): no difference across the region's edges; an edge
+    node takes its one inner difference for both.
     """
     h = np.asarray(h, float)
     if h.ndim == 2:
@@ -39,16 +41,28 @@ def local_gradient_squared(h, spacing):
         for axis, step in ((0, lx), (1, ly)):  # each axis as the 1-D Eq. 6 (same operations, same round-off)
             forward = (h - np.roll(h, -1, axis=axis)) / step
             backward = (h - np.roll(h, 1, axis=axis)) / step
+            if not periodic:
+                _inner_at_edges(np.moveaxis(forward, axis, 0), np.moveaxis(backward, axis, 0))
             parts.append(0.5 * (forward**2 + backward**2))
         return parts[0] + parts[1]
     forward = (h - np.roll(h, -1)) / spacing
     backward = (h - np.roll(h, 1)) / spacing
+    if not periodic:
+        _inner_at_edges(forward, backward)
     return 0.5 * (forward**2 + backward**2)
 
 
-def rms_gradient(h, spacing):
-    """ḡ: root-mean-square gradient over the whole profile (seed Eqs. 5–6 with n = N); 2+1-D: spacing = (lx, ly)."""
-    return float(np.sqrt(np.mean(local_gradient_squared(h, spacing))))
+def _inner_at_edges(forward, backward):
+    """In place along axis 0: the last node's forward difference and the first's backward one (across the edge)
+    replaced by the node's other (inner) difference, up to its sign."""
+    forward[-1] = -backward[-1]
+    backward[0] = -forward[0]
+
+
+def rms_gradient(h, spacing, periodic=True):
+    """ḡ: root-mean-square gradient over the whole profile (seed Eqs. 5–6 with n = N); 2+1-D: spacing = (lx, ly);
+    periodic = False: `local_gradient_squared` of a free region."""
+    return float(np.sqrt(np.mean(local_gradient_squared(h, spacing, periodic))))
 
 
 def rms_gradient_contact(h, spacing, contact):
@@ -99,7 +113,8 @@ def profile_gradients(scene, h):
     """(g_i², ḡ) of the profile h on the scene's grid: `local_gradient_squared` (seed Eq. 6) and `rms_gradient`."""
     s = scene.surface
     spacing = s.spacings if s.two_d else s.spacing
-    return local_gradient_squared(h, spacing), rms_gradient(h, spacing)
+    periodic = s.boundary == "periodic"
+    return local_gradient_squared(h, spacing, periodic), rms_gradient(h, spacing, periodic)
 
 
 def contact_patches(contact, periodic=True):
