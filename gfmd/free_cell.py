@@ -40,8 +40,8 @@ class FreeRegion:
             outside = max(outside, free_boundary.outside_traction(solved.fields()["t_t"], region))
         messages, converged = solved.messages, solved.converged
         if outside != 0.0:
-            messages += (f"free boundary: a traction of {outside:.3g} Pa acted outside the region (the indenter's far "
-                         "surface was reached): the step is not the free-boundary solution",)
+            messages += ((f"free boundary: a traction of {outside:.3g} Pa acted outside the region (the indenter's "
+                          "far surface was reached): the step is not the free-boundary solution"),)
             converged = False
         fields = solved.fields
 

@@ -127,7 +127,10 @@ def test_free_agrees_with_periodic_in_a_large_cell(verification_record):
     p_per = p_per[inside]
     assert p_per.shape == p_free.shape and np.allclose(xp[inside], x)
     p0 = float(H.peak_pressure(load, fc.RADIUS, e_star))
-    rms = lambda v: float(np.sqrt(np.mean(v ** 2))) / p0  # noqa: E731
+
+    def rms(v):
+        return float(np.sqrt(np.mean(v ** 2))) / p0
+
     diff = rms(p_free - p_per)
     e_free = rms(p_free - H.pressure(x, f_free, fc.RADIUS, e_star))
     e_per = rms(p_per - H.pressure(x, f_per, fc.RADIUS, e_star))

@@ -18,7 +18,6 @@ import numpy as np
 import pytest
 
 from verification import analytic_cases as ac
-from verification.scenes import sphere
 from verification.studies import free_hertz_sphere as fs
 
 TOLERANCE = 10 * ac.ANALYTIC_TOLERANCE

@@ -71,7 +71,7 @@ def measure(nodes):
     a_h = float(H.half_width(load, RADIUS, e_star))
     ph = np.asarray(H.pressure(x, load, RADIUS, e_star))
     near = np.abs(x) <= 1.5 * a_h
-    fields = dict(x=x[near] / a_h, p=p[near] / ph.max(), ph=ph[near] / ph.max())
+    fields = {"x": x[near] / a_h, "p": p[near] / ph.max(), "ph": ph[near] / ph.max()}
     return {m: max(v) for m, v in errs.items()}, rows, fields, wall
 
 

@@ -72,7 +72,7 @@ def measure(nodes):
     near = r <= 1.5 * a_h
     order = np.argsort(r[near])
     ph = np.asarray(HS.pressure(r[near][order], load, RADIUS, e_star))
-    fields = dict(x=r[near][order] / a_h, p=p.ravel()[near][order] / ph.max(), ph=ph / ph.max())
+    fields = {"x": r[near][order] / a_h, "p": p.ravel()[near][order] / ph.max(), "ph": ph / ph.max()}
     return {m: max(v) for m, v in errs.items()}, rows, fields, wall
 
 
