@@ -21,8 +21,8 @@ FILES = sorted(MEASURED.glob("measured_small_q*.toml"))
 QUADRANT = 250e-9
 
 
-def _report():
-    spec = importlib.util.spec_from_file_location("measured_report", MEASURED / "report.py")
+def _script(name):
+    spec = importlib.util.spec_from_file_location(f"measured_{name}", MEASURED / f"{name}.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod
@@ -57,7 +57,7 @@ def test_bases_are_the_four_quadrants_and_differ_only_there():
 
 @pytest.mark.slow  # ~20 s, most of it the local Dask cluster's start
 def test_report_runs_on_a_tiny_suite(tmp_path):
-    rep = _report()
+    rep = _script("report")
     tiny = 32 * QUADRANT / 256
     studies = []
     for path in FILES[:2]:
@@ -77,3 +77,12 @@ def test_report_runs_on_a_tiny_suite(tmp_path):
             assert (v["kappa"][0] == v["kappa_interior"][0]) == (boundary == "free") and math.isfinite(v["kappa"][0])
         else:
             assert v["pull_off"] < 0 and math.isfinite(v["hysteresis"])
+
+
+def test_equal_load_delta_is_where_the_loading_branch_reaches_the_load():
+    eq = _script("equal_load")
+    curve = [{"branch": b, "delta": str(d), "p": str(p)} for b, d, p in
+             (("loading", 0.0, 0.0), ("loading", 1e-9, 2.0), ("loading", 2e-9, 6.0), ("unloading", 1.5e-9, 1.0))]
+    assert eq.delta_at_load(curve, 4.0) == pytest.approx(1.5e-9)
+    with pytest.raises(ValueError, match="does not cross"):
+        eq.delta_at_load(curve, 7.0)
