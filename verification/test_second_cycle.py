@@ -17,7 +17,8 @@ Tolerances (derived, `verification.converged_bounds`): two converged states of o
 Δp̄ (k_max|Δu| + 2τ p_ref), so a trapezoid sum over a δ path of length Σ|Δδ| differs by at most Δp̄·Σ|Δδ| per run
 compared; δ_start within the path arithmetic's round-off (4ε·max|δ|); pull-off within Δp̄; snap-off δ the same step.
 A cycle that starts at its own first step instead of the previous cycle's last (verification/mutations.py
-"cycle-start-dropped") loses the excursion's first trapezoid (≈ 0.1 J/m², 60 × the bound) and moves δ_start.
+"cycle-start-dropped") loses the excursion's first trapezoid (≈ 0.1 J/m², the bound ≈ 6e-5 J/m²) and moves
+δ_start.
 """
 
 from __future__ import annotations
