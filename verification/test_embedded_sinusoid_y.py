@@ -26,7 +26,7 @@ CASE = "analytic/embedded-sinusoid-2d-along-y"
 METHODS = ("gfmd-1+1-D", "gfmd-2+1-D")
 NODES, NODES_X = 128, 16
 LENGTH, AMPLITUDE = 1e-6, 10e-9
-KW = dict(law="hard-wall", steps=12, final=12e-9, initial=0.0)
+KW = {"law": "hard-wall", "steps": 12, "final": 12e-9, "initial": 0.0}
 
 
 def _scenes(tmp_path):
