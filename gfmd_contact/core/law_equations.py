@@ -33,7 +33,7 @@ def _check_compression(delta_n, length_normal):
     worst = np.min(delta_n) / length_normal if np.size(delta_n) else 0.0
     if not np.isfinite(worst):
         raise CompressionOverflowError("non-finite normal gap passed to the cohesive law")
-    if worst < -MAX_COMPRESSION:
+    if np.size(delta_n) and np.min(delta_n) < -MAX_COMPRESSION * length_normal:  # the product, as a caller forms Δn
         raise CompressionOverflowError(
             f"normal gap Δn = {worst:.3g} δn is beyond the law's range (Δn ≥ −{MAX_COMPRESSION:g} δn): "
             "the repulsive branch would overflow. The solver diverged or the load step is far too large."
