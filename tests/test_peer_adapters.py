@@ -145,6 +145,32 @@ def test_tamaas_declares_no_free_boundary():
     assert reason and "periodic" in reason
 
 
+REFUSED = {"tamaas": [("pressure", Interface("hard-wall+exponential", 0.5, 1e-9), 2, "periodic", "gap-primal")],
+           "contactmechanics": [("pressure", Interface("hard-wall+exponential", 0.5, 1e-9), 2, "periodic",
+                                 "given offset"),
+                                ("pressure", Interface("lj93", 0.5, 1e-9), 1, "periodic", "given offset"),
+                                ("penetration", HARD_WALL, 1, "free", "no 1D Green's function")]}
+
+
+@pytest.mark.parametrize("name, control, interface, dimension, boundary, words",
+                         [(n, *c) for n, cases in REFUSED.items() for c in cases])
+def test_a_combination_the_code_cannot_do_is_not_applicable(name, control, interface, dimension, boundary, words):
+    """Each value allowed by the capabilities, the combination refused by `refuses`: n/a with the reason (the case
+    is then recorded n/a, not failed), and `solve` stops with the same reason."""
+    from verification.cross_code import outcomes
+    from verification.cross_code.cases import Case
+    solver = adapter(name)
+    h = sinusoid(16) if dimension == 1 else np.repeat(sinusoid(16)[:, None], 4, axis=1)
+    case = problem(h, control, [1e6 if control == "pressure" else 1e-9], lengths=(LENGTH,) * dimension,
+                   interface=interface, boundary=boundary)
+    reason = not_applicable(solver, case)
+    assert reason and words in reason, reason
+    records = outcomes.run_case(solver, Case("refused", "none", lambda: [case], None, dict, "none"))
+    assert [(r["passed"], r["reason"]) for r in records] == [(None, reason)]
+    with pytest.raises(ValueError, match=words):
+        solver.solve(case)
+
+
 def test_hertz_sphere_on_a_free_half_space():
     solver = adapter("contactmechanics")
     radius, errors = 1e-6, []

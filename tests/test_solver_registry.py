@@ -55,6 +55,27 @@ def test_our_adapters_follow_the_protocol_and_give_reasons():
         not_applicable(gfmd, _problem(interface=Interface("sticky")))
 
 
+def test_the_refuses_hook_is_consulted_after_the_capabilities():
+    """`not_applicable` asks an adapter's optional `refuses(problem)` only where the capability sets allow every
+    value; an adapter without the hook (a third party's written before it) refuses nothing more."""
+    gfmd = registry.get("gfmd")
+
+    class Picky:
+        name, capabilities = "picky", gfmd.capabilities
+
+        def refuses(self, problem):
+            return "no pressure on a profile" if problem.control == "pressure" and problem.dimension == 1 else None
+
+    class Plain:
+        name, capabilities = "plain", gfmd.capabilities
+
+    assert not_applicable(Picky(), _problem()) == "no pressure on a profile"
+    assert not_applicable(Picky(), _problem(control="penetration")) is None
+    assert not_applicable(Plain(), _problem()) is None
+    assert not_applicable(Picky(), _problem(interface=Interface("hard-wall+exponential"))).startswith(
+        "hard-wall+exponential: GFMD")
+
+
 def _rec(solver, case, error, passed, reason=""):
     return {"case": case, "solver": solver, "reference": "ref", "metric": "m" if reason == "" else "",
             "error": error, "tolerance": 1.0 if error is not None else None, "lower_bound": False, "passed": passed,

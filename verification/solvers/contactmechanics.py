@@ -170,10 +170,6 @@ def _smooth_step(system, s, offset, path: _Path, problem, k):
 
 
 def _adhesive(problem, s, path: _Path):
-    if problem.control != "penetration":
-        raise ValueError(f"problem {problem.name!r}: control = 'pressure' with interface "
-                         f"{problem.interface.kind!r}: ContactMechanics' smooth systems minimise at a given "
-                         "offset only (no force-controlled adhesive solver)")
     free = problem.boundary == "free"
     cls = BoundedSmoothContactSystem if problem.interface.kind == "hard-wall+exponential" else SmoothContactSystem
     system = cls(_substrate(problem, s, "nyquist"), _interaction(problem, s), _topography(s, not free))
@@ -207,11 +203,19 @@ class ContactMechanicsSolver:
                                    "harmonic, Morse); a Potential subclass written here would test our law, not "
                                    "theirs"})
 
-    def solve(self, problem: Problem) -> Answer:
+    def refuses(self, problem: Problem) -> str | None:
+        """The combinations ContactMechanics cannot do: a free 1+1-D boundary; adhesion under pressure control."""
         if problem.boundary == "free" and problem.dimension == 1:
-            raise ValueError(f"problem {problem.name!r}: boundary = 'free' in 1+1-D: ContactMechanics' "
-                             "FreeFFTElasticHalfSpace has no 1D Green's function (a free half-plane's displacement "
-                             "has no reference far away)")
+            return ("free boundary in 1+1-D: ContactMechanics' FreeFFTElasticHalfSpace has no 1D Green's function "
+                    "(a free half-plane's displacement has no reference far away)")
+        if problem.control == "pressure" and problem.interface.kind != "hard-wall":
+            return (f"pressure control with {problem.interface.kind!r}: ContactMechanics' smooth systems minimise "
+                    "at a given offset only (no force-controlled adhesive solver)")
+        return None
+
+    def solve(self, problem: Problem) -> Answer:
+        if reason := self.refuses(problem):
+            raise ValueError(f"problem {problem.name!r}: {reason}")
         s, path = Scaled(problem), _Path()
         t0 = time.perf_counter()
         if problem.interface.kind == "hard-wall":

@@ -109,7 +109,8 @@ class Answer:
 
 @runtime_checkable
 class Solver(Protocol):
-    """A contact code behind the protocol: a name, its capabilities, and `solve`."""
+    """A contact code behind the protocol: a name, its capabilities, and `solve`; optionally `refuses(problem)`,
+    the reason it cannot answer a combination its capabilities allow one by one (see `not_applicable`)."""
     name: str
     capabilities: Capabilities
 
@@ -125,7 +126,10 @@ def _needs(problem: Problem) -> list[tuple[str, bool]]:
 
 
 def not_applicable(solver, problem: Problem) -> str | None:
-    """The adapter's reason why it cannot answer `problem` (from `why_not`), or None when it can."""
+    """The adapter's reason why it cannot answer `problem`, or None when it can: first the capability sets (reasons
+    from `why_not`), then, where they all allow it, the adapter's optional hook `refuses(problem) -> str | None`
+    for combinations the sets cannot express (e.g. a free boundary only in 2+1-D); an adapter without the hook
+    refuses nothing more."""
     for key, known in _needs(problem):
         if not known:
             raise ValueError(f"problem {problem.name!r}: unknown value {key!r} (Problem.dimension/boundary/"
@@ -136,5 +140,6 @@ def not_applicable(solver, problem: Problem) -> str | None:
                                      (problem.interface.kind, problem.interface.kind in caps.interfaces),
                                      (problem.control, problem.control in caps.controls)) if not have]
     if not lacking:
-        return None
+        refuses = getattr(solver, "refuses", None)
+        return refuses(problem) if refuses is not None else None
     return "; ".join(f"{key}: {caps.why_not.get(key, 'not supported by ' + solver.name)}" for key in lacking)

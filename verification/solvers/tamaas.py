@@ -79,10 +79,6 @@ def _solver(problem: Problem, model, surface):
     if problem.control == "penetration":
         solver = tm.PolonskyKeerRey(model, surface, TOLERANCE, tm.PolonskyKeerRey.gap, tm.PolonskyKeerRey.gap)
         label = "PolonskyKeerRey (gap primal, mean-gap control)"
-    elif adhesive:
-        raise ValueError(f"problem {problem.name!r}: control = 'pressure' with interface 'hard-wall+exponential': "
-                         "Tamaas' adhesion functional works with the gap-primal PolonskyKeerRey only (mean-gap "
-                         "control); its pressure-primal solver returns a non-equilibrium state with it")
     else:
         solver = tm.PolonskyKeerRey(model, surface, TOLERANCE)
         label = "PolonskyKeerRey (pressure primal, mean-pressure control)"
@@ -129,7 +125,17 @@ class TamaasSolver:
                  "lj93": "tamaas 2.9 has no Lennard-Jones 9-3 functional (its adhesion functionals: exponential, "
                          "Maugis, squared exponential)"})
 
+    def refuses(self, problem: Problem) -> str | None:
+        """The combination Tamaas cannot do: adhesion under pressure control."""
+        if problem.control == "pressure" and problem.interface.kind == "hard-wall+exponential":
+            return ("pressure control with 'hard-wall+exponential': Tamaas' adhesion functional works with the "
+                    "gap-primal PolonskyKeerRey only (mean-gap control); its pressure-primal solver returns a "
+                    "non-equilibrium state with it")
+        return None
+
     def solve(self, problem: Problem) -> Answer:
+        if reason := self.refuses(problem):
+            raise ValueError(f"problem {problem.name!r}: {reason}")
         h = np.asarray(problem.heights, float)
         adhesive = problem.interface.kind == "hard-wall+exponential"
         model, surface = _model(problem), np.ascontiguousarray(-h)
