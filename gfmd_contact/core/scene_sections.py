@@ -39,6 +39,8 @@ class Surface:
     line: str = "none"  # "x:K" | "y:K": one line of a map for a profile
     height_unit: str = ""  # "": the file's unit (m for .npy and text)
     height_scale: float = 1.0
+    line_levelling: str = "none"  # "none" | "height" | "slope": each scan line of a map levelled on its own
+    scan_axis: str = "x"  # "x" | "y": the axis the scan lines run along (the fast-scan axis)
     levelling: str = "none"  # "none" | "height" | "slope" | "curvature"
     resample: str = "none"  # "none" | "linear" | "cubic" | "fourier"
 

@@ -3,7 +3,8 @@
 Every bad value is a `SceneError` naming the key. The keys (their steps: `gfmd_contact.core.topography_prep`):
 path, facing ("summits" | "valleys"), channel (a name or an index; "" the file's first height channel),
 region ([x0, x1] or [x0, x1, y0, y1], m), undefined ("refuse" | "harmonic" | "mean"), line ("none" |
-"x:K" | "y:K"), height_unit ("" the file's; m, mm, µm, nm, ...), height_scale (> 0), levelling ("none" |
+"x:K" | "y:K"), height_unit ("" the file's; m, mm, µm, nm, ...), height_scale (> 0), line_levelling ("none" |
+"height" | "slope", a map's scan lines each levelled), scan_axis ("x" | "y", the lines' axis), levelling ("none" |
 "height" | "slope" | "curvature") and resample ("none" | "linear" | "cubic" | "fourier"). The cell's size
 is the prepared file's: surface.length (and length_y) may be left out, and where given must agree.
 """
@@ -20,10 +21,12 @@ from .topography_files import UNITS
 
 #: the keys of a "file" surface besides the common ones, in the order of preparation
 FILE_KEYS = ("path", "facing", "channel", "region", "undefined", "line", "height_unit", "height_scale",
-             "levelling", "resample")
+             "line_levelling", "scan_axis", "levelling", "resample")
 FACINGS = ("summits", "valleys")
 UNDEFINED = ("refuse", "harmonic", "mean")
 LEVELLINGS = ("none", "height", "slope", "curvature")
+LINE_LEVELLINGS = ("none", "height", "slope")
+SCAN_AXES = ("x", "y")
 RESAMPLINGS = ("none", "linear", "cubic", "fourier")
 _LINE = re.compile(r"^[xy]:\d+$")
 
@@ -59,6 +62,9 @@ def file_keys(d):
                 height_scale=float(scale),
                 facing=_choice(d, "facing", FACINGS, "summits: the measured surface's highest points touch first"),
                 undefined=_choice(d, "undefined", UNDEFINED, "refuse undefined points, or fill them"),
+                line_levelling=_choice(d, "line_levelling", LINE_LEVELLINGS,
+                                       "each scan line's own mean, or mean and tilt, removed"),
+                scan_axis=_choice(d, "scan_axis", SCAN_AXES, "the axis the scan lines run along, the fast-scan axis"),
                 levelling=_choice(d, "levelling", LEVELLINGS, "what SurfaceTopography's detrend removes"),
                 resample=_choice(d, "resample", RESAMPLINGS, "none: the file's grid must be the scene's"))
 

@@ -10,9 +10,13 @@ from the file's origin (the scene's periodic grid). The steps, each a key of `su
 3. surface.line: "x:K" takes the line along x at y-node K of a map, "y:K" the line along y at x-node K
    (after the crop), for a 1+1-D scene.
 4. surface.height_scale multiplies the heights (the unit was applied on reading).
-5. surface.levelling: SurfaceTopography's detrend, "height" (the mean), "slope" (the mean plane, least
+5. surface.line_levelling (a map): each scan line, the nodes along surface.scan_axis at one node of the
+   other axis, loses its own mean ("height") or its own least-squares straight line ("slope"), as an AFM
+   user aligns the rows of a scan first; "none" leaves them. The lines run along the instrument's fast-scan
+   axis, which SurfaceTopography puts on x (axis 0) for a Bruker NanoScope .di file.
+6. surface.levelling: SurfaceTopography's detrend, "height" (the mean), "slope" (the mean plane, least
    squares) or "curvature" (the best quadratic); "none" leaves mean and tilt.
-6. surface.resample: "none" (the grid must be surface.nodes[ × nodes_y]), or onto that grid over the
+7. surface.resample: "none" (the grid must be surface.nodes[ × nodes_y]), or onto that grid over the
    same size: "linear" or "cubic" (a periodic spline) interpolation between the nodes, the cell's last node
    joined to its first as the periodic cell joins them, or "fourier" (the spectrum truncated or padded,
    scipy.signal.resample; band-limited and periodic).
@@ -80,7 +84,8 @@ def prepare(surface, lengths):
     h = fill(h, sizes, surface.undefined, surface.path)
     if surface.line != "none":
         h, sizes = take_line(h, sizes, surface.line)
-    h = level(h * surface.height_scale, sizes, surface.levelling)
+    h = level_lines(h * surface.height_scale, surface.scan_axis, surface.line_levelling)
+    h = level(h, sizes, surface.levelling)
     h = resample(h, surface.shape, surface.resample, surface.path)
     if m.size_stated:
         _check_sizes(surface, sizes, lengths, m)
@@ -88,6 +93,10 @@ def prepare(surface, lengths):
 
 
 def _check_dimension(surface, ndim):
+    if surface.line_levelling != "none" and not surface.two_d:
+        raise SceneError(f"surface.line_levelling = {surface.line_levelling!r}: levels each scan line of a map, but "
+                         "the scene is a 1+1-D profile (surface.nodes_y = 0), one line with no lines beside it; "
+                         "surface.levelling levels it, or surface.nodes_y ≥ 2 reads the map")
     if surface.line != "none" and surface.two_d:
         raise SceneError(f"surface.line = {surface.line!r}: takes a line scan for a 1+1-D profile, but surface.nodes_y "
                          f"= {surface.nodes_y} makes a 2+1-D surface; leave one of them out")
@@ -169,6 +178,21 @@ def take_line(h, sizes, line):
     return np.take(h, k, axis=across), (sizes[along],)
 
 
+def level_lines(h, scan_axis, mode):
+    """Map `h` with each line along `scan_axis` ("x": h[:, j]) less its mean ("height") or its least-squares
+    straight line ("slope"); "none": `h`. The node spacing does not enter: the fit is over node indices."""
+    if mode == "none":
+        return h
+    axis = "xy".index(scan_axis)
+    h = h - h.mean(axis=axis, keepdims=True)
+    if mode == "slope":
+        shape = [1, 1]
+        shape[axis] = h.shape[axis]
+        x = (np.arange(h.shape[axis]) - (h.shape[axis] - 1) / 2).reshape(shape)
+        h = h - x * (np.sum(x * h, axis=axis, keepdims=True) / np.sum(x**2))
+    return h
+
+
 def level(h, sizes, mode):
     """`h` less its mean ("height"), mean plane ("slope") or best quadratic ("curvature"); "none": `h`."""
     if mode == "none":
@@ -180,7 +204,7 @@ def level(h, sizes, mode):
 
 
 def resample(h, shape, method, path=""):
-    """`h` on the scene's grid `shape` over the same size (module docstring, step 6)."""
+    """`h` on the scene's grid `shape` over the same size (module docstring, step 7)."""
     if method == "none":
         if h.shape != tuple(shape):
             keys = "(surface.nodes, surface.nodes_y)" if len(shape) == 2 else "(surface.nodes)"

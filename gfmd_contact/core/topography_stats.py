@@ -5,7 +5,8 @@ Units: SI (see `gfmd_contact.core.conventions`). On the prepared measured height
 
 * h_rms: the root mean square of z about its mean;
 * rms slope: (⟨(∂z/∂x)²⟩ + ⟨(∂z/∂y)²⟩)^½ from forward differences between neighbouring nodes of the scan
-  (not across the periodic seam, where a measured scan's edges need not meet);
+  (not across the periodic seam, where a measured scan's edges need not meet); a map's also per axis, the
+  slope along x and along y (scan lines show as a larger slope across them);
 * rms curvature: the rms of z'' (a line scan) or of ½∇²z (a map, the mean curvature) from central second
   differences on the interior nodes;
 * the wavelengths the grid holds, from 2l (Nyquist) to the cell's size L per axis;
@@ -23,16 +24,18 @@ from .topography_prep import prepare, surface_lengths
 
 
 def statistics(z, sizes):
-    """{"h_rms", "rms_slope", "rms_curvature" (1/m), "spacings" (m), "wavelengths" ((shortest, longest) m)}."""
+    """{"h_rms", "rms_slope", "rms_slopes" (per axis), "rms_curvature" (1/m), "spacings" (m), "wavelengths"
+    ((shortest, longest) m)}."""
     z = np.asarray(z, dtype=float)
     spacings = tuple(size / n for size, n in zip(sizes, z.shape))
-    slope2 = sum(np.mean((np.diff(z, axis=a) / l) ** 2) for a, l in enumerate(spacings))
+    slopes2 = [np.mean((np.diff(z, axis=a) / l) ** 2) for a, l in enumerate(spacings)]
     second = [(np.diff(z, n=2, axis=a) / l**2) for a, l in enumerate(spacings)]
     if z.ndim == 1:
         curvature = second[0]
     else:
         curvature = 0.5 * (second[0][:, 1:-1] + second[1][1:-1, :])
-    return {"h_rms": float(np.std(z)), "rms_slope": float(np.sqrt(slope2)),
+    return {"h_rms": float(np.std(z)), "rms_slope": float(np.sqrt(sum(slopes2))),
+            "rms_slopes": tuple(float(np.sqrt(v)) for v in slopes2),
             "rms_curvature": float(np.sqrt(np.mean(curvature**2))), "spacings": spacings,
             "wavelengths": (2 * max(spacings), max(sizes))}
 
@@ -53,12 +56,28 @@ def check_lines(scene, prepared):
            + (" (surface.length)" if not m.size_stated else "") + f", heights in {m.unit}"
            + (f", channel {m.channel!r}" if m.channel else ""),
            f"prepared: region {list(s.region) or 'whole file'}, undefined {s.undefined}, line {s.line}, "
-           f"height_scale {s.height_scale:g}, levelling {s.levelling}, resample {s.resample}, facing {s.facing} "
+           f"height_scale {s.height_scale:g}, {_line_levelling(s)}levelling {s.levelling}, resample {s.resample}, "
+           f"facing {s.facing} "
            f"→ {' × '.join(map(str, s.shape))} nodes",
-           f"h_rms = {st['h_rms']:.4g} m, rms slope = {st['rms_slope']:.4g}, rms curvature = "
+           f"h_rms = {st['h_rms']:.4g} m, rms slope = {st['rms_slope']:.4g}{_per_axis(st)}, rms curvature = "
            f"{st['rms_curvature']:.4g} 1/m",
            f"PSD wavelengths from {st['wavelengths'][0]:.6g} m (2l) to {st['wavelengths'][1]:.6g} m (L)"]
     return out + [_process_zone_line(scene, max(st["spacings"]))]
+
+
+def _per_axis(st):
+    """A map's rms slope along x and along y, in words; "" for a line scan."""
+    if len(st["rms_slopes"]) == 1:
+        return ""
+    return " (along x {:.4g}, along y {:.4g})".format(*st["rms_slopes"])
+
+
+def _line_levelling(s):
+    """The prepared line's words for surface.line_levelling (a map's only: a profile refuses the key)."""
+    if not s.two_d:
+        return ""
+    along = f" (scan lines along {s.scan_axis})" if s.line_levelling != "none" else ""
+    return f"line_levelling {s.line_levelling}{along}, "
 
 
 def _process_zone_line(scene, spacing):
