@@ -20,11 +20,14 @@ import numpy as np
 
 from gfmd_contact.core.scene import Scene
 
+from .far_field import FarFieldCell
 from .protocol import Answer, Capabilities, Cost, Problem
 from .ramp_path import run_path
 
 #: ν of the scene we build: the adapter is given E* only, and a normal-only law on a half-space needs no more
 POISSON = 0.3
+#: the far-field approach of a free 2+1-D step to this fraction of `reach` (the solver's own tolerance)
+FAR_FIELD_TOLERANCE = 1e-10
 
 
 def interface_keys(interface, contact_modulus):
@@ -42,15 +45,20 @@ def interface_keys(interface, contact_modulus):
     raise ValueError(f"Interface.kind = {interface.kind!r}: the gfmd adapter has no such law")
 
 
+def reach(problem, heights):
+    """The problem's length scale (m): the height range, or the law's range where that is larger."""
+    return max(float(np.ptp(heights)), problem.interface.range, 1e-12)
+
+
 def loading_keys(problem, heights):
     """[loading] keys: δ0 places the indenter's start; under pressure control the path sets the load tolerance."""
-    reach = max(float(np.ptp(heights)), problem.interface.range, 1e-12)
+    reach_ = reach(problem, heights)
     if problem.control == "penetration":
-        d0 = max(-min(problem.path), 0.0) + 0.05 * reach
+        d0 = max(-min(problem.path), 0.0) + 0.05 * reach_
         return {"loading.initial_separation": d0, "loading.final_penetration": max(max(problem.path), 0.0),
                 "loading.steps": len(problem.path)}
     top = float(np.max(np.abs(problem.path)))
-    return {"loading.control": "force", "loading.initial_separation": 0.05 * reach + 4 * problem.interface.range,
+    return {"loading.control": "force", "loading.initial_separation": 0.05 * reach_ + 4 * problem.interface.range,
             "loading.path": [0.0, top], "loading.steps": [1]}
 
 
@@ -69,7 +77,10 @@ def scene_of(problem: Problem, thickness=math.inf) -> Scene:
 
 class GFMDSolver:
     """GFMD (gfmd.loading's cell: the production algorithm chain) on a periodic half-space, or a free one (the
-    cell zero-padded; its penetration is then NaN: the far-field shift that refers δ to u_z → 0 is not exposed)."""
+    cell zero-padded). On a free 2+1-D half-space δ is the approach from the far field (u_z → 0 there), under
+    either control (`far_field.FarFieldCell`); on a free 1+1-D half-plane it is NaN: the free half-plane's
+    displacement is defined only up to a constant (the log), so there is no far-field reference to measure δ from,
+    and a penetration path drives the padded cell's mean plane."""
 
     name = "gfmd"
     capabilities = Capabilities(
@@ -95,8 +106,10 @@ class GFMDSolver:
         scene, h = self.scene(problem), self.heights(problem)
         t0 = time.perf_counter()
         cell = prepare(scene, h)
-        states, iterations = run_path(cell, scene, h, problem)
-        if problem.boundary == "free":
+        free = problem.boundary == "free"
+        driven = FarFieldCell(cell, FAR_FIELD_TOLERANCE * reach(problem, h)) if free and h.ndim == 2 else cell
+        states, iterations = run_path(driven, scene, h, problem)
+        if free and h.ndim == 1:
             for state in states:
                 state.penetration = float("nan")
         ran = f"gfmd-contact GFMD, {integrator(cell.physics, cell.settings)}, solver.tolerance {scene.solver.tolerance:g}"
