@@ -52,7 +52,8 @@ def run_path(cell, scene, h, problem):
     start = cell.solve(0.0, current, current)  # out of contact, δ = −δ0
     _check(start, start.converged, problem, 0)
     base = (0.0, start.state, observe(start), start)
-    u_max = (delta0 + (1.0 - FULL_CONTACT_MARGIN) * float(np.mean(h) - np.min(h)) if scene.material.half_plane
+    periodic_half_plane = scene.material.half_plane and scene.surface.boundary == "periodic"  # a free body: no limit
+    u_max = (delta0 + (1.0 - FULL_CONTACT_MARGIN) * float(np.mean(h) - np.min(h)) if periodic_half_plane
              else np.inf)
     for k, target in enumerate(problem.path):
         loaded = solve_load(cell.solve, observe, float(target), base, step=first_step(scene.loading),
