@@ -17,6 +17,12 @@ from .protocol import Answer, Capabilities, Cost, Problem
 from .ramp_path import run_path
 
 DEPTH = 2.0  # layer depth / L
+#: the deep layers' coarsest spacing L/64, not reference.fem's default L/32: the longest modes decay over ~L/2π, so
+#: the coarse deep elements set their stiffness, which does not refine with N. Mode 1's stiffness error is 1.3e-5
+#: at L/32, 1.8e-6 at L/64 (1.7e-7 at L/128); at L/32 it left Westergaard's p̄(ḡ) a bias of +0.9e-6 … +2.3e-6 p*
+#: (rising with the load) at every N = 128 … 1024, the floor of the cross-code convergence case; L/64 cuts it below
+#: 2.2e-7 p* for 1.6× the time at N = 1024 (L/128: below 5e-8 p*, 3.4×). docs/design/cross_code.md has the numbers.
+MESH = {"min_segments": 64}
 
 
 class FESolver:
@@ -40,7 +46,7 @@ class FESolver:
         h = np.asarray(problem.heights, float)
         prepare = prepare_hard_wall if problem.interface.kind == "hard-wall" else prepare_cohesive
         t0 = time.perf_counter()
-        cell = prepare(scene, h)
+        cell = prepare(scene, h, mesh_kw=MESH)
         states, iterations = run_path(cell, scene, h, problem)
         for s in states:
             s.penetration = float(np.mean(h) - np.min(h) - np.mean(s.gap))
