@@ -106,3 +106,23 @@ def test_an_unknown_solver_is_a_usage_error():
                          check=False)
     assert run.returncode == 4, run.stdout[-2000:] + run.stderr[-2000:]
     assert "--solver 'no-such-code': unknown; known: contactmechanics, fe, gfmd, tamaas" in run.stdout + run.stderr
+
+
+def test_a_solver_not_installed_is_a_usage_error(monkeypatch, tmp_path):
+    """`--solver NAME` of a code whose package is missing stops before any test with the install hint (the
+    cross-code cases would otherwise all be skipped, and a run asked for that code would pass on nothing)."""
+    from verification import plugin
+
+    (tmp_path / "ghost_adapter_xyz.py").write_text("import no_such_peer_code_xyz\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setitem(registry.BUILTINS, "ghost", ("ghost_adapter_xyz", "Ghost", "gfmd-contact[ghost]"))
+
+    class Config:
+        def addinivalue_line(self, *args):
+            pass
+
+        def getoption(self, name, default=None):
+            return "ghost" if name == "--solver" else default
+
+    with pytest.raises(pytest.UsageError, match=r"--solver 'ghost': .*pip install 'gfmd-contact\[ghost\]'"):
+        plugin.pytest_configure(Config())

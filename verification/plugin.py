@@ -11,7 +11,7 @@ pytest has loaded it).
 import pytest
 
 # names only: no adapter is imported here
-from verification.solvers.registry import GROUP, solvers
+from verification.solvers.registry import GROUP, SolverUnavailable, get, solvers
 
 
 def pytest_addoption(parser):
@@ -37,6 +37,10 @@ def pytest_configure(config):
     if name not in solvers():
         raise pytest.UsageError(f"--solver {name!r}: unknown; known: {', '.join(sorted(solvers()))} (register "
                                 f"another through the entry-point group {GROUP!r})")
+    try:  # a code asked for by name but not installed: one usage error with the install hint, not a skipped suite
+        get(name)
+    except SolverUnavailable as exc:
+        raise pytest.UsageError(f"--solver {name!r}: {exc}") from None
 
 
 def pytest_collection_modifyitems(config, items):
