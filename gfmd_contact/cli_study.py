@@ -25,22 +25,14 @@ def _cmd_study_run(args):
     print(f"study {study.name!r}: {len(study.sets)} parameter set(s), {n_tasks} task(s) on {where}; "
           f"results go to {out}/", file=sys.stderr)
     command = _rerun_command(args.study, out, args)
-    from .app.safe_files import WriteFailed
+    from .app.study import done_tasks
 
-    try:
-        with interrupt_signals():
-            record = run_study(study, out, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet,
-                               command=command, wait=getattr(args, "wait", 0))
-    except WriteFailed as exc:
-        print(f"gfmd: error: {exc}; the files written before are intact: free space or fix the permissions, then "
-              f"continue with: {command}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        from .app.study import done_tasks
-
-        print(f"\ngfmd: interrupted: {done_tasks(study, out)} of {n_tasks} task(s) complete in {out}/tasks, the "
-              f"others keep their saved load steps; continue with: {command}", file=sys.stderr)
-        return 130
+    record, code = _interruptible(
+        lambda: run_study(study, out, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet,
+                          command=command, wait=getattr(args, "wait", 0)),
+        command, lambda: f"{done_tasks(study, out)} of {n_tasks} task(s) complete in {out}/tasks")
+    if code is not None:
+        return code
     unconverged = [t for t in record["tasks"] if t["all_converged"] is False]
     print(f"study {study.name!r}: {record['tasks_total']} task(s): {record['tasks_reused']} reused, "
           f"{record['tasks_run']} run ({record['steps_reused']} saved load steps continued), "
@@ -54,6 +46,24 @@ def _cmd_study_run(args):
         for line in failure_summary(record):
             print(f"  - {line}", file=sys.stderr)
     return 1 if record["tasks_failed"] or unconverged else 0
+
+
+def _interruptible(run, command, done):
+    """(run(), None) under Ctrl-C and SIGTERM; (None, exit code) after a disk error (2) or an interrupt (130),
+    saying what is on disk (`done()`: the tasks complete) and the `command` that continues."""
+    from .app.safe_files import WriteFailed
+
+    try:
+        with interrupt_signals():
+            return run(), None
+    except WriteFailed as exc:
+        print(f"gfmd: error: {exc}; the files written before are intact: free space or fix the permissions, then "
+              f"continue with: {command}", file=sys.stderr)
+        return None, 2
+    except KeyboardInterrupt:
+        print(f"\ngfmd: interrupted: {done()}, the others keep their saved load steps; continue with: {command}",
+              file=sys.stderr)
+        return None, 130
 
 
 def _where(args):
@@ -72,7 +82,6 @@ def _cmd_study_suite(args):
     """`gfmd study run A.toml B.toml ... --out DIR`: the studies as one suite (gfmd_contact.app.study_suite)."""
     import json
 
-    from .app.safe_files import WriteFailed
     from .app.study import failure_summary, load_study
     from .app.study_suite import check_names, run_suite, suite_done
 
@@ -88,18 +97,12 @@ def _cmd_study_suite(args):
           f"{sum(len(s.tasks) for s in studies)} task(s), {distinct} distinct, on {where}; results go to "
           f"{out}/<study name>/", file=sys.stderr)
     command = _rerun_command(' '.join(args.study), out, args)
-    try:
-        with interrupt_signals():
-            suite = run_suite(studies, out, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet,
-                              command=command, wait=getattr(args, "wait", 0))
-    except WriteFailed as exc:
-        print(f"gfmd: error: {exc}; the files written before are intact: free space or fix the permissions, then "
-              f"continue with: {command}", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        print(f"\ngfmd: interrupted: {suite_done(studies, out)} of {distinct} distinct task(s) complete under {out}, "
-              f"the others keep their saved load steps; continue with: {command}", file=sys.stderr)
-        return 130
+    suite, code = _interruptible(
+        lambda: run_suite(studies, out, workers=args.workers, scheduler=args.scheduler, progress=not args.quiet,
+                          command=command, wait=getattr(args, "wait", 0)),
+        command, lambda: f"{suite_done(studies, out)} of {distinct} distinct task(s) complete under {out}")
+    if code is not None:
+        return code
     bad = 0
     for row in suite["studies"]:
         record = json.loads((out / row["dir"] / "study.json").read_text())
