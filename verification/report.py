@@ -35,7 +35,6 @@ from the JSON.
 from __future__ import annotations
 
 import html
-import io
 import math
 import re
 import sys
@@ -47,6 +46,9 @@ import numpy as np
 from .metrics import fitted_order
 from .provenance import provenance as current_provenance
 from .records import LOOSE_RATIO, Measurement, load_results, tolerance_rows
+from .report_cross_code import section as cross_code_section
+from .report_svg import figure_axes as _subplots
+from .report_svg import inline_svg as _svg
 
 CSS = """
 :root { --ok: #1a7f37; --ok-bg: #dafbe1; --fail: #b42318; --fail-bg: #ffe4e0; --warn: #9a6700;
@@ -134,30 +136,6 @@ def slug(text):
 
 
 # --------------------------------------------------------------------------- figures
-def _svg(fig):
-    """Inline <svg> of a matplotlib Figure (text as paths: no fonts needed, same in every browser)."""
-    import matplotlib
-    buf = io.StringIO()
-    with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "gfmd-report",
-                                "font.family": ["DejaVu Sans", "Helvetica", "Arial", "sans-serif"]}):
-        fig.savefig(buf, format="svg", bbox_inches="tight")
-    text = buf.getvalue()
-    start = text.find("<svg")  # drop the XML prolog and DOCTYPE: not allowed inside HTML
-    text = text[start:] if start >= 0 else text
-    # inline SVG in HTML5 needs no namespace declarations nor the RDF metadata block: dropping them
-    # leaves the page with no http(s) URL at all (they are names, not fetched, but checks stay simple)
-    text = re.sub(r"<metadata>.*?</metadata>\s*", "", text, flags=re.S)
-    text = re.sub(r'\s+xmlns(:\w+)?="[^"]*"', "", text, count=3)
-    return text
-
-
-def _subplots(nrows=1, figsize=(7.5, 3.8), **kw):
-    """(Figure, axes) without pyplot: no global state, no GUI backend."""
-    from matplotlib.figure import Figure
-    fig = Figure(figsize=figsize)
-    return fig, fig.subplots(nrows, 1, **kw)
-
-
 def _arr(v):
     return np.asarray([np.nan if e is None else e for e in v], float)
 
@@ -373,10 +351,46 @@ def render_html(records, session=None, provenance=None, report_dir=None):
            f'<span class="fail">&nbsp;{n_fail} fail&nbsp;</span> '
            f'<span class="info">&nbsp;{n_info} no tolerance (informational)&nbsp;</span></p>', "</header>"]
 
-    # summary
-    out += ['<section id="summary"><h2>Summary</h2>',
-            '<table id="summary-table"><thead><tr><th>case</th><th>methods</th><th>metric</th><th>value</th>'
-            "<th>tolerance</th><th>verdict</th><th>time (s)</th></tr></thead><tbody>"]
+    out += _summary_section(cases, records)
+    out += _tolerance_section(records)
+    out += _independence_section()
+
+    pareto = [(r, p) for r in records for p in r.plots if p.get("kind") == "pareto"]
+    grids = [(r, p) for r in records for p in r.plots if p.get("kind") == "grid"]
+    if pareto:
+        out.append('<section id="speed-accuracy"><h2>Speed–accuracy trade</h2>')
+        for r, p in pareto:
+            out.append(f'<p class="muted">from case <a href="#{slug(r.case)}">{esc(r.case)}</a>, '
+                       f"metric {esc(r.metric)}</p>" + render_plot(p))
+        out.append("</section>")
+    out += cross_code_section(report_dir)
+    out += _mutation_section()
+    if grids:
+        out.append('<section id="extremes"><h2>Extremes</h2>')
+        for r, p in grids:
+            out.append(f'<p class="muted">from case <a href="#{slug(r.case)}">{esc(r.case)}</a></p>'
+                       + render_plot(p))
+        out.append("</section>")
+
+    if cases:
+        out.append("<nav><h2>Cases</h2><ul>" + "".join(
+            f'<li><a href="#{slug(c)}">{esc(c)}</a></li>' for c in cases) + "</ul></nav>")
+    for name, recs in cases.items():
+        out += _case_section(name, recs, prov)
+
+    out.append('<section id="provenance"><h2>Provenance</h2>' + _kv(prov))
+    if session:
+        out.append("<h3>Session</h3>" + _kv({k: v for k, v in session.items() if k != "counts"}))
+        out.append(_kv(session.get("counts", {})))
+    out.append("</section></body></html>")
+    return "\n".join(out)
+
+
+def _summary_section(cases, records):
+    """"Summary": a row per shown measurement of each case, the rest of a case folded into one row."""
+    out = ['<section id="summary"><h2>Summary</h2>',
+           '<table id="summary-table"><thead><tr><th>case</th><th>methods</th><th>metric</th><th>value</th>'
+           "<th>tolerance</th><th>verdict</th><th>time (s)</th></tr></thead><tbody>"]
     for name, recs in cases.items():
         shown, folded = summary_rows(recs)
         for r in shown:
@@ -396,71 +410,44 @@ def render_html(records, session=None, provenance=None, report_dir=None):
     if not records:
         out.append('<tr><td colspan="7">no measurements were recorded</td></tr>')
     out.append("</tbody></table></section>")
+    return out
 
-    out += _tolerance_section(records)
-    out += _independence_section()
 
-    pareto = [(r, p) for r in records for p in r.plots if p.get("kind") == "pareto"]
-    grids = [(r, p) for r in records for p in r.plots if p.get("kind") == "grid"]
-    if pareto:
-        out.append('<section id="speed-accuracy"><h2>Speed–accuracy trade</h2>')
-        for r, p in pareto:
-            out.append(f'<p class="muted">from case <a href="#{slug(r.case)}">{esc(r.case)}</a>, '
-                       f"metric {esc(r.metric)}</p>" + render_plot(p))
-        out.append("</section>")
-    from verification.report_cross_code import section as cross_code_section
-    out += cross_code_section(report_dir)
-    out += _mutation_section()
-    if grids:
-        out.append('<section id="extremes"><h2>Extremes</h2>')
-        for r, p in grids:
-            out.append(f'<p class="muted">from case <a href="#{slug(r.case)}">{esc(r.case)}</a></p>'
-                       + render_plot(p))
-        out.append("</section>")
-
-    if cases:
-        out.append("<nav><h2>Cases</h2><ul>" + "".join(
-            f'<li><a href="#{slug(c)}">{esc(c)}</a></li>' for c in cases) + "</ul></nav>")
-    for name, recs in cases.items():
-        out.append(f'<section class="case" id="{slug(name)}"><h2>{esc(name)}</h2>')
-        shown_scenes = set()
-        for r in recs:
-            cls, text = verdict_of(r)
-            mem = "—" if r.peak_memory_bytes is None else f"{r.peak_memory_bytes / 2**20:.3g} MiB"
-            info = OrderedDict([
-                ("methods", ", ".join(r.methods)),
-                ("value / tolerance", f"{fmt(r.value, 4)} / {'≥ ' if r.lower_bound else ''}{fmt(r.tolerance, 4)} → {text}"),
-                ("tolerance source", r.tolerance_source or "—"),
-                ("resolution", "; ".join(f"{k} = {fmt(v, 4)}" for k, v in r.resolution.items()) or "—"),
-                ("cost", f"wall {fmt(r.wall_s)} s; peak memory {mem} ({r.memory_method or 'not measured'})"),
-                ("test", f"{r.test or '—'} ({r.test_outcome or 'outcome unknown'})"),
-            ])
-            if r.notes:
-                info["notes"] = r.notes
-            out.append(f'<div class="record r-{cls}"><h3>{esc(r.metric)} '
-                       f'<span class="{cls}">&nbsp;{esc(text)}&nbsp;</span></h3>{_kv(info)}')
-            if r.scene and r.scene not in shown_scenes:  # each distinct scene of a case once
-                shown_scenes.add(r.scene)
-                out.append(f'<details class="scene"><summary>scene (TOML, SI units)</summary>'
-                           f"<pre>{esc(r.scene)}</pre></details>")
-            for p in r.plots:
-                if p.get("kind") in ("pareto", "grid"):
-                    out.append('<p class="muted">(shown above under '
-                               + ("Speed–accuracy trade" if p["kind"] == "pareto" else "Extremes") + ")</p>")
-                else:
-                    out.append(render_plot(p))
-            if r.provenance and r.provenance != prov:
-                out.append("<details><summary>provenance of this record</summary>" + _kv(r.provenance)
-                           + "</details>")
-            out.append("</div>")
-        out.append("</section>")
-
-    out.append('<section id="provenance"><h2>Provenance</h2>' + _kv(prov))
-    if session:
-        out.append("<h3>Session</h3>" + _kv({k: v for k, v in session.items() if k != "counts"}))
-        out.append(_kv(session.get("counts", {})))
-    out.append("</section></body></html>")
-    return "\n".join(out)
+def _case_section(name, recs, prov):
+    """One case's section: each measurement with its verdict, tolerance source, cost, scene (once) and plots."""
+    out = [f'<section class="case" id="{slug(name)}"><h2>{esc(name)}</h2>']
+    shown_scenes = set()
+    for r in recs:
+        cls, text = verdict_of(r)
+        mem = "—" if r.peak_memory_bytes is None else f"{r.peak_memory_bytes / 2**20:.3g} MiB"
+        info = OrderedDict([
+            ("methods", ", ".join(r.methods)),
+            ("value / tolerance", f"{fmt(r.value, 4)} / {'≥ ' if r.lower_bound else ''}{fmt(r.tolerance, 4)} → {text}"),
+            ("tolerance source", r.tolerance_source or "—"),
+            ("resolution", "; ".join(f"{k} = {fmt(v, 4)}" for k, v in r.resolution.items()) or "—"),
+            ("cost", f"wall {fmt(r.wall_s)} s; peak memory {mem} ({r.memory_method or 'not measured'})"),
+            ("test", f"{r.test or '—'} ({r.test_outcome or 'outcome unknown'})"),
+        ])
+        if r.notes:
+            info["notes"] = r.notes
+        out.append(f'<div class="record r-{cls}"><h3>{esc(r.metric)} '
+                   f'<span class="{cls}">&nbsp;{esc(text)}&nbsp;</span></h3>{_kv(info)}')
+        if r.scene and r.scene not in shown_scenes:  # each distinct scene of a case once
+            shown_scenes.add(r.scene)
+            out.append(f'<details class="scene"><summary>scene (TOML, SI units)</summary>'
+                       f"<pre>{esc(r.scene)}</pre></details>")
+        for p in r.plots:
+            if p.get("kind") in ("pareto", "grid"):
+                out.append('<p class="muted">(shown above under '
+                           + ("Speed–accuracy trade" if p["kind"] == "pareto" else "Extremes") + ")</p>")
+            else:
+                out.append(render_plot(p))
+        if r.provenance and r.provenance != prov:
+            out.append("<details><summary>provenance of this record</summary>" + _kv(r.provenance)
+                       + "</details>")
+        out.append("</div>")
+    out.append("</section>")
+    return out
 
 
 def _tolerance_section(records):

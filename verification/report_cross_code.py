@@ -9,12 +9,11 @@ speed–accuracy plot (error / tolerance against wall time, every code and case;
 
 from __future__ import annotations
 
-import io
-import re
 from html import escape
 from pathlib import Path
 
 from verification.cross_code.outcomes import load_all
+from verification.report_svg import inline_svg
 
 
 def _fmt(x):
@@ -97,11 +96,7 @@ def speed_accuracy_svg(by_solver):
     for ax in (cases_ax, sweep_ax):
         if ax.has_data():
             ax.legend(fontsize=7)
-    buf = io.StringIO()
-    fig.savefig(buf, format="svg", bbox_inches="tight")
-    text = buf.getvalue()
-    text = re.sub(r"<metadata>.*?</metadata>\s*", "", text[text.find("<svg"):], flags=re.DOTALL)
-    return re.sub(r'\s+xmlns(:\w+)?="[^"]*"', "", text, count=3)
+    return inline_svg(fig)
 
 
 def section(report_dir):
