@@ -12,8 +12,8 @@ from pathlib import Path
 
 from gfmd_contact.core.scene import SceneError, default_scene, example_scene_text, load_scene
 
-from .cli_common import interrupt_signals, note
-from .cli_study import _cmd_study_plot, _cmd_study_report, _cmd_study_run
+from .cli_common import count, interrupt_signals, note, wait_option
+from .cli_study import add_study_commands
 
 
 def _checks(scene):
@@ -262,34 +262,6 @@ def _cmd_verify(args):
     return code
 
 
-def _count(minimum):
-    def parse(text):
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
-        if value < minimum:
-            raise argparse.ArgumentTypeError(f"{value} < {minimum}: must be an integer ≥ {minimum}")
-        return value
-    return parse
-
-
-def _seconds(text):
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
-    if not value >= 0:
-        raise argparse.ArgumentTypeError(f"{text}: must be a number of seconds ≥ 0")
-    return value
-
-
-def _wait_option(parser, what):
-    parser.add_argument("--wait", nargs="?", type=_seconds, const=-1, default=0, metavar="SECONDS",
-                        help=f"if another process is writing the {what}, wait for it to end (at most SECONDS; "
-                             "default: refuse at once, exit 2)")
-
-
 def build_parser():
     parser = argparse.ArgumentParser(prog="gfmd", description="GFMD for rough adhesive contacts: line contacts "
                                      "(profiles) and 2+1-D surfaces, under displacement or force control, with "
@@ -302,15 +274,15 @@ def build_parser():
                      help="fire: GFMD with the production algorithms for the scene's law (solver.method = \"fire\": "
                           "NCG, CG, Newton or FIRE); verlet: GFMD with damped Verlet throughout; fe: the FE "
                           "reference (method.name)")
-    run.add_argument("--realizations", type=_count(1), help="override surface.realizations (≥ 1)")
-    run.add_argument("--workers", type=_count(0), default=None,
+    run.add_argument("--realizations", type=count(1), help="override surface.realizations (≥ 1)")
+    run.add_argument("--workers", type=count(0), default=None,
                      help="processes (default output.workers; 0 = all cores)")
     run.add_argument("--resume", action="store_true",
                      help="continue an interrupted run in --out: finished realizations are reused, an interrupted one "
                           "continues from its last saved step (the scene file may be omitted: taken from --out)")
     run.add_argument("--overwrite", action="store_true", help="replace the results of an earlier run in --out")
     run.add_argument("--no-plot", action="store_true", help="skip the figures")
-    _wait_option(run, "run directory")
+    wait_option(run, "run directory")
     run.add_argument("--quiet", action="store_true", help="no progress bar")
     run.add_argument("--verbose", action="store_true",
                      help="also print the process's internals (FFT backends and plans, heap, BLAS threads)")
@@ -322,7 +294,7 @@ def build_parser():
     plot.add_argument("--realization", type=int, metavar="I",
                       help="realization of the interface snapshot, as in curve.csv's `realization` column "
                            "(default: the first one with saved fields)")
-    _wait_option(plot, "plot folder")
+    wait_option(plot, "plot folder")
     plot.set_defaults(func=_cmd_plot)
     scene = sub.add_parser("scene", help="print a commented example scene or check a scene file")
     scene.add_argument("--example", action="store_true")
@@ -339,39 +311,9 @@ def build_parser():
                              "or one registered in the entry-point group gfmd_contact.solvers; default gfmd)")
     verify.add_argument("pytest_args", nargs="*",
                         help="passed to pytest (after --, e.g. gfmd verify -- -x -k westergaard)")
-    _wait_option(verify, "report folder")
+    wait_option(verify, "report folder")
     verify.set_defaults(func=_cmd_verify)
-    study = sub.add_parser("study", help="parameter studies: a grid of scenes × realizations on Dask")
-    study_sub = study.add_subparsers(dest="study_command", required=True)
-    srun = study_sub.add_parser("run", help="run (or continue) a study file's tasks and write study.csv, "
-                                "summary.csv, summary.nc, study.json")
-    srun.add_argument("study", nargs="+", help="study TOML file (base scene + [axes], optional [zip]); several: "
-                      "one suite, each study in DIR/<study name>/, each distinct task computed once")
-    srun.add_argument("--out", help="study directory (default results/<study name>); with several files the "
-                      "suite's directory (required); rerun to resume")
-    srun.add_argument("--workers", type=_count(1), default=None,
-                      help="worker processes of the local Dask cluster (default: all cores)")
-    srun.add_argument("--scheduler", metavar="ADDRESS",
-                      help="send the tasks to an existing Dask cluster (e.g. tcp://HOST:8786) instead; --out must "
-                           "be on a file system every worker sees")
-    srun.add_argument("--quiet", action="store_true", help="no progress bar")
-    srun.add_argument("--yes", action="store_true", help="run a study of more tasks than the limit "
-                      "(gfmd_contact.app.study_file.MAX_TASKS) without being refused")
-    _wait_option(srun, "study directory")
-    srun.set_defaults(func=_cmd_study_run)
-    splot = study_sub.add_parser("plot", help="seed-style figures of a study directory (into DIR/figures/): "
-                                 "overlays of the parameter sets, hard-wall reference, κ fit, snapshot")
-    splot.add_argument("dir", help="study directory (gfmd study run --out DIR)")
-    splot.add_argument("--format", choices=("png", "svg"), default="png", help="file format (default png)")
-    splot.add_argument("--over", metavar="AXIS",
-                       help="one panel per combination of the other varied keys, one curve per value of AXIS "
-                            "(a dotted key of the study, e.g. surface.h_rms); default: every set in one panel")
-    splot.set_defaults(func=_cmd_study_plot)
-    sreport = study_sub.add_parser("report", help="the seed's claims measured on study directories: "
-                                   "DIR/report.html (self-contained) and the claims table on stdout")
-    sreport.add_argument("dirs", nargs="+", metavar="DIR", help="study directories (several: one merged page)")
-    sreport.add_argument("--out", help="the HTML page (default: the first DIR's report.html)")
-    sreport.set_defaults(func=_cmd_study_report)
+    add_study_commands(sub)
     return parser
 
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from .cli_common import interrupt_signals, note
+from .cli_common import count, interrupt_signals, note, wait_option
 
 
 def _cmd_study_run(args):
@@ -138,3 +138,38 @@ def _cmd_study_report(args):
         print(line)
     print(f"wrote {path}")
     return 0
+
+
+def add_study_commands(sub):
+    """`gfmd study run | plot | report` on the command line's subparsers `sub`."""
+    study = sub.add_parser("study", help="parameter studies: a grid of scenes × realizations on Dask")
+    study_sub = study.add_subparsers(dest="study_command", required=True)
+    srun = study_sub.add_parser("run", help="run (or continue) a study file's tasks and write study.csv, "
+                                "summary.csv, summary.nc, study.json")
+    srun.add_argument("study", nargs="+", help="study TOML file (base scene + [axes], optional [zip]); several: "
+                      "one suite, each study in DIR/<study name>/, each distinct task computed once")
+    srun.add_argument("--out", help="study directory (default results/<study name>); with several files the "
+                      "suite's directory (required); rerun to resume")
+    srun.add_argument("--workers", type=count(1), default=None,
+                      help="worker processes of the local Dask cluster (default: all cores)")
+    srun.add_argument("--scheduler", metavar="ADDRESS",
+                      help="send the tasks to an existing Dask cluster (e.g. tcp://HOST:8786) instead; --out must "
+                           "be on a file system every worker sees")
+    srun.add_argument("--quiet", action="store_true", help="no progress bar")
+    srun.add_argument("--yes", action="store_true", help="run a study of more tasks than the limit "
+                      "(gfmd_contact.app.study_file.MAX_TASKS) without being refused")
+    wait_option(srun, "study directory")
+    srun.set_defaults(func=_cmd_study_run)
+    splot = study_sub.add_parser("plot", help="seed-style figures of a study directory (into DIR/figures/): "
+                                 "overlays of the parameter sets, hard-wall reference, κ fit, snapshot")
+    splot.add_argument("dir", help="study directory (gfmd study run --out DIR)")
+    splot.add_argument("--format", choices=("png", "svg"), default="png", help="file format (default png)")
+    splot.add_argument("--over", metavar="AXIS",
+                       help="one panel per combination of the other varied keys, one curve per value of AXIS "
+                            "(a dotted key of the study, e.g. surface.h_rms); default: every set in one panel")
+    splot.set_defaults(func=_cmd_study_plot)
+    sreport = study_sub.add_parser("report", help="the seed's claims measured on study directories: "
+                                   "DIR/report.html (self-contained) and the claims table on stdout")
+    sreport.add_argument("dirs", nargs="+", metavar="DIR", help="study directories (several: one merged page)")
+    sreport.add_argument("--out", help="the HTML page (default: the first DIR's report.html)")
+    sreport.set_defaults(func=_cmd_study_report)
