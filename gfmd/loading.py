@@ -159,11 +159,9 @@ def prepare(scene, h, realization=0, settings=None, method_name=None):
     physics = build_model(scene, h)
     if settings is None:
         settings = settings_of(scene)
-    if physics.free:  # the region of a padded cell (gfmd.free_cell)
-        return FreeGfmdCell(scene=scene, h=h, physics=physics, law=InterfaceLaw(physics), settings=settings,
-                            method=method_name or method_label(physics, settings))
-    return GfmdCell(scene=scene, h=h, physics=physics, law=InterfaceLaw(physics), settings=settings,
-                    method=method_name or method_label(physics, settings))
+    cell = FreeGfmdCell if physics.free else GfmdCell  # a free boundary: the region of a padded cell (gfmd.free_cell)
+    return cell(scene=scene, h=h, physics=physics, law=InterfaceLaw(physics), settings=settings,
+                method=method_name or method_label(physics, settings))
 
 
 def run_realization(scene, realization=0, settings=None, progress=None, method_name=None, *, checkpoint=None,

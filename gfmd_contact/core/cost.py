@@ -62,7 +62,7 @@ def estimate_peak_memory(scene, workers=None):
     """Estimated peak memory (bytes) of a run of `scene` with `workers` processes (module docstring)."""
     s = scene.surface
     nodes = s.nodes * max(s.nodes_y, 1)
-    solved = nodes * math.prod(solved_grid(s)) // math.prod(s.shape)  # a free boundary solves the padded cell
+    solved = math.prod(solved_grid(s))  # a free boundary solves the padded cell
     solver = solved * (PER_NODE_2D if s.two_d else PER_NODE)[_law_kind(scene)]
     fields = s.realizations * min(scene.output.field_steps, scene.loading.steps + 1) * FIELD_ARRAYS * 8 * nodes
     return IMPORTS + processes(scene, workers) * solver + fields

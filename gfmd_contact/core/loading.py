@@ -101,6 +101,12 @@ def realization_label(scene, realization):
     return f"realization {realization} (seed {scene.surface.seed + realization})"
 
 
+def has_full_contact_limit(scene):
+    """Does the indenter reach full contact at a finite δ = ⟨h⟩ − min h? A periodic half-plane or half-space
+    does; a layer does not (its mean mode has a finite stiffness), nor does a free body (it sinks as it is loaded)."""
+    return scene.material.half_plane and scene.surface.boundary == "periodic"
+
+
 def realization_steps(scene, h, realization=0):
     """(U_k (m), note): the load steps this realization runs, and why it stops early (None if it does not).
 
@@ -113,7 +119,7 @@ def realization_steps(scene, h, realization=0):
     if scene.loading.control == "force":  # the loads p̄_k (Pa); the δ limit is checked as the ramp goes
         return path_values(scene.loading), None
     steps = displacement_steps(scene.loading)
-    if not scene.material.half_plane or scene.surface.boundary == "free":  # a free body never reaches full contact
+    if not has_full_contact_limit(scene):
         return steps, None
     limit = float(np.mean(h) - np.min(h))
     stop = (1.0 - FULL_CONTACT_MARGIN) * limit
@@ -194,8 +200,7 @@ def check_force_path_below_full_contact(scene, h, realization=0):
     from .errors import SceneError
 
     lo = scene.loading
-    if (lo.control != "force" or not scene.material.half_plane or scene.interface.law != "hard-wall"
-            or scene.surface.boundary == "free"):
+    if lo.control != "force" or not has_full_contact_limit(scene) or scene.interface.law != "hard-wall":
         return
     m = scene.material
     p_fc = full_contact_pressure(h, scene.surface.length, m.youngs_modulus, m.poisson_ratio,

@@ -39,7 +39,7 @@ import numpy as np
 from . import surfaces
 from .force import first_step, solve_load
 from .force import tolerance as load_tolerance
-from .loading import (FULL_CONTACT_MARGIN, RampState, extrapolation_allowed, field_step_indices, realization_label, realization_steps, slip_warning,
+from .loading import (FULL_CONTACT_MARGIN, RampState, has_full_contact_limit, extrapolation_allowed, field_step_indices, realization_label, realization_steps, slip_warning,
                       start_warning)
 from .model import WARNING
 from .observables import profile_gradients, step_observables
@@ -83,10 +83,11 @@ def _extrapolated(state, previous):
     return 2 * state - previous
 
 
-def _force_u_max(scene, h):
+def force_u_max(scene, h):
     """The largest U (m) a force-controlled half-plane realization may reach: (1 − FULL_CONTACT_MARGIN) of its
-    full-contact limit mean(h) − min(h) beyond δ = 0 (`gfmd_contact.core.loading.realization_steps`); a layer: none."""
-    if not scene.material.half_plane or scene.surface.boundary == "free":  # a free body: no full-contact limit
+    full-contact limit mean(h) − min(h) beyond δ = 0 (`gfmd_contact.core.loading.realization_steps`); a layer or a
+    free body: none (`has_full_contact_limit`)."""
+    if not has_full_contact_limit(scene):
         return np.inf
     return scene.loading.initial_separation + (1.0 - FULL_CONTACT_MARGIN) * float(np.mean(h) - np.min(h))
 
@@ -235,7 +236,7 @@ def _solve_step(ramp, result, k, current, previous):
                                                         "a_rel": float(result.curve["a_rel"][-1])}, None)
         loaded = solve_load(solve, lambda sol: observe(scene, h, sol.gap, sol.t_n), float(ramp.steps[k]), base,
                             step=first_step(scene.loading), tolerance=load_tolerance(scene.loading),
-                            u_max=_force_u_max(scene, h))
+                            u_max=force_u_max(scene, h))
         solved = dataclasses.replace(loaded.solved, converged=loaded.converged)
         return _Step(solved, loaded.U, loaded.iterations, loaded.event)
     displacement = 0.0 if ramp.force else ramp.steps[k]

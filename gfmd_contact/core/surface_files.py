@@ -7,7 +7,7 @@ by its header. A text file is refused above `text_limit` bytes (what `nodes` hei
 take) and where its first bytes hold a NUL (binary junk under a text suffix) before it is read whole. A path
 that is no regular file (a device such as /dev/zero, a FIFO, a dangling symbolic link) is refused by what
 it is. Every refusal goes through the caller's `fail(problem)`, which raises a `SceneError` naming
-surface.path (`gfmd_contact.core.surfaces.from_file`, `gfmd_contact.core.surfaces_2d.from_file_2d`).
+surface.path (`gfmd_contact.core.topography_files`, `gfmd_contact.core.surfaces.from_file`).
 """
 
 from __future__ import annotations

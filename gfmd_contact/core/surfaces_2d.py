@@ -23,11 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.fft
-from pathlib import Path
 
-from .errors import SceneError
 from .psd import grid, psd_self_affine
-from .surface_files import check_regular_file, read_npy
 
 
 def positions(nodes_x, length_x, nodes_y, length_y):
@@ -81,36 +78,6 @@ def sphere(nodes_x, length_x, nodes_y, length_y, radius):
     """Paraboloid h = (x² + y²)/(2R) (m) centred at (0, 0), node (Nx/2, Ny/2); the 2+1-D kin of the cylinder."""
     x, y = positions(nodes_x, length_x, nodes_y, length_y)
     return (x[:, None] ** 2 + y[None, :] ** 2) / (2 * radius)
-
-
-def from_file_2d(path, nodes_x, nodes_y, lengths=None):
-    """Heights (m) from a .npy file holding an array of shape (nodes, nodes_y) (axis 0 x, axis 1 y), or from
-    any other file, a map read through SurfaceTopography (the optional extra,
-    `gfmd_contact.core.topography_files`; a text matrix's rows are lines along x): heights converted to m, its
-    physical size checked against `lengths` = (surface.length, surface.length_y) (m). A scene reads its file
-    with the preparation keys and turned to face the body (`gfmd_contact.core.topography_prep`).
-
-    Anything else (missing, not .npy, corrupt, the wrong shape, non-real or non-finite values) raises a
-    `SceneError` naming surface.path (and surface.nodes / surface.nodes_y for a shape mismatch).
-    """
-    path = Path(path)
-    expected = f"expected a .npy array of shape (surface.nodes, surface.nodes_y) = ({nodes_x}, {nodes_y}) in m"
-
-    def fail(problem):
-        raise SceneError(f"surface.path = {str(path)!r}: {problem}; {expected}")
-
-    check_regular_file(path, fail)
-    if path.suffix.lower() != ".npy":  # text (a matrix) or binary: SurfaceTopography's, as in a scene
-        from .topography_prep import file_heights
-        return file_heights(path, (nodes_x, nodes_y), lengths)
-    h, shape = read_npy(path, (nodes_x, nodes_y), fail)  # the header first: the shape before any value
-    if h is None:
-        raise SceneError(f"surface.path = {str(path)!r} holds an array of shape {shape}, but (surface.nodes, "
-                         f"surface.nodes_y) = ({nodes_x}, {nodes_y}); {expected}")
-    h = np.asarray(h, dtype=float)
-    if not np.all(np.isfinite(h)):
-        fail(f"contains non-finite heights ({int(np.sum(~np.isfinite(h)))} of {h.size})")
-    return h
 
 
 def profile_2d(surface, realization=0):

@@ -10,8 +10,8 @@ import numpy as np
 from gfmd_contact.core.force import first_step, solve_load
 from gfmd_contact.core.force import tolerance as load_tolerance
 from gfmd_contact.core.laws import law_from_scene
-from gfmd_contact.core.loading import FULL_CONTACT_MARGIN
 from gfmd_contact.core.observables import contact_mask, mean_pressure
+from gfmd_contact.core.ramp import force_u_max
 
 from .protocol import State
 
@@ -46,15 +46,14 @@ def run_path(cell, scene, h, problem):
             current = sol.state
             states.append(_state(scene, law, h, delta0, U, sol))
         return states, iterations
+
     def observe(sol):  # what solve_load reads
         return {"p": mean_pressure(sol.t_n), "a_rel": float(np.mean(contact_mask(law, sol.gap, sol.t_n)))}
 
     start = cell.solve(0.0, current, current)  # out of contact, δ = −δ0
     _check(start, start.converged, problem, 0)
     base = (0.0, start.state, observe(start), start)
-    periodic_half_plane = scene.material.half_plane and scene.surface.boundary == "periodic"  # a free body: no limit
-    u_max = (delta0 + (1.0 - FULL_CONTACT_MARGIN) * float(np.mean(h) - np.min(h)) if periodic_half_plane
-             else np.inf)
+    u_max = force_u_max(scene, h)  # the ramp's own bound on U: a periodic half-plane's full contact, else none
     for k, target in enumerate(problem.path):
         loaded = solve_load(cell.solve, observe, float(target), base, step=first_step(scene.loading),
                             tolerance=load_tolerance(scene.loading), u_max=u_max)
