@@ -20,13 +20,19 @@ from .laws import law_from_scene
 from .model import build_model, softest_normal_stiffness
 
 
+def piecewise_path(corners, steps, offset=0.0):
+    """A piecewise-linear path at every step: corners[0], then each segment's `steps[s]` equal increments to the
+    next corner (all + offset)."""
+    parts = [np.array([corners[0] + offset])]
+    for s, n in enumerate(steps):
+        parts.append(np.linspace(corners[s] + offset, corners[s + 1] + offset, n + 1)[1:])
+    return np.concatenate(parts)
+
+
 def path_values(loading, offset=0.0):
     """The path's value at every step k = 0 … steps: each segment's equal increments between its corners
     (+ offset); δ (m) under displacement control, p̄ (Pa) under force control."""
-    parts = [np.array([loading.path[0] + offset])]
-    for s, n in enumerate(loading.segment_steps):
-        parts.append(np.linspace(loading.path[s] + offset, loading.path[s + 1] + offset, n + 1)[1:])
-    return np.concatenate(parts)
+    return piecewise_path(loading.path, loading.segment_steps, offset)
 
 
 def displacement_steps(loading):

@@ -98,7 +98,7 @@ def hard_wall(task):
     return {
         "kappa": fit_kappa(p / (np.array(gr) * e_star), a, A_MAX),
         "kappa_interior": fit_kappa(p / (np.array(gr_in) * e_star), a, A_MAX),
-        "g": float(rows[0]["g"]), "g_seam": float(np.sqrt(local_gradient_squared(h, spacing).mean())),
+        "g": float(rows[0]["g"]),
         "g_interior": float(np.sqrt(g2_in.mean())),
         "share": share, "band_area": float(band.mean()),
         "curve": (p / (np.array(gr) * e_star), p / (np.array(gr_in) * e_star), a),

@@ -9,12 +9,14 @@ code's own mean pressure (`State.mean_pressure`), fields its own nodal values.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
 from gfmd_contact.core import surfaces
+from gfmd_contact.core.loading import piecewise_path
 from reference.analytic import hertz as H
 from reference.analytic import hertz_sphere as HS
 from reference.analytic import westergaard as W
@@ -210,14 +212,6 @@ FREE_SPHERE = Case("hertz-sphere-free", "the Hertz sphere on a free half-space (
 MD_N, MD_LAMBDA = 128, 1.0
 
 
-def expand_path(corners, steps):
-    """A piecewise-linear path: corners[0], then each segment's equal increments."""
-    parts = [np.array([corners[0]])]
-    for a, b, n in zip(corners[:-1], corners[1:], steps):
-        parts.append(np.linspace(a, b, n + 1)[1:])
-    return np.concatenate(parts)
-
-
 def md_problem():
     """The cohesive cylinder of verification.studies.md_pulloff at λ = 1, N = 128 (seed Eq. 3, w = 1 J/m²),
     along its displacement path (load, unload past pull-off)."""
@@ -225,7 +219,7 @@ def md_problem():
     law = Interface("exponential-cz", work_of_adhesion=mp.WORK, range=mp.delta_n(MD_LAMBDA))
     return Problem(heights=surfaces.cylinder(MD_N, L, mp.RADIUS), lengths=(L,), contact_modulus=mp.e_star(),
                    interface=law, boundary="periodic", control="penetration",
-                   path=tuple(expand_path(mp.PATH, mp.STEPS)), name="md pull-off")
+                   path=tuple(piecewise_path(mp.PATH, mp.STEPS)), name="md pull-off")
 
 
 def md_errors(answers, problems):
@@ -287,7 +281,7 @@ def johnson_problem():
     law = Interface("exponential-cz", work_of_adhesion=js.work(), range=js.delta_n(JOHNSON_D))
     return Problem(heights=surfaces.sinusoid(JOHNSON_N, L, H0), lengths=(L,), contact_modulus=js.e_star(),
                    interface=law, boundary="periodic", control="penetration",
-                   path=tuple(expand_path((jc.START, jc.TOP, jc.START), jc.STEPS)), name="johnson cycle")
+                   path=tuple(piecewise_path((jc.START, jc.TOP, jc.START), jc.STEPS)), name="johnson cycle")
 
 
 def johnson_errors(answers, problems):
@@ -334,28 +328,24 @@ ROUGH_LAW = Interface("exponential-cz", work_of_adhesion=0.01 * 1e-9 * 70e9, ran
 FE_DEPTH = 2.0  # the FE layer's depth / L: its non-mean modes differ from the half-plane's by ~e^{-8π}
 
 
+@functools.cache
 def fe_reference():
     """Our FE (reference.fem P2) run directly on the rough scene (layer D = 2L, the cohesive law) under the same
     loads: per load (pressure p(x), gap g(x)). Cached per process."""
-    if not _FE_CACHE:
-        from gfmd_contact.core.scene import Scene
-        from reference.fem.run import run_realization
-        scene = Scene().replace(**{
-            "surface.kind": "self-affine", "surface.nodes": ROUGH_N, "surface.length": L, "surface.realizations": 1,
-            **{f"surface.{k}": v for k, v in ROUGH.items()}, "material.youngs_modulus": 70e9,
-            "material.poisson_ratio": 0.45, "material.thickness": FE_DEPTH * L, "interface.law": "cohesive",
-            "interface.phi_n_star": 0.01, "interface.length_normal": 1e-9, "interface.tangential_ratio": 0.0,
-            "loading.control": "force", "loading.path": [0.0, *rough_loads()], "loading.steps": [1] * 3,
-            "loading.initial_separation": 2e-9, "output.field_steps": 3, "solver.tolerance": 1e-10})
-        result = run_realization(scene)
-        if not result.all_converged:
-            raise AssertionError(f"the FE reference did not converge: {result.messages[:3]}")
-        _FE_CACHE.extend((-np.asarray(result.fields[k]["t_n"], float), np.asarray(result.fields[k]["gap"], float))
-                         for k in (1, 2, 3))
-    return _FE_CACHE
-
-
-_FE_CACHE: list = []
+    from gfmd_contact.core.scene import Scene
+    from reference.fem.run import run_realization
+    scene = Scene().replace(**{
+        "surface.kind": "self-affine", "surface.nodes": ROUGH_N, "surface.length": L, "surface.realizations": 1,
+        **{f"surface.{k}": v for k, v in ROUGH.items()}, "material.youngs_modulus": 70e9,
+        "material.poisson_ratio": 0.45, "material.thickness": FE_DEPTH * L, "interface.law": "cohesive",
+        "interface.phi_n_star": 0.01, "interface.length_normal": 1e-9, "interface.tangential_ratio": 0.0,
+        "loading.control": "force", "loading.path": [0.0, *rough_loads()], "loading.steps": [1] * 3,
+        "loading.initial_separation": 2e-9, "output.field_steps": 3, "solver.tolerance": 1e-10})
+    result = run_realization(scene)
+    if not result.all_converged:
+        raise AssertionError(f"the FE reference did not converge: {result.messages[:3]}")
+    return [(-np.asarray(result.fields[k]["t_n"], float), np.asarray(result.fields[k]["gap"], float))
+            for k in (1, 2, 3)]
 
 
 def rough_errors(answers, problems):

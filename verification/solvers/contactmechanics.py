@@ -37,7 +37,7 @@ from ContactMechanics import __version__ as cm_version
 from ContactMechanics.Optimization import constrained_conjugate_gradients
 from SurfaceTopography import Topography, UniformLineScan
 
-from .protocol import Answer, Capabilities, Cost, Problem, State
+from .protocol import Answer, Capabilities, Cost, NotConverged, Problem, State
 
 #: relative tolerances: penetration and δ to this fraction of the height range, forces (gradients) to this
 #: fraction of the pressure scale max(E*·ptp(h)/L, w/ρ) per node
@@ -48,10 +48,6 @@ TOLERANCE = 1e-10
 GRADIENT_TOLERANCE, RESTARTS, ACCEPT = 1e-8, 2, 100.0
 #: offset corrections of a periodic adhesive step (the q = 0 mode), at most
 OFFSET_ROUNDS = 12
-
-
-class NotConverged(RuntimeError):
-    """A step of the path did not converge (the message names the case, the step and the code's words)."""
 
 
 class Scaled:

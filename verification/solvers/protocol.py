@@ -125,6 +125,10 @@ def _needs(problem: Problem) -> list[tuple[str, bool]]:
             (problem.control, problem.control in CONTROLS)]
 
 
+class NotConverged(RuntimeError):
+    """An adapter's step of the path did not converge (the message names the case, the step and the code's words)."""
+
+
 def not_applicable(solver, problem: Problem) -> str | None:
     """The adapter's reason why it cannot answer `problem`, or None when it can: first the capability sets (reasons
     from `why_not`), then, where they all allow it, the adapter's optional hook `refuses(problem) -> str | None`

@@ -13,11 +13,7 @@ from gfmd_contact.core.laws import law_from_scene
 from gfmd_contact.core.observables import contact_mask, mean_pressure
 from gfmd_contact.core.ramp import force_u_max
 
-from .protocol import State
-
-
-class NotConverged(RuntimeError):
-    """A step of the path did not converge (the message names the case, the step and the code's words)."""
+from .protocol import NotConverged, State
 
 
 def _state(scene, law, h, delta0, U, sol):

@@ -28,15 +28,11 @@ import time
 import numpy as np
 import tamaas as tm
 
-from .protocol import Answer, Capabilities, Cost, Problem, State
+from .protocol import Answer, Capabilities, Cost, NotConverged, Problem, State
 
 #: PolonskyKeerRey's tolerance (its own relative error measure); at 1e-12 it can stall at its round-off
 #: (1.6e-12 after its 1000 iterations on the Westergaard sinusoid at N = 64 and δ = 0.17 h0)
 TOLERANCE = 1e-10
-
-
-class NotConverged(RuntimeError):
-    """Tamaas' error after a solve exceeded its tolerance (the message names the case and the step)."""
 
 
 def _run_logged(call, *args):

@@ -44,10 +44,10 @@ def range_length(lam=LAMBDA):
 
 def problem(nodes):
     """The LJ 9-3 cylinder at N = nodes along md_pulloff's displacement path."""
-    from verification.cross_code.cases import expand_path
+    from gfmd_contact.core.loading import piecewise_path
     return Problem(heights=surfaces.cylinder(nodes, mp.LENGTH, mp.RADIUS), lengths=(mp.LENGTH,),
                    contact_modulus=mp.e_star(), interface=Interface("lj93", mp.WORK, range_length()),
-                   boundary="periodic", control="penetration", path=tuple(expand_path(mp.PATH, mp.STEPS)),
+                   boundary="periodic", control="penetration", path=tuple(piecewise_path(mp.PATH, mp.STEPS)),
                    name="md pull-off, LJ 9-3")
 
 
