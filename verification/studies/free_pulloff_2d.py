@@ -36,12 +36,7 @@ def scene(nodes):
 
 def measure(nodes):
     """`md_pulloff_2d.measure` of the free scene at N × N nodes."""
-    original = mp.scene
-    mp.scene = lambda n, lam, length=mp.LENGTH: original(n, lam, length).replace(**{"surface.boundary": "free"})
-    try:
-        return mp.measure(nodes, LAMBDA)
-    finally:
-        mp.scene = original
+    return mp.measure(nodes, LAMBDA, boundary="free")
 
 
 def study(nodes=NODES):

@@ -76,9 +76,10 @@ def analytic(lam):
     return float(MDS.pull_off_load(RADIUS, e_star(), w, s0)), p_u
 
 
-def measure(nodes, lam, length=LENGTH):
-    """{"P": GFMD pull-off (N), "P_md", "P_u", "error" (signed, /|P_MD|), "sampling" (/P_u), "wall_s"}."""
-    s = scene(nodes, lam, length)
+def measure(nodes, lam, length=LENGTH, boundary="periodic"):
+    """{"P": GFMD pull-off (N), "P_md", "P_u", "error" (signed, /|P_MD|), "sampling" (/P_u), "wall_s"};
+    boundary: surface.boundary of the scene (free: the sphere alone on a half-space)."""
+    s = scene(nodes, lam, length).replace(**{"surface.boundary": boundary})
     result, wall = ac.run(s)
     d, p, a = (np.asarray(result.curve[c], float) for c in ("delta", "p", "a_rel"))
     branch, cycle = step_branches(s.loading)
